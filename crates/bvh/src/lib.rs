@@ -1,0 +1,1 @@
+//! kousen's bounding volume hierarchy (placeholder until the build lands).

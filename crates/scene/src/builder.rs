@@ -1,0 +1,127 @@
+//! Assembles a [`Scene`] while keeping its invariants; every loader goes through it.
+
+use std::path::{Path, PathBuf};
+
+use crate::{Camera, Lights, Material, Scene, SceneError, Texture, TextureId, Triangle};
+
+pub struct SceneBuilder {
+    path: PathBuf,
+    scene: Scene,
+}
+
+impl SceneBuilder {
+    /// `path` names the file in errors.
+    pub fn new(path: &Path) -> Self {
+        SceneBuilder {
+            path: path.to_path_buf(),
+            scene: Scene::default(),
+        }
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub fn add_material(&mut self, material: Material) -> u32 {
+        self.scene.materials.push(material);
+        (self.scene.materials.len() - 1) as u32
+    }
+
+    pub fn materials(&self) -> &[Material] {
+        &self.scene.materials
+    }
+
+    pub fn add_texture(&mut self, texture: Texture) -> TextureId {
+        self.scene.textures.push(texture);
+        (self.scene.textures.len() - 1) as TextureId
+    }
+
+    pub fn add_camera(&mut self, camera: Camera) {
+        self.scene.cameras.push(camera);
+    }
+
+    /// Records something the loader ignored; it is also logged.
+    pub fn warn(&mut self, message: impl Into<String>) {
+        let message = message.into();
+        log::warn!("{}: {message}", self.path.display());
+        self.scene.warnings.push(message);
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.scene.triangles.len()
+    }
+
+    /// Adds a triangle. Non-finite positions or texture coordinates are an error; a zero-area
+    /// triangle is dropped and counted; a missing or non-finite shading normal becomes the
+    /// geometric normal, and every normal is made unit length.
+    pub fn add_triangle(&mut self, mut triangle: Triangle) -> Result<(), SceneError> {
+        for v in &triangle.vertices {
+            if !v.position.is_finite() {
+                return Err(SceneError::format(
+                    &self.path,
+                    format!("non-finite vertex position {}", v.position),
+                ));
+            }
+            if !v.uv.is_finite() {
+                return Err(SceneError::format(
+                    &self.path,
+                    format!("non-finite texture coordinate {}", v.uv),
+                ));
+            }
+        }
+        let cross = triangle.geometric_normal_unnormalized();
+        if !cross.is_finite() {
+            return Err(SceneError::format(
+                &self.path,
+                "a triangle's coordinates are too large for 32-bit floats",
+            ));
+        }
+        let Some(geometric) = cross.try_normalize() else {
+            self.scene.degenerate_dropped += 1;
+            return Ok(());
+        };
+        for v in &mut triangle.vertices {
+            v.normal = v.normal.try_normalize().unwrap_or(geometric);
+        }
+        self.scene.triangles.push(triangle);
+        Ok(())
+    }
+
+    /// Checks references, collects the lights, and refuses a scene without triangles.
+    pub fn finish(mut self) -> Result<Scene, SceneError> {
+        let scene = &mut self.scene;
+        if scene.triangles.is_empty() {
+            let detail = if scene.degenerate_dropped > 0 {
+                format!(
+                    " (all {} were degenerate and dropped)",
+                    scene.degenerate_dropped
+                )
+            } else {
+                String::new()
+            };
+            return Err(SceneError::NoTriangles {
+                path: self.path,
+                detail,
+            });
+        }
+        let material_count = scene.materials.len() as u32;
+        if let Some(t) = scene.triangles.iter().find(|t| t.material >= material_count) {
+            return Err(SceneError::format(
+                &self.path,
+                format!("material index {} out of range", t.material),
+            ));
+        }
+        let texture_count = scene.textures.len() as u32;
+        for m in &scene.materials {
+            let ids = [m.base_color_texture, m.emission_texture];
+            if ids.iter().flatten().any(|&id| id >= texture_count) {
+                return Err(SceneError::format(
+                    &self.path,
+                    format!("material {:?} refers to a missing texture", m.name),
+                ));
+            }
+        }
+        scene.lights = Lights::collect(&scene.triangles, &scene.materials, &scene.textures);
+        Ok(self.scene)
+    }
+}

@@ -1,0 +1,92 @@
+//! Pinhole cameras: from a file, from a look-at, or framed around a bounding box.
+
+use glam::{Mat4, Vec3};
+
+use crate::Bounds;
+
+/// A pinhole camera. `forward`, `up` and `right()` form an orthonormal, right-handed frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub name: String,
+    pub eye: Vec3,
+    /// Unit viewing direction.
+    pub forward: Vec3,
+    /// Unit, orthogonal to `forward`.
+    pub up: Vec3,
+    /// Vertical field of view in radians, in (0, π).
+    pub yfov: f32,
+    /// Width / height, when the file states one.
+    pub aspect_ratio: Option<f32>,
+}
+
+/// The field of view of framed views, as in ANCHORS.md's benchmark cameras.
+pub const DEFAULT_YFOV_DEGREES: f32 = 50.0;
+
+impl Camera {
+    /// A camera at `eye` looking at `target`. `None` when the frame is degenerate (eye equals
+    /// target, or `up` is parallel to the view direction) or the field of view is not in (0, π).
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, yfov: f32) -> Option<Camera> {
+        let forward = (target - eye).try_normalize()?;
+        let right = forward.cross(up).try_normalize()?;
+        let valid_fov = yfov.is_finite() && yfov > 0.0 && yfov < std::f32::consts::PI;
+        if !eye.is_finite() || !valid_fov {
+            return None;
+        }
+        Some(Camera {
+            name: String::new(),
+            eye,
+            forward,
+            up: right.cross(forward),
+            yfov,
+            aspect_ratio: None,
+        })
+    }
+
+    /// A glTF camera: it looks down its node's −Z with +Y up. `None` if the matrix has no
+    /// usable frame (a zero scale, say) or `yfov` is out of range.
+    pub fn from_world_matrix(world_from_camera: Mat4, yfov: f32) -> Option<Camera> {
+        let eye = world_from_camera.transform_point3(Vec3::ZERO);
+        let forward = world_from_camera.transform_vector3(Vec3::NEG_Z);
+        let up = world_from_camera.transform_vector3(Vec3::Y);
+        Camera::look_at(eye, eye + forward, up, yfov)
+    }
+
+    /// ANCHORS.md's "outside" camera: from `c + D·(0.5, 0.35, 0.8)` towards the centre `c`,
+    /// where `D` is the diagonal's length. Also the auto-framed view of a scene without cameras.
+    pub fn outside_view(bounds: Bounds) -> Camera {
+        let center = bounds.center();
+        let diagonal = bounds.extent().length().max(f32::MIN_POSITIVE);
+        let eye = center + diagonal * Vec3::new(0.5, 0.35, 0.8);
+        Camera::look_at(eye, center, Vec3::Y, DEFAULT_YFOV_DEGREES.to_radians())
+            .expect("the outside view's direction is never parallel to +Y")
+            .named("auto (outside)")
+    }
+
+    /// ANCHORS.md's "inside" camera (the sponzas): from `lo + (hi−lo)·(0.85, 0.25, 0.5)`
+    /// towards `lo + (hi−lo)·(0, 0.35, 0.5)`.
+    pub fn inside_view(bounds: Bounds) -> Camera {
+        let size = bounds.extent();
+        let eye = bounds.min + size * Vec3::new(0.85, 0.25, 0.5);
+        let target = bounds.min + size * Vec3::new(0.0, 0.35, 0.5);
+        Camera::look_at(eye, target, Vec3::Y, DEFAULT_YFOV_DEGREES.to_radians())
+            .unwrap_or_else(|| Camera::outside_view(bounds))
+            .named("auto (inside)")
+    }
+
+    pub fn named(mut self, name: impl Into<String>) -> Camera {
+        self.name = name.into();
+        self
+    }
+
+    pub fn right(&self) -> Vec3 {
+        self.forward.cross(self.up)
+    }
+
+    /// Unit direction through the film point (`sx`, `sy`) in [−1, 1]², +y up, for an image of
+    /// the given aspect ratio (width / height).
+    pub fn direction(&self, sx: f32, sy: f32, aspect_ratio: f32) -> Vec3 {
+        let tan_half = (0.5 * self.yfov).tan();
+        (self.forward + sx * tan_half * aspect_ratio * self.right() + sy * tan_half * self.up)
+            .normalize()
+    }
+}

@@ -1,0 +1,47 @@
+//! kousen's scene model and loaders.
+//!
+//! A scene is a triangle soup (every triangle carries its three vertices and a material
+//! index), the uber-materials it refers to, their textures, the cameras the file defines and
+//! the list of emissive triangles. Loaders validate what they read before trusting it: scene
+//! files come from anywhere, and a malformed one must end in a [`SceneError`], never a panic.
+//!
+//! The layout mirrors what the GPU wants later: a soup (not an indexed mesh) because the
+//! packed BVH stores each triangle's three vertices next to each other, as the talk does.
+
+pub mod builder;
+pub mod camera;
+pub mod error;
+pub mod gltf;
+pub mod lights;
+pub mod material;
+pub mod mesh;
+pub mod model;
+pub mod obj;
+pub mod testing;
+pub mod textures;
+
+pub use builder::SceneBuilder;
+pub use camera::Camera;
+pub use error::SceneError;
+pub use lights::{EmissiveTriangle, Lights};
+pub use material::{AlphaMode, Material, Surface};
+pub use model::{Bounds, Scene, Triangle, Vertex};
+pub use textures::{Texels, Texture, TextureId};
+
+use std::path::Path;
+
+/// Loads a scene, choosing the loader by the file's extension (`.gltf`, `.glb`, `.obj`).
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("gltf") | Some("glb") => gltf::load(path),
+        Some("obj") => obj::load(path),
+        _ => Err(SceneError::format(
+            path,
+            "unknown scene format (expected .gltf, .glb or .obj)",
+        )),
+    }
+}

@@ -1,0 +1,1 @@
+//! Scenes built in code, for tests and benchmarks that should not depend on files.

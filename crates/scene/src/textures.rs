@@ -1,0 +1,129 @@
+//! Decoded textures: sRGB-tagged 8-bit colour or linear float data.
+
+use std::path::Path;
+
+use glam::Vec4;
+
+use crate::SceneError;
+
+/// Index into [`crate::Scene::textures`].
+pub type TextureId = u32;
+
+/// The largest texture side we decode. Adapters are checked against their own limits at
+/// upload; this bound only keeps a hostile header from asking for gigabytes.
+pub const MAX_TEXTURE_SIDE: u32 = 16_384;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texels {
+    /// RGBA8, colour channels sRGB-encoded, alpha linear (baseColor, emissive, map_Kd).
+    Srgb8(Vec<[u8; 4]>),
+    /// Linear RGBA floats (HDR images, data textures).
+    LinearF32(Vec<[f32; 4]>),
+}
+
+/// A texture, rows top to bottom (texture coordinate v = 0 is the first row, glTF's convention).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub texels: Texels,
+}
+
+impl Texture {
+    /// Decodes an image file's bytes. `srgb`: colour data in sRGB (kept as 8-bit, tagged);
+    /// otherwise linear (8-bit data is widened to float). Formats are guessed from the bytes.
+    pub fn decode(name: &str, bytes: &[u8], srgb: bool) -> Result<Texture, String> {
+        let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| format!("texture {name}: {e}"))?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+        limits.max_alloc = Some(1 << 30);
+        reader.limits(limits);
+        let image = reader
+            .decode()
+            .map_err(|e| format!("texture {name}: {e}"))?;
+        let (width, height) = (image.width(), image.height());
+        let is_float = matches!(
+            image.color(),
+            image::ColorType::Rgb32F | image::ColorType::Rgba32F
+        );
+        let texels = if srgb && !is_float {
+            Texels::Srgb8(image.to_rgba8().pixels().map(|p| p.0).collect())
+        } else if is_float {
+            Texels::LinearF32(image.to_rgba32f().pixels().map(|p| p.0).collect())
+        } else {
+            // 8-bit data that is not colour: its values are linear already.
+            Texels::LinearF32(image.to_rgba32f().pixels().map(|p| p.0).collect())
+        };
+        Ok(Texture {
+            name: name.to_string(),
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// Reads and decodes an image file.
+    pub fn load(path: &Path, srgb: bool) -> Result<Texture, SceneError> {
+        let bytes = std::fs::read(path).map_err(|e| SceneError::io(path, e))?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        Texture::decode(&name, &bytes, srgb).map_err(|e| SceneError::format(path, e))
+    }
+
+    pub fn texel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// The texel at integer coordinates, in linear RGBA.
+    pub fn texel_linear(&self, x: u32, y: u32) -> Vec4 {
+        let i = (y.min(self.height - 1) * self.width + x.min(self.width - 1)) as usize;
+        match &self.texels {
+            Texels::Srgb8(t) => {
+                let [r, g, b, a] = t[i];
+                Vec4::new(
+                    srgb_to_linear(r),
+                    srgb_to_linear(g),
+                    srgb_to_linear(b),
+                    a as f32 / 255.0,
+                )
+            }
+            Texels::LinearF32(t) => Vec4::from_array(t[i]),
+        }
+    }
+
+    /// Nearest-texel lookup with repeat wrapping; v = 0 is the top row.
+    pub fn sample_nearest(&self, u: f32, v: f32) -> Vec4 {
+        let wrap = |c: f32, n: u32| {
+            let f = c - c.floor();
+            ((f * n as f32) as u32).min(n - 1)
+        };
+        self.texel_linear(wrap(u, self.width), wrap(v, self.height))
+    }
+
+    /// The mean linear RGBA over all texels (used to estimate a textured light's power).
+    pub fn mean_linear(&self) -> Vec4 {
+        let mut sum = glam::DVec4::ZERO;
+        for y in 0..self.height {
+            for x in 0..self.width {
+                sum += self.texel_linear(x, y).as_dvec4();
+            }
+        }
+        (sum / self.texel_count().max(1) as f64).as_vec4()
+    }
+}
+
+/// The sRGB transfer function's inverse (IEC 61966-2-1).
+pub fn srgb_to_linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}

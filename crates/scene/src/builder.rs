@@ -105,7 +105,11 @@ impl SceneBuilder {
             });
         }
         let material_count = scene.materials.len() as u32;
-        if let Some(t) = scene.triangles.iter().find(|t| t.material >= material_count) {
+        if let Some(t) = scene
+            .triangles
+            .iter()
+            .find(|t| t.material >= material_count)
+        {
             return Err(SceneError::format(
                 &self.path,
                 format!("material index {} out of range", t.material),

@@ -5,13 +5,10 @@ use std::path::{Path, PathBuf};
 /// Why a scene could not be loaded. `Display` is one line naming the file, fit for a CLI.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The file (or a file it refers to) could not be read.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file (or a file it refers to) could not be read. (Not marked as the error's
+    /// source: the message already says it, and a CLI printing the chain would repeat it.)
+    #[error("{}: {error}", path.display())]
+    Io { path: PathBuf, error: std::io::Error },
     /// The file is malformed: bad syntax, out-of-range references, non-finite values.
     #[error("{}: {message}", path.display())]
     Format { path: PathBuf, message: String },
@@ -24,10 +21,10 @@ pub enum SceneError {
 }
 
 impl SceneError {
-    pub fn io(path: &Path, source: std::io::Error) -> Self {
+    pub fn io(path: &Path, error: std::io::Error) -> Self {
         Self::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         }
     }
 

@@ -24,7 +24,10 @@ pub struct Lights {
 impl Lights {
     /// Collects the emissive triangles of a scene.
     pub fn collect(triangles: &[Triangle], materials: &[Material], textures: &[Texture]) -> Lights {
-        let texture_means: Vec<Vec3> = textures.iter().map(|t| t.mean_linear().truncate()).collect();
+        let texture_means: Vec<Vec3> = textures
+            .iter()
+            .map(|t| t.mean_linear().truncate())
+            .collect();
         let mut lights = Lights::default();
         for (index, triangle) in triangles.iter().enumerate() {
             let material = &materials[triangle.material as usize];

@@ -22,7 +22,9 @@ pub enum Surface {
 pub enum AlphaMode {
     Opaque,
     /// Alpha cut-out: where `alpha × texture alpha < cutoff`, rays pass through.
-    Mask { cutoff: f32 },
+    Mask {
+        cutoff: f32,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -1,1 +1,490 @@
-//! Scenes built in code, for tests and benchmarks that should not depend on files.
+//! Scenes built in code, for tests and benchmarks that should not depend on files (STYLE.md,
+//! "Fixtures built in code", after Mitsuba's `cornell_box()`). Each goes through
+//! [`SceneBuilder`], so the scene invariants hold, and each has a camera.
+//!
+//! - [`cornell_box`]: the Cornell box as measured (geometry, camera), 38 triangles.
+//! - [`cornell_caustics`]: the same box without its blocks, with a glass and a mirror sphere.
+//! - [`furnace_sphere`]: a closed emissive diffuse sphere seen from inside; radiance is
+//!   [`FURNACE_RADIANCE`] everywhere.
+//! - [`lit_plane`]: a diffuse square under a large parallel area light; radiance is
+//!   [`lit_plane_radiance`].
+//!
+//! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
+//! these by `cargo run -p scene --example make_scenes -- scenes/`.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use crate::{Camera, Material, Scene, SceneBuilder, Surface, Triangle, Vertex};
+
+/// The Cornell box's white, red and green reflectances (linear RGB). The Cornell data gives
+/// spectra; these RGB values are the common ones (McGuire's `CornellBox-Original.mtl`,
+/// Tungsten, pbrt-v4-scenes).
+pub const CORNELL_WHITE: Vec3 = Vec3::new(0.725, 0.71, 0.68);
+pub const CORNELL_RED: Vec3 = Vec3::new(0.63, 0.065, 0.05);
+pub const CORNELL_GREEN: Vec3 = Vec3::new(0.14, 0.45, 0.091);
+/// The light's emitted radiance, the value most renderers use for this box.
+pub const CORNELL_LIGHT_RADIANCE: Vec3 = Vec3::new(17.0, 12.0, 4.0);
+/// The light's own reflectance (McGuire's `Kd`).
+pub const CORNELL_LIGHT_ALBEDO: Vec3 = Vec3::splat(0.78);
+/// Triangles (and UV-sphere tessellation) of the fixtures.
+pub const CORNELL_BOX_TRIANGLES: usize = 38;
+pub const SPHERE_SEGMENTS: u32 = 32;
+pub const SPHERE_RINGS: u32 = 16;
+pub const SPHERE_TRIANGLES: usize = (2 * SPHERE_SEGMENTS * (SPHERE_RINGS - 1)) as usize;
+
+/// Furnace: albedo ρ and emitted radiance Le of every point of the sphere's inside.
+pub const FURNACE_ALBEDO: f32 = 0.5;
+pub const FURNACE_EMISSION: f32 = 0.5;
+/// Inside a closed surface that everywhere emits Le and reflects diffusely with albedo ρ, the
+/// radiance is the same at every point and in every direction: L = Le + ρL, so
+/// L = Le / (1 − ρ) = 1 (the furnace test of pbrt's `integrators_test.cpp`).
+pub const FURNACE_RADIANCE: f32 = FURNACE_EMISSION / (1.0 - FURNACE_ALBEDO);
+
+/// Lit plane: a square of half-size [`LIT_PLANE_HALF_SIZE`] at y = 0 facing +y with albedo
+/// [`LIT_PLANE_ALBEDO`], under a black square light of half-size [`LIT_PLANE_LIGHT_HALF_SIZE`]
+/// at y = [`LIT_PLANE_LIGHT_HEIGHT`] facing down, emitting [`LIT_PLANE_EMISSION`].
+pub const LIT_PLANE_HALF_SIZE: f32 = 0.5;
+pub const LIT_PLANE_ALBEDO: f32 = 0.5;
+pub const LIT_PLANE_LIGHT_HALF_SIZE: f32 = 10.0;
+pub const LIT_PLANE_LIGHT_HEIGHT: f32 = 1.0;
+pub const LIT_PLANE_EMISSION: f32 = 1.0;
+
+/// The Cornell box as published by the Cornell Program of Computer Graphics, "Cornell Box
+/// Data" (<http://www.graphics.cornell.edu/online/box/data.html>): walls, blocks, light and
+/// camera in the published units (millimetres), y up, the camera at z = −800 looking +z. The
+/// data places the light in the ceiling's plane; here the ceiling has a hole the light's size
+/// where the light sits (as in the physical box), so that no two surfaces overlap. The light
+/// emits downwards only.
+pub fn cornell_box() -> Scene {
+    let mut f = Fixture::new("testing::cornell_box");
+    let white = cornell_room(&mut f);
+    let short_block = [[130.0, 65.0], [82.0, 225.0], [240.0, 272.0], [290.0, 114.0]];
+    let tall_block = [
+        [423.0, 247.0],
+        [265.0, 296.0],
+        [314.0, 456.0],
+        [472.0, 406.0],
+    ];
+    f.block(short_block, 165.0, white);
+    f.block(tall_block, 330.0, white);
+    f.finish()
+}
+
+/// The Cornell box without its blocks, with a solid glass sphere (ior 1.5) front right and a
+/// mirror sphere (reflectance 0.9) back left, both resting on the floor: caustics on the
+/// floor and walls. Spheres are UV spheres of [`SPHERE_SEGMENTS`] × [`SPHERE_RINGS`] with
+/// exact (smooth) normals.
+pub fn cornell_caustics() -> Scene {
+    let mut f = Fixture::new("testing::cornell_caustics");
+    cornell_room(&mut f);
+    let glass = f.material(
+        "glass",
+        Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: false,
+        },
+        Vec3::ONE,
+    );
+    let mirror = f.material("mirror", Surface::Mirror, Vec3::splat(0.9));
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, glass, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, mirror, false);
+    f.finish()
+}
+
+/// A unit sphere at the origin facing inwards, every point emitting [`FURNACE_EMISSION`] and
+/// reflecting with albedo [`FURNACE_ALBEDO`]; the camera sits at the centre. Every pixel's
+/// radiance is [`FURNACE_RADIANCE`] (the triangulation does not matter: any closed surface
+/// gives the same answer).
+pub fn furnace_sphere() -> Scene {
+    let mut f = Fixture::new("testing::furnace_sphere");
+    let inside = f.builder.add_material(Material {
+        name: "furnace".into(),
+        base_color: Vec3::splat(FURNACE_ALBEDO),
+        emission: Vec3::splat(FURNACE_EMISSION),
+        ..Material::default()
+    });
+    f.sphere(Vec3::ZERO, 1.0, inside, true);
+    f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
+    f.finish()
+}
+
+/// A diffuse square under a much larger parallel area light (see [`LIT_PLANE_HALF_SIZE`] and
+/// the constants after it). The light is black, so the plane is lit once: its radiance is
+/// [`lit_plane_radiance`]. The camera looks down at the plane from between the two.
+pub fn lit_plane() -> Scene {
+    let mut f = Fixture::new("testing::lit_plane");
+    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
+    let light = f.builder.add_material(Material {
+        name: "light".into(),
+        base_color: Vec3::ZERO,
+        emission: Vec3::splat(LIT_PLANE_EMISSION),
+        ..Material::default()
+    });
+    let square = |half: f32, y: f32| {
+        [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+            .map(|[x, z]| Vec3::new(x * half, y, z * half))
+    };
+    f.quad(square(LIT_PLANE_HALF_SIZE, 0.0), plane, Vec3::Y);
+    f.quad(
+        square(LIT_PLANE_LIGHT_HALF_SIZE, LIT_PLANE_LIGHT_HEIGHT),
+        light,
+        Vec3::NEG_Y,
+    );
+    let eye = Vec3::new(0.0, 0.8, 0.8);
+    f.camera(eye, -eye, 60f32.to_radians(), None, "above");
+    f.finish()
+}
+
+/// The lit plane's outgoing radiance at (x, 0, z) (|x|, |z| ≤ [`LIT_PLANE_HALF_SIZE`]):
+/// ρ·E/π with E the irradiance from the light. The light splits into four rectangles with a
+/// corner straight above the point; each contributes π·Le times the form factor from a
+/// differential area to a parallel rectangle over one of its corners (sides a, b, height h,
+/// X = a/h, Y = b/h): F = 1/(2π) [X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))].
+pub fn lit_plane_radiance(x: f32, z: f32) -> f32 {
+    let corner = |a: f64, b: f64| {
+        let h = LIT_PLANE_LIGHT_HEIGHT as f64;
+        let (x, y) = (a / h, b / h);
+        let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+        (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
+    };
+    let half = LIT_PLANE_LIGHT_HALF_SIZE as f64;
+    let (x, z) = (x as f64, z as f64);
+    let form_factor = corner(half - x, half - z)
+        + corner(half + x, half - z)
+        + corner(half - x, half + z)
+        + corner(half + x, half + z);
+    // E = π Le F and L = ρ E / π.
+    (LIT_PLANE_ALBEDO as f64 * LIT_PLANE_EMISSION as f64 * form_factor) as f32
+}
+
+/// The Cornell room without blocks: floor, ceiling with the light's hole, back, left (red)
+/// and right (green) walls, the light, the camera. Returns the white material.
+fn cornell_room(f: &mut Fixture) -> u32 {
+    let white = f.material("white", Surface::Diffuse, CORNELL_WHITE);
+    let red = f.material("red", Surface::Diffuse, CORNELL_RED);
+    let green = f.material("green", Surface::Diffuse, CORNELL_GREEN);
+    let light = f.builder.add_material(Material {
+        name: "light".into(),
+        base_color: CORNELL_LIGHT_ALBEDO,
+        emission: CORNELL_LIGHT_RADIANCE,
+        ..Material::default()
+    });
+    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let floor = [
+        p(552.8, 0.0, 0.0),
+        p(0.0, 0.0, 0.0),
+        p(0.0, 0.0, 559.2),
+        p(549.6, 0.0, 559.2),
+    ];
+    let back = [
+        p(549.6, 0.0, 559.2),
+        p(0.0, 0.0, 559.2),
+        p(0.0, 548.8, 559.2),
+        p(556.0, 548.8, 559.2),
+    ];
+    let right = [
+        p(0.0, 0.0, 559.2),
+        p(0.0, 0.0, 0.0),
+        p(0.0, 548.8, 0.0),
+        p(0.0, 548.8, 559.2),
+    ];
+    let left = [
+        p(552.8, 0.0, 0.0),
+        p(549.6, 0.0, 559.2),
+        p(556.0, 548.8, 559.2),
+        p(556.0, 548.8, 0.0),
+    ];
+    let ceiling = [
+        p(0.0, 548.8, 0.0),
+        p(556.0, 548.8, 0.0),
+        p(556.0, 548.8, 559.2),
+        p(0.0, 548.8, 559.2),
+    ];
+    let lamp = [
+        p(213.0, 548.8, 227.0),
+        p(343.0, 548.8, 227.0),
+        p(343.0, 548.8, 332.0),
+        p(213.0, 548.8, 332.0),
+    ];
+    f.quad(floor, white, Vec3::Y);
+    f.quad(back, white, Vec3::NEG_Z);
+    f.quad(right, green, Vec3::X);
+    f.quad(left, red, Vec3::NEG_X);
+    // The ceiling as four trapezoids around the light: outer edge k to inner edge k.
+    for k in 0..4 {
+        let next = (k + 1) % 4;
+        f.quad(
+            [ceiling[k], ceiling[next], lamp[next], lamp[k]],
+            white,
+            Vec3::NEG_Y,
+        );
+    }
+    f.quad(lamp, light, Vec3::NEG_Y);
+    // The film is 25 mm × 25 mm at a focal length of 35 mm.
+    let yfov = (2.0 * (12.5f64 / 35.0).atan()) as f32;
+    f.camera(p(278.0, 273.0, -800.0), Vec3::Z, yfov, Some(1.0), "cornell");
+    white
+}
+
+/// Builds a fixture; every helper orients faces explicitly, whatever order corners come in.
+struct Fixture {
+    builder: SceneBuilder,
+}
+
+impl Fixture {
+    fn new(name: &str) -> Self {
+        Fixture {
+            builder: SceneBuilder::new(Path::new(name)),
+        }
+    }
+
+    fn material(&mut self, name: &str, surface: Surface, base_color: Vec3) -> u32 {
+        self.builder.add_material(Material {
+            name: name.into(),
+            surface,
+            base_color,
+            ..Material::default()
+        })
+    }
+
+    /// A camera looking along `forward` with +y up.
+    fn camera(
+        &mut self,
+        eye: Vec3,
+        forward: Vec3,
+        yfov: f32,
+        aspect_ratio: Option<f32>,
+        name: &str,
+    ) {
+        let mut camera = Camera::look_at(eye, eye + forward, Vec3::Y, yfov)
+            .expect("fixture cameras have a valid frame")
+            .named(name);
+        camera.aspect_ratio = aspect_ratio;
+        self.builder.add_camera(camera);
+    }
+
+    /// A triangle whose front faces `facing`; shading normals are given or geometric (zero).
+    fn triangle(&mut self, mut vertices: [Vertex; 3], material: u32, facing: Vec3) {
+        let mut triangle = Triangle { vertices, material };
+        if triangle.geometric_normal_unnormalized().dot(facing) < 0.0 {
+            vertices.swap(1, 2);
+            triangle.vertices = vertices;
+        }
+        self.builder
+            .add_triangle(triangle)
+            .expect("fixture geometry is finite");
+    }
+
+    /// A planar convex quad as two triangles (0, 1, 2) and (0, 2, 3), front facing `facing`.
+    fn quad(&mut self, corners: [Vec3; 4], material: u32, facing: Vec3) {
+        let v = corners.map(|position| Vertex {
+            position,
+            ..Vertex::default()
+        });
+        self.triangle([v[0], v[1], v[2]], material, facing);
+        self.triangle([v[0], v[2], v[3]], material, facing);
+    }
+
+    /// A block standing on the floor: its top and four sides (its bottom is never seen).
+    fn block(&mut self, footprint: [[f32; 2]; 4], height: f32, material: u32) {
+        let at = |[x, z]: [f32; 2], y: f32| Vec3::new(x, y, z);
+        let centre = footprint.iter().fold(Vec2::ZERO, |s, &c| s + Vec2::from(c)) / 4.0;
+        self.quad(footprint.map(|c| at(c, height)), material, Vec3::Y);
+        for k in 0..4 {
+            let (a, b) = (footprint[k], footprint[(k + 1) % 4]);
+            let outward = (Vec2::from(a) + Vec2::from(b)) / 2.0 - centre;
+            let side = [at(a, 0.0), at(a, height), at(b, height), at(b, 0.0)];
+            self.quad(side, material, Vec3::new(outward.x, 0.0, outward.y));
+        }
+    }
+
+    /// A UV sphere with exact normals, facing outwards (or inwards, normals too).
+    fn sphere(&mut self, centre: Vec3, radius: f32, material: u32, inward: bool) {
+        let sign = if inward { -1.0 } else { 1.0 };
+        // Trigonometry in f64, rounded once: the same f32 values on every platform's libm,
+        // so the shipped glTF files regenerate byte for byte.
+        let vertex = |ring: u32, segment: u32| {
+            let theta = std::f64::consts::PI * ring as f64 / SPHERE_RINGS as f64;
+            let phi =
+                std::f64::consts::TAU * (segment % SPHERE_SEGMENTS) as f64 / SPHERE_SEGMENTS as f64;
+            let direction = match ring {
+                0 => Vec3::Y,
+                r if r == SPHERE_RINGS => Vec3::NEG_Y,
+                _ => glam::DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                )
+                .as_vec3(),
+            };
+            Vertex {
+                position: centre + radius * direction,
+                normal: sign * direction,
+                uv: Vec2::ZERO,
+            }
+        };
+        for ring in 0..SPHERE_RINGS {
+            for segment in 0..SPHERE_SEGMENTS {
+                let [a, b] = [vertex(ring, segment), vertex(ring, segment + 1)];
+                let [c, d] = [vertex(ring + 1, segment), vertex(ring + 1, segment + 1)];
+                let outward = |t: [Vertex; 3]| {
+                    sign * (t.iter().map(|v| v.position).sum::<Vec3>() / 3.0 - centre)
+                };
+                if ring > 0 {
+                    self.triangle([a, b, d], material, outward([a, b, d]));
+                }
+                if ring + 1 < SPHERE_RINGS {
+                    self.triangle([a, d, c], material, outward([a, d, c]));
+                }
+            }
+        }
+    }
+
+    fn finish(self) -> Scene {
+        self.builder.finish().expect("fixtures are valid scenes")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+
+    use super::*;
+
+    fn centroid(t: &Triangle) -> Vec3 {
+        t.positions().iter().sum::<Vec3>() / 3.0
+    }
+
+    fn faces_towards(t: &Triangle, point: Vec3) -> bool {
+        t.geometric_normal_unnormalized().dot(point - centroid(t)) > 0.0
+    }
+
+    /// Every edge of a closed mesh is shared by exactly two triangles.
+    fn is_closed(triangles: &[Triangle]) -> bool {
+        let key = |p: Vec3| p.to_array().map(f32::to_bits);
+        let mut edges: HashMap<_, u32> = HashMap::new();
+        for t in triangles {
+            let p = t.positions();
+            for k in 0..3 {
+                let (a, b) = (key(p[k]), key(p[(k + 1) % 3]));
+                *edges
+                    .entry(if a < b { (a, b) } else { (b, a) })
+                    .or_default() += 1;
+            }
+        }
+        edges.values().all(|&n| n == 2)
+    }
+
+    #[test]
+    fn cornell_box_faces_into_the_room_and_its_light_down() {
+        let scene = cornell_box();
+        assert_eq!(scene.triangles.len(), CORNELL_BOX_TRIANGLES);
+        assert_eq!(scene.degenerate_dropped, 0);
+        let (room, blocks) = scene.triangles.split_at(18);
+        let inside = Vec3::new(278.0, 274.4, 279.6);
+        assert!(room.iter().all(|t| faces_towards(t, inside)));
+        for block in blocks.chunks(10) {
+            let centre = block.iter().map(centroid).sum::<Vec3>() / 10.0;
+            assert!(block.iter().all(|t| !faces_towards(t, centre)));
+        }
+        assert_eq!(scene.lights.triangles.len(), 2);
+        for light in &scene.lights.triangles {
+            let t = &scene.triangles[light.triangle as usize];
+            assert!(t.geometric_normal_unnormalized().normalize().y < -0.999);
+        }
+        let expected_power = CORNELL_LIGHT_RADIANCE * 130.0 * 105.0 * std::f32::consts::PI;
+        assert!(
+            (scene.lights.total_power - expected_power)
+                .abs()
+                .max_element()
+                < 1.0
+        );
+        let camera = &scene.cameras[0];
+        assert_eq!(
+            (camera.eye, camera.forward, camera.up),
+            (Vec3::new(278.0, 273.0, -800.0), Vec3::Z, Vec3::Y)
+        );
+        assert!((camera.yfov.to_degrees() - 39.3077).abs() < 1e-3);
+        // Red (x ≈ 556) is on the image's left: the camera's right is −x.
+        assert_eq!(camera.right(), Vec3::NEG_X);
+    }
+
+    #[test]
+    fn cornell_caustics_has_closed_round_spheres() {
+        let scene = cornell_caustics();
+        assert_eq!(scene.triangles.len(), 18 + 2 * SPHERE_TRIANGLES);
+        let (_, spheres) = scene.triangles.split_at(18);
+        let (glass, mirror) = spheres.split_at(SPHERE_TRIANGLES);
+        for (sphere, centre) in [
+            (glass, Vec3::new(180.0, 90.0, 170.0)),
+            (mirror, Vec3::new(380.0, 110.0, 370.0)),
+        ] {
+            assert!(is_closed(sphere));
+            assert!(sphere.iter().all(|t| !faces_towards(t, centre)));
+            for v in sphere.iter().flat_map(|t| t.vertices) {
+                assert!((v.normal - (v.position - centre).normalize()).length() < 1e-5);
+            }
+        }
+        let material = |t: &Triangle| &scene.materials[t.material as usize];
+        assert_eq!(
+            material(&glass[0]).surface,
+            Surface::Dielectric {
+                ior: 1.5,
+                thin_walled: false
+            }
+        );
+        assert_eq!(material(&mirror[0]).surface, Surface::Mirror);
+    }
+
+    #[test]
+    fn furnace_sphere_is_closed_and_faces_inwards() {
+        let scene = furnace_sphere();
+        assert_eq!(scene.triangles.len(), SPHERE_TRIANGLES);
+        assert!(is_closed(&scene.triangles));
+        assert!(scene.triangles.iter().all(|t| faces_towards(t, Vec3::ZERO)));
+        for v in scene.triangles.iter().flat_map(|t| t.vertices) {
+            assert!(
+                (v.normal + v.position).length() < 1e-5,
+                "inward unit normal"
+            );
+        }
+        assert_eq!(scene.lights.triangles.len(), SPHERE_TRIANGLES);
+        assert_eq!(FURNACE_RADIANCE, 1.0);
+    }
+
+    #[test]
+    fn lit_plane_radiance_matches_numerical_integration() {
+        let scene = lit_plane();
+        assert_eq!(scene.triangles.len(), 4);
+        assert!(faces_towards(&scene.triangles[0], Vec3::Y));
+        assert!(faces_towards(&scene.triangles[2], Vec3::ZERO));
+        // E = Le ∫ cos θ cos θ' / r² dA = Le ∫ h² / r⁴ dA over the light (midpoint rule).
+        let n = 2000;
+        let (half, h) = (
+            LIT_PLANE_LIGHT_HALF_SIZE as f64,
+            LIT_PLANE_LIGHT_HEIGHT as f64,
+        );
+        let cell = 2.0 * half / n as f64;
+        for (x, z) in [(0.0, 0.0), (0.4, -0.3)] {
+            let mut irradiance = 0.0;
+            for i in 0..n {
+                for j in 0..n {
+                    let dx = -half + (i as f64 + 0.5) * cell - x;
+                    let dz = -half + (j as f64 + 0.5) * cell - z;
+                    let r2 = dx * dx + dz * dz + h * h;
+                    irradiance += h * h / (r2 * r2) * cell * cell;
+                }
+            }
+            let expected = LIT_PLANE_ALBEDO as f64 * LIT_PLANE_EMISSION as f64 * irradiance
+                / std::f64::consts::PI;
+            let analytic = lit_plane_radiance(x as f32, z as f32) as f64;
+            assert!(
+                (analytic - expected).abs() < 1e-5,
+                "({x}, {z}): {analytic} vs {expected}"
+            );
+        }
+        assert!((lit_plane_radiance(0.0, 0.0) - 0.49594).abs() < 1e-4);
+    }
+}

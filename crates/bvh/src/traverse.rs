@@ -1,0 +1,248 @@
+//! CPU traversals of a [`PackedBvh`]: the twins of the WGSL kernels.
+//!
+//! Three ways through the same nodes and triangles, each for the closest hit or any hit:
+//! - **stack**: test both children's boxes, go to the nearer, push the farther on a fixed-size
+//!   array ([`MAX_DEPTH`] entries, which the builder guarantees is enough);
+//! - **TBVH**: stackless, following the left-first threading's hit/miss links;
+//! - **MTBVH**: stackless, following the links of the ray's major direction
+//!   ([`direction_index`]), so boxes come roughly front to back.
+//!
+//! All three test the same triangles with the same arithmetic as the brute-force loop, and a
+//! box is culled only when the ray enters it beyond the best hit so far, so they return the
+//! same closest distance as [`closest_hit_brute_force`] (between triangles hit at exactly the
+//! same distance, any of them). Every loop is written as its shader will be: no recursion, no
+//! allocation.
+
+use glam::Vec3;
+
+use crate::intersect::{Hit, Ray, intersect_box, intersect_triangle};
+use crate::mtbvh::LINK_END;
+use crate::pack::{BvhNode, Links, PackedBvh, direction_index};
+use crate::tree::MAX_DEPTH;
+
+/// What a traversal looks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Query {
+    /// The hit with the smallest `t` in `[0, t_max)`.
+    Closest,
+    /// Any hit in `[0, t_max)` (shadow and visibility rays): stops at the first.
+    Any,
+}
+
+/// Work done by traversals, summed over rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TraversalCounters {
+    /// Ray-box tests.
+    pub boxes: u64,
+    /// Ray-triangle tests.
+    pub triangles: u64,
+}
+
+/// Tests a leaf's triangles, updating `best` and `t_best`; true if one was hit.
+fn test_leaf(
+    bvh: &PackedBvh,
+    leaf: &BvhNode,
+    ray: &Ray,
+    query: Query,
+    best: &mut Option<Hit>,
+    counters: &mut TraversalCounters,
+) -> bool {
+    let mut found = false;
+    let first = leaf.first_or_right;
+    for triangle in first..first + leaf.triangle_count {
+        counters.triangles += 1;
+        let t_best = best.map_or(ray.t_max, |h| h.t);
+        let tri = &bvh.triangles[triangle as usize];
+        if let Some((u, v, t)) = intersect_triangle(tri, ray.origin, ray.direction, t_best) {
+            *best = Some(Hit { triangle, t, u, v });
+            found = true;
+            if query == Query::Any {
+                break;
+            }
+        }
+    }
+    found
+}
+
+/// The children of internal node `node` whose boxes the ray enters before `t_best`, nearer
+/// first (ties: the left child); [`LINK_END`] in place of a child it misses.
+fn hit_children(
+    nodes: &[BvhNode],
+    node: u32,
+    ray: &Ray,
+    inv_direction: Vec3,
+    t_best: f32,
+    counters: &mut TraversalCounters,
+) -> (u32, u32) {
+    let (left, right) = (node + 1, nodes[node as usize].first_or_right);
+    counters.boxes += 2;
+    let t_left = intersect_box(&nodes[left as usize], ray.origin, inv_direction, t_best);
+    let t_right = intersect_box(&nodes[right as usize], ray.origin, inv_direction, t_best);
+    let (near, far, t_near, t_far) = if t_right < t_left {
+        (right, left, t_right, t_left)
+    } else {
+        (left, right, t_left, t_right)
+    };
+    let near = if t_near < f32::INFINITY {
+        near
+    } else {
+        LINK_END
+    };
+    let far = if t_far < f32::INFINITY { far } else { LINK_END };
+    (near, far)
+}
+
+/// Stack traversal; `counters` accumulate the work done.
+pub fn trace_stack(
+    bvh: &PackedBvh,
+    ray: &Ray,
+    query: Query,
+    counters: &mut TraversalCounters,
+) -> Option<Hit> {
+    let nodes = &bvh.nodes;
+    let inv_direction = ray.direction.recip();
+    let mut best: Option<Hit> = None;
+    let mut stack = [0u32; MAX_DEPTH];
+    let mut stack_len = 0;
+    counters.boxes += 1;
+    if nodes.is_empty()
+        || intersect_box(&nodes[0], ray.origin, inv_direction, ray.t_max) == f32::INFINITY
+    {
+        return None;
+    }
+    let mut node = 0u32;
+    loop {
+        let current = &nodes[node as usize];
+        let t_best = best.map_or(ray.t_max, |h| h.t);
+        let mut next = LINK_END;
+        if current.triangle_count > 0 {
+            if test_leaf(bvh, current, ray, query, &mut best, counters) && query == Query::Any {
+                return best;
+            }
+        } else {
+            let (near, far) = hit_children(nodes, node, ray, inv_direction, t_best, counters);
+            next = near;
+            if far != LINK_END {
+                stack[stack_len] = far;
+                stack_len += 1;
+            }
+        }
+        if next == LINK_END {
+            if stack_len == 0 {
+                return best;
+            }
+            stack_len -= 1;
+            next = stack[stack_len];
+        }
+        node = next;
+    }
+}
+
+/// Stackless traversal along one threading: `links` per node, starting at `root`.
+fn trace_threaded(
+    bvh: &PackedBvh,
+    links: &[Links],
+    root: u32,
+    ray: &Ray,
+    query: Query,
+    counters: &mut TraversalCounters,
+) -> Option<Hit> {
+    let inv_direction = ray.direction.recip();
+    let mut best: Option<Hit> = None;
+    let mut node = root;
+    while node != LINK_END {
+        let current = &bvh.nodes[node as usize];
+        let t_best = best.map_or(ray.t_max, |h| h.t);
+        counters.boxes += 1;
+        if intersect_box(current, ray.origin, inv_direction, t_best) < f32::INFINITY {
+            if current.triangle_count > 0
+                && test_leaf(bvh, current, ray, query, &mut best, counters)
+                && query == Query::Any
+            {
+                return best;
+            }
+            node = links[node as usize].hit;
+        } else {
+            node = links[node as usize].miss;
+        }
+    }
+    best
+}
+
+/// TBVH traversal (left-first threading); `counters` accumulate the work done.
+pub fn trace_tbvh(
+    bvh: &PackedBvh,
+    ray: &Ray,
+    query: Query,
+    counters: &mut TraversalCounters,
+) -> Option<Hit> {
+    trace_threaded(bvh, &bvh.tbvh_links, bvh.tbvh_root, ray, query, counters)
+}
+
+/// MTBVH traversal (the threading of the ray's major direction); `counters` accumulate the
+/// work done.
+pub fn trace_mtbvh(
+    bvh: &PackedBvh,
+    ray: &Ray,
+    query: Query,
+    counters: &mut TraversalCounters,
+) -> Option<Hit> {
+    let direction = direction_index(ray.direction);
+    let links = bvh.direction_links(direction);
+    trace_threaded(bvh, links, bvh.mtbvh_roots[direction], ray, query, counters)
+}
+
+/// Closest hit, stack traversal.
+pub fn closest_hit_stack(bvh: &PackedBvh, ray: &Ray) -> Option<Hit> {
+    trace_stack(bvh, ray, Query::Closest, &mut TraversalCounters::default())
+}
+
+/// Closest hit, TBVH traversal.
+pub fn closest_hit_tbvh(bvh: &PackedBvh, ray: &Ray) -> Option<Hit> {
+    trace_tbvh(bvh, ray, Query::Closest, &mut TraversalCounters::default())
+}
+
+/// Closest hit, MTBVH traversal.
+pub fn closest_hit_mtbvh(bvh: &PackedBvh, ray: &Ray) -> Option<Hit> {
+    trace_mtbvh(bvh, ray, Query::Closest, &mut TraversalCounters::default())
+}
+
+/// Whether anything is hit at `t` in `[0, t_max)`, stack traversal.
+pub fn any_hit_stack(bvh: &PackedBvh, ray: &Ray) -> bool {
+    trace_stack(bvh, ray, Query::Any, &mut TraversalCounters::default()).is_some()
+}
+
+/// Whether anything is hit at `t` in `[0, t_max)`, TBVH traversal.
+pub fn any_hit_tbvh(bvh: &PackedBvh, ray: &Ray) -> bool {
+    trace_tbvh(bvh, ray, Query::Any, &mut TraversalCounters::default()).is_some()
+}
+
+/// Whether anything is hit at `t` in `[0, t_max)`, MTBVH traversal.
+pub fn any_hit_mtbvh(bvh: &PackedBvh, ray: &Ray) -> bool {
+    trace_mtbvh(bvh, ray, Query::Any, &mut TraversalCounters::default()).is_some()
+}
+
+/// Closest hit by testing every triangle in order (the reference for tests). Of triangles hit
+/// at exactly the same `t`, the first in [`PackedBvh::triangles`] wins.
+pub fn closest_hit_brute_force(bvh: &PackedBvh, ray: &Ray) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for (index, triangle) in bvh.triangles.iter().enumerate() {
+        let t_best = best.map_or(ray.t_max, |h| h.t);
+        if let Some((u, v, t)) = intersect_triangle(triangle, ray.origin, ray.direction, t_best) {
+            best = Some(Hit {
+                triangle: index as u32,
+                t,
+                u,
+                v,
+            });
+        }
+    }
+    best
+}
+
+/// Whether any triangle is hit at `t` in `[0, t_max)`, testing every one.
+pub fn any_hit_brute_force(bvh: &PackedBvh, ray: &Ray) -> bool {
+    bvh.triangles
+        .iter()
+        .any(|t| intersect_triangle(t, ray.origin, ray.direction, ray.t_max).is_some())
+}

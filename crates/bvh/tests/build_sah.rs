@@ -1,0 +1,172 @@
+//! Invariants of the SAH build.
+
+use bvh::testing::{Rng, random_soup};
+use bvh::{
+    BuildOptions, Bvh, MAX_DEPTH, PackedBvh, build_sah, closest_hit_brute_force, closest_hit_mtbvh,
+    closest_hit_stack,
+};
+use glam::Vec3;
+use scene::{Bounds, Triangle};
+
+fn contains(outer: &Bounds, inner: &Bounds) -> bool {
+    outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
+}
+
+/// Every triangle in exactly one leaf, boxes nested, leaves no bigger than allowed, depth capped.
+fn check_invariants(triangles: &[Triangle], bvh: &Bvh, options: &BuildOptions) {
+    let mut seen = vec![0u32; triangles.len()];
+    for &id in &bvh.triangle_order {
+        seen[id as usize] += 1;
+    }
+    assert!(
+        seen.iter().all(|&n| n == 1),
+        "triangle_order is not a permutation"
+    );
+    let mut covered = vec![0u32; triangles.len()];
+    for (index, node) in bvh.nodes.iter().enumerate() {
+        if let Some((left, right)) = bvh.children(index as u32) {
+            assert!(
+                left as usize > index && right > left,
+                "node {index} not in pre-order"
+            );
+            for child in [left, right] {
+                assert!(
+                    contains(&node.bounds, &bvh.nodes[child as usize].bounds),
+                    "node {index}"
+                );
+            }
+        } else {
+            check_leaf(triangles, bvh, index, options, &mut covered);
+        }
+    }
+    assert!(
+        covered.iter().all(|&n| n == 1),
+        "leaves do not cover the triangles once each"
+    );
+    assert!(bvh.depth() <= MAX_DEPTH);
+    let leaves: usize = bvh.leaf_size_histogram().iter().sum();
+    assert_eq!(leaves, bvh.leaf_count());
+    assert_eq!(bvh.node_count(), 2 * leaves - 1);
+}
+
+/// A leaf's size is allowed and its box holds its triangles; counts them in `covered`.
+fn check_leaf(
+    triangles: &[Triangle],
+    bvh: &Bvh,
+    index: usize,
+    options: &BuildOptions,
+    covered: &mut [u32],
+) {
+    let node = &bvh.nodes[index];
+    let size = node.triangle_count as usize;
+    assert!(
+        (1..=options.max_leaf_size).contains(&size),
+        "leaf of {size}"
+    );
+    let range = node.first_or_right as usize..node.first_or_right as usize + size;
+    for (count, &id) in covered[range.clone()]
+        .iter_mut()
+        .zip(&bvh.triangle_order[range])
+    {
+        *count += 1;
+        assert!(
+            contains(&node.bounds, &triangles[id as usize].bounds()),
+            "leaf {index}"
+        );
+    }
+}
+
+#[test]
+fn random_soups_satisfy_the_invariants() {
+    for (seed, count) in [(1, 1), (2, 2), (3, 5), (4, 100), (5, 5000), (6, 70_000)] {
+        let triangles = random_soup(seed, count);
+        for max_leaf_size in [1, 2, 4, 8] {
+            for bins in [2, 8, 32] {
+                let options = BuildOptions {
+                    max_leaf_size,
+                    bins,
+                };
+                check_invariants(&triangles, &build_sah(&triangles, &options), &options);
+            }
+        }
+    }
+}
+
+fn tiny_triangle(center: Vec3) -> Triangle {
+    let mut t = random_soup(0, 1)[0];
+    let offsets = [
+        Vec3::ZERO,
+        Vec3::new(1e-3, 0.0, 0.0),
+        Vec3::new(0.0, 1e-3, 0.0),
+    ];
+    for (v, o) in t.vertices.iter_mut().zip(offsets) {
+        v.position = center + o;
+    }
+    t
+}
+
+#[test]
+fn identical_triangles_split_by_count() {
+    let triangles = vec![tiny_triangle(Vec3::ONE); 1000];
+    for max_leaf_size in [1, 4] {
+        let options = BuildOptions {
+            max_leaf_size,
+            ..Default::default()
+        };
+        let bvh = build_sah(&triangles, &options);
+        check_invariants(&triangles, &bvh, &options);
+        assert!(bvh.depth() <= 12, "depth {}", bvh.depth());
+    }
+}
+
+#[test]
+fn skewed_input_traverses_correctly() {
+    // Centres growing geometrically make every SAH split peel off a few triangles.
+    let triangles: Vec<Triangle> = (0..3000)
+        .map(|k| tiny_triangle(Vec3::new(1.02f32.powi(k), 0.0, 0.0)))
+        .collect();
+    let options = BuildOptions::default();
+    let bvh = build_sah(&triangles, &options);
+    check_invariants(&triangles, &bvh, &options);
+    let packed = PackedBvh::from_bvh(&triangles, &bvh);
+    let mut rng = Rng::new(3);
+    for _ in 0..500 {
+        let x = 1.02f32.powf(rng.range(0.0, 3000.0));
+        let ray = bvh::Ray {
+            origin: Vec3::new(x, 2e-4, 1.0),
+            direction: Vec3::new(rng.range(-1e-3, 1e-3), 0.0, -1.0),
+            t_max: f32::INFINITY,
+        };
+        let want = closest_hit_brute_force(&packed, &ray).map(|h| h.t);
+        assert_eq!(closest_hit_stack(&packed, &ray).map(|h| h.t), want);
+        assert_eq!(closest_hit_mtbvh(&packed, &ray).map(|h| h.t), want);
+    }
+}
+
+#[test]
+fn statistics_of_a_small_tree() {
+    let triangles = random_soup(8, 64);
+    let bvh = build_sah(&triangles, &BuildOptions::default());
+    assert_eq!(bvh.node_count(), 2 * 64 - 1);
+    assert_eq!(bvh.leaf_size_histogram(), vec![0, 64]);
+    // Every triangle's leaf is at most the root's area, and the root alone costs 1.
+    let cost = bvh.sah_cost();
+    assert!(cost > 1.0 && cost < 64.0 + 63.0, "{cost}");
+    assert!(bvh.depth() >= 7);
+}
+
+#[test]
+fn empty_input_gives_an_empty_tree() {
+    let bvh = build_sah(&[], &BuildOptions::default());
+    assert_eq!(bvh.node_count(), 0);
+    assert_eq!(bvh.depth(), 0);
+    assert_eq!(bvh.sah_cost(), 0.0);
+    let packed = PackedBvh::from_bvh(&[], &bvh);
+    let ray = bvh::Ray {
+        origin: Vec3::ZERO,
+        direction: Vec3::X,
+        t_max: 1.0,
+    };
+    assert!(closest_hit_stack(&packed, &ray).is_none());
+    assert!(closest_hit_mtbvh(&packed, &ray).is_none());
+}

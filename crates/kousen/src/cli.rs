@@ -1,0 +1,118 @@
+//! The command line (DESIGN.md "Command line": a contract scripts depend on).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "kousen",
+    version,
+    about = "Stochastic progressive photon mapping on the GPU"
+)]
+pub struct Cli {
+    /// More log output (-v info, -vv debug); RUST_LOG overrides.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    pub verbose: u8,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Render a scene to an image (.png tonemapped, .pfm linear).
+    Render(RenderArgs),
+    /// Triangles, materials, lights, BVH statistics and memory of a scene.
+    Info(InfoArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Backend {
+    /// The GPU when an adapter exists, else the CPU.
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// A .gltf, .glb or .obj file.
+    pub scene: PathBuf,
+    /// Output image: .png (exposure + sRGB tonemap) or .pfm (linear).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: u32,
+    /// Default: from the camera's aspect ratio, else square.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Passes to render (each adds one sample per pixel).
+    #[arg(long, conflicts_with = "time", value_parser = clap::value_parser!(u32).range(1..))]
+    pub passes: Option<u32>,
+    /// Render for this many seconds instead of a number of passes.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub time: Option<f64>,
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Exposure in stops applied before the PNG tonemap.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    pub backend: Backend,
+    /// Write statistics as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
+}
+
+/// Which camera to render from: a file's camera, or one given on the command line.
+#[derive(Args, Clone)]
+pub struct CameraArgs {
+    /// Index of the scene file's camera (default: the first; none: a framed view).
+    #[arg(long, value_name = "I", conflicts_with = "eye")]
+    pub camera: Option<usize>,
+    /// Camera position "x,y,z" (with --target).
+    #[arg(long, value_name = "X,Y,Z", requires = "target", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<[f32; 3]>,
+    /// Point looked at "x,y,z" (with --eye).
+    #[arg(long, value_name = "X,Y,Z", requires = "eye", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<[f32; 3]>,
+    /// Up direction "x,y,z".
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees (with --eye).
+    #[arg(long, value_name = "DEGREES", default_value_t = 50.0)]
+    pub fov: f32,
+}
+
+fn parse_vec3(text: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let values: Result<Vec<f32>, _> = parts.iter().map(|p| p.parse::<f32>()).collect();
+    match values {
+        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok([v[0], v[1], v[2]]),
+        _ => Err(format!(
+            "expected three finite numbers \"x,y,z\", got {text:?}"
+        )),
+    }
+}
+
+#[derive(Args)]
+pub struct InfoArgs {
+    /// A .gltf, .glb or .obj file.
+    pub scene: PathBuf,
+    /// Print JSON (a contract for scripts) instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
+}
+
+#[derive(Args, Clone, Copy)]
+pub struct BvhArgs {
+    /// Most triangles per BVH leaf (the talk uses 1).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub leaf_size: Option<u32>,
+}

@@ -1,0 +1,13 @@
+//! One module per subcommand.
+
+mod info;
+mod render;
+
+use crate::cli::Command;
+
+pub fn run(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Info(args) => info::run(&args),
+        Command::Render(args) => render::run(&args),
+    }
+}

@@ -1,0 +1,202 @@
+//! Bad input to `kousen info` and `kousen render`: each a one-line error and a non-zero exit,
+//! never a panic, never a half-written file.
+
+mod common;
+
+use common::*;
+use serde_json::json;
+
+fn info(path: &std::path::Path) -> std::process::Output {
+    kousen(&["info", path.to_str().unwrap()])
+}
+
+#[test]
+fn missing_file_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["absent.gltf", "absent.glb", "absent.obj"] {
+        assert_clean_error(&info(&dir.path().join(name)), "absent");
+    }
+}
+
+#[test]
+fn empty_files_are_clean_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["empty.gltf", "empty.glb", "empty.obj"] {
+        let path = write(dir.path(), name, b"");
+        assert_clean_error(&info(&path), name);
+    }
+}
+
+#[test]
+fn truncated_glb_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let document = gltf(&QUAD, Some(&QUAD_INDICES), 4, json!({}));
+    let whole = glb(&document, &[]);
+    let path = write(dir.path(), "cut.glb", &whole[..whole.len() / 2]);
+    assert_clean_error(&info(&path), "cut.glb");
+    // A header that claims far more than the file holds.
+    let mut lying = whole.clone();
+    lying[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+    let path = write(dir.path(), "lying.glb", &lying);
+    assert_clean_error(&info(&path), "lying.glb");
+}
+
+#[test]
+fn malformed_json_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "broken.gltf",
+        b"{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [",
+    );
+    assert_clean_error(&info(&path), "broken.gltf");
+}
+
+#[test]
+fn index_out_of_range_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let document = gltf(&QUAD, Some(&[0, 1, 2, 0, 2, 99]), 4, json!({}));
+    let path = write(dir.path(), "index.gltf", &document);
+    assert_clean_error(&info(&path), "99");
+}
+
+#[test]
+fn non_finite_positions_are_clean_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bad) in [("nan.gltf", f32::NAN), ("inf.gltf", f32::INFINITY)] {
+        let mut positions = QUAD;
+        positions[2][1] = bad;
+        let document = gltf(&positions, Some(&QUAD_INDICES), 4, json!({}));
+        let path = write(dir.path(), name, &document);
+        assert_clean_error(&info(&path), name);
+    }
+    let path = write(
+        dir.path(),
+        "nan.obj",
+        b"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n",
+    );
+    assert_clean_error(&info(&path), "nan.obj");
+}
+
+#[test]
+fn non_triangle_primitive_only_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    // Mode 1: lines.
+    let document = gltf(&QUAD, Some(&QUAD_INDICES), 1, json!({}));
+    let path = write(dir.path(), "lines.gltf", &document);
+    assert_clean_error(&info(&path), "triangle");
+}
+
+#[test]
+fn unknown_required_extension_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let extra = json!({
+        "extensionsUsed": ["EXT_made_up_thing"],
+        "extensionsRequired": ["EXT_made_up_thing"],
+    });
+    let document = gltf(&QUAD, Some(&QUAD_INDICES), 4, extra);
+    let path = write(dir.path(), "extension.gltf", &document);
+    assert_clean_error(&info(&path), "EXT_made_up_thing");
+}
+
+#[test]
+fn zero_triangles_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    // Every triangle degenerate: all three corners on a line.
+    let line = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+    let document = gltf(&line, None, 4, json!({}));
+    let path = write(dir.path(), "flat.gltf", &document);
+    assert_clean_error(&info(&path), "no triangles");
+    let path = write(dir.path(), "nothing.obj", b"# only a comment\nv 0 0 0\n");
+    assert_clean_error(&info(&path), "no triangles");
+}
+
+#[test]
+fn unknown_scene_extension_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "scene.fbx", b"whatever");
+    assert_clean_error(&info(&path), "unknown scene format");
+}
+
+fn lit_quad_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let extra = json!({
+        "materials": [{"emissiveFactor": [1.0, 1.0, 1.0]}],
+    });
+    let mut document: serde_json::Value =
+        serde_json::from_slice(&gltf(&QUAD, Some(&QUAD_INDICES), 4, extra)).unwrap();
+    document["meshes"][0]["primitives"][0]["material"] = json!(0);
+    write(dir, "lit.gltf", &serde_json::to_vec(&document).unwrap())
+}
+
+#[test]
+fn render_refuses_a_scene_without_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "dark.gltf",
+        &gltf(&QUAD, Some(&QUAD_INDICES), 4, json!({})),
+    );
+    let out = dir.path().join("dark.png");
+    let output = kousen(&[
+        "render",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_clean_error(&output, "emissive");
+    assert_no_files_but(dir.path(), &["dark.gltf"]);
+}
+
+#[test]
+fn render_refuses_bad_outputs_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = lit_quad_scene(dir.path());
+    let scene = scene.to_str().unwrap();
+    let unwritable = dir.path().join("no/such/folder/out.png");
+    let output = kousen(&[
+        "render",
+        scene,
+        "-o",
+        unwritable.to_str().unwrap(),
+        "--passes",
+        "1",
+    ]);
+    assert_clean_error(&output, "out.png");
+    let unknown = dir.path().join("out.bmpx");
+    let output = kousen(&[
+        "render",
+        scene,
+        "-o",
+        unknown.to_str().unwrap(),
+        "--passes",
+        "1",
+    ]);
+    assert_clean_error(&output, "extension");
+    assert_no_files_but(dir.path(), &["lit.gltf"]);
+}
+
+#[test]
+fn render_refuses_a_camera_index_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = lit_quad_scene(dir.path());
+    let out = dir.path().join("out.png");
+    let output = kousen(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--camera",
+        "3",
+    ]);
+    assert_clean_error(&output, "camera");
+    assert_no_files_but(dir.path(), &["lit.gltf"]);
+}
+
+fn assert_no_files_but(dir: &std::path::Path, expected: &[&str]) {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, expected, "stray files left behind");
+}

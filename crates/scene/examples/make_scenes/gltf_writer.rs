@@ -1,0 +1,344 @@
+//! A minimal glTF 2.0 writer for the fixtures of `scene::testing` (no textures).
+//!
+//! One mesh with one primitive per material (vertices de-duplicated within a primitive,
+//! u16 or u32 indices), one node per camera, and the binary data in an external `.bin` beside
+//! the `.gltf`. Materials follow DESIGN.md's mapping in reverse:
+//! - diffuse → metallic 0, roughness 1; mirror → metallic 1, roughness 0;
+//! - dielectric → `KHR_materials_transmission` 1 and `KHR_materials_ior`, with
+//!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid;
+//! - emission → `emissiveFactor` scaled to a maximum of 1, times
+//!   `KHR_materials_emissive_strength`.
+//!
+//! The output depends only on the scene: object keys are sorted and numbers are written as the
+//! shortest text that reads back as the same f32.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::{Mat3, Quat, Vec3};
+use scene::{AlphaMode, Camera, Material, Scene, Surface, Triangle};
+use serde_json::{Map, Value, json};
+
+/// A function building a fixture scene.
+pub type Fixture = fn() -> Scene;
+
+/// The scenes shipped in `scenes/`, by file stem.
+pub const SHIPPED: [(&str, Fixture); 2] = [
+    ("cornell-box", scene::testing::cornell_box),
+    ("cornell-caustics", scene::testing::cornell_caustics),
+];
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_SHORT: u32 = 5123;
+const UNSIGNED_INT: u32 = 5125;
+const TRIANGLES: u32 = 4;
+
+/// A scene as glTF: the JSON text and the `.bin` it refers to as `<stem>.bin`.
+pub struct Encoded {
+    pub json: Vec<u8>,
+    pub bin: Vec<u8>,
+}
+
+/// Writes `<dir>/<stem>.gltf` and `<dir>/<stem>.bin`.
+pub fn write(scene: &Scene, stem: &str, dir: &Path) -> std::io::Result<()> {
+    let encoded = encode(scene, stem);
+    std::fs::write(dir.join(format!("{stem}.bin")), &encoded.bin)?;
+    std::fs::write(dir.join(format!("{stem}.gltf")), &encoded.json)
+}
+
+pub fn encode(scene: &Scene, stem: &str) -> Encoded {
+    assert!(
+        scene.textures.is_empty(),
+        "the writer does not write textures"
+    );
+    let mut doc = Document::default();
+    let primitives: Vec<Value> = (0..scene.materials.len() as u32)
+        .filter_map(|m| {
+            let triangles: Vec<&Triangle> =
+                scene.triangles.iter().filter(|t| t.material == m).collect();
+            (!triangles.is_empty()).then(|| doc.primitive(&triangles, m))
+        })
+        .collect();
+    let materials: Vec<Value> = scene
+        .materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| doc.material(m, thickness(scene, i as u32)))
+        .collect();
+    let mut nodes = vec![json!({ "name": stem, "mesh": 0 })];
+    let near = znear(scene);
+    let cameras: Vec<Value> = scene.cameras.iter().map(|c| perspective(c, near)).collect();
+    nodes.extend(
+        scene
+            .cameras
+            .iter()
+            .enumerate()
+            .map(|(i, c)| camera_node(c, i)),
+    );
+    let mut extensions: Vec<&str> = doc.extensions.clone();
+    extensions.sort_unstable();
+    extensions.dedup();
+    let mut root = json!({
+        "asset": {
+            "version": "2.0",
+            "generator": "kousen make_scenes (crates/scene/examples/make_scenes.rs)",
+        },
+        "scene": 0,
+        "scenes": [{ "name": stem, "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
+        "nodes": nodes,
+        "meshes": [{ "name": stem, "primitives": primitives }],
+        "materials": materials,
+        "accessors": doc.accessors,
+        "bufferViews": doc.views,
+        "buffers": [{ "uri": format!("{stem}.bin"), "byteLength": doc.bin.len() }],
+    });
+    if !cameras.is_empty() {
+        root["cameras"] = Value::Array(cameras);
+    }
+    if !extensions.is_empty() {
+        root["extensionsUsed"] = json!(extensions);
+    }
+    let mut json = serde_json::to_vec_pretty(&sorted(root)).expect("JSON values serialise");
+    json.push(b'\n');
+    Encoded { json, bin: doc.bin }
+}
+
+#[derive(Default)]
+struct Document {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+    extensions: Vec<&'static str>,
+}
+
+impl Document {
+    /// Appends `bytes` as a buffer view and returns its index.
+    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.views.push(json!({
+            "buffer": 0,
+            "byteOffset": self.bin.len(),
+            "byteLength": bytes.len(),
+            "target": target,
+        }));
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    fn accessor(&mut self, mut accessor: Value, bytes: &[u8], target: u32) -> usize {
+        accessor["bufferView"] = json!(self.view(bytes, target));
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    fn vec3_accessor(&mut self, values: &[Vec3], with_bounds: bool) -> usize {
+        let bytes: Vec<u8> = values
+            .iter()
+            .flat_map(|v| v.to_array())
+            .flat_map(f32::to_le_bytes)
+            .collect();
+        let mut accessor = json!({ "componentType": FLOAT, "count": values.len(), "type": "VEC3" });
+        if with_bounds {
+            let (min, max) = values
+                .iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+            accessor["min"] = numbers(&min.to_array());
+            accessor["max"] = numbers(&max.to_array());
+        }
+        self.accessor(accessor, &bytes, ARRAY_BUFFER)
+    }
+
+    /// One primitive: the triangles' distinct (position, normal) corners and their indices.
+    fn primitive(&mut self, triangles: &[&Triangle], material: u32) -> Value {
+        assert!(
+            triangles
+                .iter()
+                .flat_map(|t| t.vertices)
+                .all(|v| v.uv == glam::Vec2::ZERO),
+            "the writer does not write texture coordinates"
+        );
+        let mut slots: HashMap<[u32; 6], u32> = HashMap::new();
+        let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
+        for v in triangles.iter().flat_map(|t| t.vertices) {
+            let key = [v.position.to_array(), v.normal.to_array()].concat();
+            let key: [u32; 6] = std::array::from_fn(|i| key[i].to_bits());
+            let index = *slots.entry(key).or_insert_with(|| {
+                positions.push(v.position);
+                normals.push(v.normal);
+                positions.len() as u32 - 1
+            });
+            indices.push(index);
+        }
+        let position = self.vec3_accessor(&positions, true);
+        let normal = self.vec3_accessor(&normals, false);
+        let (component, bytes): (u32, Vec<u8>) = if positions.len() <= u16::MAX as usize {
+            (
+                UNSIGNED_SHORT,
+                indices
+                    .iter()
+                    .flat_map(|&i| (i as u16).to_le_bytes())
+                    .collect(),
+            )
+        } else {
+            (
+                UNSIGNED_INT,
+                indices.iter().flat_map(|&i| i.to_le_bytes()).collect(),
+            )
+        };
+        let accessor =
+            json!({ "componentType": component, "count": indices.len(), "type": "SCALAR" });
+        let indices = self.accessor(accessor, &bytes, ELEMENT_ARRAY_BUFFER);
+        json!({
+            "attributes": { "POSITION": position, "NORMAL": normal },
+            "indices": indices,
+            "material": material,
+            "mode": TRIANGLES,
+        })
+    }
+
+    fn material(&mut self, m: &Material, thickness: f32) -> Value {
+        let (metallic, roughness) = match m.surface {
+            Surface::Diffuse => (0.0, 1.0),
+            Surface::Mirror | Surface::Dielectric { .. } => {
+                (f32::from(m.surface == Surface::Mirror), 0.0)
+            }
+        };
+        let [r, g, b] = m.base_color.to_array();
+        let mut value = json!({
+            "name": m.name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": numbers(&[r, g, b, m.alpha]),
+                "metallicFactor": number(metallic),
+                "roughnessFactor": number(roughness),
+            },
+        });
+        let mut extensions = Map::new();
+        if let Surface::Dielectric { ior, thin_walled } = m.surface {
+            extensions.insert(
+                "KHR_materials_transmission".into(),
+                json!({ "transmissionFactor": 1 }),
+            );
+            extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
+            if !thin_walled {
+                extensions.insert(
+                    "KHR_materials_volume".into(),
+                    json!({ "thicknessFactor": number(thickness) }),
+                );
+            }
+        }
+        let strength = m.emission.max_element();
+        if strength > 0.0 {
+            let factor = if strength > 1.0 {
+                m.emission / strength
+            } else {
+                m.emission
+            };
+            value["emissiveFactor"] = numbers(&factor.to_array());
+            if strength > 1.0 {
+                extensions.insert(
+                    "KHR_materials_emissive_strength".into(),
+                    json!({ "emissiveStrength": number(strength) }),
+                );
+            }
+        }
+        if let AlphaMode::Mask { cutoff } = m.alpha_mode {
+            value["alphaMode"] = json!("MASK");
+            value["alphaCutoff"] = number(cutoff);
+        }
+        if m.double_sided {
+            value["doubleSided"] = json!(true);
+        }
+        if !extensions.is_empty() {
+            self.extensions
+                .extend(extensions.keys().map(|k| known_extension(k)));
+            value["extensions"] = Value::Object(extensions);
+        }
+        value
+    }
+}
+
+fn known_extension(name: &str) -> &'static str {
+    [
+        "KHR_materials_emissive_strength",
+        "KHR_materials_ior",
+        "KHR_materials_transmission",
+        "KHR_materials_volume",
+    ]
+    .into_iter()
+    .find(|&k| k == name)
+    .expect("only these extensions are written")
+}
+
+/// A solid dielectric's volume thickness: the smallest side of its triangles' bounding box.
+fn thickness(scene: &Scene, material: u32) -> f32 {
+    let bounds = scene
+        .triangles
+        .iter()
+        .filter(|t| t.material == material)
+        .fold(scene::Bounds::EMPTY, |b, t| b.union(t.bounds()));
+    if bounds.is_empty() {
+        0.0
+    } else {
+        bounds.extent().min_element()
+    }
+}
+
+/// A near plane a thousandth of the scene's size, rounded down to a power of ten.
+fn znear(scene: &Scene) -> f32 {
+    let diagonal = scene.bounds().extent().length() as f64;
+    10f64.powf((diagonal * 1e-3).log10().floor()) as f32
+}
+
+fn perspective(camera: &Camera, znear: f32) -> Value {
+    let mut perspective = json!({ "yfov": number(camera.yfov), "znear": number(znear) });
+    if let Some(aspect) = camera.aspect_ratio {
+        perspective["aspectRatio"] = number(aspect);
+    }
+    json!({ "name": camera.name, "type": "perspective", "perspective": perspective })
+}
+
+/// A glTF camera looks down its local −z with +y up: the node's rotation takes (x, y, −z) to
+/// (right, up, forward).
+fn camera_node(camera: &Camera, index: usize) -> Value {
+    let frame = Mat3::from_cols(camera.right(), camera.up, -camera.forward);
+    let mut rotation = Quat::from_mat3(&frame).normalize();
+    if rotation.w < 0.0 {
+        rotation = -rotation;
+    }
+    json!({
+        "name": camera.name,
+        "camera": index,
+        "translation": numbers(&camera.eye.to_array()),
+        "rotation": numbers(&rotation.to_array()),
+    })
+}
+
+/// An f32 as the shortest decimal that reads back as the same f32 (−0 written as 0).
+fn number(x: f32) -> Value {
+    let x = if x == 0.0 { 0.0 } else { x };
+    let shortest: f64 = x.to_string().parse().expect("f32 text parses as f64");
+    serde_json::Number::from_f64(shortest).map_or(Value::Null, Value::Number)
+}
+
+fn numbers(xs: &[f32]) -> Value {
+    Value::Array(xs.iter().map(|&x| number(x)).collect())
+}
+
+/// The value with every object's keys in sorted order, whatever map serde_json uses.
+fn sorted(value: Value) -> Value {
+    match value {
+        Value::Object(map) => {
+            let mut entries: Vec<(String, Value)> = map.into_iter().collect();
+            entries.sort_by(|a, b| a.0.cmp(&b.0));
+            Value::Object(entries.into_iter().map(|(k, v)| (k, sorted(v))).collect())
+        }
+        Value::Array(items) => Value::Array(items.into_iter().map(sorted).collect()),
+        other => other,
+    }
+}

@@ -1,0 +1,271 @@
+//! Accessors: typed, strided arrays inside buffer views, read here by hand (little-endian)
+//! after every bound has been checked: the type and component type the semantic allows,
+//! `byteOffset + stride·(count−1) + element size ≤ bufferView.byteLength`, finite values.
+//! Sparse accessors and accessors without a buffer view (all zeros) are not supported.
+
+use glam::{Vec2, Vec3};
+
+use ::gltf::json;
+use json::accessor::{ComponentType, Type};
+use json::validation::Checked;
+
+use super::{Context, Input};
+use crate::SceneError;
+
+/// What an accessor is read as; each allows the types the glTF spec allows for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Semantic {
+    /// VEC3 of FLOAT.
+    Position,
+    /// VEC3 of FLOAT.
+    Normal,
+    /// VEC2 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT.
+    TexCoord,
+    /// SCALAR of UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT.
+    Indices,
+}
+
+impl Semantic {
+    fn accepts(self, ty: Type, component: ComponentType, normalized: bool) -> bool {
+        use ComponentType::{F32, U8, U16, U32};
+        match self {
+            Semantic::Position | Semantic::Normal => ty == Type::Vec3 && component == F32,
+            Semantic::TexCoord => {
+                ty == Type::Vec2
+                    && (component == F32 || (normalized && matches!(component, U8 | U16)))
+            }
+            Semantic::Indices => ty == Type::Scalar && matches!(component, U8 | U16 | U32),
+        }
+    }
+
+    fn expected(self) -> &'static str {
+        match self {
+            Semantic::Position | Semantic::Normal => "VEC3 of FLOAT",
+            Semantic::TexCoord => "VEC2 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT",
+            Semantic::Indices => "SCALAR of UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT",
+        }
+    }
+}
+
+/// A checked accessor: element `i` is `bytes[i·stride ..][.. element_size]`, all in bounds.
+struct Elements<'a> {
+    bytes: &'a [u8],
+    stride: usize,
+    count: usize,
+    element_size: usize,
+    component: ComponentType,
+}
+
+impl Elements<'_> {
+    fn get(&self, i: usize) -> &[u8] {
+        let start = i * self.stride;
+        &self.bytes[start..start + self.element_size]
+    }
+
+    /// Component `k` of element `i` as a float; integers are normalized to [0, 1].
+    fn float(&self, i: usize, k: usize) -> f32 {
+        let e = self.get(i);
+        match self.component {
+            ComponentType::U8 => e[k] as f32 / 255.0,
+            ComponentType::U16 => u16::from_le_bytes([e[2 * k], e[2 * k + 1]]) as f32 / 65535.0,
+            _ => f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]),
+        }
+    }
+
+    /// Element `i` of a SCALAR unsigned-integer accessor.
+    fn unsigned(&self, i: usize) -> u32 {
+        let e = self.get(i);
+        match self.component {
+            ComponentType::U8 => e[0] as u32,
+            ComponentType::U16 => u16::from_le_bytes([e[0], e[1]]) as u32,
+            _ => u32::from_le_bytes([e[0], e[1], e[2], e[3]]),
+        }
+    }
+}
+
+/// The number of elements of accessor `index`, checked for `semantic` and against its
+/// buffer view, without reading them.
+pub(super) fn count(
+    input: &Input,
+    index: usize,
+    semantic: Semantic,
+    role: &str,
+) -> Result<usize, SceneError> {
+    let elements =
+        elements(input, index, semantic).context(|| format!("accessor {index} ({role})"))?;
+    Ok(elements.count)
+}
+
+/// Reads a VEC3 accessor (POSITION, NORMAL). `role` says where it is used, for errors.
+/// Non-finite positions are an error; non-finite normals are left to the builder, which
+/// replaces them by the geometric normal.
+pub(super) fn read_vec3(
+    input: &Input,
+    index: usize,
+    semantic: Semantic,
+    role: &str,
+) -> Result<Vec<Vec3>, SceneError> {
+    let context = || format!("accessor {index} ({role})");
+    let elements = elements(input, index, semantic).context(context)?;
+    let mut values = Vec::with_capacity(elements.count);
+    for i in 0..elements.count {
+        let v = Vec3::new(
+            elements.float(i, 0),
+            elements.float(i, 1),
+            elements.float(i, 2),
+        );
+        if semantic == Semantic::Position && !v.is_finite() {
+            return Err(input.error(format!(
+                "{}: vertex {i} has a non-finite position {v}",
+                context()
+            )));
+        }
+        values.push(v);
+    }
+    Ok(values)
+}
+
+/// Reads a TEXCOORD accessor; every coordinate must be finite.
+pub(super) fn read_texcoords(
+    input: &Input,
+    index: usize,
+    role: &str,
+) -> Result<Vec<Vec2>, SceneError> {
+    let context = || format!("accessor {index} ({role})");
+    let elements = elements(input, index, Semantic::TexCoord).context(context)?;
+    let mut values = Vec::with_capacity(elements.count);
+    for i in 0..elements.count {
+        let uv = Vec2::new(elements.float(i, 0), elements.float(i, 1));
+        if !uv.is_finite() {
+            return Err(input.error(format!(
+                "{}: vertex {i} has a non-finite texture coordinate {uv}",
+                context()
+            )));
+        }
+        values.push(uv);
+    }
+    Ok(values)
+}
+
+/// Reads an index accessor; every index must be below `vertex_count`.
+pub(super) fn read_indices(
+    input: &Input,
+    index: usize,
+    role: &str,
+    vertex_count: usize,
+) -> Result<Vec<u32>, SceneError> {
+    let context = || format!("accessor {index} ({role})");
+    let elements = elements(input, index, Semantic::Indices).context(context)?;
+    let mut values = Vec::with_capacity(elements.count);
+    for i in 0..elements.count {
+        let value = elements.unsigned(i);
+        if value as usize >= vertex_count {
+            return Err(input.error(format!(
+                "{}: index {value} out of range for {vertex_count} vertices",
+                context()
+            )));
+        }
+        values.push(value);
+    }
+    Ok(values)
+}
+
+/// Checks accessor `index` for `semantic` and locates its elements.
+fn elements<'a>(
+    input: &'a Input,
+    index: usize,
+    semantic: Semantic,
+) -> Result<Elements<'a>, SceneError> {
+    let Some(accessor) = input.root.accessors.get(index) else {
+        return Err(input.error(format!(
+            "does not exist ({} accessors)",
+            input.root.accessors.len()
+        )));
+    };
+    if accessor.sparse.is_some() {
+        return Err(input.unsupported("sparse accessors are not supported"));
+    }
+    let Some(view_index) = accessor.buffer_view else {
+        return Err(
+            input.unsupported("accessors without a bufferView (all zeros) are not supported")
+        );
+    };
+    let (ty, component) = kind(input, accessor, semantic)?;
+    let view = input.buffers.view(view_index.value())?;
+    let element_size = ty.multiplicity() * component.size();
+    let stride = view.stride.unwrap_or(element_size);
+    let offset = accessor.byte_offset.map_or(0, |o| o.0);
+    let count = accessor.count.0;
+    let needed = match count {
+        0 => Some(offset),
+        n => (stride as u64)
+            .checked_mul(n - 1)
+            .and_then(|s| s.checked_add(offset))
+            .and_then(|s| s.checked_add(element_size as u64)),
+    };
+    let view_length = view.bytes.len() as u64;
+    match needed {
+        Some(needed) if needed <= view_length => Ok(Elements {
+            bytes: &view.bytes[offset as usize..],
+            stride,
+            count: count as usize,
+            element_size,
+            component,
+        }),
+        _ => Err(input.error(format!(
+            "{count} elements of {element_size} bytes, {stride} apart from offset {offset}, \
+             overrun bufferView {} of {view_length} bytes",
+            view_index.value()
+        ))),
+    }
+}
+
+/// The accessor's type and component type, if `semantic` allows them.
+fn kind(
+    input: &Input,
+    accessor: &json::Accessor,
+    semantic: Semantic,
+) -> Result<(Type, ComponentType), SceneError> {
+    let (Checked::Valid(ty), Checked::Valid(component)) = (accessor.type_, accessor.component_type)
+    else {
+        return Err(input.error("invalid type or componentType"));
+    };
+    let component = component.0;
+    if !semantic.accepts(ty, component, accessor.normalized) {
+        let normalized = if accessor.normalized {
+            "normalized "
+        } else {
+            ""
+        };
+        return Err(input.error(format!(
+            "expected {}, found {} of {normalized}{}",
+            semantic.expected(),
+            type_name(ty),
+            component_name(component)
+        )));
+    }
+    Ok((ty, component))
+}
+
+fn type_name(ty: Type) -> &'static str {
+    match ty {
+        Type::Scalar => "SCALAR",
+        Type::Vec2 => "VEC2",
+        Type::Vec3 => "VEC3",
+        Type::Vec4 => "VEC4",
+        Type::Mat2 => "MAT2",
+        Type::Mat3 => "MAT3",
+        Type::Mat4 => "MAT4",
+    }
+}
+
+fn component_name(component: ComponentType) -> &'static str {
+    match component {
+        ComponentType::I8 => "BYTE",
+        ComponentType::U8 => "UNSIGNED_BYTE",
+        ComponentType::I16 => "SHORT",
+        ComponentType::U16 => "UNSIGNED_SHORT",
+        ComponentType::U32 => "UNSIGNED_INT",
+        ComponentType::F32 => "FLOAT",
+    }
+}

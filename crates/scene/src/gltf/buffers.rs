@@ -1,0 +1,159 @@
+//! Buffers and buffer views. A buffer is loaded the first time a view of it is read (so an
+//! unused `.bin`, say one holding only animations, is never opened), and only after its
+//! declared `byteLength` has been checked against the bytes really there: nothing is ever
+//! allocated on a length the file merely claims.
+
+use std::cell::OnceCell;
+use std::fs::File;
+use std::io::Read;
+use std::path::Path;
+
+use ::gltf::json;
+
+use super::Context;
+use super::uri::{self, Resolved, UriError};
+use crate::SceneError;
+
+/// The bytes of a buffer view and its stride, if it declares one.
+#[derive(Clone, Copy)]
+pub(super) struct View<'a> {
+    pub bytes: &'a [u8],
+    pub stride: Option<usize>,
+}
+
+pub(super) struct Buffers<'a> {
+    /// The glTF file: errors name it, relative URIs start from its folder.
+    path: &'a Path,
+    buffers: &'a [json::Buffer],
+    views: &'a [json::buffer::View],
+    glb_bin: Option<&'a [u8]>,
+    loaded: Vec<OnceCell<Vec<u8>>>,
+}
+
+impl<'a> Buffers<'a> {
+    pub fn new(path: &'a Path, root: &'a json::Root, glb_bin: Option<&'a [u8]>) -> Self {
+        Buffers {
+            path,
+            buffers: &root.buffers,
+            views: &root.buffer_views,
+            glb_bin,
+            loaded: root.buffers.iter().map(|_| OnceCell::new()).collect(),
+        }
+    }
+
+    /// Buffer view `index`, checked to lie within its buffer.
+    pub fn view(&self, index: usize) -> Result<View<'_>, SceneError> {
+        let Some(view) = self.views.get(index) else {
+            return Err(self.error(format!(
+                "bufferView {index} does not exist ({} buffer views)",
+                self.views.len()
+            )));
+        };
+        let buffer = self
+            .buffer(view.buffer.value())
+            .context(|| format!("bufferView {index}"))?;
+        let offset = view.byte_offset.map_or(0, |o| o.0);
+        let length = view.byte_length.0;
+        let end = offset.saturating_add(length);
+        if end > buffer.len() as u64 {
+            return Err(self.error(format!(
+                "bufferView {index} (bytes {offset}..{end}) overruns buffer {} of {} bytes",
+                view.buffer.value(),
+                buffer.len()
+            )));
+        }
+        let stride = match view.byte_stride {
+            Some(json::buffer::Stride(s)) if !(4..=252).contains(&s) || s % 4 != 0 => {
+                return Err(self.error(format!(
+                    "bufferView {index}: byteStride {s} is not a multiple of 4 in [4, 252]"
+                )));
+            }
+            stride => stride.map(|s| s.0),
+        };
+        Ok(View {
+            bytes: &buffer[offset as usize..end as usize],
+            stride,
+        })
+    }
+
+    /// Buffer `index`: exactly `byteLength` bytes, loaded on first use.
+    fn buffer(&self, index: usize) -> Result<&[u8], SceneError> {
+        let Some(buffer) = self.buffers.get(index) else {
+            return Err(self.error(format!(
+                "buffer {index} does not exist ({} buffers)",
+                self.buffers.len()
+            )));
+        };
+        let declared = buffer.byte_length.0;
+        let context = || format!("buffer {index}");
+        if buffer.uri.is_none() {
+            // GLB: the first buffer without a URI is the BIN chunk.
+            let bin = match self.glb_bin {
+                Some(bin) if index == 0 => bin,
+                _ => {
+                    return Err(self.error(format!(
+                        "buffer {index} has no uri, and no GLB BIN chunk stands for it"
+                    )));
+                }
+            };
+            return self.check_length(bin, declared).context(context);
+        }
+        if let Some(bytes) = self.loaded[index].get() {
+            return Ok(bytes);
+        }
+        let bytes = self.load(buffer).context(context)?;
+        self.check_length(&bytes, declared).context(context)?;
+        Ok(self.loaded[index].get_or_init(|| bytes).as_slice())
+    }
+
+    /// The first `declared` bytes of `bytes`, if it has that many.
+    fn check_length<'b>(&self, bytes: &'b [u8], declared: u64) -> Result<&'b [u8], SceneError> {
+        match usize::try_from(declared) {
+            Ok(n) if n <= bytes.len() => Ok(&bytes[..n]),
+            _ => Err(self.error(format!(
+                "byteLength is {declared} but only {} bytes are there",
+                bytes.len()
+            ))),
+        }
+    }
+
+    fn load(&self, buffer: &json::Buffer) -> Result<Vec<u8>, SceneError> {
+        let uri = buffer.uri.as_deref().unwrap_or_default();
+        match resolve_uri(self.path, uri)? {
+            Resolved::Data(bytes) => Ok(bytes),
+            Resolved::File(file) => read_regular(&file, Some(buffer.byte_length.0)),
+        }
+    }
+
+    fn error(&self, message: impl Into<String>) -> SceneError {
+        SceneError::format(self.path, message)
+    }
+}
+
+/// Resolves a buffer's or an image's URI relative to the glTF file `path`.
+pub(super) fn resolve_uri(path: &Path, uri: &str) -> Result<Resolved, SceneError> {
+    let base_dir = path.parent().unwrap_or(Path::new(""));
+    uri::resolve(base_dir, uri).map_err(|e| match e {
+        UriError::Malformed(m) => SceneError::format(path, m),
+        UriError::Unsupported(m) => SceneError::unsupported(path, m),
+    })
+}
+
+/// Reads at most `limit` bytes (all of it if `None`) of `file`, which must be a regular file
+/// (not a device such as /dev/zero, nor a pipe). Nothing is allocated beyond what the file
+/// holds: a file shorter than a buffer's declared length gives fewer bytes, which the caller
+/// reports.
+pub(super) fn read_regular(file: &Path, limit: Option<u64>) -> Result<Vec<u8>, SceneError> {
+    let io_error = |e| SceneError::io(file, e);
+    let metadata = std::fs::metadata(file).map_err(io_error)?;
+    if !metadata.is_file() {
+        let e = std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a regular file");
+        return Err(io_error(e));
+    }
+    let limit = limit.map_or(metadata.len(), |l| l.min(metadata.len()));
+    let mut bytes = Vec::with_capacity(limit as usize);
+    File::open(file)
+        .and_then(|handle| handle.take(limit).read_to_end(&mut bytes))
+        .map_err(io_error)?;
+    Ok(bytes)
+}

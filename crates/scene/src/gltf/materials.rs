@@ -1,0 +1,312 @@
+//! glTF materials mapped onto kousen's uber-material (DESIGN.md, "Materials"):
+//!
+//! - `KHR_materials_transmission` with `transmissionFactor > 0` (and `metallicFactor < 0.5`:
+//!   metal does not transmit) → smooth dielectric of `KHR_materials_ior` (default 1.5); solid
+//!   when `KHR_materials_volume` gives `thicknessFactor > 0`, thin-walled otherwise. An ior of
+//!   0 (the extension's "F0 = 1" special case) reflects everything → mirror.
+//! - `metallicFactor ≥ 0.5` and `roughnessFactor ≤ 0.2` → perfect mirror tinted by the base
+//!   colour: kousen has no rough conductor yet, and below roughness 0.2 a GGX lobe is narrow
+//!   enough that a mirror is the closer picture; half-metallic is where the metal lobe wins.
+//! - everything else → Lambertian diffuse with the base colour (× `baseColorTexture`).
+//! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
+//! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
+//!   warning (kousen has no partial transparency).
+//!
+//! Ignored: metallic-roughness, normal, occlusion, transmission and thickness textures,
+//! volume attenuation, samplers (the renderer wraps with repeat). Colour textures are decoded
+//! as sRGB, each image once however many materials use it.
+
+use std::borrow::Cow;
+
+use glam::Vec3;
+
+use ::gltf::json;
+use json::material::AlphaMode as GltfAlphaMode;
+use json::validation::Checked;
+
+use super::buffers::{read_regular, resolve_uri};
+use super::uri::Resolved;
+use super::{Context, Input, quoted};
+use crate::{AlphaMode, Material, SceneBuilder, SceneError, Surface, Texture, TextureId};
+
+/// The least `metallicFactor` mapped onto a mirror.
+pub const MIRROR_MIN_METALLIC: f32 = 0.5;
+/// The largest `roughnessFactor` mapped onto a mirror.
+pub const MIRROR_MAX_ROUGHNESS: f32 = 0.2;
+/// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
+pub const DEFAULT_IOR: f32 = 1.5;
+/// glTF's default `alphaCutoff`, also used for BLEND.
+pub const DEFAULT_ALPHA_CUTOFF: f32 = 0.5;
+
+/// What the `gltf` crate reads a texture without `source` as.
+const NO_SOURCE: usize = u32::MAX as usize;
+
+/// Converts glTF materials on first use and remembers the builder's ids.
+pub(super) struct Materials {
+    /// Builder id of each glTF material converted so far.
+    ids: Vec<Option<u32>>,
+    /// Builder id of the default material, once a primitive without material asked for it.
+    default_id: Option<u32>,
+    /// Builder texture id of each glTF image decoded so far.
+    images: Vec<Option<TextureId>>,
+}
+
+impl Materials {
+    pub fn new(root: &json::Root) -> Self {
+        Materials {
+            ids: vec![None; root.materials.len()],
+            default_id: None,
+            images: vec![None; root.images.len()],
+        }
+    }
+
+    /// The builder's id for glTF material `index` (which must exist), or for the default
+    /// material when `index` is `None`: Lambertian grey 0.8, kousen's default everywhere
+    /// (glTF's default is white, which absorbs nothing and never lets photon paths end).
+    pub fn id(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        index: Option<usize>,
+    ) -> Result<u32, SceneError> {
+        let Some(index) = index else {
+            return Ok(*self.default_id.get_or_insert_with(|| {
+                builder.add_material(Material {
+                    name: "default".to_string(),
+                    ..Material::default()
+                })
+            }));
+        };
+        if let Some(id) = self.ids[index] {
+            return Ok(id);
+        }
+        let material = self.convert(input, builder, index)?;
+        let id = builder.add_material(material);
+        self.ids[index] = Some(id);
+        Ok(id)
+    }
+
+    fn convert(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        index: usize,
+    ) -> Result<Material, SceneError> {
+        let m = &input.root.materials[index];
+        let label = match &m.name {
+            Some(name) => format!("material {index} ({})", quoted(name)),
+            None => format!("material {index}"),
+        };
+        let check = Check {
+            input,
+            label: &label,
+        };
+        let pbr = &m.pbr_metallic_roughness;
+        let base = pbr.base_color_factor.0;
+        for (c, name) in base.iter().zip(["red", "green", "blue", "alpha"]) {
+            check.unit(*c, &format!("baseColorFactor's {name}"))?;
+        }
+        let metallic = check.unit(pbr.metallic_factor.0, "metallicFactor")?;
+        let roughness = check.unit(pbr.roughness_factor.0, "roughnessFactor")?;
+        let surface = surface(&check, m, metallic, roughness)?;
+        let emission = emission(&check, m)?;
+        let alpha_mode = alpha_mode(&check, m, builder)?;
+        let mut texture = |info: &Option<json::texture::Info>, slot: &str| {
+            info.as_ref()
+                .map(|info| self.texture(input, builder, info, &label, slot))
+                .transpose()
+        };
+        let base_color_texture = texture(&pbr.base_color_texture, "baseColorTexture")?;
+        let emission_texture = texture(&m.emissive_texture, "emissiveTexture")?;
+        Ok(Material {
+            name: m.name.clone().unwrap_or_else(|| label.clone()),
+            surface,
+            base_color: Vec3::new(base[0], base[1], base[2]),
+            base_color_texture,
+            emission,
+            emission_texture,
+            alpha: base[3],
+            alpha_mode,
+            double_sided: m.double_sided,
+        })
+    }
+
+    /// The builder's id for the image behind texture `info`, decoding it on first use.
+    fn texture(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        info: &json::texture::Info,
+        label: &str,
+        slot: &str,
+    ) -> Result<TextureId, SceneError> {
+        if info.tex_coord != 0 {
+            builder.warn(format!(
+                "{label}: {slot} uses TEXCOORD_{}; only TEXCOORD_0 is read",
+                info.tex_coord
+            ));
+        }
+        let root = input.root;
+        let t = info.index.value();
+        let Some(texture) = root.textures.get(t) else {
+            return Err(input.error(format!(
+                "{label}: {slot} refers to texture {t}, which does not exist ({} textures)",
+                root.textures.len()
+            )));
+        };
+        let image = texture.source.value();
+        let Some(cached) = self.images.get(image) else {
+            return Err(input.error(match image {
+                NO_SOURCE => {
+                    format!("texture {t} has no image source (extension sources are not supported)")
+                }
+                _ => format!(
+                    "texture {t}: its image source {image} does not exist ({} images)",
+                    root.images.len()
+                ),
+            }));
+        };
+        if let Some(id) = cached {
+            return Ok(*id);
+        }
+        let id = builder.add_texture(decode_image(input, image)?);
+        self.images[image] = Some(id);
+        Ok(id)
+    }
+}
+
+/// Checks of a material's values against the ranges the spec sets.
+struct Check<'a> {
+    input: &'a Input<'a>,
+    label: &'a str,
+}
+
+impl Check<'_> {
+    fn error(&self, message: String) -> SceneError {
+        self.input.error(format!("{}: {message}", self.label))
+    }
+
+    /// A factor in [0, 1].
+    fn unit(&self, value: f32, name: &str) -> Result<f32, SceneError> {
+        if (0.0..=1.0).contains(&value) {
+            Ok(value)
+        } else {
+            Err(self.error(format!("{name} {value} is outside [0, 1]")))
+        }
+    }
+
+    /// A finite value ≥ 0.
+    fn non_negative(&self, value: f32, name: &str) -> Result<f32, SceneError> {
+        if value.is_finite() && value >= 0.0 {
+            Ok(value)
+        } else {
+            Err(self.error(format!("{name} {value} is not a finite number ≥ 0")))
+        }
+    }
+}
+
+fn surface(
+    check: &Check,
+    m: &json::Material,
+    metallic: f32,
+    roughness: f32,
+) -> Result<Surface, SceneError> {
+    let extensions = m.extensions.as_ref();
+    let transmission = extensions
+        .and_then(|e| e.transmission.as_ref())
+        .map_or(0.0, |t| t.transmission_factor.0);
+    let transmission = check.unit(transmission, "transmissionFactor")?;
+    let ior = extensions
+        .and_then(|e| e.ior.as_ref())
+        .map_or(DEFAULT_IOR, |i| i.ior.0);
+    if !(ior.is_finite() && (ior >= 1.0 || ior == 0.0)) {
+        return Err(check.error(format!("ior {ior} is neither ≥ 1 nor 0")));
+    }
+    let thickness = extensions
+        .and_then(|e| e.volume.as_ref())
+        .map_or(0.0, |v| v.thickness_factor.0);
+    let thickness = check.non_negative(thickness, "thicknessFactor")?;
+    let surface = if transmission > 0.0 && metallic < MIRROR_MIN_METALLIC {
+        if ior == 0.0 {
+            Surface::Mirror
+        } else {
+            Surface::Dielectric {
+                ior,
+                thin_walled: thickness == 0.0,
+            }
+        }
+    } else if metallic >= MIRROR_MIN_METALLIC && roughness <= MIRROR_MAX_ROUGHNESS {
+        Surface::Mirror
+    } else {
+        Surface::Diffuse
+    };
+    Ok(surface)
+}
+
+/// Emitted radiance: emissiveFactor (finite, ≥ 0) × emissive strength (finite, ≥ 0).
+fn emission(check: &Check, m: &json::Material) -> Result<Vec3, SceneError> {
+    let factor = m.emissive_factor.0;
+    for (c, name) in factor.iter().zip(["red", "green", "blue"]) {
+        check.non_negative(*c, &format!("emissiveFactor's {name}"))?;
+    }
+    let strength = m
+        .extensions
+        .as_ref()
+        .and_then(|e| e.emissive_strength.as_ref())
+        .map_or(1.0, |s| s.emissive_strength.0);
+    let strength = check.non_negative(strength, "emissiveStrength")?;
+    let emission = Vec3::from_array(factor) * strength;
+    if !emission.is_finite() {
+        return Err(check.error("emission overflows 32-bit floats".to_string()));
+    }
+    Ok(emission)
+}
+
+fn alpha_mode(
+    check: &Check,
+    m: &json::Material,
+    builder: &mut SceneBuilder,
+) -> Result<AlphaMode, SceneError> {
+    let cutoff = m.alpha_cutoff.map_or(DEFAULT_ALPHA_CUTOFF, |c| c.0);
+    match m.alpha_mode {
+        Checked::Valid(GltfAlphaMode::Opaque) => Ok(AlphaMode::Opaque),
+        Checked::Valid(GltfAlphaMode::Mask) => Ok(AlphaMode::Mask {
+            cutoff: check.non_negative(cutoff, "alphaCutoff")?,
+        }),
+        Checked::Valid(GltfAlphaMode::Blend) => {
+            builder.warn(format!(
+                "{}: alphaMode BLEND is rendered as MASK with cutoff {DEFAULT_ALPHA_CUTOFF}",
+                check.label
+            ));
+            Ok(AlphaMode::Mask {
+                cutoff: DEFAULT_ALPHA_CUTOFF,
+            })
+        }
+        Checked::Invalid => Err(check.error("invalid alphaMode".to_string())),
+    }
+}
+
+/// Decodes image `index` (which must exist) as sRGB colour.
+fn decode_image(input: &Input, index: usize) -> Result<Texture, SceneError> {
+    let image = &input.root.images[index];
+    let context = || format!("image {index}");
+    let fallback_name = image.name.clone().unwrap_or_else(context);
+    let (name, bytes) = match (&image.uri, image.buffer_view) {
+        (Some(uri), _) => match resolve_uri(input.path, uri).context(context)? {
+            Resolved::Data(bytes) => (fallback_name, Cow::Owned(bytes)),
+            Resolved::File(file) => {
+                let name = file.file_name().map(|n| n.to_string_lossy().into_owned());
+                let bytes = read_regular(&file, None).context(context)?;
+                (name.unwrap_or(fallback_name), Cow::Owned(bytes))
+            }
+        },
+        (None, Some(view)) => {
+            let view = input.buffers.view(view.value()).context(context)?;
+            (fallback_name, Cow::Borrowed(view.bytes))
+        }
+        (None, None) => {
+            return Err(input.error(format!("{}: has neither a uri nor a bufferView", context())));
+        }
+    };
+    Texture::decode(&name, &bytes, true).map_err(|e| input.error(format!("{}: {e}", context())))
+}

@@ -1,0 +1,328 @@
+//! Mesh primitives: decoded and checked once per mesh, then placed in the world once per node
+//! that uses the mesh. Triangle lists, strips and fans become triangles; points and lines are
+//! skipped (the caller warns).
+
+use std::borrow::Cow;
+
+use glam::{Affine3A, Mat3, Vec2, Vec3};
+
+use ::gltf::json;
+use json::mesh::{Mode, Semantic as Attribute};
+use json::validation::Checked;
+
+use super::Input;
+use super::accessors::{self, Semantic};
+use crate::mesh::smooth_normals;
+use crate::{SceneBuilder, SceneError, Triangle, Vertex};
+
+/// A mesh's triangle primitives, decoded, with what was skipped or ignored on the way.
+pub(super) struct Mesh {
+    pub primitives: Vec<Primitive>,
+    /// Point and line primitives, skipped.
+    pub skipped_primitives: usize,
+    /// Things ignored, for the scene's warnings.
+    pub warnings: Vec<String>,
+}
+
+/// A triangle primitive in its mesh's space, every index checked against `positions`.
+pub(super) struct Primitive {
+    /// Its index in the mesh's `primitives`, for messages.
+    pub index: usize,
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    triangles: Vec<[u32; 3]>,
+    /// The glTF material (checked to exist); `None` asks for the default material.
+    pub material: Option<usize>,
+}
+
+/// Decodes mesh `index`, which must exist.
+pub(super) fn decode(input: &Input, index: usize) -> Result<Mesh, SceneError> {
+    let mut mesh = Mesh {
+        primitives: Vec::new(),
+        skipped_primitives: 0,
+        warnings: Vec::new(),
+    };
+    for (p, primitive) in input.root.meshes[index].primitives.iter().enumerate() {
+        let label = format!("mesh {index} primitive {p}");
+        let Some(mode) = triangle_mode(input, primitive, &label)? else {
+            mesh.skipped_primitives += 1;
+            continue;
+        };
+        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
+            mesh.warnings
+                .push(format!("{label}: morph targets are ignored"));
+        }
+        let decoded = decode_primitive(input, primitive, p, &label)?;
+        let (triangles, leftover) = assemble(mode, &decoded.corners);
+        if leftover > 0 {
+            mesh.warnings.push(format!(
+                "{label}: {leftover} trailing indices do not make a triangle; ignored"
+            ));
+        }
+        mesh.primitives.push(Primitive {
+            triangles,
+            ..decoded.primitive
+        });
+    }
+    Ok(mesh)
+}
+
+/// How much a mesh places each time a node shows it.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Size {
+    pub triangles: u64,
+    /// Vertices transformed (all of each triangle primitive's, used or not).
+    pub vertices: u64,
+}
+
+/// The size of mesh `index` (which must exist), from its accessors' counts, each accessor
+/// checked against its buffer but not read: for the budget check before decoding.
+pub(super) fn size(input: &Input, index: usize) -> Result<Size, SceneError> {
+    let mut size = Size::default();
+    for (p, primitive) in input.root.meshes[index].primitives.iter().enumerate() {
+        let label = format!("mesh {index} primitive {p}");
+        let Some(mode) = triangle_mode(input, primitive, &label)? else {
+            continue;
+        };
+        let position = primitive
+            .attributes
+            .get(&Checked::Valid(Attribute::Positions));
+        let Some(position) = position.map(|a| a.value()) else {
+            return Err(input.error(format!("{label}: no POSITION attribute")));
+        };
+        let role = format!("POSITION of {label}");
+        let vertices = accessors::count(input, position, Semantic::Position, &role)?;
+        let corners = match primitive.indices {
+            Some(i) => {
+                let role = format!("indices of {label}");
+                accessors::count(input, i.value(), Semantic::Indices, &role)?
+            }
+            None => vertices,
+        };
+        let triangles = match mode {
+            Mode::Triangles => corners / 3,
+            _ => corners.saturating_sub(2),
+        };
+        size.triangles += triangles as u64;
+        size.vertices += vertices as u64;
+    }
+    Ok(size)
+}
+
+/// The primitive's mode if it makes triangles; `None` for points and lines.
+fn triangle_mode(
+    input: &Input,
+    primitive: &json::mesh::Primitive,
+    label: &str,
+) -> Result<Option<Mode>, SceneError> {
+    match primitive.mode {
+        Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => {
+            Ok(Some(mode))
+        }
+        Checked::Valid(_) => Ok(None),
+        Checked::Invalid => Err(input.error(format!("{label}: invalid mode"))),
+    }
+}
+
+struct Decoded {
+    primitive: Primitive,
+    /// The vertex indices in drawing order, before assembly into triangles.
+    corners: Vec<u32>,
+}
+
+fn decode_primitive(
+    input: &Input,
+    primitive: &json::mesh::Primitive,
+    index: usize,
+    label: &str,
+) -> Result<Decoded, SceneError> {
+    let (positions, normals, uvs) = read_attributes(input, primitive, label)?;
+    let corners = match primitive.indices {
+        Some(i) => {
+            let role = format!("indices of {label}");
+            accessors::read_indices(input, i.value(), &role, positions.len())?
+        }
+        None => (0..positions.len() as u32).collect(),
+    };
+    let material = primitive.material.map(|m| m.value());
+    if let Some(m) = material.filter(|&m| m >= input.root.materials.len()) {
+        return Err(input.error(format!(
+            "{label}: material {m} does not exist ({} materials)",
+            input.root.materials.len()
+        )));
+    }
+    let primitive = Primitive {
+        index,
+        positions,
+        normals,
+        uvs,
+        triangles: Vec::new(),
+        material,
+    };
+    Ok(Decoded { primitive, corners })
+}
+
+type Attributes = (Vec<Vec3>, Option<Vec<Vec3>>, Option<Vec<Vec2>>);
+
+/// POSITION, NORMAL and TEXCOORD_0, all of the same length, below 2^32 vertices.
+fn read_attributes(
+    input: &Input,
+    primitive: &json::mesh::Primitive,
+    label: &str,
+) -> Result<Attributes, SceneError> {
+    let attribute = |a: Attribute| {
+        primitive
+            .attributes
+            .get(&Checked::Valid(a))
+            .map(|i| i.value())
+    };
+    let role = |what: &str| format!("{what} of {label}");
+    let Some(position) = attribute(Attribute::Positions) else {
+        return Err(input.error(format!("{label}: no POSITION attribute")));
+    };
+    let positions = accessors::read_vec3(input, position, Semantic::Position, &role("POSITION"))?;
+    let vertex_count = positions.len();
+    if u32::try_from(vertex_count).is_err() {
+        return Err(input.unsupported(format!("{label}: 2^32 vertices or more")));
+    }
+    let check_count = |name: &str, count: usize| {
+        if count == vertex_count {
+            return Ok(());
+        }
+        Err(input.error(format!(
+            "{label}: {name} has {count} elements but POSITION has {vertex_count}"
+        )))
+    };
+    let normals = attribute(Attribute::Normals)
+        .map(|a| accessors::read_vec3(input, a, Semantic::Normal, &role("NORMAL")))
+        .transpose()?;
+    if let Some(n) = &normals {
+        check_count("NORMAL", n.len())?;
+    }
+    let uvs = attribute(Attribute::TexCoords(0))
+        .map(|a| accessors::read_texcoords(input, a, &role("TEXCOORD_0")))
+        .transpose()?;
+    if let Some(uv) = &uvs {
+        check_count("TEXCOORD_0", uv.len())?;
+    }
+    Ok((positions, normals, uvs))
+}
+
+/// Triangles from a list, strip or fan (glTF 2.0 §3.7.2.1 orders), and the count of corners
+/// left over that make no triangle.
+fn assemble(mode: Mode, corners: &[u32]) -> (Vec<[u32; 3]>, usize) {
+    let c = corners;
+    match mode {
+        Mode::TriangleStrip => {
+            let triangles = (0..c.len().saturating_sub(2))
+                .map(|i| match i % 2 {
+                    0 => [c[i], c[i + 1], c[i + 2]],
+                    _ => [c[i], c[i + 2], c[i + 1]],
+                })
+                .collect();
+            (triangles, 0)
+        }
+        Mode::TriangleFan => {
+            let triangles = (1..c.len().saturating_sub(1))
+                .map(|i| [c[i], c[i + 1], c[0]])
+                .collect();
+            (triangles, 0)
+        }
+        _ => {
+            let triangles = c.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+            (triangles, c.len() % 3)
+        }
+    }
+}
+
+impl Primitive {
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Adds the primitive's triangles, placed by `world`, to `builder`. Positions go through
+    /// `world`, normals through its inverse transpose (then renormalised); a mirroring
+    /// `world` swaps two vertices of each triangle so its front face stays the front face.
+    /// Missing normals are smoothed over the placed triangles.
+    pub fn instantiate(
+        &self,
+        world: &Affine3A,
+        material: u32,
+        builder: &mut SceneBuilder,
+    ) -> Result<(), SceneError> {
+        let linear = Mat3::from(world.matrix3);
+        let mirrored = linear.determinant() < 0.0;
+        let positions: Vec<Vec3> = self
+            .positions
+            .iter()
+            .map(|&p| world.transform_point3(p))
+            .collect();
+        let triangles: Cow<[[u32; 3]]> = if mirrored {
+            Cow::Owned(self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect())
+        } else {
+            Cow::Borrowed(&self.triangles)
+        };
+        let normals = match &self.normals {
+            Some(normals) => {
+                let normal_matrix = normal_matrix(linear, mirrored);
+                normals
+                    .iter()
+                    .map(|&n| (normal_matrix * n).normalize_or_zero())
+                    .collect()
+            }
+            None => smooth_normals(&positions, &triangles),
+        };
+        let vertex = |i: u32| {
+            let i = i as usize;
+            Vertex {
+                position: positions[i],
+                normal: normals[i],
+                uv: self.uvs.as_ref().map_or(Vec2::ZERO, |uvs| uvs[i]),
+            }
+        };
+        for &[a, b, c] in triangles.iter() {
+            builder.add_triangle(Triangle {
+                vertices: [vertex(a), vertex(b), vertex(c)],
+                material,
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// The inverse transpose of `m` up to a positive factor, defined even when `m` is singular:
+/// its cofactor matrix (det·m⁻ᵀ), negated when `m` mirrors so normals keep their side.
+fn normal_matrix(m: Mat3, mirrored: bool) -> Mat3 {
+    let [c0, c1, c2] = [m.x_axis, m.y_axis, m.z_axis];
+    let cofactor = Mat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
+    if mirrored { -cofactor } else { cofactor }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_keep_the_first_triangles_orientation() {
+        let (strip, _) = assemble(Mode::TriangleStrip, &[0, 1, 2, 3, 4]);
+        assert_eq!(strip, vec![[0, 1, 2], [1, 3, 2], [2, 3, 4]]);
+        let (fan, _) = assemble(Mode::TriangleFan, &[0, 1, 2, 3]);
+        assert_eq!(fan, vec![[1, 2, 0], [2, 3, 0]]);
+        let (list, leftover) = assemble(Mode::Triangles, &[0, 1, 2, 3]);
+        assert_eq!((list, leftover), (vec![[0, 1, 2]], 1));
+        assert!(assemble(Mode::TriangleStrip, &[0, 1]).0.is_empty());
+    }
+
+    #[test]
+    fn normal_matrix_is_the_inverse_transpose_up_to_scale() {
+        let m = Mat3::from_cols_array(&[2.0, 0.5, 0.0, 0.0, 3.0, 1.0, 1.0, 0.0, -4.0]);
+        let mirrored = m.determinant() < 0.0;
+        let expected = m.inverse().transpose();
+        let got = normal_matrix(m, mirrored);
+        for n in [Vec3::X, Vec3::Y, Vec3::new(1.0, -2.0, 0.5)] {
+            let (a, b) = ((expected * n).normalize(), (got * n).normalize());
+            assert!(a.abs_diff_eq(b, 1e-5), "{a} vs {b}");
+        }
+    }
+}

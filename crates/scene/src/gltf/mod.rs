@@ -1,0 +1,306 @@
+//! glTF 2.0 loader: `.gltf` (external `.bin` files or base64 data URIs) and `.glb`.
+//!
+//! What is read: the default scene's node hierarchy (`scene`, else the first scene, else every
+//! root node) with matrix or TRS transforms; every TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN
+//! primitive with POSITION, NORMAL (smoothed, area-weighted, when absent) and TEXCOORD_0,
+//! indexed by u8/u16/u32 or not at all; perspective cameras in traversal order; materials as
+//! [`materials`] describes; the extensions in [`SUPPORTED_EXTENSIONS`]. Skipped with a
+//! warning: point and line primitives, orthographic cameras, skins and morph targets, and every
+//! optional extension not supported. Refused: a required extension not supported, sparse
+//! accessors, URIs other than relative paths and data URIs.
+//!
+//! Files come from anywhere (DESIGN.md, "Loader robustness"). The `gltf` crate is used only to
+//! deserialise the JSON; its validation and readers are not (its validation indexes arrays
+//! unchecked, its readers panic on unexpected types). Instead every reference is checked
+//! where it is followed, every accessor against its view and buffer, every buffer against
+//! the bytes really there, the node graph for cycles and shared children before it is walked
+//! (with a stack, not recursion), and values against the spec's ranges. Each error is one line
+//! saying what is wrong where.
+
+mod accessors;
+mod buffers;
+mod cameras;
+mod container;
+pub mod materials;
+mod meshes;
+mod nodes;
+mod uri;
+
+use std::fmt::Display;
+use std::path::Path;
+
+use glam::Affine3A;
+
+use ::gltf::json;
+
+use crate::{Scene, SceneBuilder, SceneError};
+use buffers::Buffers;
+use materials::Materials;
+use meshes::Mesh;
+
+/// Extensions read (and so accepted in `extensionsRequired`).
+pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
+    "KHR_materials_emissive_strength",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_materials_volume",
+];
+
+/// The most triangles a file may place in the world (and a third of the most vertices it may
+/// transform). Instancing multiplies a mesh by every node that uses it, so a few kilobytes
+/// could otherwise ask for terabytes; 2^26 triangles (about 6.4 GiB as a [`Scene`]) is far
+/// beyond the scenes kousen is for.
+pub const MAX_TRIANGLES: usize = 1 << 26;
+
+/// Loads a `.gltf` or `.glb` file (told apart by their content).
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let container = container::read(path)?;
+    let root = &container.root;
+    check_version(path, &root.asset)?;
+    let mut builder = SceneBuilder::new(path);
+    check_extensions(&mut builder, root)?;
+    let input = Input {
+        path,
+        root,
+        buffers: Buffers::new(path, root, container.bin_chunk()),
+    };
+    let roots = nodes::scene_roots(&input)?;
+    check_budget(&input, &roots)?;
+    let mut loader = Loader {
+        input: &input,
+        builder,
+        materials: Materials::new(root),
+        meshes: root.meshes.iter().map(|_| None).collect(),
+        triangles_placed: 0,
+        skipped_primitives: 0,
+        warned_skins: false,
+    };
+    nodes::walk(&input, &roots, |index, world| loader.visit(index, world))?;
+    loader.finish()
+}
+
+/// The parsed document, what every part of the loader reads from.
+pub(super) struct Input<'a> {
+    /// The glTF file, named in errors.
+    path: &'a Path,
+    root: &'a json::Root,
+    buffers: Buffers<'a>,
+}
+
+impl Input<'_> {
+    fn error(&self, message: impl Into<String>) -> SceneError {
+        SceneError::format(self.path, message)
+    }
+
+    fn unsupported(&self, message: impl Into<String>) -> SceneError {
+        SceneError::unsupported(self.path, message)
+    }
+}
+
+/// Prefixes an error's message with where it happened (`accessor 3 (indices of ...): ...`).
+trait Context<T> {
+    fn context<D: Display>(self, what: impl FnOnce() -> D) -> Result<T, SceneError>;
+}
+
+impl<T> Context<T> for Result<T, SceneError> {
+    fn context<D: Display>(self, what: impl FnOnce() -> D) -> Result<T, SceneError> {
+        self.map_err(|error| match error {
+            SceneError::Format { path, message } => SceneError::Format {
+                path,
+                message: format!("{}: {message}", what()),
+            },
+            SceneError::Unsupported { path, message } => SceneError::Unsupported {
+                path,
+                message: format!("{}: {message}", what()),
+            },
+            SceneError::Io { path, error } => SceneError::Io {
+                path,
+                error: std::io::Error::new(error.kind(), format!("{}: {error}", what())),
+            },
+            other => other,
+        })
+    }
+}
+
+/// A name from the file, fit for a one-line message.
+fn quoted(name: &str) -> String {
+    const MAX_CHARS: usize = 64;
+    let escaped: String = name.escape_debug().take(MAX_CHARS).collect();
+    if name.escape_debug().count() > MAX_CHARS {
+        format!("\"{escaped}...\"")
+    } else {
+        format!("\"{escaped}\"")
+    }
+}
+
+/// `asset.version` must be 2.x, and `asset.minVersion` (if any) at most 2.0.
+fn check_version(path: &Path, asset: &json::Asset) -> Result<(), SceneError> {
+    let parse = |v: &str| {
+        let (major, minor) = v.split_once('.')?;
+        Some((major.parse::<u32>().ok()?, minor.parse::<u32>().ok()?))
+    };
+    if parse(&asset.version).is_none_or(|(major, _)| major != 2) {
+        return Err(SceneError::unsupported(
+            path,
+            format!(
+                "glTF version {} is not supported (expected 2.x)",
+                quoted(&asset.version)
+            ),
+        ));
+    }
+    let min_version = asset.min_version.as_deref();
+    if let Some(min) = min_version.filter(|min| parse(min).is_none_or(|v| v > (2, 0))) {
+        return Err(SceneError::unsupported(
+            path,
+            format!("the file requires glTF {} (kousen reads 2.0)", quoted(min)),
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses a required extension not supported; warns once about used ones that are ignored.
+fn check_extensions(builder: &mut SceneBuilder, root: &json::Root) -> Result<(), SceneError> {
+    let unsupported = |names: &[String]| {
+        let mut names: Vec<String> = names
+            .iter()
+            .filter(|n| !SUPPORTED_EXTENSIONS.contains(&n.as_str()))
+            .map(|n| quoted(n))
+            .collect();
+        names.sort();
+        names.dedup();
+        names.join(", ")
+    };
+    let required = unsupported(&root.extensions_required);
+    if !required.is_empty() {
+        return Err(SceneError::unsupported(
+            builder.path(),
+            format!("requires unsupported glTF extension(s) {required}"),
+        ));
+    }
+    let ignored = unsupported(&root.extensions_used);
+    if !ignored.is_empty() {
+        builder.warn(format!("ignoring unsupported glTF extension(s) {ignored}"));
+    }
+    Ok(())
+}
+
+/// Refuses a scene that would place more than [`MAX_TRIANGLES`] triangles, or transform
+/// more than three vertices per triangle that many times, before anything is built: each
+/// mesh's size (from checked accessor counts) × the nodes showing it.
+fn check_budget(input: &Input, roots: &[usize]) -> Result<(), SceneError> {
+    let root = input.root;
+    let mut instances = vec![0u64; root.meshes.len()];
+    for node in nodes::in_walk_order(input, roots) {
+        if let Some(mesh) = root.nodes[node].mesh {
+            let Some(count) = instances.get_mut(mesh.value()) else {
+                return Err(missing_mesh(input, node, mesh.value()));
+            };
+            *count += 1;
+        }
+    }
+    let (mut triangles, mut vertices) = (0u64, 0u64);
+    for (mesh, &count) in instances.iter().enumerate().filter(|(_, c)| **c > 0) {
+        let size = meshes::size(input, mesh)?;
+        triangles = triangles.saturating_add(size.triangles.saturating_mul(count));
+        vertices = vertices.saturating_add(size.vertices.saturating_mul(count));
+    }
+    let max = MAX_TRIANGLES as u64;
+    for (what, planned, limit) in [
+        ("triangles", triangles, max),
+        ("vertices", vertices, 3 * max),
+    ] {
+        if planned > limit {
+            return Err(input.unsupported(format!(
+                "the scene would place {planned} {what}, more than the {limit} supported"
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn missing_mesh(input: &Input, node: usize, mesh: usize) -> SceneError {
+    input.error(format!(
+        "node {node}: mesh {mesh} does not exist ({} meshes)",
+        input.root.meshes.len()
+    ))
+}
+
+/// Walks the nodes into the builder.
+struct Loader<'a> {
+    input: &'a Input<'a>,
+    builder: SceneBuilder,
+    materials: Materials,
+    /// Each glTF mesh, once decoded.
+    meshes: Vec<Option<Mesh>>,
+    /// Triangles placed so far, degenerate ones included.
+    triangles_placed: usize,
+    skipped_primitives: usize,
+    warned_skins: bool,
+}
+
+impl Loader<'_> {
+    fn visit(&mut self, index: usize, world: &Affine3A) -> Result<(), SceneError> {
+        let node = &self.input.root.nodes[index];
+        if let Some(camera) = node.camera {
+            cameras::place(self.input, &mut self.builder, index, camera.value(), world)?;
+        }
+        if let Some(mesh) = node.mesh {
+            self.mesh(index, mesh.value(), world)?;
+        }
+        if node.skin.is_some() && !self.warned_skins {
+            self.warned_skins = true;
+            self.builder
+                .warn("skins are ignored: skinned meshes are drawn as their nodes place them");
+        }
+        Ok(())
+    }
+
+    fn mesh(&mut self, node: usize, index: usize, world: &Affine3A) -> Result<(), SceneError> {
+        let Self {
+            input,
+            builder,
+            materials,
+            meshes,
+            triangles_placed,
+            skipped_primitives,
+            ..
+        } = self;
+        let Some(slot) = meshes.get_mut(index) else {
+            return Err(missing_mesh(input, node, index));
+        };
+        if slot.is_none() {
+            let decoded = meshes::decode(input, index)?;
+            for warning in &decoded.warnings {
+                builder.warn(warning.clone());
+            }
+            *skipped_primitives += decoded.skipped_primitives;
+            *slot = Some(decoded);
+        }
+        let Some(mesh) = slot.as_ref() else {
+            return Ok(());
+        };
+        for primitive in &mesh.primitives {
+            let material = materials.id(input, builder, primitive.material)?;
+            *triangles_placed += primitive.triangle_count();
+            primitive
+                .instantiate(world, material, builder)
+                .context(|| format!("mesh {index} primitive {} (node {node})", primitive.index))?;
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<Scene, SceneError> {
+        let skipped = self.skipped_primitives;
+        if skipped > 0 {
+            self.builder
+                .warn(format!("skipped {skipped} point or line primitive(s)"));
+        }
+        if self.triangles_placed == 0 && skipped > 0 {
+            return Err(SceneError::NoTriangles {
+                path: self.builder.path().to_path_buf(),
+                detail: format!(" (only point or line primitives: {skipped} skipped)"),
+            });
+        }
+        self.builder.finish()
+    }
+}

@@ -1,0 +1,271 @@
+//! The images materials name: decoded once each (in parallel, while `tobj` parses the
+//! geometry), `map_d` masks merged into the base colour's alpha, then handed to the builder.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::material::Plan;
+use crate::{AlphaMode, SceneBuilder, Texels, Texture, TextureId};
+
+/// Decoded images by path; the error is a one-line reason naming the file.
+pub(super) type Decoded = HashMap<PathBuf, Result<Texture, String>>;
+
+/// Every distinct image the plans name, in first-use order.
+pub(super) fn image_paths(plans: &[Plan]) -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> = Vec::new();
+    for plan in plans {
+        for path in [&plan.base_color_map, &plan.mask_map, &plan.emission_map]
+            .into_iter()
+            .flatten()
+        {
+            if !paths.contains(path) {
+                paths.push(path.clone());
+            }
+        }
+    }
+    paths
+}
+
+/// Decodes the images (as sRGB colour) on `threads` threads.
+pub(super) fn decode_all(paths: &[PathBuf], threads: usize) -> Decoded {
+    let next = AtomicUsize::new(0);
+    let results = Mutex::new(Decoded::new());
+    std::thread::scope(|scope| {
+        for _ in 0..threads.clamp(1, paths.len().max(1)) {
+            scope.spawn(|| {
+                while let Some(path) = paths.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    let decoded = decode(path);
+                    results.lock().unwrap().insert(path.clone(), decoded);
+                }
+            });
+        }
+    });
+    results.into_inner().unwrap()
+}
+
+/// The largest image file read.
+const MAX_IMAGE_BYTES: u64 = 1 << 30;
+
+/// Reads and decodes one image as sRGB colour; the error names the file.
+fn decode(path: &Path) -> Result<Texture, String> {
+    let fail = |reason: &dyn std::fmt::Display| format!("{}: {reason}", path.display());
+    let bytes = super::read_regular_file(path, MAX_IMAGE_BYTES).map_err(|e| fail(&e))?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy())
+        .unwrap_or_default();
+    Texture::decode(&name, &bytes, true).map_err(|e| fail(&e))
+}
+
+/// A texture the builder will hold: a decoded file, or a base colour with a merged mask.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Source {
+    File(PathBuf),
+    Masked {
+        base: Option<PathBuf>,
+        mask: PathBuf,
+    },
+}
+
+/// Which textures a material ends up with: decoded paths and the mask's source.
+struct Resolved {
+    base: Option<PathBuf>,
+    mask: Option<Source>,
+    emission: Option<PathBuf>,
+}
+
+/// Adds each plan's material to the builder with its textures; returns the material indices.
+/// A texture that failed to decode is a warning: the material keeps its constant colour.
+pub(super) fn add_materials(
+    plans: Vec<Plan>,
+    decoded: Decoded,
+    builder: &mut SceneBuilder,
+) -> Vec<u32> {
+    let (resolved, merged) = resolve(&plans, &decoded, builder);
+    let mut textures = Textures {
+        ids: HashMap::new(),
+        decoded,
+        merged,
+    };
+    let mut indices = Vec::with_capacity(plans.len());
+    for (
+        plan,
+        Resolved {
+            base,
+            mask,
+            emission,
+        },
+    ) in plans.into_iter().zip(resolved)
+    {
+        let mut material = plan.material;
+        if mask.is_none() {
+            // No `map_d`, or its image failed to decode (a warning already).
+            material.alpha_mode = AlphaMode::Opaque;
+        }
+        if let Some(source) = mask.or(base.clone().map(Source::File)) {
+            material.base_color_texture = Some(textures.id(source, builder));
+        }
+        if base.is_some() {
+            // The map replaces Kd (see the module manual).
+            material.base_color = glam::Vec3::ONE;
+        }
+        if let Some(path) = emission {
+            material.emission_texture = Some(textures.id(Source::File(path), builder));
+        }
+        indices.push(builder.add_material(material));
+    }
+    indices
+}
+
+/// Decides each material's textures (warning about those that failed to decode) and builds
+/// the merged base-colour-and-mask images, each once.
+fn resolve(
+    plans: &[Plan],
+    decoded: &Decoded,
+    builder: &mut SceneBuilder,
+) -> (Vec<Resolved>, HashMap<Source, Texture>) {
+    let mut merged = HashMap::new();
+    let resolved = plans
+        .iter()
+        .map(|plan| {
+            let name = &plan.material.name;
+            let base = usable(decoded, &plan.base_color_map, name, "map_Kd", builder);
+            let emission = usable(decoded, &plan.emission_map, name, "map_Ke", builder);
+            let mask = usable(decoded, &plan.mask_map, name, "map_d", builder).map(|mask| {
+                let base_texture = base.as_ref().and_then(|b| decoded[b].as_ref().ok());
+                if base.as_ref() == Some(&mask) && base_texture.is_some_and(has_alpha) {
+                    return Source::File(mask);
+                }
+                let source = Source::Masked {
+                    base: base.clone(),
+                    mask: mask.clone(),
+                };
+                if let (false, Ok(mask_texture)) = (merged.contains_key(&source), &decoded[&mask]) {
+                    merged.insert(source.clone(), with_mask(base_texture, mask_texture));
+                }
+                source
+            });
+            Resolved {
+                base,
+                mask,
+                emission,
+            }
+        })
+        .collect();
+    (resolved, merged)
+}
+
+/// Hands each texture to the builder once, remembering its id.
+struct Textures {
+    ids: HashMap<Source, TextureId>,
+    decoded: Decoded,
+    merged: HashMap<Source, Texture>,
+}
+
+impl Textures {
+    fn id(&mut self, source: Source, builder: &mut SceneBuilder) -> TextureId {
+        if let Some(&id) = self.ids.get(&source) {
+            return id;
+        }
+        let texture = match &source {
+            Source::File(path) => self.decoded.remove(path).and_then(Result::ok),
+            Source::Masked { .. } => self.merged.remove(&source),
+        };
+        let id = builder.add_texture(texture.expect("a resolved source has a texture"));
+        self.ids.insert(source, id);
+        id
+    }
+}
+
+/// The path when its image decoded; a warning naming the file otherwise.
+fn usable(
+    decoded: &Decoded,
+    path: &Option<PathBuf>,
+    material: &str,
+    key: &str,
+    builder: &mut SceneBuilder,
+) -> Option<PathBuf> {
+    let path = path.as_ref()?;
+    match &decoded[path] {
+        Ok(_) => Some(path.clone()),
+        Err(reason) => {
+            let fallback = match key {
+                "map_Kd" => "keeps its Kd colour",
+                "map_d" => "rendered opaque",
+                _ => "keeps its Ke emission",
+            };
+            builder.warn(format!("material '{material}': {key} {reason}; {fallback}"));
+            None
+        }
+    }
+}
+
+/// Whether any texel is less than fully opaque.
+fn has_alpha(texture: &Texture) -> bool {
+    match &texture.texels {
+        Texels::Srgb8(t) => t.iter().any(|p| p[3] < 255),
+        Texels::LinearF32(t) => t.iter().any(|p| p[3] < 1.0),
+    }
+}
+
+/// A copy of `base` (or a white image the mask's size) whose alpha is the mask: the mask
+/// image's alpha channel if it has one, else its first channel; nearest texel if sizes differ.
+fn with_mask(base: Option<&Texture>, mask: &Texture) -> Texture {
+    let channel = if has_alpha(mask) { 3 } else { 0 };
+    let mask_value = |x: u32, y: u32| -> u8 {
+        let i = (y * mask.width + x) as usize;
+        match &mask.texels {
+            Texels::Srgb8(t) => t[i][channel],
+            Texels::LinearF32(t) => (t[i][channel].clamp(0.0, 1.0) * 255.0).round() as u8,
+        }
+    };
+    let white;
+    let base = match base {
+        Some(base) => base,
+        None => {
+            white = Texture {
+                name: String::new(),
+                width: mask.width,
+                height: mask.height,
+                texels: Texels::Srgb8(vec![[255; 4]; mask.texel_count()]),
+            };
+            &white
+        }
+    };
+    // Nearest texel: the mask texel under the centre of each base texel.
+    let scale =
+        |i: u32, from: u32, to: u32| ((2 * i as u64 + 1) * to as u64 / (2 * from as u64)) as u32;
+    let alpha_at = |i: usize| {
+        let (x, y) = (i as u32 % base.width, i as u32 / base.width);
+        mask_value(
+            scale(x, base.width, mask.width),
+            scale(y, base.height, mask.height),
+        )
+    };
+    let texels = match &base.texels {
+        Texels::Srgb8(t) => Texels::Srgb8(
+            t.iter()
+                .enumerate()
+                .map(|(i, &[r, g, b, _])| [r, g, b, alpha_at(i)])
+                .collect(),
+        ),
+        Texels::LinearF32(t) => Texels::LinearF32(
+            t.iter()
+                .enumerate()
+                .map(|(i, &[r, g, b, _])| [r, g, b, alpha_at(i) as f32 / 255.0])
+                .collect(),
+        ),
+    };
+    let name = match base.name.as_str() {
+        "" => format!("mask {}", mask.name),
+        base_name => format!("{base_name} + mask {}", mask.name),
+    };
+    Texture {
+        name,
+        width: base.width,
+        height: base.height,
+        texels,
+    }
+}

@@ -1,0 +1,257 @@
+//! glTF materials: the mapping onto kousen's surfaces, emission, alpha, textures, lights.
+
+mod gltf_support;
+
+use glam::Vec3;
+use gltf_support::*;
+use scene::{AlphaMode, Material, Scene, Surface, Texels};
+use serde_json::{Value, json};
+
+/// The material of the only quad of a document made with `material`.
+fn material_of(material: Value) -> Material {
+    let scene = quad_doc(Some(material)).load().expect("loads");
+    scene.materials[scene.triangles[0].material as usize].clone()
+}
+
+fn pbr(metallic: f32, roughness: f32) -> Value {
+    json!({ "pbrMetallicRoughness": { "metallicFactor": metallic, "roughnessFactor": roughness } })
+}
+
+#[test]
+fn smooth_metal_is_a_mirror_and_everything_else_diffuse() {
+    let cases = [
+        ((1.0, 0.0), Surface::Mirror),
+        ((0.5, 0.2), Surface::Mirror),
+        ((1.0, 0.5), Surface::Diffuse),
+        ((0.4, 0.0), Surface::Diffuse),
+    ];
+    for ((metallic, roughness), surface) in cases {
+        let m = material_of(pbr(metallic, roughness));
+        assert_eq!(
+            m.surface, surface,
+            "metallic {metallic}, roughness {roughness}"
+        );
+    }
+}
+
+#[test]
+fn base_color_factor_is_linear_and_alpha_kept() {
+    let m = material_of(
+        json!({ "pbrMetallicRoughness": { "baseColorFactor": [0.5, 0.25, 0.125, 0.75] } }),
+    );
+    assert_eq!(m.base_color, Vec3::new(0.5, 0.25, 0.125));
+    assert_eq!(m.alpha, 0.75);
+    assert_eq!(m.alpha_mode, AlphaMode::Opaque);
+    assert_eq!(
+        m.surface,
+        Surface::Diffuse,
+        "glTF's default metallic 1, roughness 1"
+    );
+}
+
+#[test]
+fn transmission_without_volume_is_a_thin_walled_dielectric() {
+    let mut material = pbr(0.0, 0.0);
+    material["extensions"] = json!({ "KHR_materials_transmission": { "transmissionFactor": 1.0 } });
+    let m = material_of(material);
+    assert_eq!(
+        m.surface,
+        Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: true
+        }
+    );
+}
+
+#[test]
+fn transmission_with_volume_is_a_solid_dielectric_with_the_khr_ior() {
+    let mut material = pbr(0.0, 0.0);
+    material["extensions"] = json!({
+        "KHR_materials_transmission": { "transmissionFactor": 0.9 },
+        "KHR_materials_volume": { "thicknessFactor": 0.1 },
+        "KHR_materials_ior": { "ior": 1.33 },
+    });
+    let m = material_of(material);
+    assert_eq!(
+        m.surface,
+        Surface::Dielectric {
+            ior: 1.33,
+            thin_walled: false
+        }
+    );
+}
+
+#[test]
+fn emissive_strength_multiplies_the_emissive_factor() {
+    let m = material_of(json!({
+        "emissiveFactor": [0.5, 1.0, 0.25],
+        "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4.0 } },
+    }));
+    assert_eq!(m.emission, Vec3::new(2.0, 4.0, 1.0));
+    assert_eq!(
+        material_of(json!({ "emissiveFactor": [0.5, 1.0, 0.25] })).emission,
+        Vec3::new(0.5, 1.0, 0.25)
+    );
+}
+
+#[test]
+fn primitives_without_material_share_one_default_material_that_does_not_emit() {
+    let mut doc = quad_doc(None);
+    let other = doc.mesh(&QUAD, &QUAD_INDICES, None);
+    doc.instance(other);
+    let scene = doc.load().expect("loads");
+    assert_eq!(scene.triangles.len(), 4);
+    assert_eq!(scene.materials.len(), 1);
+    assert_eq!(scene.materials[0].emission, Vec3::ZERO);
+    assert!(scene.lights.triangles.is_empty());
+}
+
+#[test]
+fn alpha_mask_uses_the_cutoff_and_blend_becomes_a_mask_with_a_warning() {
+    let masked =
+        material_of(json!({ "alphaMode": "MASK", "alphaCutoff": 0.3, "doubleSided": true }));
+    assert_eq!(masked.alpha_mode, AlphaMode::Mask { cutoff: 0.3 });
+    assert!(masked.double_sided);
+    let default_cutoff = material_of(json!({ "alphaMode": "MASK" }));
+    assert_eq!(default_cutoff.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
+    let scene = quad_doc(Some(json!({ "alphaMode": "BLEND" })))
+        .load()
+        .expect("loads");
+    assert_eq!(
+        scene.materials[0].alpha_mode,
+        AlphaMode::Mask { cutoff: 0.5 }
+    );
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("BLEND")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+fn tiny_png() -> Vec<u8> {
+    let image =
+        image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 128, 255, 64]).expect("2×1");
+    let mut png = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .expect("encode PNG");
+    png
+}
+
+/// A quad whose material uses image 0 for base colour and emission.
+fn textured_quad(doc: &mut Doc) {
+    doc.push("textures", json!({ "source": 0 }));
+    let material = doc.material(json!({
+        "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } },
+        "emissiveTexture": { "index": 0 },
+        "emissiveFactor": [1, 1, 1],
+    }));
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+}
+
+fn assert_tiny_png_decoded_once(scene: &Scene) {
+    assert_eq!(
+        scene.textures.len(),
+        1,
+        "decoded once, shared by both slots"
+    );
+    let texture = &scene.textures[0];
+    assert_eq!((texture.width, texture.height), (2, 1));
+    assert_eq!(
+        texture.texels,
+        Texels::Srgb8(vec![[255, 0, 0, 255], [0, 128, 255, 64]])
+    );
+    let m = &scene.materials[0];
+    assert_eq!(
+        (m.base_color_texture, m.emission_texture),
+        (Some(0), Some(0))
+    );
+}
+
+#[test]
+fn an_embedded_png_in_a_buffer_view_is_decoded_once_as_srgb() {
+    let mut doc = Doc::default();
+    let view = doc.view(&tiny_png());
+    doc.push(
+        "images",
+        json!({ "bufferView": view, "mimeType": "image/png" }),
+    );
+    textured_quad(&mut doc);
+    for layout in [Layout::DataUri, Layout::Glb] {
+        assert_tiny_png_decoded_once(&doc.load_as(layout).expect("loads"));
+    }
+}
+
+#[test]
+fn images_load_from_data_uris_and_files_next_to_the_gltf() {
+    use base64::Engine;
+    let png = tiny_png();
+    let mut doc = Doc::default();
+    let data = base64::engine::general_purpose::STANDARD.encode(&png);
+    doc.push(
+        "images",
+        json!({ "uri": format!("data:image/png;base64,{data}") }),
+    );
+    textured_quad(&mut doc);
+    assert_tiny_png_decoded_once(&doc.load().expect("loads"));
+
+    doc.json["images"][0]["uri"] = json!("tex%20dir/tiny.png");
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::create_dir(dir.path().join("tex dir")).expect("mkdir");
+    std::fs::write(dir.path().join("tex dir/tiny.png"), &png).expect("write");
+    let scene = scene::gltf::load(&doc.write(dir.path(), Layout::ExternalBin)).expect("loads");
+    assert_tiny_png_decoded_once(&scene);
+    assert_eq!(scene.textures[0].name, "tiny.png");
+}
+
+#[test]
+fn an_emissive_quad_is_collected_as_a_light_with_its_area_and_power() {
+    let mut doc = Doc::default();
+    let material = doc.material(json!({ "emissiveFactor": [1.0, 0.5, 0.25] }));
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    let node = doc.node(json!({ "mesh": mesh, "scale": [2, 3, 1] }));
+    doc.add_root(node);
+    let scene = doc.load().expect("loads");
+    let lights = &scene.lights;
+    assert_eq!(lights.triangles.len(), 2);
+    let area: f32 = lights.triangles.iter().map(|l| l.area).sum();
+    assert!((area - 6.0).abs() < 1e-5, "area {area}");
+    let expected = Vec3::new(1.0, 0.5, 0.25) * 6.0 * std::f32::consts::PI;
+    assert!(
+        lights.total_power.abs_diff_eq(expected, 1e-4),
+        "{}",
+        lights.total_power
+    );
+}
+
+#[test]
+fn ignored_extensions_are_named_in_one_warning() {
+    let mut doc = quad_doc(None);
+    doc.json["extensionsUsed"] = json!([
+        "KHR_texture_transform",
+        "KHR_materials_ior",
+        "KHR_materials_specular"
+    ]);
+    let scene = doc.load().expect("loads");
+    let warnings: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("extension"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_mentions(
+        warnings[0],
+        &["KHR_texture_transform", "KHR_materials_specular"],
+    );
+    assert!(!warnings[0].contains("KHR_materials_ior"));
+}
+
+#[test]
+fn supported_extensions_may_be_required() {
+    let mut doc = quad_doc(None);
+    doc.json["extensionsRequired"] = json!(["KHR_materials_volume", "KHR_materials_transmission"]);
+    doc.json["extensionsUsed"] = json!(["KHR_materials_volume", "KHR_materials_transmission"]);
+    let scene = doc.load().expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}

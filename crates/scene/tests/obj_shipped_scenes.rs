@@ -1,0 +1,184 @@
+//! The glTF scenes shipped in `scenes/` are what `make_scenes` writes from `scene::testing`,
+//! valid glTF 2.0, and load back as their fixtures.
+//!
+//! (The file is named `obj_*` only because of how the crate's test files are divided among
+//! its authors; it tests the shipped glTF scenes.)
+
+#[path = "../examples/make_scenes/gltf_writer.rs"]
+mod gltf_writer;
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use scene::{Scene, Triangle};
+
+fn shipped_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+#[test]
+fn shipped_scenes_match_a_fresh_regeneration() {
+    let dir = tempfile::tempdir().unwrap();
+    for (stem, fixture) in gltf_writer::SHIPPED {
+        gltf_writer::write(&fixture(), stem, dir.path()).unwrap();
+        for extension in ["gltf", "bin"] {
+            let name = format!("{stem}.{extension}");
+            let fresh = std::fs::read(dir.path().join(&name)).unwrap();
+            let shipped = std::fs::read(shipped_dir().join(&name))
+                .unwrap_or_else(|e| panic!("scenes/{name}: {e}"));
+            assert!(
+                fresh == shipped,
+                "scenes/{name} differs from what make_scenes writes; regenerate it with \
+                 `cargo run -p scene --example make_scenes -- scenes/`"
+            );
+        }
+    }
+}
+
+#[test]
+fn encoding_is_deterministic() {
+    for (stem, fixture) in gltf_writer::SHIPPED {
+        let (a, b) = (
+            gltf_writer::encode(&fixture(), stem),
+            gltf_writer::encode(&fixture(), stem),
+        );
+        assert!(a.json == b.json && a.bin == b.bin, "{stem}");
+    }
+}
+
+#[test]
+fn shipped_scenes_are_valid_gltf() {
+    for (stem, _) in gltf_writer::SHIPPED {
+        let json = std::fs::read(shipped_dir().join(format!("{stem}.gltf"))).unwrap();
+        let bin = std::fs::read(shipped_dir().join(format!("{stem}.bin"))).unwrap();
+        // `from_slice` runs the gltf crate's validation (indices, required fields, enums).
+        let document = gltf::Gltf::from_slice(&json).unwrap_or_else(|e| panic!("{stem}: {e}"));
+        let buffer = document.buffers().next().unwrap();
+        assert_eq!(buffer.length(), bin.len(), "{stem}: byteLength");
+        for view in document.views() {
+            assert_eq!(view.offset() % 4, 0);
+            assert!(view.offset() + view.length() <= bin.len());
+        }
+        for accessor in document.accessors() {
+            let view = accessor.view().unwrap();
+            assert_eq!(
+                accessor.count() * accessor.size(),
+                view.length(),
+                "{stem}: tightly packed"
+            );
+        }
+        let used: Vec<&str> = document.extensions_used().collect();
+        for extension in gltf_writer_extensions(&document) {
+            assert!(
+                used.contains(&extension.as_str()),
+                "{stem}: {extension} not in extensionsUsed"
+            );
+        }
+        let camera = document.cameras().next().unwrap();
+        assert!(matches!(
+            camera.projection(),
+            gltf::camera::Projection::Perspective(_)
+        ));
+    }
+}
+
+/// Every extension the materials use.
+fn gltf_writer_extensions(document: &gltf::Gltf) -> Vec<String> {
+    let mut names = Vec::new();
+    for material in document.materials() {
+        if material.emissive_strength().is_some() {
+            names.push("KHR_materials_emissive_strength".to_string());
+        }
+        if material.transmission().is_some() {
+            names.push("KHR_materials_transmission".to_string());
+        }
+        if material.ior().is_some() {
+            names.push("KHR_materials_ior".to_string());
+        }
+        if material.volume().is_some() {
+            names.push("KHR_materials_volume".to_string());
+        }
+    }
+    names
+}
+
+fn sort_key(t: &Triangle) -> (u32, [u32; 9]) {
+    let p = t.positions();
+    let coords: Vec<f32> = p.iter().flat_map(|v| v.to_array()).collect();
+    (t.material, std::array::from_fn(|i| coords[i].to_bits()))
+}
+
+fn close(a: Vec3, b: Vec3, tolerance: f32) -> bool {
+    (a - b).abs().max_element() <= tolerance * a.abs().max_element().max(1.0)
+}
+
+/// Same triangles (as a set, with their normals and materials), materials and cameras.
+fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
+    assert_eq!(
+        loaded.triangles.len(),
+        fixture.triangles.len(),
+        "{stem}: triangles"
+    );
+    assert_eq!(loaded.degenerate_dropped, 0, "{stem}");
+    assert!(loaded.warnings.is_empty(), "{stem}: {:?}", loaded.warnings);
+    let mut a: Vec<&Triangle> = loaded.triangles.iter().collect();
+    let mut b: Vec<&Triangle> = fixture.triangles.iter().collect();
+    a.sort_by_key(|t| sort_key(t));
+    b.sort_by_key(|t| sort_key(t));
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.material, y.material, "{stem}");
+        for (u, v) in x.vertices.iter().zip(&y.vertices) {
+            assert_eq!(
+                u.position, v.position,
+                "{stem}: positions are written exactly"
+            );
+            assert!(
+                close(u.normal, v.normal, 1e-6),
+                "{stem}: normal {} vs {}",
+                u.normal,
+                v.normal
+            );
+            assert_eq!(u.uv, v.uv);
+        }
+    }
+    assert_eq!(loaded.materials.len(), fixture.materials.len());
+    for (x, y) in loaded.materials.iter().zip(&fixture.materials) {
+        assert_eq!(
+            (&x.name, x.surface, x.base_color),
+            (&y.name, y.surface, y.base_color),
+            "{stem}"
+        );
+        assert!(
+            close(x.emission, y.emission, 1e-6),
+            "{stem}: {} vs {}",
+            x.emission,
+            y.emission
+        );
+        assert_eq!(
+            (x.alpha, x.alpha_mode, x.double_sided),
+            (y.alpha, y.alpha_mode, y.double_sided)
+        );
+    }
+    assert_eq!(loaded.cameras.len(), fixture.cameras.len());
+    for (x, y) in loaded.cameras.iter().zip(&fixture.cameras) {
+        assert!(
+            close(x.eye, y.eye, 1e-6) && close(x.forward, y.forward, 1e-6),
+            "{stem}: {x:?} vs {y:?}"
+        );
+        assert!(close(x.up, y.up, 1e-6), "{stem}");
+        assert_eq!((x.yfov, x.aspect_ratio), (y.yfov, y.aspect_ratio), "{stem}");
+    }
+    assert!(
+        close(loaded.lights.total_power, fixture.lights.total_power, 1e-5),
+        "{stem}"
+    );
+}
+
+#[test]
+fn shipped_scenes_load_as_their_fixtures() {
+    for (stem, fixture) in gltf_writer::SHIPPED {
+        let path = shipped_dir().join(format!("{stem}.gltf"));
+        let loaded = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert_same_scene(&loaded, &fixture(), stem);
+    }
+}

@@ -12,6 +12,7 @@ mod rays;
 use std::path::Path;
 use std::time::Instant;
 
+use bvh::testing::is_fragile_hit;
 use bvh::traverse::{Query, TraversalCounters, trace_mtbvh, trace_stack, trace_tbvh};
 use bvh::{
     BuildOptions, BvhNode, Hit, Links, PackedBvh, PackedTriangle, Ray, closest_hit_brute_force,
@@ -46,7 +47,7 @@ fn main() -> Result<(), String> {
         triangles.len(),
         rayon::current_num_threads()
     );
-    println!("bytes/ray: what a GPU reads, a node and its links per box, a triangle per test");
+    println!("bytes/ray: what a GPU reads: node + links per box, 3 positions per triangle test");
     for max_leaf_size in leaves {
         run_leaf_size(&triangles, &primary, max_leaf_size)?;
     }
@@ -80,7 +81,8 @@ fn run_leaf_size(
     );
     let per = |c: u64, n: usize| c as f64 / n as f64;
     let box_bytes = (size_of::<BvhNode>() + size_of::<Links>()) as u64;
-    let triangle_bytes = size_of::<PackedTriangle>() as u64;
+    // The test reads only the (position, u) row of each vertex, half of a PackedVertex.
+    let triangle_bytes = (size_of::<PackedTriangle>() / 2) as u64;
     let bytes =
         |c: TraversalCounters, n: usize| per(box_bytes * c.boxes + triangle_bytes * c.triangles, n);
     for (name, trace) in VARIANTS {
@@ -99,32 +101,51 @@ fn run_leaf_size(
     Ok(())
 }
 
-/// Checks that all variants agree on every ray and brute force on a sample; returns the hits.
+/// Whether two answers for `ray` agree: the same distance, or else the nearer one is a hit
+/// the triangle test cannot decide reliably (see [`is_fragile_hit`]), which the other
+/// traversal may rightly cull.
+fn agree(bvh: &PackedBvh, ray: &Ray, a: Option<Hit>, b: Option<Hit>) -> bool {
+    let t = |h: Option<Hit>| h.map_or(f32::INFINITY, |h| h.t);
+    let nearer = if t(a) < t(b) { a } else { b };
+    t(a) == t(b) || nearer.is_some_and(|h| is_fragile_hit(bvh, ray, &h))
+}
+
+/// Checks that all variants agree on every ray and with brute force on a sample, up to fragile
+/// hits (whose count it prints); returns the stack traversal's hits.
 fn validate(bvh: &PackedBvh, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
     let closest = |trace: Trace, ray: &Ray| {
         trace(bvh, ray, Query::Closest, &mut TraversalCounters::default())
     };
     let hits: Vec<Option<Hit>> = rays.par_iter().map(|r| closest(trace_stack, r)).collect();
+    let mut fragile = Vec::new();
     for (name, trace) in VARIANTS {
-        let bad = rays
-            .par_iter()
-            .zip(&hits)
-            .filter(|(r, h)| closest(trace, r).map(|x| x.t) != h.map(|x| x.t))
-            .count();
-        if bad > 0 {
+        let differ =
+            |(r, h): &(&Ray, &Option<Hit>)| closest(trace, r).map(|x| x.t) != h.map(|x| x.t);
+        let pairs: Vec<_> = rays.iter().zip(&hits).collect();
+        let different: Vec<_> = pairs.par_iter().filter(|p| differ(p)).collect();
+        if let Some((r, _)) = different
+            .iter()
+            .find(|(r, h)| !agree(bvh, r, closest(trace, r), **h))
+        {
             return Err(format!(
-                "{name}: {bad} rays disagree with the stack traversal"
+                "{name} disagrees with the stack traversal on {r:?}"
             ));
         }
+        fragile.push(format!("{name} {}", different.len()));
     }
     let step = (rays.len() / 500).max(1);
     let sample: Vec<(&Ray, &Option<Hit>)> = rays.iter().zip(&hits).step_by(step).collect();
     if let Some((r, _)) = sample
         .par_iter()
-        .find_any(|(r, h)| closest_hit_brute_force(bvh, r).map(|x| x.t) != h.map(|x| x.t))
+        .find_any(|(r, h)| !agree(bvh, r, closest_hit_brute_force(bvh, r), **h))
     {
         return Err(format!("brute force disagrees on {r:?}"));
     }
+    println!(
+        "validated {} rays; fragile differences from the stack traversal: {}",
+        rays.len(),
+        fragile.join(", ")
+    );
     Ok(hits)
 }
 

@@ -34,8 +34,8 @@ pub struct Hit {
 
 /// `1 + 2γ₃` (Ize, "Robust BVH ray traversal", 2013): widening the slab exit distance by this
 /// factor covers the rounding of the slab test, so a box is never missed by a ray that
-/// reaches it.
-const ROBUST_EXIT: f32 = {
+/// reaches it. Public so that the WGSL prelude can take it from here.
+pub const ROBUST_EXIT: f32 = {
     let half_epsilon = f32::EPSILON / 2.0;
     let gamma3 = 3.0 * half_epsilon / (1.0 - 3.0 * half_epsilon);
     1.0 + 2.0 * gamma3

@@ -9,7 +9,8 @@
 use glam::{Vec2, Vec3};
 use scene::{Triangle, Vertex};
 
-use crate::intersect::Ray;
+use crate::intersect::{Hit, Ray, intersect_box};
+use crate::pack::{BvhNode, PackedBvh};
 
 /// A small deterministic generator (SplitMix64), so fixtures need no `rand`.
 #[derive(Clone, Debug)]
@@ -246,4 +247,24 @@ fn point_on(rng: &mut Rng, triangle: &Triangle) -> Vec3 {
             a + u * (b - a) + v * (c - a)
         }
     }
+}
+
+/// Whether `hit` (from the triangle test) lies outside its own triangle's box as the slab test
+/// sees it: [`intersect_box`] on the triangle's bounds, with `t_far = hit.t`, says miss.
+///
+/// Rounding makes this possible: at an edge or vertex the test can accept a point just outside
+/// the triangle, and on a thin triangle met obliquely its `t` can fall short of the plane by
+/// more than the slab test's margin (two coplanar triangles then "tie" at slightly different
+/// `t`). Every box that holds the triangle holds its box, and the slab test is monotonic in
+/// the box and in `t_far`, so a hit that passes this test is always reached: where brute
+/// force's closest hit is not fragile, every traversal returns its `t`. The tests allow a
+/// traversal to differ only where this says so.
+pub fn is_fragile_hit(bvh: &PackedBvh, ray: &Ray, hit: &Hit) -> bool {
+    let [a, b, c] = bvh.triangles[hit.triangle as usize].positions();
+    let own_box = BvhNode {
+        min: a.min(b).min(c).to_array(),
+        max: a.max(b).max(c).to_array(),
+        ..BvhNode::default()
+    };
+    intersect_box(&own_box, ray.origin, ray.direction.recip(), hit.t) == f32::INFINITY
 }

@@ -3,6 +3,7 @@
 mod cli;
 mod cmd;
 mod image_io;
+mod light_sampling;
 mod path_trace;
 mod sampling;
 

@@ -1,12 +1,14 @@
 //! An interim CPU path tracer, so that `kousen render` makes a correct image before the SPPM
-//! integrator (issue 4) lands. It is deliberately plain: unidirectional paths, no light
-//! sampling, Russian roulette after a few bounces. It reads the scene through the same packed
+//! integrator (issue 4) lands, and an independent reference for it later. Unidirectional paths
+//! with next-event estimation on diffuse surfaces, combined with BSDF sampling by multiple
+//! importance sampling (power heuristic); Russian roulette after a few bounces. It reads the scene through the same packed
 //! MTBVH and CPU traversal the GPU kernels will use, so it also exercises them end to end.
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
+use crate::light_sampling::{LightSampler, power_heuristic};
 use crate::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 
 /// What to render and how much.
@@ -34,6 +36,9 @@ pub struct PathTracer<'a> {
     scene: &'a Scene,
     bvh: &'a bvh::PackedBvh,
     camera: Camera,
+    lights: LightSampler,
+    /// Whether any material has alpha cut-outs (shadow rays must then look through them).
+    has_cut_outs: bool,
     /// Offset of a continuation ray's origin, relative to the scene's size.
     epsilon: f32,
 }
@@ -47,15 +52,31 @@ struct SurfacePoint {
     shading: Vec3,
     uv: Vec2,
     material: u32,
+    /// Index into the scene's triangles.
+    triangle: u32,
+}
+
+/// How the path reached the current vertex, for weighting emission found there.
+enum Arrival {
+    /// From the camera or a specular bounce: light sampling could not have found this path.
+    Unsampled,
+    /// From a diffuse bounce at `from`, with this solid-angle density.
+    Diffuse { from: Vec3, pdf: f32 },
 }
 
 impl<'a> PathTracer<'a> {
     pub fn new(scene: &'a Scene, bvh: &'a bvh::PackedBvh, camera: Camera) -> Self {
         let epsilon = 1e-5 * scene.bounds().extent().length().max(1e-3);
+        let has_cut_outs = scene
+            .materials
+            .iter()
+            .any(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }));
         PathTracer {
             scene,
             bvh,
             camera,
+            lights: LightSampler::new(scene),
+            has_cut_outs,
             epsilon,
         }
     }
@@ -98,6 +119,7 @@ impl<'a> PathTracer<'a> {
     ) -> Vec3 {
         let mut radiance = Vec3::ZERO;
         let mut throughput = Vec3::ONE;
+        let mut arrival = Arrival::Unsampled;
         let (mut depth, mut passes) = (0, 0);
         while depth < max_depth {
             let Some(point) = self.intersect(origin, direction) else {
@@ -111,10 +133,24 @@ impl<'a> PathTracer<'a> {
                 continue;
             }
             if front || material.double_sided {
-                radiance += throughput * self.emission(material, point.uv);
+                let weight = self.emission_weight(&arrival, &point, direction);
+                radiance += throughput * weight * self.emission(material, point.uv);
             }
             let Some((next, weight)) = self.scatter(material, &point, direction, front, rng) else {
                 break;
+            };
+            let facing = if front { 1.0 } else { -1.0 };
+            arrival = match material.surface {
+                Surface::Diffuse => {
+                    let albedo = weight;
+                    radiance += throughput * albedo * self.direct_light(&point, facing, rng);
+                    let cosine = next.dot(facing * point.shading).max(0.0);
+                    Arrival::Diffuse {
+                        from: point.position,
+                        pdf: cosine * std::f32::consts::FRAC_1_PI,
+                    }
+                }
+                _ => Arrival::Unsampled,
             };
             throughput *= weight;
             depth += 1;
@@ -137,11 +173,90 @@ impl<'a> PathTracer<'a> {
         radiance
     }
 
+    /// The MIS weight of emission found by BSDF sampling, against light sampling.
+    fn emission_weight(&self, arrival: &Arrival, point: &SurfacePoint, direction: Vec3) -> f32 {
+        let Arrival::Diffuse { from, pdf } = *arrival else {
+            return 1.0;
+        };
+        let cos_light = direction.dot(point.geometric).abs();
+        if cos_light == 0.0 {
+            return 0.0;
+        }
+        let distance_sq = (point.position - from).length_squared();
+        let pdf_light = self.lights.pdf_area(self.scene, point.triangle) * distance_sq / cos_light;
+        power_heuristic(pdf, pdf_light)
+    }
+
+    /// Next-event estimation at a diffuse point, divided by its albedo: one light sample,
+    /// (1/π)·Le·cos / pdf, weighted against BSDF sampling. `facing` turns the point's
+    /// normals to the side the path arrived from.
+    fn direct_light(&self, point: &SurfacePoint, facing: f32, rng: &mut Rng) -> Vec3 {
+        let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+        let Some(light) = self.lights.sample(self.scene, u) else {
+            return Vec3::ZERO;
+        };
+        let to_light = light.position - point.position;
+        let distance_sq = to_light.length_squared();
+        let wi = to_light / distance_sq.sqrt();
+        let cos_surface = wi.dot(facing * point.shading);
+        if cos_surface <= 0.0 || wi.dot(facing * point.geometric) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let light_triangle = &self.scene.triangles[light.triangle as usize];
+        let light_material = &self.scene.materials[light_triangle.material as usize];
+        let mut cos_light = -wi.dot(light.normal);
+        if light_material.double_sided {
+            cos_light = cos_light.abs();
+        }
+        if cos_light <= 0.0 || light.pdf_area <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let origin = point.position + facing * self.epsilon * point.geometric;
+        if !self.visible(origin, light.position) {
+            return Vec3::ZERO;
+        }
+        let pdf_light = light.pdf_area * distance_sq / cos_light;
+        let pdf_bsdf = cos_surface * std::f32::consts::FRAC_1_PI;
+        let weight = power_heuristic(pdf_light, pdf_bsdf);
+        self.emission(light_material, light.uv)
+            * (cos_surface * std::f32::consts::FRAC_1_PI)
+            * (weight / pdf_light)
+    }
+
+    /// Whether nothing opaque lies between `from` and `to` (cut-out surfaces let light by).
+    fn visible(&self, mut from: Vec3, to: Vec3) -> bool {
+        // Stop just short of the light's own surface.
+        const SHORT_OF_TARGET: f32 = 1.0 - 1e-4;
+        if !self.has_cut_outs {
+            let ray = bvh::Ray {
+                origin: from,
+                direction: to - from,
+                t_max: SHORT_OF_TARGET,
+            };
+            return !bvh::any_hit_mtbvh(self.bvh, &ray);
+        }
+        for _ in 0..MAX_PASS_THROUGH {
+            let Some(point) = self.intersect_segment(from, to - from, SHORT_OF_TARGET) else {
+                return true;
+            };
+            let material = &self.scene.materials[point.material as usize];
+            if !self.cut_out(material, point.uv) {
+                return false;
+            }
+            from = point.position + (to - from).normalize() * self.epsilon;
+        }
+        false
+    }
+
     fn intersect(&self, origin: Vec3, direction: Vec3) -> Option<SurfacePoint> {
+        self.intersect_segment(origin, direction, f32::INFINITY)
+    }
+
+    fn intersect_segment(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<SurfacePoint> {
         let ray = bvh::Ray {
             origin,
             direction,
-            t_max: f32::INFINITY,
+            t_max,
         };
         let hit = bvh::closest_hit_mtbvh(self.bvh, &ray)?;
         let id = self.bvh.triangle_ids[hit.triangle as usize];
@@ -157,6 +272,7 @@ impl<'a> PathTracer<'a> {
             shading,
             uv: w * a.uv + hit.u * b.uv + hit.v * c.uv,
             material: triangle.material,
+            triangle: id,
         })
     }
 

@@ -8,7 +8,10 @@ pub enum SceneError {
     /// The file (or a file it refers to) could not be read. (Not marked as the error's
     /// source: the message already says it, and a CLI printing the chain would repeat it.)
     #[error("{}: {error}", path.display())]
-    Io { path: PathBuf, error: std::io::Error },
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
     /// The file is malformed: bad syntax, out-of-range references, non-finite values.
     #[error("{}: {message}", path.display())]
     Format { path: PathBuf, message: String },

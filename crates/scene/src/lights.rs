@@ -24,16 +24,18 @@ pub struct Lights {
 impl Lights {
     /// Collects the emissive triangles of a scene.
     pub fn collect(triangles: &[Triangle], materials: &[Material], textures: &[Texture]) -> Lights {
-        let texture_means: Vec<Vec3> = textures
-            .iter()
-            .map(|t| t.mean_linear().truncate())
-            .collect();
+        // Only emission textures need their mean, and computing one is not free.
+        let mut texture_means: Vec<Option<Vec3>> = vec![None; textures.len()];
+        let mut mean = |t: u32| {
+            *texture_means[t as usize]
+                .get_or_insert_with(|| textures[t as usize].mean_linear().truncate())
+        };
         let mut lights = Lights::default();
         for (index, triangle) in triangles.iter().enumerate() {
             let material = &materials[triangle.material as usize];
             let mut radiance = material.emission;
             if let Some(t) = material.emission_texture {
-                radiance *= texture_means[t as usize];
+                radiance *= mean(t);
             }
             if radiance.max_element() <= 0.0 {
                 continue;

@@ -159,6 +159,19 @@ pub fn lit_plane_radiance(x: f32, z: f32) -> f32 {
     (LIT_PLANE_ALBEDO as f64 * LIT_PLANE_EMISSION as f64 * form_factor) as f32
 }
 
+/// The Cornell data's floor, back wall, right (green) wall, left (red) wall, ceiling and light
+/// corners, as published (the ceiling's corners listed from (0, 548.8, 0) to match the light's
+/// order, which the ceiling's hole relies on).
+#[rustfmt::skip]
+const CORNELL_QUADS: [[[f32; 3]; 4]; 6] = [
+    [[552.8, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 559.2], [549.6, 0.0, 559.2]],
+    [[549.6, 0.0, 559.2], [0.0, 0.0, 559.2], [0.0, 548.8, 559.2], [556.0, 548.8, 559.2]],
+    [[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]],
+    [[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]],
+    [[0.0, 548.8, 0.0], [556.0, 548.8, 0.0], [556.0, 548.8, 559.2], [0.0, 548.8, 559.2]],
+    [[213.0, 548.8, 227.0], [343.0, 548.8, 227.0], [343.0, 548.8, 332.0], [213.0, 548.8, 332.0]],
+];
+
 /// The Cornell room without blocks: floor, ceiling with the light's hole, back, left (red)
 /// and right (green) walls, the light, the camera. Returns the white material.
 fn cornell_room(f: &mut Fixture) -> u32 {
@@ -171,43 +184,7 @@ fn cornell_room(f: &mut Fixture) -> u32 {
         emission: CORNELL_LIGHT_RADIANCE,
         ..Material::default()
     });
-    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-    let floor = [
-        p(552.8, 0.0, 0.0),
-        p(0.0, 0.0, 0.0),
-        p(0.0, 0.0, 559.2),
-        p(549.6, 0.0, 559.2),
-    ];
-    let back = [
-        p(549.6, 0.0, 559.2),
-        p(0.0, 0.0, 559.2),
-        p(0.0, 548.8, 559.2),
-        p(556.0, 548.8, 559.2),
-    ];
-    let right = [
-        p(0.0, 0.0, 559.2),
-        p(0.0, 0.0, 0.0),
-        p(0.0, 548.8, 0.0),
-        p(0.0, 548.8, 559.2),
-    ];
-    let left = [
-        p(552.8, 0.0, 0.0),
-        p(549.6, 0.0, 559.2),
-        p(556.0, 548.8, 559.2),
-        p(556.0, 548.8, 0.0),
-    ];
-    let ceiling = [
-        p(0.0, 548.8, 0.0),
-        p(556.0, 548.8, 0.0),
-        p(556.0, 548.8, 559.2),
-        p(0.0, 548.8, 559.2),
-    ];
-    let lamp = [
-        p(213.0, 548.8, 227.0),
-        p(343.0, 548.8, 227.0),
-        p(343.0, 548.8, 332.0),
-        p(213.0, 548.8, 332.0),
-    ];
+    let [floor, back, right, left, ceiling, lamp] = CORNELL_QUADS.map(|q| q.map(Vec3::from));
     f.quad(floor, white, Vec3::Y);
     f.quad(back, white, Vec3::NEG_Z);
     f.quad(right, green, Vec3::X);
@@ -224,7 +201,8 @@ fn cornell_room(f: &mut Fixture) -> u32 {
     f.quad(lamp, light, Vec3::NEG_Y);
     // The film is 25 mm × 25 mm at a focal length of 35 mm.
     let yfov = (2.0 * (12.5f64 / 35.0).atan()) as f32;
-    f.camera(p(278.0, 273.0, -800.0), Vec3::Z, yfov, Some(1.0), "cornell");
+    let eye = Vec3::new(278.0, 273.0, -800.0);
+    f.camera(eye, Vec3::Z, yfov, Some(1.0), "cornell");
     white
 }
 

@@ -1,10 +1,6 @@
 //! Decoded textures: sRGB-tagged 8-bit colour or linear float data.
 
-use std::path::Path;
-
 use glam::Vec4;
-
-use crate::SceneError;
 
 /// Index into [`crate::Scene::textures`].
 pub type TextureId = u32;
@@ -64,16 +60,6 @@ impl Texture {
             height,
             texels,
         })
-    }
-
-    /// Reads and decodes an image file.
-    pub fn load(path: &Path, srgb: bool) -> Result<Texture, SceneError> {
-        let bytes = std::fs::read(path).map_err(|e| SceneError::io(path, e))?;
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        Texture::decode(&name, &bytes, srgb).map_err(|e| SceneError::format(path, e))
     }
 
     pub fn texel_count(&self) -> usize {

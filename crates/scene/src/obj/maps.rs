@@ -14,18 +14,14 @@ pub(super) type Decoded = HashMap<PathBuf, Result<Texture, String>>;
 
 /// Every distinct image the plans name, in first-use order.
 pub(super) fn image_paths(plans: &[Plan]) -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = Vec::new();
-    for plan in plans {
-        for path in [&plan.base_color_map, &plan.mask_map, &plan.emission_map]
-            .into_iter()
-            .flatten()
-        {
-            if !paths.contains(path) {
-                paths.push(path.clone());
-            }
-        }
-    }
-    paths
+    let mut seen = std::collections::HashSet::new();
+    plans
+        .iter()
+        .flat_map(|p| [&p.base_color_map, &p.mask_map, &p.emission_map])
+        .flatten()
+        .filter(|path| seen.insert(*path))
+        .cloned()
+        .collect()
 }
 
 /// Decodes the images (as sRGB colour) on `threads` threads.

@@ -4,6 +4,7 @@ mod cli;
 mod cmd;
 mod image_io;
 mod light_sampling;
+mod optics;
 mod path_trace;
 mod sampling;
 

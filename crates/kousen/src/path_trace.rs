@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use crate::light_sampling::{LightSampler, power_heuristic};
+use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 
 /// What to render and how much.
@@ -352,57 +353,59 @@ impl<'a> PathTracer<'a> {
     }
 }
 
-fn reflect(incoming: Vec3, normal: Vec3) -> Vec3 {
-    incoming - 2.0 * incoming.dot(normal) * normal
-}
-
-/// Snell refraction of `incoming` through a surface with `normal` facing it; `eta` = n_i / n_t.
-/// `None` on total internal reflection.
-fn refract(incoming: Vec3, normal: Vec3, eta: f32) -> Option<Vec3> {
-    let cos_i = -incoming.dot(normal);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((eta * incoming + (eta * cos_i - cos_t) * normal).normalize())
-}
-
-/// Unpolarised Fresnel reflectance of a smooth dielectric; 1 under total internal reflection.
-fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let cos_i = cos_i.clamp(0.0, 1.0);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let r_parallel = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    let r_perpendicular = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use scene::testing;
 
+    fn tracer_for(scene: &Scene) -> (bvh::PackedBvh, Camera) {
+        let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
+        (bvh, scene.camera(None).unwrap())
+    }
+
+    /// Inside a closed emitting, reflecting sphere every pixel sees L = Le / (1 − ρ) = 1.
     #[test]
-    fn fresnel_matches_normal_incidence_formula() {
-        // ((n1 - n2) / (n1 + n2))² = 0.04 for air to glass at 1.5.
-        assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
-        assert_eq!(
-            fresnel_dielectric(0.1, 1.5),
-            1.0,
-            "total internal reflection"
+    fn furnace_sphere_converges_to_analytic_radiance() {
+        let scene = testing::furnace_sphere();
+        let (bvh, camera) = tracer_for(&scene);
+        let settings = RenderSettings {
+            width: 8,
+            height: 8,
+            samples_per_pixel: 256,
+            max_depth: 64,
+            seed: 1,
+        };
+        let image = PathTracer::new(&scene, &bvh, camera).render(&settings);
+        let mean = crate::image_io::mean(&image);
+        // 16,384 paths; the per-path standard deviation is below 1, so 2% is > 5 sigma.
+        let expected = testing::FURNACE_RADIANCE;
+        assert!(
+            (mean - Vec3::splat(expected)).abs().max_element() < 0.02 * expected,
+            "{mean}"
         );
     }
 
+    /// A diffuse plane under a large parallel light: radiance ρE/π from the closed-form form
+    /// factor, checked at several points by rays shot straight down.
     #[test]
-    fn refraction_obeys_snell() {
-        let normal = Vec3::Y;
-        let incoming = Vec3::new(0.6, -0.8, 0.0);
-        let out = refract(incoming, normal, 1.0 / 1.5).unwrap();
-        let sin_t = out.x;
-        assert!((sin_t - 0.6 / 1.5).abs() < 1e-6);
-        assert!(out.y < 0.0);
+    fn lit_plane_matches_analytic_irradiance() {
+        let scene = testing::lit_plane();
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let mut rng = Rng::new(3, 0);
+        for (x, z) in [(0.0, 0.0), (0.3, -0.2), (-0.45, 0.45)] {
+            let origin = Vec3::new(x, 0.5, z);
+            let samples = 4096;
+            let sum: Vec3 = (0..samples)
+                .map(|_| tracer.radiance(origin, Vec3::NEG_Y, 8, &mut rng))
+                .sum();
+            let measured = sum / samples as f32;
+            let expected = testing::lit_plane_radiance(x, z);
+            let error = (measured - Vec3::splat(expected)).abs().max_element();
+            assert!(
+                error < 0.01 * expected,
+                "at ({x}, {z}): {measured} against {expected}"
+            );
+        }
     }
 }

@@ -121,7 +121,7 @@ pub const QUAD_INDICES: [u32; 6] = [0, 1, 2, 0, 2, 3];
 /// A binary glTF container around a JSON document and one binary chunk.
 pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
     let pad = |mut v: Vec<u8>, with: u8| {
-        while v.len() % 4 != 0 {
+        while !v.len().is_multiple_of(4) {
             v.push(with);
         }
         v

@@ -2,14 +2,15 @@
 //! traversal (the multiple-threaded BVH of Hachisuka's talk "Implementing a practical rendering
 //! system using GLSL", 2015), the GPU layout, and CPU traversals that mirror the WGSL kernels.
 //!
-//! - [`build_sah`]: binned SAH build over the triangles' boxes, parallel with rayon.
+//! - [`mod@build_sah`]: binned SAH build over the triangles' boxes, parallel with rayon.
 //! - [`mtbvh`]: hit/miss links for the TBVH (one order) and the MTBVH (six directions).
 //! - [`pack`]: `#[repr(C)]` Pod nodes, links and triangles ([`PackedBvh`]).
 //! - [`traverse`]: stack, TBVH and MTBVH traversal, closest and any hit, and brute force.
 //! - [`testing`]: random triangle soups and rays from a seed.
 //!
-//! Default leaf size: one triangle, as in the talk; measured against 2, 4 and 8 with the
-//! MTBVH traversal (`examples/leaf_size.rs`).
+//! Default leaf size: at most two triangles (the talk uses one); measured against 1, 4 and 8
+//! with the MTBVH traversal by `examples/leaf_size.rs`, see [`BuildOptions::default`].
+//! Build speed: `examples/build_time.rs`.
 
 mod aabb;
 mod binning;

@@ -21,6 +21,14 @@
 //!   child. A ray then meets boxes roughly front to back, so its closest hit shrinks the search
 //!   early, with one fixed order and no stack. The boxes are shared: only the links differ.
 //!
+//! Read per direction, in threading +X (d = 0): an internal node's hit link is its child lying
+//! toward −X (smaller centre x: the one a ray heading +X usually enters first); a node's miss
+//! link, and a leaf's hit link, is the next subtree toward +X: its sibling if the node is the
+//! −X one of the pair, else the nearest ancestor's +X sibling. In −X the roles of the
+//! children swap (the child toward +X first), and ±Y, ±Z read the same on their own axis. In
+//! the TBVH, "toward −X" reads "left". A ray uses the links of [`crate::pack::direction_index`]
+//! of its direction, so it sweeps the scene along its own major axis.
+//!
 //! Any order visits every node, so traversal is exact whichever is used; the order only
 //! changes how much is culled.
 

@@ -63,7 +63,9 @@ const _: () = assert!(size_of::<Links>() == 8);
 /// `mtbvh_links[d * nodes.len() + node]`. Rays in one GPU wave tend to share a major direction
 /// (all primary rays of a tile, photons leaving a small light), so with one direction's links
 /// contiguous a 64-byte cache line carries 8 nodes' links that the wave will use, where an
-/// interleaved `[Links; 6]` per node would carry 8 bytes it uses and 40 it does not.
+/// interleaved `[Links; 6]` per node would bring 48 bytes a node of which it uses 8. A
+/// direction's set is also one contiguous range, so it can be bound on its own should the
+/// whole array pass a device's storage-binding limit.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PackedBvh {
     /// Boxes and contents, depth-first (left-first) order; node 0 is the root.

@@ -1,4 +1,4 @@
-//! The binary BVH that [`crate::build_sah`] produces, and its statistics.
+//! The binary BVH that [`crate::build_sah()`] produces, and its statistics.
 //!
 //! Nodes are stored in depth-first, left-first pre-order: an internal node's left (first) child
 //! is the next node in the array and its right (second) child is wherever
@@ -30,6 +30,7 @@ pub struct Node {
 }
 
 impl Node {
+    /// Whether the node holds triangles (else it has two children).
     pub fn is_leaf(&self) -> bool {
         self.triangle_count > 0
     }
@@ -46,10 +47,12 @@ pub struct Bvh {
 }
 
 impl Bvh {
+    /// Number of nodes, internal and leaves.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Number of leaves.
     pub fn leaf_count(&self) -> usize {
         self.nodes.iter().filter(|n| n.is_leaf()).count()
     }

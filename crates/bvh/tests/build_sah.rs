@@ -146,13 +146,58 @@ fn skewed_input_traverses_correctly() {
 #[test]
 fn statistics_of_a_small_tree() {
     let triangles = random_soup(8, 64);
-    let bvh = build_sah(&triangles, &BuildOptions::default());
+    let options = BuildOptions {
+        max_leaf_size: 1,
+        ..BuildOptions::default()
+    };
+    let bvh = build_sah(&triangles, &options);
     assert_eq!(bvh.node_count(), 2 * 64 - 1);
     assert_eq!(bvh.leaf_size_histogram(), vec![0, 64]);
     // Every triangle's leaf is at most the root's area, and the root alone costs 1.
     let cost = bvh.sah_cost();
     assert!(cost > 1.0 && cost < 64.0 + 63.0, "{cost}");
     assert!(bvh.depth() >= 7);
+}
+
+fn unit_triangle(x: f32) -> Triangle {
+    let mut t = random_soup(0, 1)[0];
+    let corners = [
+        Vec3::new(x, 0.0, 0.0),
+        Vec3::new(x + 1.0, 0.0, 0.0),
+        Vec3::new(x, 1.0, 0.0),
+    ];
+    for (v, p) in t.vertices.iter_mut().zip(corners) {
+        v.position = p;
+    }
+    t
+}
+
+#[test]
+fn sah_cost_by_hand() {
+    // Two unit triangles 3 apart: boxes of area 2 under a root of area 8. Splitting
+    // (8 + 2 + 2 = 12) beats a leaf of two (2 · 8 = 16): cost 1 + (2 + 2) / 8.
+    let apart = [unit_triangle(0.0), unit_triangle(3.0)];
+    for max_leaf_size in [1, 2] {
+        let options = BuildOptions {
+            max_leaf_size,
+            ..Default::default()
+        };
+        let bvh = build_sah(&apart, &options);
+        assert_eq!(bvh.node_count(), 3);
+        assert_eq!(bvh.sah_cost(), 1.5);
+    }
+    // Two copies of one triangle: a leaf of two (2 · 2 = 4) beats splitting (2 + 2 + 2).
+    let stacked = [unit_triangle(0.0), unit_triangle(0.0)];
+    let bvh = build_sah(
+        &stacked,
+        &BuildOptions {
+            max_leaf_size: 2,
+            ..Default::default()
+        },
+    );
+    assert_eq!(bvh.node_count(), 1);
+    assert_eq!(bvh.sah_cost(), 2.0);
+    assert_eq!(bvh.leaf_size_histogram(), vec![0, 0, 1]);
 }
 
 #[test]

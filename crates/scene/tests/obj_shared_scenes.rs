@@ -1,4 +1,4 @@
-//! The benchmark scenes in `/work/shared/scenes` load with their published counts.
+//! The benchmark scenes of the shared folder (see `scene::testing::shared_scene`) load with their published counts.
 //!
 //! Those files are not in the repository (CI runs on a clean clone), so each test checks that
 //! its file exists and otherwise prints a note and passes. Load times are printed; run
@@ -10,13 +10,7 @@ use std::time::Instant;
 use scene::{AlphaMode, Scene, Surface};
 
 fn shared(relative: &str) -> Option<PathBuf> {
-    let path = Path::new("/work/shared/scenes").join(relative);
-    if path.is_file() {
-        Some(path)
-    } else {
-        println!("note: {} is absent; test skipped", path.display());
-        None
-    }
+    scene::testing::shared_scene(relative)
 }
 
 fn load_timed(path: &Path) -> Scene {

@@ -71,6 +71,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
     let scene = scene::load(&args.scene)?;
     let load_ms = millis(started);
 
+    check_bvh_limits(&scene)?;
     let options = build_options(args.bvh);
     let started = Instant::now();
     let tree = bvh::build_sah(&scene.triangles, &options);
@@ -125,6 +126,26 @@ pub fn build_options(args: BvhArgs) -> bvh::BuildOptions {
         options.max_leaf_size = n as usize;
     }
     options
+}
+
+/// The packed BVH's own limits, checked before building so that a huge scene is refused in
+/// words rather than by a panic.
+pub fn check_bvh_limits(scene: &scene::Scene) -> anyhow::Result<()> {
+    if scene.triangles.len() > bvh::build_sah::MAX_TRIANGLES {
+        anyhow::bail!(
+            "the scene has {} triangles; the BVH holds at most {}",
+            scene.triangles.len(),
+            bvh::build_sah::MAX_TRIANGLES
+        );
+    }
+    if scene.materials.len() > bvh::PackedTriangle::MAX_MATERIAL as usize {
+        anyhow::bail!(
+            "the scene has {} materials; packed vertices hold at most {}",
+            scene.materials.len(),
+            bvh::PackedTriangle::MAX_MATERIAL
+        );
+    }
+    Ok(())
 }
 
 fn millis(since: Instant) -> f64 {

@@ -57,6 +57,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.backend == Backend::Auto {
         log::info!("no GPU backend yet: rendering on the CPU");
     }
+    super::info::check_bvh_limits(&scene)?;
     let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
     let tracer = PathTracer::new(&scene, &bvh, camera);
 

@@ -75,6 +75,14 @@ impl Output {
         }
         writer.flush()?;
         drop(writer);
+        // Temporary files are created private (0600); an image should be as readable as any
+        // file the user writes.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let readable = std::fs::Permissions::from_mode(0o644);
+            std::fs::set_permissions(self.temporary.path(), readable)?;
+        }
         self.temporary
             .persist(&self.path)
             .with_context(|| format!("cannot write {}", self.path.display()))?;

@@ -1,0 +1,90 @@
+//! The commands end to end on a shipped scene: `info --json` keeps its contract, `render`
+//! writes a readable image.
+
+mod common;
+
+use common::kousen;
+use std::path::PathBuf;
+
+fn shipped(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name)
+}
+
+#[test]
+fn info_json_keeps_the_contract_for_scripts() {
+    let scene = shipped("cornell-box.gltf");
+    let output = kousen(&["info", scene.to_str().unwrap(), "--json"]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let info: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let number = |pointer: &str| {
+        info.pointer(pointer)
+            .and_then(|v| v.as_f64())
+            .unwrap_or_else(|| panic!("{pointer} is not a number in {info}"))
+    };
+    assert_eq!(
+        number("/triangles"),
+        scene::testing::CORNELL_BOX_TRIANGLES as f64
+    );
+    assert_eq!(number("/degenerate_dropped"), 0.0);
+    assert_eq!(number("/materials"), 4.0);
+    assert_eq!(number("/textures"), 0.0);
+    assert_eq!(number("/emissive_triangles"), 2.0);
+    // π · 130 · 105 · mean(17, 12, 4): the light's flux.
+    let light_power = std::f64::consts::PI * 130.0 * 105.0 * 11.0;
+    assert!((number("/light_power") / light_power - 1.0).abs() < 1e-4);
+    assert!(number("/bvh/nodes") >= 1.0 && number("/bvh/depth") >= 1.0);
+    assert!(number("/bvh/sah_cost") > 1.0 && number("/bvh/build_ms") >= 0.0);
+    assert!(number("/memory/mtbvh_bytes") > number("/memory/tbvh_bytes"));
+}
+
+#[test]
+fn render_writes_a_readable_png_of_the_requested_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box.png");
+    let stats = dir.path().join("stats.json");
+    let scene = shipped("cornell-box.gltf");
+    let output = kousen(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--passes",
+        "2",
+        "--stats",
+        stats.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let image = image::open(&out).expect("a PNG").to_rgb8();
+    assert_eq!(image.dimensions(), (24, 16));
+    assert!(
+        image.pixels().any(|p| p.0 != [0, 0, 0]),
+        "the image is black"
+    );
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(&out).unwrap().permissions().mode();
+        assert_eq!(
+            mode & 0o044,
+            0o044,
+            "others cannot read the image: {mode:o}"
+        );
+    }
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(stats["passes"], 2);
+    assert_eq!(stats["backend"], "cpu");
+}

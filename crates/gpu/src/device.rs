@@ -1,0 +1,143 @@
+//! A headless device: the best adapter wgpu can see, opened with that adapter's own limits.
+//!
+//! SPPM's photon and hit-point arrays run to hundreds of MiB, so the WebGPU default limits
+//! (128 MiB bindings, 256 MiB buffers) would refuse scenes the hardware can hold: we ask for
+//! everything the adapter offers and check each buffer against it (see [`crate::limits`]).
+
+use crate::GpuError;
+
+/// Timestamp features we take when the adapter has them (per-kernel timings in `bench`).
+const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
+
+/// Environment variable naming an adapter when the caller gives no filter (wgpu's own name).
+const ADAPTER_NAME_ENV: &str = "WGPU_ADAPTER_NAME";
+
+/// An open device and its queue, with what was learned about the adapter.
+#[derive(Debug)]
+pub struct GpuContext {
+    /// The logical device, created with [`GpuContext::limits`] and [`GpuContext::features`].
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter the device was opened on.
+    pub adapter: wgpu::Adapter,
+    /// Name, backend, type and driver of the adapter.
+    pub info: wgpu::AdapterInfo,
+    /// The limits the device was created with (the adapter's own).
+    pub limits: wgpu::Limits,
+    /// The features enabled on the device.
+    pub features: wgpu::Features,
+}
+
+impl GpuContext {
+    /// Opens the best adapter whose name contains `adapter_filter` (case-insensitive); with no
+    /// filter, `WGPU_ADAPTER_NAME` if set, else any adapter. Prefers discrete, then integrated,
+    /// virtual, CPU, other. Backends and instance flags follow wgpu's environment variables
+    /// (`WGPU_BACKEND`, `WGPU_VALIDATION`, ...).
+    pub fn new(adapter_filter: Option<&str>) -> Result<GpuContext, GpuError> {
+        pollster::block_on(Self::new_async(adapter_filter))
+    }
+
+    async fn new_async(adapter_filter: Option<&str>) -> Result<GpuContext, GpuError> {
+        let desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        let backends = desc.backends;
+        let instance = wgpu::Instance::new(desc);
+        let env_filter = std::env::var(ADAPTER_NAME_ENV).ok();
+        let filter = adapter_filter.or(env_filter.as_deref());
+
+        let adapters = instance.enumerate_adapters(backends).await;
+        let seen: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        let adapter = adapters
+            .into_iter()
+            .filter(|a| filter.is_none_or(|f| name_matches(&a.get_info().name, f)))
+            .min_by_key(|a| type_rank(a.get_info().device_type))
+            .ok_or_else(|| GpuError::NoAdapter {
+                filter: filter.map(str::to_owned),
+                seen: seen.join(", "),
+            })?;
+
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let features = adapter.features() & TIMESTAMP_FEATURES;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("kousen"),
+                required_features: features,
+                required_limits: limits.clone(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::RequestDevice {
+                adapter: info.name.clone(),
+                reason: e.to_string(),
+            })?;
+        let context = GpuContext {
+            device,
+            queue,
+            adapter,
+            info,
+            limits,
+            features,
+        };
+        log::info!("gpu: {}", context.description());
+        Ok(context)
+    }
+
+    /// One line: "name (backend, type, driver)".
+    pub fn description(&self) -> String {
+        describe(&self.info)
+    }
+}
+
+/// "name (backend, type, driver driver_info)", driver parts left out when the backend is silent.
+pub fn describe(info: &wgpu::AdapterInfo) -> String {
+    let driver = [info.driver.trim(), info.driver_info.trim()]
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    let driver = if driver.is_empty() {
+        "unknown driver".to_owned()
+    } else {
+        driver
+    };
+    format!(
+        "{} ({}, {:?}, {driver})",
+        info.name, info.backend, info.device_type
+    )
+}
+
+/// Lower is better: discrete, integrated, virtual, CPU, other.
+fn type_rank(device_type: wgpu::DeviceType) -> u8 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+fn name_matches(name: &str, filter: &str) -> bool {
+    name.to_lowercase().contains(&filter.to_lowercase())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn type_rank_prefers_discrete_then_integrated_virtual_cpu_other() {
+        use wgpu::DeviceType::*;
+        let ranks = [DiscreteGpu, IntegratedGpu, VirtualGpu, Cpu, Other].map(type_rank);
+        assert!(ranks.is_sorted_by(|a, b| a < b), "{ranks:?}");
+    }
+
+    #[test]
+    fn name_matches_ignores_case() {
+        assert!(name_matches("llvmpipe (LLVM 15.0.6, 256 bits)", "LLVMPIPE"));
+        assert!(!name_matches("llvmpipe", "nvidia"));
+    }
+}

@@ -11,6 +11,7 @@
 pub mod builder;
 pub mod camera;
 pub mod error;
+mod files;
 pub mod gltf;
 pub mod lights;
 pub mod material;

@@ -4,8 +4,6 @@
 //! allocated on a length the file merely claims.
 
 use std::cell::OnceCell;
-use std::fs::File;
-use std::io::Read;
 use std::path::Path;
 
 use ::gltf::json;
@@ -144,16 +142,7 @@ pub(super) fn resolve_uri(path: &Path, uri: &str) -> Result<Resolved, SceneError
 /// holds: a file shorter than a buffer's declared length gives fewer bytes, which the caller
 /// reports.
 pub(super) fn read_regular(file: &Path, limit: Option<u64>) -> Result<Vec<u8>, SceneError> {
-    let io_error = |e| SceneError::io(file, e);
-    let metadata = std::fs::metadata(file).map_err(io_error)?;
-    if !metadata.is_file() {
-        let e = std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a regular file");
-        return Err(io_error(e));
-    }
-    let limit = limit.map_or(metadata.len(), |l| l.min(metadata.len()));
-    let mut bytes = Vec::with_capacity(limit as usize);
-    File::open(file)
-        .and_then(|handle| handle.take(limit).read_to_end(&mut bytes))
-        .map_err(io_error)?;
-    Ok(bytes)
+    crate::files::read_regular_file(file, limit.unwrap_or(u64::MAX))
+        .map(|(bytes, _)| bytes)
+        .map_err(|e| SceneError::io(file, e))
 }

@@ -141,24 +141,17 @@ fn add_models(
     Ok(())
 }
 
-/// Reads a regular file of at most `max_bytes`. A device (`/dev/zero`), a directory or an
-/// oversized file named by a scene is refused before anything is allocated for it.
+/// Reads a regular file of at most `max_bytes`; a device (`/dev/zero`), a directory or an
+/// oversized file named by a scene is refused.
 pub(super) fn read_regular_file(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
-    use std::io::{Error, ErrorKind, Read};
-    let file = std::fs::File::open(path)?;
-    let metadata = file.metadata()?;
-    if !metadata.is_file() {
-        return Err(Error::new(ErrorKind::InvalidInput, "not a regular file"));
+    let (bytes, length) = crate::files::read_regular_file(path, max_bytes)?;
+    if length > max_bytes {
+        let message = format!("{length} bytes, more than the {max_bytes} allowed");
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            message,
+        ));
     }
-    if metadata.len() > max_bytes {
-        let message = format!(
-            "{} bytes, more than the {max_bytes} allowed",
-            metadata.len()
-        );
-        return Err(Error::new(ErrorKind::InvalidData, message));
-    }
-    let mut bytes = Vec::with_capacity(metadata.len() as usize);
-    file.take(max_bytes).read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 

@@ -1,0 +1,22 @@
+//! Reading files a scene names, which may be anything: a device (`/dev/zero`), a pipe, a
+//! directory. Both loaders read through here so that none of those can hang a load or make it
+//! allocate without bound.
+
+use std::io::Read;
+use std::path::Path;
+
+/// Reads at most `limit` bytes of `path`, which must be a regular file. Returns the bytes and
+/// the file's whole length, so a caller can refuse an oversized file or report a short one.
+/// Nothing is allocated beyond what the file holds.
+pub(crate) fn read_regular_file(path: &Path, limit: u64) -> std::io::Result<(Vec<u8>, u64)> {
+    let file = std::fs::File::open(path)?;
+    let metadata = file.metadata()?;
+    if !metadata.is_file() {
+        let kind = std::io::ErrorKind::InvalidInput;
+        return Err(std::io::Error::new(kind, "not a regular file"));
+    }
+    let length = metadata.len();
+    let mut bytes = Vec::with_capacity(limit.min(length) as usize);
+    file.take(limit).read_to_end(&mut bytes)?;
+    Ok((bytes, length))
+}

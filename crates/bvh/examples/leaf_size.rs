@@ -6,12 +6,11 @@
 
 #[path = "support/obj.rs"]
 mod obj;
-#[path = "support/rays.rs"]
-mod rays;
 
 use std::path::Path;
 use std::time::Instant;
 
+use bvh::bench_rays::{self, BenchCamera, View};
 use bvh::testing::is_fragile_hit;
 use bvh::traverse::{Query, TraversalCounters, trace_mtbvh, trace_stack, trace_tbvh};
 use bvh::{
@@ -41,7 +40,9 @@ fn main() -> Result<(), String> {
         None => vec![1, 2, 4, 8],
     };
     let triangles = obj::read_triangles(Path::new(path))?;
-    let primary = rays::primary_rays(&triangles, inside);
+    let view = if inside { View::Inside } else { View::Outside };
+    let primary =
+        BenchCamera::new(bounds(&triangles), view, bench_rays::DEFAULT_SIDE).primary_rays();
     println!(
         "{path}: {} triangles, {} threads",
         triangles.len(),
@@ -155,7 +156,7 @@ fn diffuse_rays(
     primary: &[Ray],
     hits: &[Option<Hit>],
 ) -> Vec<Ray> {
-    let diagonal = rays::diagonal(triangles);
+    let diagonal = bounds(triangles).extent().length();
     primary
         .iter()
         .zip(hits)
@@ -164,10 +165,17 @@ fn diffuse_rays(
             let hit = (*hit)?;
             let id = bvh.triangle_ids[hit.triangle as usize] as usize;
             let normal = triangles[id].geometric_normal_unnormalized();
-            let point = ray.origin + hit.t * ray.direction;
-            Some(rays::diffuse_ray(i as u32, ray, point, normal, diagonal))
+            Some(bench_rays::diffuse_ray(
+                i as u32, ray, hit.t, normal, diagonal,
+            ))
         })
         .collect()
+}
+
+fn bounds(triangles: &[Triangle]) -> scene::Bounds {
+    triangles
+        .iter()
+        .fold(scene::Bounds::EMPTY, |b, t| b.union(t.bounds()))
 }
 
 /// Median Mrays/s over 3 runs on all threads, and the work done per run.

@@ -4,7 +4,7 @@
 //! that a shader would not have) and take the packed data, so the CPU and GPU test the same
 //! numbers.
 
-use glam::Vec3;
+use glam::{BVec3, Vec3};
 
 use crate::pack::{BvhNode, PackedTriangle};
 
@@ -50,8 +50,8 @@ pub const ROBUST_EXIT: f32 = {
 /// - `u`, `v` or `w` exactly 0 counts, so a ray through a shared edge hits both triangles at
 ///   the same `t`;
 /// - `det == 0` (the ray parallel to the triangle's plane, or a degenerate triangle) is no hit.
-///   It is tested explicitly rather than left to the `±inf`/NaN the divisions would give,
-///   since WGSL lets an implementation assume those never occur.
+///   It is tested explicitly and the divisions never see 0, since WGSL lets an implementation
+///   assume infinities and NaNs never occur.
 #[inline]
 pub fn intersect_triangle(
     triangle: &PackedTriangle,
@@ -66,49 +66,69 @@ pub fn intersect_triangle(
     let det = e0.dot(pv);
     let tv = origin - p0;
     let qv = tv.cross(e0);
-    let u = tv.dot(pv) / det;
-    let v = direction.dot(qv) / det;
-    let t = e1.dot(qv) / det;
+    // Divide by 1 instead of 0 so no inf or NaN is ever made; det == 0 is rejected below.
+    let safe_det = if det != 0.0 { det } else { 1.0 };
+    let u = tv.dot(pv) / safe_det;
+    let v = direction.dot(qv) / safe_det;
+    let t = e1.dot(qv) / safe_det;
     let w = 1.0 - u - v;
     let hit = det != 0.0 && u >= 0.0 && v >= 0.0 && w >= 0.0 && t >= 0.0 && t < t_best;
     hit.then_some((u, v, t))
 }
 
-/// Distance at which a ray enters `node`'s box, or `f32::INFINITY` if it misses the box or
-/// enters it beyond `t_far`. `inv_direction` is `1 / direction` per component.
+/// A ray prepared for slab tests: the inverse direction, with axes the ray runs parallel to
+/// handled explicitly rather than through `±inf` and NaN.
 ///
-/// Per axis, the near plane is `min` for a positive inverse and `max` for a negative one, so
-/// `t0 ≤ t1` without a swap. A zero direction component gives an inverse of `±inf`, and then:
-/// - origin strictly between the planes: `t0 = −inf`, `t1 = +inf`, no constraint;
-/// - origin outside: both `+inf` or both `−inf`, a miss;
-/// - origin exactly on a plane: `0 · inf = NaN` for that plane. NaN fails every comparison, so
-///   the updates below skip it and the ray, lying in the face's plane, counts as inside that
-///   slab, as it should, whichever sign the zero has.
-///
-/// A denormal component also inverts to `±inf` and is treated as zero here. The exit
-/// distance is widened by `1 + 2γ₃` against rounding.
-#[inline]
-pub fn intersect_box(node: &BvhNode, origin: Vec3, inv_direction: Vec3, t_far: f32) -> f32 {
-    let mut t_enter = 0.0f32;
-    let mut t_exit = f32::INFINITY;
-    for axis in 0..3 {
-        let inv = inv_direction[axis];
-        let (near, far) = if inv < 0.0 {
-            (node.max[axis], node.min[axis])
-        } else {
-            (node.min[axis], node.max[axis])
-        };
-        let t0 = (near - origin[axis]) * inv;
-        let t1 = (far - origin[axis]) * inv;
-        if t0 > t_enter {
-            t_enter = t0;
-        }
-        if t1 < t_exit {
-            t_exit = t1;
+/// WGSL lets an implementation assume infinities and NaNs never occur, so the shader cannot
+/// rely on `1 / 0 = inf` and `0 · inf = NaN` the way an IEEE slab test does; this twin follows
+/// the shader. An axis is parallel when `|direction| < f32::MIN_POSITIVE` (zero or denormal,
+/// which a GPU may flush to zero anyway); its inverse is set to 0 and it only asks that the
+/// origin lie between the box's planes (inclusive: a ray in a face's plane is inside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlabRay {
+    /// The ray's origin.
+    pub origin: Vec3,
+    /// `1 / direction`, 0 on parallel axes.
+    pub inv_direction: Vec3,
+    /// Which axes the ray runs parallel to.
+    pub parallel: BVec3,
+}
+
+/// Below this a direction component counts as zero in the slab test (the smallest normal f32).
+pub const PARALLEL_LIMIT: f32 = f32::MIN_POSITIVE;
+
+impl SlabRay {
+    /// Prepares `ray` for [`intersect_box`].
+    pub fn new(ray: &Ray) -> SlabRay {
+        let parallel = ray.direction.abs().cmplt(Vec3::splat(PARALLEL_LIMIT));
+        let safe_direction = Vec3::select(parallel, Vec3::ONE, ray.direction);
+        SlabRay {
+            origin: ray.origin,
+            inv_direction: Vec3::select(parallel, Vec3::ZERO, safe_direction.recip()),
+            parallel,
         }
     }
-    let t_exit = t_exit.min(t_far) * ROBUST_EXIT;
-    if t_enter <= t_exit {
+}
+
+/// Distance at which a ray enters `node`'s box, or `f32::INFINITY` if it misses the box or
+/// enters it beyond `t_far`.
+///
+/// Per axis the slab distances are `(min − o) / d` and `(max − o) / d`; the entry is the
+/// largest near distance (and 0), the exit the smallest far distance (and `t_far`), widened by
+/// `1 + 2γ₃` against rounding. Parallel axes add no distances and miss when the origin is
+/// outside their slab (see [`SlabRay`]).
+#[inline]
+pub fn intersect_box(node: &BvhNode, ray: &SlabRay, t_far: f32) -> f32 {
+    let (lo, hi) = (Vec3::from(node.min), Vec3::from(node.max));
+    let t_lo = (lo - ray.origin) * ray.inv_direction;
+    let t_hi = (hi - ray.origin) * ray.inv_direction;
+    let t_near = t_lo.min(t_hi);
+    let t_far_axes = Vec3::select(ray.parallel, Vec3::INFINITY, t_lo.max(t_hi));
+    let t_enter = t_near.max_element().max(0.0);
+    let t_exit = t_far_axes.min_element().min(t_far) * ROBUST_EXIT;
+    let outside_parallel_slab =
+        ray.parallel.any() && (ray.parallel & (ray.origin.cmplt(lo) | ray.origin.cmpgt(hi))).any();
+    if t_enter <= t_exit && !outside_parallel_slab {
         t_enter
     } else {
         f32::INFINITY
@@ -118,6 +138,14 @@ pub fn intersect_box(node: &BvhNode, origin: Vec3, inv_direction: Vec3, t_far: f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn slab(origin: Vec3, direction: Vec3) -> SlabRay {
+        SlabRay::new(&Ray {
+            origin,
+            direction,
+            t_max: f32::INFINITY,
+        })
+    }
 
     fn unit_box() -> BvhNode {
         BvhNode {
@@ -131,23 +159,14 @@ mod tests {
     fn box_entry_distance_and_misses() {
         let b = unit_box();
         let o = Vec3::new(-1.0, 0.5, 0.5);
+        assert_eq!(intersect_box(&b, &slab(o, Vec3::X), f32::INFINITY), 1.0);
         assert_eq!(
-            intersect_box(&b, o, Vec3::new(1.0, 0.0, 0.0).recip(), f32::INFINITY),
-            1.0
-        );
-        assert_eq!(
-            intersect_box(&b, o, Vec3::new(-1.0, 0.0, 0.0).recip(), f32::INFINITY),
+            intersect_box(&b, &slab(o, Vec3::NEG_X), f32::INFINITY),
             f32::INFINITY
         );
-        assert_eq!(
-            intersect_box(&b, o, Vec3::new(1.0, 0.0, 0.0).recip(), 0.5),
-            f32::INFINITY
-        );
+        assert_eq!(intersect_box(&b, &slab(o, Vec3::X), 0.5), f32::INFINITY);
         let inside = Vec3::splat(0.5);
-        assert_eq!(
-            intersect_box(&b, inside, Vec3::new(0.0, -1.0, 0.0).recip(), 1.0),
-            0.0
-        );
+        assert_eq!(intersect_box(&b, &slab(inside, Vec3::NEG_Y), 1.0), 0.0);
     }
 
     #[test]
@@ -160,14 +179,14 @@ mod tests {
                 Vec3::new(0.0, 1.0, 0.0),
             ] {
                 let o = Vec3::new(face_x, 0.5, 0.5) - 2.0 * dir;
-                let t = intersect_box(&b, o, dir.recip(), f32::INFINITY);
+                let t = intersect_box(&b, &slab(o, dir), f32::INFINITY);
                 assert_eq!(t, 1.5, "x = {face_x}, {dir}");
             }
         }
         // Just outside the plane: a miss.
         let o = Vec3::new(1.0f32.next_up(), 0.5, -1.0);
         assert_eq!(
-            intersect_box(&b, o, Vec3::Z.recip(), f32::INFINITY),
+            intersect_box(&b, &slab(o, Vec3::Z), f32::INFINITY),
             f32::INFINITY
         );
     }

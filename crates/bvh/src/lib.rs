@@ -13,6 +13,7 @@
 //! Build speed: `examples/build_time.rs`.
 
 mod aabb;
+pub mod bench_rays;
 mod binning;
 pub mod build_sah;
 pub mod intersect;
@@ -24,7 +25,7 @@ pub mod traverse;
 pub mod tree;
 
 pub use build_sah::{BuildOptions, build_sah};
-pub use intersect::{Hit, Ray};
+pub use intersect::{Hit, Ray, SlabRay};
 pub use mtbvh::{DIRECTION_COUNT, LINK_END, Order, Threading, Threadings};
 pub use pack::{BvhNode, Links, Memory, PackedBvh, PackedTriangle, PackedVertex, direction_index};
 pub use traverse::{

@@ -9,7 +9,7 @@
 use glam::{Vec2, Vec3};
 use scene::{Triangle, Vertex};
 
-use crate::intersect::{Hit, Ray, intersect_box};
+use crate::intersect::{Hit, Ray, SlabRay, intersect_box};
 use crate::pack::{BvhNode, PackedBvh};
 
 /// A small deterministic generator (SplitMix64), so fixtures need no `rand`.
@@ -268,5 +268,5 @@ pub fn is_fragile_hit(bvh: &PackedBvh, ray: &Ray, hit: &Hit) -> bool {
         max: a.max(b).max(c).to_array(),
         ..BvhNode::default()
     };
-    intersect_box(&own_box, ray.origin, ray.direction.recip(), hit.t) == f32::INFINITY
+    intersect_box(&own_box, &SlabRay::new(ray), hit.t) == f32::INFINITY
 }

@@ -15,9 +15,7 @@
 //! ([`crate::testing::is_fragile_hit`]; about 1 ray in a million on Crytek Sponza). Every loop
 //! is written as its shader will be: no recursion, no allocation.
 
-use glam::Vec3;
-
-use crate::intersect::{Hit, Ray, intersect_box, intersect_triangle};
+use crate::intersect::{Hit, Ray, SlabRay, intersect_box, intersect_triangle};
 use crate::mtbvh::LINK_END;
 use crate::pack::{BvhNode, Links, PackedBvh, direction_index};
 use crate::tree::MAX_DEPTH;
@@ -39,6 +37,9 @@ pub struct TraversalCounters {
     /// Ray-triangle tests.
     pub triangles: u64,
 }
+
+/// The signature every traversal shares (see [`trace_stack`], [`trace_tbvh`], [`trace_mtbvh`]).
+pub type TraceFn = fn(&PackedBvh, &Ray, Query, &mut TraversalCounters) -> Option<Hit>;
 
 /// Tests a leaf's triangles, updating `best` and `t_best`; true if one was hit.
 fn test_leaf(
@@ -71,15 +72,14 @@ fn test_leaf(
 fn hit_children(
     nodes: &[BvhNode],
     node: u32,
-    ray: &Ray,
-    inv_direction: Vec3,
+    slab_ray: &SlabRay,
     t_best: f32,
     counters: &mut TraversalCounters,
 ) -> (u32, u32) {
     let (left, right) = (node + 1, nodes[node as usize].first_or_right);
     counters.boxes += 2;
-    let t_left = intersect_box(&nodes[left as usize], ray.origin, inv_direction, t_best);
-    let t_right = intersect_box(&nodes[right as usize], ray.origin, inv_direction, t_best);
+    let t_left = intersect_box(&nodes[left as usize], slab_ray, t_best);
+    let t_right = intersect_box(&nodes[right as usize], slab_ray, t_best);
     let (near, far, t_near, t_far) = if t_right < t_left {
         (right, left, t_right, t_left)
     } else {
@@ -102,14 +102,12 @@ pub fn trace_stack(
     counters: &mut TraversalCounters,
 ) -> Option<Hit> {
     let nodes = &bvh.nodes;
-    let inv_direction = ray.direction.recip();
+    let slab_ray = SlabRay::new(ray);
     let mut best: Option<Hit> = None;
     let mut stack = [0u32; MAX_DEPTH];
     let mut stack_len = 0;
     counters.boxes += 1;
-    if nodes.is_empty()
-        || intersect_box(&nodes[0], ray.origin, inv_direction, ray.t_max) == f32::INFINITY
-    {
+    if nodes.is_empty() || intersect_box(&nodes[0], &slab_ray, ray.t_max) == f32::INFINITY {
         return None;
     }
     let mut node = 0u32;
@@ -122,7 +120,7 @@ pub fn trace_stack(
                 return best;
             }
         } else {
-            let (near, far) = hit_children(nodes, node, ray, inv_direction, t_best, counters);
+            let (near, far) = hit_children(nodes, node, &slab_ray, t_best, counters);
             next = near;
             if far != LINK_END {
                 stack[stack_len] = far;
@@ -149,14 +147,14 @@ fn trace_threaded(
     query: Query,
     counters: &mut TraversalCounters,
 ) -> Option<Hit> {
-    let inv_direction = ray.direction.recip();
+    let slab_ray = SlabRay::new(ray);
     let mut best: Option<Hit> = None;
     let mut node = root;
     while node != LINK_END {
         let current = &bvh.nodes[node as usize];
         let t_best = best.map_or(ray.t_max, |h| h.t);
         counters.boxes += 1;
-        if intersect_box(current, ray.origin, inv_direction, t_best) < f32::INFINITY {
+        if intersect_box(current, &slab_ray, t_best) < f32::INFINITY {
             if current.triangle_count > 0
                 && test_leaf(bvh, current, ray, query, &mut best, counters)
                 && query == Query::Any
@@ -247,4 +245,21 @@ pub fn any_hit_brute_force(bvh: &PackedBvh, ray: &Ray) -> bool {
     bvh.triangles
         .iter()
         .any(|t| intersect_triangle(t, ray.origin, ray.direction, ray.t_max).is_some())
+}
+
+/// Relative distance within which two different triangles count as the same hit: a ray through
+/// a shared edge or vertex hits every triangle there at (almost) the same `t`.
+pub const TIE_TOLERANCE: f32 = 1e-4;
+
+/// Whether two traversals' answers for one ray agree: both miss, or both hit the same
+/// triangle, or different triangles at distances within [`TIE_TOLERANCE`] (relative).
+pub fn hits_agree(a: Option<Hit>, b: Option<Hit>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            a.triangle == b.triangle
+                || (a.t - b.t).abs() <= TIE_TOLERANCE * a.t.abs().max(b.t.abs())
+        }
+        _ => false,
+    }
 }

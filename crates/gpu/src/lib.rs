@@ -1,15 +1,28 @@
 //! kousen's wgpu backend.
 //!
-//! So far: a headless [`GpuContext`] opened with the adapter's own limits, buffer-size checks
-//! against those limits ([`limits`]), and the WGSL twins of `bvh`'s GPU structs
-//! (`shaders/shared/bvh_types.wgsl`, kept in sync by `tests/layout.rs`). Next (issue 3): the
-//! shader assembler, uploads of a `bvh::PackedBvh`, and the kernels with their CPU twins.
+//! - [`GpuContext`]: a headless device opened with the adapter's own limits;
+//! - [`limits`] and [`scene_upload::check_scene_fits`]: sizes checked against those limits
+//!   before anything is allocated, failing in words;
+//! - [`types`]: the `#[repr(C)]` structs the kernels share with Rust (mirrored in WGSL, checked
+//!   by `tests/layout.rs`), [`prelude`]: the constants they share, generated from Rust;
+//! - [`shader`]: WGSL modules assembled from `shaders/`;
+//! - [`scene_upload`]: the packed BVH and materials in storage buffers;
+//! - [`traversal`]: closest- and any-hit kernels (stack, TBVH, MTBVH) and benchmark ray
+//!   generation, twins of `bvh::traverse` and `bvh::bench_rays`.
 
 pub mod device;
 pub mod limits;
+pub mod prelude;
+pub mod readback;
+pub mod scene_upload;
+pub mod shader;
+pub mod traversal;
+pub mod types;
 
 pub use device::GpuContext;
 pub use limits::check_buffer_fits;
+pub use scene_upload::GpuScene;
+pub use traversal::{RayBatch, TraversalKernels, Variant};
 
 /// What can go wrong opening or using the device. Display is one line.
 #[derive(Debug, thiserror::Error)]
@@ -45,4 +58,20 @@ pub enum GpuError {
         /// The limit in words.
         limit: String,
     },
+    /// The kernels bind more storage buffers than the device allows per shader stage.
+    #[error(
+        "the kernels bind {needed} storage buffers per shader stage but the device allows max_storage_buffers_per_shader_stage = {limit}"
+    )]
+    TooFewStorageBuffers {
+        /// What the kernels need.
+        needed: u32,
+        /// The device's limit.
+        limit: u32,
+    },
+    /// More rays than a u32 can index.
+    #[error("{0} rays in one batch; at most 4294967295")]
+    TooManyRays(usize),
+    /// The device failed while waiting for or reading back work.
+    #[error("GPU device error: {0}")]
+    Device(String),
 }

@@ -41,3 +41,26 @@ fn gpu_context_with_unmatched_filter_is_no_adapter() {
     assert!(message.contains(filter), "{message}");
     assert!(!message.contains('\n'), "{message}");
 }
+
+#[test]
+fn scene_over_a_lowered_binding_limit_is_refused_in_words() {
+    let mut context = context();
+    let triangles = scene::testing::cornell_caustics().triangles;
+    let bvh = bvh::PackedBvh::build(&triangles, &bvh::BuildOptions::default());
+    // Simulate a smaller device: the triangles no longer fit one binding.
+    let triangle_bytes = std::mem::size_of_val(bvh.triangles.as_slice()) as u64;
+    context.limits.max_storage_buffer_binding_size = triangle_bytes / 2;
+    let error = gpu::GpuScene::upload(&context, &bvh, &[scene::Material::default()])
+        .expect_err("scene larger than the binding limit");
+    let message = error.to_string();
+    assert!(
+        matches!(error, GpuError::BufferTooLarge { .. }),
+        "{error:?}"
+    );
+    assert!(message.contains("bvh_triangles"), "{message}");
+    assert!(
+        message.contains("max_storage_buffer_binding_size"),
+        "{message}"
+    );
+    assert!(!message.contains('\n'), "{message}");
+}

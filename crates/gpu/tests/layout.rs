@@ -1,10 +1,14 @@
 //! The WGSL structs mirror the Rust ones byte for byte: sizes, member names and offsets, array
-//! strides, read through naga's reflection. Also validates every shader file.
+//! strides, read through naga's reflection. Also validates every shader module, checks the
+//! generated prelude's values and that no shader file is left out of a module.
 
 use std::mem::{offset_of, size_of};
 use std::path::{Path, PathBuf};
 
 use bvh::{BvhNode, Links, PackedTriangle, PackedVertex};
+use gpu::prelude;
+use gpu::shader::Module;
+use gpu::types::{BenchCameraUniform, GpuHit, GpuMaterial, GpuRay, SceneInfo};
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
 const BVH_TYPES: &str = include_str!("../shaders/shared/bvh_types.wgsl");
@@ -125,20 +129,139 @@ fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+fn validate(module: &naga::Module, source: &str, name: &str) {
+    Validator::new(ValidationFlags::all(), Capabilities::all())
+        .validate(module)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+}
+
 #[test]
-fn every_shader_file_parses_and_validates() {
-    let mut files = Vec::new();
-    wgsl_files(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders"),
-        &mut files,
-    );
-    assert!(!files.is_empty(), "no .wgsl files under shaders/");
-    for path in files {
-        let name = path.display().to_string();
-        let source = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let module = parse(&source, &name);
-        Validator::new(ValidationFlags::all(), Capabilities::all())
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+fn every_shader_module_parses_and_validates() {
+    for module in Module::ALL {
+        let source = module.source();
+        let parsed = parse(&source, module.label());
+        validate(&parsed, &source, module.label());
     }
+}
+
+#[test]
+fn every_shader_file_belongs_to_a_module() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut files = Vec::new();
+    wgsl_files(&root, &mut files);
+    let used: Vec<&str> = Module::ALL
+        .iter()
+        .flat_map(|m| m.parts())
+        .map(|(name, _)| name)
+        .collect();
+    for path in files {
+        let relative = path.strip_prefix(&root).expect("under shaders/");
+        let relative = relative.to_str().expect("UTF-8 path").replace('\\', "/");
+        assert!(
+            used.contains(&relative.as_str()),
+            "{relative} is in no shader module"
+        );
+    }
+}
+
+#[test]
+fn prelude_constants_evaluate_to_the_rust_values() {
+    let source = prelude::wgsl();
+    let module = parse(&source, "prelude");
+    let constants = prelude::constants();
+    assert_eq!(module.constants.len(), constants.len());
+    for (name, value) in constants {
+        let (_, constant) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no constant {name} in the prelude"));
+        let literal = match module.global_expressions[constant.init] {
+            naga::Expression::Literal(literal) => literal,
+            ref other => panic!("{name} = {other:?}"),
+        };
+        match (value, literal) {
+            (prelude::Value::U32(want), naga::Literal::U32(got)) => assert_eq!(got, want, "{name}"),
+            (prelude::Value::F32(want), naga::Literal::F32(got)) => {
+                assert_eq!(got.to_bits(), want.to_bits(), "{name}: {got} vs {want}")
+            }
+            (want, got) => panic!("{name}: {got:?} for {want:?}"),
+        }
+    }
+}
+
+#[test]
+fn gpu_types_layout_matches_rust() {
+    let source = Module::Raygen.source();
+    let module = parse(&source, "raygen");
+    assert_layout(
+        &module,
+        "GpuRay",
+        size_of::<GpuRay>(),
+        &[
+            ("origin", offset_of!(GpuRay, origin)),
+            ("t_max", offset_of!(GpuRay, t_max)),
+            ("direction", offset_of!(GpuRay, direction)),
+            ("pad", offset_of!(GpuRay, pad)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "GpuHit",
+        size_of::<GpuHit>(),
+        &[
+            ("t", offset_of!(GpuHit, t)),
+            ("triangle", offset_of!(GpuHit, triangle)),
+            ("u", offset_of!(GpuHit, u)),
+            ("v", offset_of!(GpuHit, v)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "SceneInfo",
+        size_of::<SceneInfo>(),
+        &[
+            ("node_count", offset_of!(SceneInfo, node_count)),
+            ("triangle_count", offset_of!(SceneInfo, triangle_count)),
+            ("tbvh_root", offset_of!(SceneInfo, tbvh_root)),
+            ("tbvh_link_base", offset_of!(SceneInfo, tbvh_link_base)),
+            ("mtbvh_roots", offset_of!(SceneInfo, mtbvh_roots)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "GpuMaterial",
+        size_of::<GpuMaterial>(),
+        &[
+            ("base_color", offset_of!(GpuMaterial, base_color)),
+            ("surface", offset_of!(GpuMaterial, surface)),
+            ("emission", offset_of!(GpuMaterial, emission)),
+            ("ior", offset_of!(GpuMaterial, ior)),
+            (
+                "base_color_texture",
+                offset_of!(GpuMaterial, base_color_texture),
+            ),
+            (
+                "emission_texture",
+                offset_of!(GpuMaterial, emission_texture),
+            ),
+            ("alpha_cutoff", offset_of!(GpuMaterial, alpha_cutoff)),
+            ("flags", offset_of!(GpuMaterial, flags)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "BenchCameraUniform",
+        size_of::<BenchCameraUniform>(),
+        &[
+            ("eye", offset_of!(BenchCameraUniform, eye)),
+            ("tan_half_fov", offset_of!(BenchCameraUniform, tan_half_fov)),
+            ("forward", offset_of!(BenchCameraUniform, forward)),
+            ("side", offset_of!(BenchCameraUniform, side)),
+            ("right", offset_of!(BenchCameraUniform, right)),
+            ("diagonal", offset_of!(BenchCameraUniform, diagonal)),
+            ("up", offset_of!(BenchCameraUniform, up)),
+            ("ray_count", offset_of!(BenchCameraUniform, ray_count)),
+        ],
+    );
 }

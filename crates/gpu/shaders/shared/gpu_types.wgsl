@@ -1,0 +1,42 @@
+// WGSL twins of gpu::types; tests/layout.rs checks sizes and offsets against the Rust side.
+
+// A ray for the kernels (32 bytes). Hits count for t in [0, t_max); t_max = 0 marks an unused
+// slot. `pad` keeps the struct two vec4s.
+struct GpuRay {
+    origin: vec3<f32>,
+    t_max: f32,
+    direction: vec3<f32>,
+    pad: u32,
+}
+
+// A traversal's answer (16 bytes): triangle is an index into bvh_triangles, NO_HIT on a miss
+// (then t is the ray's t_max).
+struct GpuHit {
+    t: f32,
+    triangle: u32,
+    u: f32,
+    v: f32,
+}
+
+// Where each threading starts (40 bytes). Link set d (0..5, see direction_index) occupies
+// bvh_links[d * node_count ..][..node_count]; the TBVH's set follows at tbvh_link_base.
+struct SceneInfo {
+    node_count: u32,
+    triangle_count: u32,
+    tbvh_root: u32,
+    tbvh_link_base: u32,
+    mtbvh_roots: array<u32, 6>,
+}
+
+// One material (48 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED.
+struct GpuMaterial {
+    base_color: vec3<f32>,
+    surface: u32,
+    emission: vec3<f32>,
+    ior: f32,
+    base_color_texture: u32,
+    emission_texture: u32,
+    alpha_cutoff: f32,
+    flags: u32,
+}

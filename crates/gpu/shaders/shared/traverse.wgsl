@@ -1,0 +1,114 @@
+// Twins of bvh::traverse over the scene of scene_bindings.wgsl: a fixed-array stack traversal
+// and the stackless threaded one (TBVH and MTBVH differ only in the link set and root).
+// `stop_at_first` turns a closest-hit query into an any-hit (shadow) query.
+
+// Tests a leaf's triangles, updating `best`; true if one was hit.
+fn test_leaf(leaf: BvhNode, ray: GpuRay, best: ptr<function, GpuHit>, stop_at_first: bool) -> bool {
+    var found = false;
+    let end = leaf.first_or_right + leaf.triangle_count;
+    for (var triangle = leaf.first_or_right; triangle < end; triangle += 1u) {
+        let h = intersect_triangle(triangle, ray.origin, ray.direction, (*best).t);
+        if h.hit {
+            *best = GpuHit(h.t, triangle, h.u, h.v);
+            found = true;
+            if stop_at_first {
+                break;
+            }
+        }
+    }
+    return found;
+}
+
+fn no_hit(ray: GpuRay) -> GpuHit {
+    return GpuHit(ray.t_max, NO_HIT, 0.0, 0.0);
+}
+
+// Index of the MTBVH threading for a direction: 2 * major axis + (component < 0).
+fn direction_index(direction: vec3<f32>) -> u32 {
+    let a = abs(direction);
+    var axis = 2u;
+    if a.x >= a.y && a.x >= a.z {
+        axis = 0u;
+    } else if a.y >= a.z {
+        axis = 1u;
+    }
+    return 2u * axis + select(0u, 1u, direction[axis] < 0.0);
+}
+
+// Stack traversal: both children's boxes tested, the nearer visited first, the farther pushed.
+fn trace_stack(ray: GpuRay, stop_at_first: bool) -> GpuHit {
+    let slab = make_slab_ray(ray);
+    var best = no_hit(ray);
+    if intersect_box(bvh_nodes[0], slab, ray.t_max) >= NO_DISTANCE {
+        return best;
+    }
+    var stack: array<u32, MAX_DEPTH>;
+    var stack_len = 0u;
+    var node = 0u;
+    loop {
+        let current = bvh_nodes[node];
+        var next = LINK_END;
+        if current.triangle_count > 0u {
+            if test_leaf(current, ray, &best, stop_at_first) && stop_at_first {
+                break;
+            }
+        } else {
+            let left = node + 1u;
+            let right = current.first_or_right;
+            let t_left = intersect_box(bvh_nodes[left], slab, best.t);
+            let t_right = intersect_box(bvh_nodes[right], slab, best.t);
+            let swap = t_right < t_left;
+            let near = select(left, right, swap);
+            let far = select(right, left, swap);
+            if select(t_left, t_right, swap) < NO_DISTANCE {
+                next = near;
+            }
+            if select(t_right, t_left, swap) < NO_DISTANCE {
+                stack[stack_len] = far;
+                stack_len += 1u;
+            }
+        }
+        if next == LINK_END {
+            if stack_len == 0u {
+                break;
+            }
+            stack_len -= 1u;
+            next = stack[stack_len];
+        }
+        node = next;
+    }
+    return best;
+}
+
+// Stackless traversal along the links at bvh_links[link_base + node], from `root`.
+fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -> GpuHit {
+    let slab = make_slab_ray(ray);
+    var best = no_hit(ray);
+    var node = root;
+    loop {
+        if node == LINK_END {
+            break;
+        }
+        let current = bvh_nodes[node];
+        let links = bvh_links[link_base + node];
+        if intersect_box(current, slab, best.t) < NO_DISTANCE {
+            if current.triangle_count > 0u && test_leaf(current, ray, &best, stop_at_first) && stop_at_first {
+                break;
+            }
+            node = links.hit;
+        } else {
+            node = links.miss;
+        }
+    }
+    return best;
+}
+
+fn trace_tbvh(ray: GpuRay, stop_at_first: bool) -> GpuHit {
+    return trace_threaded(ray, scene_info.tbvh_link_base, scene_info.tbvh_root, stop_at_first);
+}
+
+// MTBVH: the threading of the ray's major direction, so boxes come roughly front to back.
+fn trace_mtbvh(ray: GpuRay, stop_at_first: bool) -> GpuHit {
+    let d = direction_index(ray.direction);
+    return trace_threaded(ray, d * scene_info.node_count, scene_info.mtbvh_roots[d], stop_at_first);
+}

@@ -1,0 +1,62 @@
+//! The WGSL prelude: every constant the kernels share with Rust, written from the Rust values
+//! so the two can never disagree (`LINK_END`, `MAX_DEPTH`, the slab test's factors, ...).
+//! Floats are printed in Rust's shortest round-trip form with WGSL's `f` suffix, which parses
+//! straight to the same f32 (tests/layout.rs checks every value through naga).
+
+use std::fmt::Write;
+
+use crate::types;
+
+/// Invocations per workgroup of every kernel (one ray or photon each).
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// A prelude constant's value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    U32(u32),
+    F32(f32),
+}
+
+/// Every constant of the prelude: (WGSL name, value).
+pub fn constants() -> Vec<(&'static str, Value)> {
+    use Value::{F32, U32};
+    vec![
+        ("LINK_END", U32(bvh::LINK_END)),
+        ("DIRECTION_COUNT", U32(bvh::DIRECTION_COUNT as u32)),
+        ("MAX_DEPTH", U32(bvh::MAX_DEPTH as u32)),
+        ("NO_HIT", U32(types::NO_HIT)),
+        ("ROBUST_EXIT", F32(bvh::intersect::ROBUST_EXIT)),
+        ("PARALLEL_LIMIT", F32(bvh::intersect::PARALLEL_LIMIT)),
+        ("NO_DISTANCE", F32(types::NO_DISTANCE)),
+        ("RAY_T_MAX", F32(types::RAY_T_MAX)),
+        ("WORKGROUP_SIZE", U32(WORKGROUP_SIZE)),
+        ("U32_TO_UNIT", F32(1.0 / 4_294_967_296.0)),
+        ("PI", F32(std::f32::consts::PI)),
+        ("SURFACE_DIFFUSE", U32(types::SURFACE_DIFFUSE)),
+        ("SURFACE_MIRROR", U32(types::SURFACE_MIRROR)),
+        ("SURFACE_DIELECTRIC", U32(types::SURFACE_DIELECTRIC)),
+        ("NO_TEXTURE", U32(types::NO_TEXTURE)),
+        ("MATERIAL_DOUBLE_SIDED", U32(types::MATERIAL_DOUBLE_SIDED)),
+        ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),
+    ]
+}
+
+/// The prelude's WGSL text: one `const` per entry of [`constants`].
+pub fn wgsl() -> String {
+    let mut text = String::from("// Generated from Rust by gpu::prelude; do not edit.\n");
+    for (name, value) in constants() {
+        let literal = match value {
+            Value::U32(v) => format!("{v}u"),
+            Value::F32(v) => {
+                assert!(v.is_finite(), "{name}: WGSL has no literal for {v}");
+                format!("{v:?}f")
+            }
+        };
+        let ty = match value {
+            Value::U32(_) => "u32",
+            Value::F32(_) => "f32",
+        };
+        writeln!(text, "const {name}: {ty} = {literal};").expect("writing to a String");
+    }
+    text
+}

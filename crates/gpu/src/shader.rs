@@ -1,0 +1,72 @@
+//! Shader modules assembled from the generated prelude and the files under `shaders/`. WGSL has
+//! no includes, so each kernel names the shared pieces it needs, in dependency order.
+
+use std::borrow::Cow;
+
+use crate::prelude;
+
+const DISPATCH: &str = include_str!("../shaders/shared/dispatch.wgsl");
+const BVH_TYPES: &str = include_str!("../shaders/shared/bvh_types.wgsl");
+const GPU_TYPES: &str = include_str!("../shaders/shared/gpu_types.wgsl");
+const SCENE_BINDINGS: &str = include_str!("../shaders/shared/scene_bindings.wgsl");
+const INTERSECT: &str = include_str!("../shaders/shared/intersect.wgsl");
+const TRAVERSE: &str = include_str!("../shaders/shared/traverse.wgsl");
+const TRACE: &str = include_str!("../shaders/kernels/trace.wgsl");
+const RAYGEN: &str = include_str!("../shaders/kernels/raygen.wgsl");
+
+/// A shader module of kousen's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Module {
+    /// Closest- and any-hit traversal kernels (`trace.wgsl`).
+    Trace,
+    /// Benchmark ray generation (`raygen.wgsl`).
+    Raygen,
+}
+
+impl Module {
+    pub const ALL: [Module; 2] = [Module::Trace, Module::Raygen];
+
+    /// The files it is made of, as (name, text), after the prelude.
+    pub fn parts(self) -> Vec<(&'static str, &'static str)> {
+        let scene = [
+            ("shared/dispatch.wgsl", DISPATCH),
+            ("shared/bvh_types.wgsl", BVH_TYPES),
+            ("shared/gpu_types.wgsl", GPU_TYPES),
+            ("shared/scene_bindings.wgsl", SCENE_BINDINGS),
+        ];
+        let own: &[(&str, &str)] = match self {
+            Module::Trace => &[
+                ("shared/intersect.wgsl", INTERSECT),
+                ("shared/traverse.wgsl", TRAVERSE),
+                ("kernels/trace.wgsl", TRACE),
+            ],
+            Module::Raygen => &[("kernels/raygen.wgsl", RAYGEN)],
+        };
+        scene.iter().chain(own).copied().collect()
+    }
+
+    /// The whole WGSL source.
+    pub fn source(self) -> String {
+        let mut text = prelude::wgsl();
+        for (name, part) in self.parts() {
+            text.push_str(&format!("\n// ---- {name} ----\n"));
+            text.push_str(part);
+        }
+        text
+    }
+
+    /// Compiles it on `device`.
+    pub fn create(self, device: &wgpu::Device) -> wgpu::ShaderModule {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.label()),
+            source: wgpu::ShaderSource::Wgsl(Cow::Owned(self.source())),
+        })
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Module::Trace => "trace.wgsl",
+            Module::Raygen => "raygen.wgsl",
+        }
+    }
+}

@@ -1,0 +1,251 @@
+//! The structs the kernels read and write, `#[repr(C)]` and Pod, mirrored in
+//! `shaders/shared/gpu_types.wgsl` and `shaders/kernels/raygen.wgsl` (checked by
+//! `tests/layout.rs`), with the conversions from the CPU-side types.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use bvh::bench_rays::BenchCamera;
+use bvh::{Hit, PackedBvh, Ray};
+use scene::{AlphaMode, Material, Surface};
+
+/// `GpuHit::triangle` of a ray that hit nothing.
+pub const NO_HIT: u32 = u32::MAX;
+
+/// The slab test's "missed" distance. WGSL may assume there are no infinities, so the kernels
+/// use the largest finite f32 where the CPU twins use `f32::INFINITY`.
+pub const NO_DISTANCE: f32 = f32::MAX;
+
+/// The largest `t_max` a GPU ray carries (an unbounded ray's): half of [`NO_DISTANCE`], so
+/// that widening a slab exit by `1 + 2γ₃` cannot overflow.
+pub const RAY_T_MAX: f32 = f32::MAX / 2.0;
+
+/// A ray for the kernels (32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuRay {
+    pub origin: [f32; 3],
+    /// Hits count for `t` in `[0, t_max)`; 0 marks an unused slot.
+    pub t_max: f32,
+    pub direction: [f32; 3],
+    pub pad: u32,
+}
+
+impl GpuRay {
+    /// `ray` with an infinite `t_max` clamped to [`RAY_T_MAX`].
+    pub fn from_ray(ray: &Ray) -> GpuRay {
+        GpuRay {
+            origin: ray.origin.to_array(),
+            t_max: ray.t_max.min(RAY_T_MAX),
+            direction: ray.direction.to_array(),
+            pad: 0,
+        }
+    }
+
+    /// The CPU ray, with [`RAY_T_MAX`] read back as infinite.
+    pub fn to_ray(&self) -> Ray {
+        Ray {
+            origin: Vec3::from(self.origin),
+            direction: Vec3::from(self.direction),
+            t_max: if self.t_max >= RAY_T_MAX {
+                f32::INFINITY
+            } else {
+                self.t_max
+            },
+        }
+    }
+
+    /// False for the unused slots ray generation leaves (t_max 0).
+    pub fn is_used(&self) -> bool {
+        self.t_max > 0.0
+    }
+}
+
+/// A traversal's answer (16 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuHit {
+    /// Distance of the hit; the ray's `t_max` on a miss.
+    pub t: f32,
+    /// Index into the packed triangles, [`NO_HIT`] on a miss.
+    pub triangle: u32,
+    pub u: f32,
+    pub v: f32,
+}
+
+impl GpuHit {
+    /// The CPU form: `None` on a miss.
+    pub fn to_hit(&self) -> Option<Hit> {
+        (self.triangle != NO_HIT).then_some(Hit {
+            triangle: self.triangle,
+            t: self.t,
+            u: self.u,
+            v: self.v,
+        })
+    }
+}
+
+/// Where each threading of the uploaded BVH starts (40 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct SceneInfo {
+    pub node_count: u32,
+    pub triangle_count: u32,
+    pub tbvh_root: u32,
+    /// Index of the TBVH's first link in the links buffer (after the six MTBVH sets).
+    pub tbvh_link_base: u32,
+    pub mtbvh_roots: [u32; bvh::DIRECTION_COUNT],
+}
+
+impl SceneInfo {
+    pub fn new(bvh: &PackedBvh) -> SceneInfo {
+        let node_count = bvh.nodes.len() as u32;
+        SceneInfo {
+            node_count,
+            triangle_count: bvh.triangles.len() as u32,
+            tbvh_root: bvh.tbvh_root,
+            tbvh_link_base: bvh::DIRECTION_COUNT as u32 * node_count,
+            mtbvh_roots: bvh.mtbvh_roots,
+        }
+    }
+}
+
+/// `GpuMaterial::surface` values.
+pub const SURFACE_DIFFUSE: u32 = 0;
+pub const SURFACE_MIRROR: u32 = 1;
+pub const SURFACE_DIELECTRIC: u32 = 2;
+/// A texture index meaning "none".
+pub const NO_TEXTURE: u32 = u32::MAX;
+/// `GpuMaterial::flags` bits.
+pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
+pub const MATERIAL_THIN_WALLED: u32 = 2;
+
+/// One material (48 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub base_color: [f32; 3],
+    /// One of the `SURFACE_*` constants.
+    pub surface: u32,
+    pub emission: [f32; 3],
+    /// Index of refraction (dielectrics; 1 otherwise).
+    pub ior: f32,
+    pub base_color_texture: u32,
+    pub emission_texture: u32,
+    /// A hit is passed through where the base-colour texture's alpha is below this: glTF's
+    /// `alpha < cutoff` with the constant alpha factor divided out (`cutoff / alpha`), so the
+    /// kernel needs one comparison. Negative: opaque.
+    pub alpha_cutoff: f32,
+    /// `MATERIAL_*` bits.
+    pub flags: u32,
+}
+
+impl GpuMaterial {
+    pub fn new(material: &Material) -> GpuMaterial {
+        let (surface, ior, thin_walled) = match material.surface {
+            Surface::Diffuse => (SURFACE_DIFFUSE, 1.0, false),
+            Surface::Mirror => (SURFACE_MIRROR, 1.0, false),
+            Surface::Dielectric { ior, thin_walled } => (SURFACE_DIELECTRIC, ior, thin_walled),
+        };
+        let alpha_cutoff = match material.alpha_mode {
+            AlphaMode::Opaque => -1.0,
+            AlphaMode::Mask { cutoff } if material.alpha > 0.0 => {
+                (cutoff / material.alpha).min(f32::MAX)
+            }
+            AlphaMode::Mask { .. } => f32::MAX,
+        };
+        let flag = |on: bool, bit: u32| if on { bit } else { 0 };
+        let flags = flag(material.double_sided, MATERIAL_DOUBLE_SIDED)
+            | flag(thin_walled, MATERIAL_THIN_WALLED);
+        GpuMaterial {
+            base_color: material.base_color.to_array(),
+            surface,
+            emission: material.emission.to_array(),
+            ior,
+            base_color_texture: material.base_color_texture.unwrap_or(NO_TEXTURE),
+            emission_texture: material.emission_texture.unwrap_or(NO_TEXTURE),
+            alpha_cutoff,
+            flags,
+        }
+    }
+}
+
+/// The benchmark camera and what diffuse rays need (64 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BenchCameraUniform {
+    pub eye: [f32; 3],
+    pub tan_half_fov: f32,
+    pub forward: [f32; 3],
+    pub side: u32,
+    pub right: [f32; 3],
+    /// The scene's bounding-box diagonal (diffuse ray origin offset).
+    pub diagonal: f32,
+    pub up: [f32; 3],
+    pub ray_count: u32,
+}
+
+impl BenchCameraUniform {
+    pub fn new(camera: &BenchCamera, diagonal: f32) -> BenchCameraUniform {
+        BenchCameraUniform {
+            eye: camera.eye.to_array(),
+            tan_half_fov: camera.tan_half_fov,
+            forward: camera.forward.to_array(),
+            side: camera.side,
+            right: camera.right.to_array(),
+            diagonal,
+            up: camera.up.to_array(),
+            ray_count: camera.ray_count() as u32,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rays_round_trip_with_infinite_t_max_clamped() {
+        let ray = Ray {
+            origin: Vec3::new(1.0, 2.0, 3.0),
+            direction: Vec3::new(0.0, -1.0, 0.0),
+            t_max: f32::INFINITY,
+        };
+        let gpu = GpuRay::from_ray(&ray);
+        assert_eq!(gpu.t_max, RAY_T_MAX);
+        const { assert!(RAY_T_MAX * bvh::intersect::ROBUST_EXIT < NO_DISTANCE) };
+        assert_eq!(gpu.to_ray(), ray);
+        let short = Ray { t_max: 2.5, ..ray };
+        assert_eq!(GpuRay::from_ray(&short).to_ray(), short);
+    }
+
+    #[test]
+    fn materials_map_surface_alpha_and_flags() {
+        let glass = Material {
+            surface: Surface::Dielectric {
+                ior: 1.5,
+                thin_walled: true,
+            },
+            double_sided: true,
+            ..Material::default()
+        };
+        let gpu = GpuMaterial::new(&glass);
+        assert_eq!(gpu.surface, SURFACE_DIELECTRIC);
+        assert_eq!(gpu.ior, 1.5);
+        assert_eq!(gpu.flags, MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED);
+        assert!(gpu.alpha_cutoff < 0.0, "opaque");
+        assert_eq!(gpu.base_color_texture, NO_TEXTURE);
+
+        let leaves = Material {
+            alpha: 0.5,
+            alpha_mode: AlphaMode::Mask { cutoff: 0.25 },
+            base_color_texture: Some(3),
+            ..Material::default()
+        };
+        let gpu = GpuMaterial::new(&leaves);
+        // alpha · texel < cutoff  ⇔  texel < cutoff / alpha
+        assert_eq!(gpu.alpha_cutoff, 0.5);
+        assert_eq!(gpu.base_color_texture, 3);
+        assert_eq!(gpu.surface, SURFACE_DIFFUSE);
+    }
+}

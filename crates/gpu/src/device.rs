@@ -34,14 +34,18 @@ pub struct GpuContext {
 impl GpuContext {
     /// Opens the best adapter whose name contains `adapter_filter` (case-insensitive); with no
     /// filter, `WGPU_ADAPTER_NAME` if set, else any adapter. Prefers discrete, then integrated,
-    /// virtual, CPU, other. Backends and instance flags follow wgpu's environment variables
-    /// (`WGPU_BACKEND`, `WGPU_VALIDATION`, ...).
+    /// virtual, CPU, other. Backends are Vulkan, Metal and DX12 unless `WGPU_BACKEND` names
+    /// others; instance flags follow wgpu's environment variables (`WGPU_VALIDATION`, ...).
     pub fn new(adapter_filter: Option<&str>) -> Result<GpuContext, GpuError> {
         pollster::block_on(Self::new_async(adapter_filter))
     }
 
     async fn new_async(adapter_filter: Option<&str>) -> Result<GpuContext, GpuError> {
-        let desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        // Vulkan, Metal, DX12 (and WebGPU) unless WGPU_BACKEND says otherwise: the GL backend
+        // lacks the storage-buffer compute we need on many drivers, and probing it where there
+        // is no display only prints EGL errors.
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = wgpu::Backends::PRIMARY.with_env();
         let backends = desc.backends;
         let instance = wgpu::Instance::new(desc);
         let env_filter = std::env::var(ADAPTER_NAME_ENV).ok();

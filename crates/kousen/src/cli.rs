@@ -24,6 +24,87 @@ pub enum Command {
     Render(RenderArgs),
     /// Triangles, materials, lights, BVH statistics and memory of a scene.
     Info(InfoArgs),
+    /// Measure speed, variants side by side in one run.
+    Bench(BenchArgs),
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    #[command(subcommand)]
+    pub command: BenchCommand,
+}
+
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// Mrays/s of the stack, TBVH and MTBVH traversals on the GPU and the CPU twins.
+    Traversal(TraversalArgs),
+}
+
+/// The benchmark camera of ANCHORS.md.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchView {
+    /// Outside the bounding box, looking at its centre (bunny, Cornell box).
+    Outside,
+    /// Inside, looking along the long axis (the Sponzas).
+    Inside,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchRays {
+    /// One per pixel from the camera.
+    Primary,
+    /// One cosine-distributed bounce from each primary hit.
+    Diffuse,
+}
+
+impl BenchRays {
+    pub fn kind(self) -> gpu::traversal::RayKind {
+        match self {
+            BenchRays::Primary => gpu::traversal::RayKind::Primary,
+            BenchRays::Diffuse => gpu::traversal::RayKind::Diffuse,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchDevice {
+    Gpu,
+    Cpu,
+}
+
+#[derive(Args)]
+pub struct TraversalArgs {
+    /// .gltf, .glb or .obj files.
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Camera placement (the same for every scene given).
+    #[arg(long, value_enum, default_value_t = BenchView::Outside)]
+    pub view: BenchView,
+    /// Also write the results as JSON (a contract for scripts).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Ray kinds, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "primary,diffuse"
+    )]
+    pub rays: Vec<BenchRays>,
+    /// Image side: SIZE² primary rays.
+    #[arg(long, value_name = "N", default_value_t = bvh::bench_rays::DEFAULT_SIDE, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub size: u32,
+    /// Timed runs per measurement (after a warm-up); the median is reported.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(5..=1000))]
+    pub runs: u32,
+    /// Where to run, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]
+    pub devices: Vec<BenchDevice>,
+    /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
+    #[arg(long, value_name = "SUBSTRING")]
+    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

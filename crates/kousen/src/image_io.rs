@@ -2,11 +2,12 @@
 //! that a failure never leaves a half-written image.
 
 use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use glam::Vec3;
 
+use crate::output_file::PendingFile;
 use crate::path_trace::Image;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,55 +39,30 @@ impl Format {
     }
 }
 
-/// An output file being written: a temporary sibling that becomes `path` on [`Output::commit`]
-/// and is removed if dropped before that. Created before rendering so that an unwritable path
-/// fails at once, not after the work.
+/// An image file being written (see [`PendingFile`]). Created before rendering so that an
+/// unwritable path or unknown extension fails at once, not after the work.
 pub struct Output {
-    path: PathBuf,
-    temporary: tempfile::NamedTempFile,
+    file: PendingFile,
     format: Format,
 }
 
 impl Output {
     pub fn create(path: &Path) -> anyhow::Result<Output> {
         let format = Format::from_path(path)?;
-        let directory = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let temporary = tempfile::Builder::new()
-            .prefix(".kousen-")
-            .suffix(".partial")
-            .tempfile_in(directory)
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        Ok(Output {
-            path: path.to_path_buf(),
-            temporary,
-            format,
-        })
+        let file = PendingFile::create(path)?;
+        Ok(Output { file, format })
     }
 
     /// Writes the image and moves it into place.
     pub fn commit(mut self, image: &Image, exposure: f32) -> anyhow::Result<()> {
-        let mut writer = BufWriter::new(self.temporary.as_file_mut());
+        let mut writer = BufWriter::new(self.file.file());
         match self.format {
             Format::Png => write_png(&mut writer, image, exposure)?,
             Format::Pfm => write_pfm(&mut writer, image)?,
         }
         writer.flush()?;
         drop(writer);
-        // Temporary files are created private (0600); an image should be as readable as any
-        // file the user writes.
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            let readable = std::fs::Permissions::from_mode(0o644);
-            std::fs::set_permissions(self.temporary.path(), readable)?;
-        }
-        self.temporary
-            .persist(&self.path)
-            .with_context(|| format!("cannot write {}", self.path.display()))?;
-        Ok(())
+        self.file.commit()
     }
 }
 

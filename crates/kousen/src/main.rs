@@ -5,6 +5,7 @@ mod cmd;
 mod image_io;
 mod light_sampling;
 mod optics;
+mod output_file;
 mod path_trace;
 mod sampling;
 

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
-mod info;
+mod bench;
+pub mod info;
 mod render;
 
 use crate::cli::Command;
@@ -9,5 +10,6 @@ pub fn run(command: Command) -> anyhow::Result<()> {
     match command {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
+        Command::Bench(args) => bench::run(&args.command),
     }
 }

@@ -81,7 +81,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             mean_radiance: crate::image_io::mean(&image).to_array(),
         };
         let json = serde_json::to_string_pretty(&stats)?;
-        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+        crate::output_file::write_atomically(path, json.as_bytes())?;
     }
     Ok(())
 }

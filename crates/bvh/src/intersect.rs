@@ -92,6 +92,8 @@ pub struct SlabRay {
     pub inv_direction: Vec3,
     /// Which axes the ray runs parallel to.
     pub parallel: BVec3,
+    /// Whether any is (the slab test's slow path).
+    pub any_parallel: bool,
 }
 
 /// Below this a direction component counts as zero in the slab test (the smallest normal f32).
@@ -106,6 +108,7 @@ impl SlabRay {
             origin: ray.origin,
             inv_direction: Vec3::select(parallel, Vec3::ZERO, safe_direction.recip()),
             parallel,
+            any_parallel: parallel.any(),
         }
     }
 }
@@ -123,16 +126,18 @@ pub fn intersect_box(node: &BvhNode, ray: &SlabRay, t_far: f32) -> f32 {
     let t_lo = (lo - ray.origin) * ray.inv_direction;
     let t_hi = (hi - ray.origin) * ray.inv_direction;
     let t_near = t_lo.min(t_hi);
-    let t_far_axes = Vec3::select(ray.parallel, Vec3::INFINITY, t_lo.max(t_hi));
+    let t_far_axes = t_lo.max(t_hi);
     let t_enter = t_near.max_element().max(0.0);
-    let t_exit = t_far_axes.min_element().min(t_far) * ROBUST_EXIT;
-    let outside_parallel_slab =
-        ray.parallel.any() && (ray.parallel & (ray.origin.cmplt(lo) | ray.origin.cmpgt(hi))).any();
-    if t_enter <= t_exit && !outside_parallel_slab {
-        t_enter
+    let inside = if ray.any_parallel {
+        // Rare: the parallel axes add no far distance, and the origin must lie in their slab.
+        let t_far_axes = Vec3::select(ray.parallel, Vec3::INFINITY, t_far_axes);
+        let t_exit = t_far_axes.min_element().min(t_far) * ROBUST_EXIT;
+        let outside = ray.parallel & (ray.origin.cmplt(lo) | ray.origin.cmpgt(hi));
+        t_enter <= t_exit && !outside.any()
     } else {
-        f32::INFINITY
-    }
+        t_enter <= t_far_axes.min_element().min(t_far) * ROBUST_EXIT
+    };
+    if inside { t_enter } else { f32::INFINITY }
 }
 
 #[cfg(test)]

@@ -25,6 +25,7 @@ pub enum Variant {
 }
 
 impl Variant {
+    /// In discriminant order, so `variant as usize` indexes arrays built from it.
     pub const ALL: [Variant; 3] = [Variant::Stack, Variant::Tbvh, Variant::Mtbvh];
 
     /// "stack", "tbvh" or "mtbvh" (the bench's JSON contract).
@@ -336,10 +337,9 @@ impl TraversalKernels {
             Query::Closest => &self.closest,
             Query::Any => &self.any,
         };
-        let index = Variant::ALL.iter().position(|&v| v == variant).unwrap_or(0);
         self.run(
             context,
-            &pipelines[index],
+            &pipelines[variant as usize],
             &scene.bind_group,
             &batch.trace_group,
             batch.count,

@@ -11,7 +11,7 @@ use glam::Vec3;
 use gpu::traversal::RayKind;
 use gpu::types::{GpuHit, GpuRay};
 use gpu::{GpuContext, GpuScene, TraversalKernels, Variant};
-use scene::{Material, Triangle};
+use scene::Material;
 
 /// Relative tolerance on t between a GPU kernel and its twin.
 const T_TOLERANCE: f32 = 1e-5;
@@ -20,12 +20,6 @@ fn context() -> GpuContext {
     GpuContext::new(None).unwrap_or_else(|e| {
         panic!("no usable GPU adapter in the test environment (CI installs Mesa lavapipe): {e}")
     })
-}
-
-fn bounds(triangles: &[Triangle]) -> scene::Bounds {
-    triangles
-        .iter()
-        .fold(scene::Bounds::EMPTY, |b, t| b.union(t.bounds()))
 }
 
 /// Describes every disagreement between the GPU's `hits` and the CPU twin on `rays`.
@@ -120,7 +114,7 @@ fn kernels_match_cpu_twins_on_the_shipped_cornell_box() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-caustics.gltf");
     let scene = scene::load(&path).expect("shipped scene loads");
     let bvh = PackedBvh::build(&scene.triangles, &BuildOptions::default());
-    let camera = BenchCamera::new(bounds(&scene.triangles), View::Outside, 160);
+    let camera = BenchCamera::new(scene.bounds(), View::Outside, 160);
     // Camera rays, then one bounce in random directions from where they land.
     let mut rng = bvh::testing::Rng::new(7);
     let mut rays: Vec<Ray> = camera.primary_rays();
@@ -151,10 +145,11 @@ fn assert_close(a: Vec3, b: Vec3, tolerance: f32, what: &str) {
 fn ray_generation_matches_bench_rays() {
     let context = context();
     let kernels = TraversalKernels::new(&context);
-    let triangles = scene::testing::cornell_caustics().triangles;
-    let bvh = PackedBvh::build(&triangles, &BuildOptions::default());
+    let cornell = scene::testing::cornell_caustics();
+    let triangles = &cornell.triangles;
+    let bvh = PackedBvh::build(triangles, &BuildOptions::default());
     let scene = GpuScene::upload(&context, &bvh, &[Material::default()]).expect("upload");
-    let bounds = bounds(&triangles);
+    let bounds = cornell.bounds();
     let diagonal = bounds.extent().length();
     let camera = BenchCamera::new(bounds, View::Outside, 96);
     let batch = kernels

@@ -207,10 +207,7 @@ fn bench_scene(
     let scene = scene::load(path)?;
     crate::cmd::info::check_bvh_limits(&scene)?;
     let bvh = PackedBvh::build(&scene.triangles, &crate::cmd::info::build_options(args.bvh));
-    let bounds = scene
-        .triangles
-        .iter()
-        .fold(scene::Bounds::EMPTY, |b, t| b.union(t.bounds()));
+    let bounds = scene.bounds();
     let camera = BenchCamera::new(bounds, view, args.size);
     let diagonal = bounds.extent().length();
     let gpu_scene = gpu
@@ -221,7 +218,7 @@ fn bench_scene(
         .file_stem()
         .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
 
-    let primary = primary_rays(device, &camera)?;
+    let primary = primary_rays(device, &camera, diagonal)?;
     let mut primary_hits: Option<Vec<Option<Hit>>> = None;
     let mut rows = Vec::new();
     for kind in RayKind::ALL {
@@ -249,7 +246,11 @@ fn bench_scene(
 
 /// The camera's primary rays: made on the GPU when there is one (the CPU twins then trace the
 /// GPU's rays, so every variant sees identical rays), else by `bench_rays`.
-fn primary_rays(device: Option<(&Gpu, &GpuScene)>, camera: &BenchCamera) -> anyhow::Result<RaySet> {
+fn primary_rays(
+    device: Option<(&Gpu, &GpuScene)>,
+    camera: &BenchCamera,
+    diagonal: f32,
+) -> anyhow::Result<RaySet> {
     let Some((gpu, scene)) = device else {
         return Ok(RaySet {
             kind: RayKind::Primary,
@@ -258,7 +259,6 @@ fn primary_rays(device: Option<(&Gpu, &GpuScene)>, camera: &BenchCamera) -> anyh
         });
     };
     let batch = gpu.kernels.batch(&gpu.context, camera.ray_count() as u32)?;
-    let diagonal = 0.0; // primary rays do not use it
     gpu.kernels.generate(
         &gpu.context,
         scene,
@@ -308,24 +308,14 @@ fn diffuse_rays(
         });
     };
     let (context, kernels) = (&gpu.context, &gpu.kernels);
-    // Diffuse generation replaces rays in place: work on a copy of the primary rays.
-    let work = kernels.upload_rays(
-        context,
-        &primary
-            .rays
-            .iter()
-            .map(GpuRay::from_ray)
-            .collect::<Vec<_>>(),
-    )?;
-    kernels.trace(context, gpu_scene, &work, Variant::Mtbvh, Query::Closest)?;
-    kernels.generate(
-        context,
-        gpu_scene,
-        &work,
-        RayKind::Diffuse,
-        camera,
-        diagonal,
-    )?;
+    // The primary rays have been measured (RayKind::ALL puts them first): their batch on the
+    // device becomes the diffuse rays, in place. The host copy keeps the primary rays.
+    let work = primary
+        .batch
+        .as_ref()
+        .context("primary rays were made without the GPU")?;
+    kernels.trace(context, gpu_scene, work, Variant::Mtbvh, Query::Closest)?;
+    kernels.generate(context, gpu_scene, work, RayKind::Diffuse, camera, diagonal)?;
     let used: Vec<GpuRay> = work
         .read_rays(context)?
         .into_iter()

@@ -90,6 +90,11 @@ impl GpuContext {
     }
 
     /// One line: "name (backend, type, driver)".
+    /// Whether the adapter is a CPU (such as lavapipe): work sizes are then kept small.
+    pub fn is_cpu_device(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
     pub fn description(&self) -> String {
         describe(&self.info)
     }

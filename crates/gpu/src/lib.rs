@@ -16,6 +16,7 @@ pub mod prelude;
 pub mod readback;
 pub mod scene_upload;
 pub mod shader;
+pub mod sppm;
 pub mod traversal;
 pub mod types;
 

@@ -5,6 +5,9 @@
 
 use std::fmt::Write;
 
+use render::buffers::{self, counter};
+use render::rng;
+
 use crate::types;
 
 /// Invocations per workgroup of every kernel (one ray or photon each).
@@ -38,6 +41,22 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("NO_TEXTURE", U32(types::NO_TEXTURE)),
         ("MATERIAL_DOUBLE_SIDED", U32(types::MATERIAL_DOUBLE_SIDED)),
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),
+        ("SLOT_IDLE", U32(buffers::SLOT_IDLE)),
+        ("MAX_PASS_THROUGHS", U32(buffers::MAX_PASS_THROUGHS)),
+        ("PHOTON_STREAM", U32(rng::PHOTON_STREAM)),
+        ("EYE_STREAM", U32(rng::EYE_STREAM)),
+        ("HASH_STREAM", U32(rng::HASH_STREAM)),
+        ("HASH_ENTRY_WORDS", U32(buffers::HASH_ENTRY_WORDS as u32)),
+        ("HASH_PRIORITY", U32(buffers::hash_word::PRIORITY as u32)),
+        ("HASH_COUNT", U32(buffers::hash_word::COUNT as u32)),
+        ("HASH_WINNER", U32(buffers::hash_word::WINNER as u32)),
+        ("COUNTER_COUNT", U32(counter::COUNT as u32)),
+        ("COUNTER_PASS", U32(counter::PASS as u32)),
+        ("COUNTER_EMITTED_LO", U32(counter::EMITTED_LO as u32)),
+        ("COUNTER_EMITTED_HI", U32(counter::EMITTED_HI as u32)),
+        ("COUNTER_EMITTED_PASS", U32(counter::EMITTED_PASS as u32)),
+        ("COUNTER_MAX_RADIUS", U32(counter::MAX_RADIUS as u32)),
+        ("COUNTER_CELL_SIZE", U32(counter::CELL_SIZE as u32)),
     ]
 }
 

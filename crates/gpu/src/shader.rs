@@ -13,6 +13,11 @@ const INTERSECT: &str = include_str!("../shaders/shared/intersect.wgsl");
 const TRAVERSE: &str = include_str!("../shaders/shared/traverse.wgsl");
 const TRACE: &str = include_str!("../shaders/kernels/trace.wgsl");
 const RAYGEN: &str = include_str!("../shaders/kernels/raygen.wgsl");
+const RANDOM: &str = include_str!("../shaders/shared/random.wgsl");
+const SPPM_TYPES: &str = include_str!("../shaders/shared/sppm_types.wgsl");
+const TEXTURES: &str = include_str!("../shaders/shared/textures.wgsl");
+const SHADING: &str = include_str!("../shaders/shared/shading.wgsl");
+const SPPM: &str = include_str!("../shaders/kernels/sppm.wgsl");
 
 /// A shader module of kousen's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,10 +26,12 @@ pub enum Module {
     Trace,
     /// Benchmark ray generation (`raygen.wgsl`).
     Raygen,
+    /// The SPPM kernels (`sppm.wgsl`).
+    Sppm,
 }
 
 impl Module {
-    pub const ALL: [Module; 2] = [Module::Trace, Module::Raygen];
+    pub const ALL: [Module; 3] = [Module::Trace, Module::Raygen, Module::Sppm];
 
     /// The files it is made of, as (name, text), after the prelude.
     pub fn parts(self) -> Vec<(&'static str, &'static str)> {
@@ -40,7 +47,19 @@ impl Module {
                 ("shared/traverse.wgsl", TRAVERSE),
                 ("kernels/trace.wgsl", TRACE),
             ],
-            Module::Raygen => &[("kernels/raygen.wgsl", RAYGEN)],
+            Module::Raygen => &[
+                ("shared/random.wgsl", RANDOM),
+                ("kernels/raygen.wgsl", RAYGEN),
+            ],
+            Module::Sppm => &[
+                ("shared/intersect.wgsl", INTERSECT),
+                ("shared/traverse.wgsl", TRAVERSE),
+                ("shared/random.wgsl", RANDOM),
+                ("shared/sppm_types.wgsl", SPPM_TYPES),
+                ("shared/textures.wgsl", TEXTURES),
+                ("shared/shading.wgsl", SHADING),
+                ("kernels/sppm.wgsl", SPPM),
+            ],
         };
         scene.iter().chain(own).copied().collect()
     }
@@ -67,6 +86,7 @@ impl Module {
         match self {
             Module::Trace => "trace.wgsl",
             Module::Raygen => "raygen.wgsl",
+            Module::Sppm => "sppm.wgsl",
         }
     }
 }

@@ -20,12 +20,32 @@ pub struct Cli {
 
 #[derive(Subcommand)]
 pub enum Command {
-    /// Render a scene to an image (.png tonemapped, .pfm linear).
+    /// Render a scene to an image (.exr or .pfm linear, .png tonemapped).
     Render(RenderArgs),
     /// Triangles, materials, lights, BVH statistics and memory of a scene.
     Info(InfoArgs),
     /// Measure speed, variants side by side in one run.
     Bench(BenchArgs),
+    /// Compare an image with a reference: relMSE, RMSE and mean ratio
+    ///
+    /// Prints one "name value" line per figure. With A the image, B the reference, and means
+    /// over every pixel and channel:
+    ///   rel_mse    = mean((A - B)^2 / (B^2 + 0.01))
+    ///   rmse       = sqrt(mean((A - B)^2))
+    ///   mean_ratio = mean(A) / mean(B); also per channel: mean_ratio_r, _g, _b
+    #[command(verbatim_doc_comment)]
+    Diff(DiffArgs),
+}
+
+#[derive(Args)]
+pub struct DiffArgs {
+    /// The image measured (A): .exr, .pfm or .png (decoded from sRGB to linear).
+    pub image: PathBuf,
+    /// The reference (B), the same size.
+    pub reference: PathBuf,
+    /// Also write the figures as JSON (a contract for scripts).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -115,6 +135,15 @@ pub enum Backend {
     Cpu,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Integrator {
+    /// Stochastic progressive photon mapping (GPU or CPU backend).
+    Sppm,
+    /// Unidirectional path tracing with next-event estimation (CPU only; one sample per pixel
+    /// per pass).
+    Path,
+}
+
 #[derive(Args)]
 pub struct RenderArgs {
     /// A .gltf, .glb or .obj file.
@@ -127,7 +156,7 @@ pub struct RenderArgs {
     /// Default: from the camera's aspect ratio, else square.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
-    /// Passes to render (each adds one sample per pixel).
+    /// Photon passes to render (default 64).
     #[arg(long, conflicts_with = "time", value_parser = clap::value_parser!(u32).range(1..))]
     pub passes: Option<u32>,
     /// Render for this many seconds instead of a number of passes.
@@ -140,9 +169,30 @@ pub struct RenderArgs {
     pub exposure: f32,
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     pub backend: Backend,
+    /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
+    #[arg(long, value_name = "SUBSTRING")]
+    pub adapter: Option<String>,
     /// Write statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Photon path slots per pass (default: sized to the device).
+    #[arg(long, value_name = "N")]
+    pub photons: Option<u32>,
+    /// SPPM's radius reduction α, in (0, 1).
+    #[arg(long, default_value_t = render::settings::DEFAULT_ALPHA)]
+    pub alpha: f32,
+    /// An eye pass (new visible points) every this many photon passes.
+    #[arg(long, value_name = "K", default_value_t = render::settings::DEFAULT_EYE_EVERY)]
+    pub eye_every: u32,
+    /// Hash table entries per photon slot (1 = 1:1, 0.125 = 1:8).
+    #[arg(long, value_name = "RATIO", default_value_t = 1.0)]
+    pub hash_ratio: f32,
+    /// Bounces before a photon or eye path is cut off.
+    #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH)]
+    pub max_depth: u32,
+    /// The integrator: SPPM, or the CPU path tracer kept as an independent reference.
+    #[arg(long, value_enum, default_value_t = Integrator::Sppm)]
+    pub integrator: Integrator,
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]

@@ -3,11 +3,10 @@
 mod cli;
 mod cmd;
 mod image_io;
-mod light_sampling;
-mod optics;
+mod image_metrics;
 mod output_file;
 mod path_trace;
-mod sampling;
+mod progress;
 
 use std::process::ExitCode;
 

@@ -8,9 +8,9 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
-use crate::light_sampling::{LightSampler, power_heuristic};
-use crate::optics::{fresnel_dielectric, reflect, refract};
-use crate::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
+use render::light_sampling::{LightSampler, power_heuristic};
+use render::optics::{fresnel_dielectric, reflect, refract};
+use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 
 /// What to render and how much.
 pub struct RenderSettings {
@@ -22,11 +22,7 @@ pub struct RenderSettings {
 }
 
 /// A linear RGB image, rows top to bottom.
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<Vec3>,
-}
+pub use render::Image;
 
 /// Surfaces a ray passes through (alpha cut-outs) count against this, not against the depth.
 const MAX_PASS_THROUGH: u32 = 64;
@@ -376,7 +372,7 @@ mod tests {
             seed: 1,
         };
         let image = PathTracer::new(&scene, &bvh, camera).render(&settings);
-        let mean = crate::image_io::mean(&image);
+        let mean = image.mean();
         // 16,384 paths; the per-path standard deviation is below 1, so 2% is > 5 sigma.
         let expected = testing::FURNACE_RADIANCE;
         assert!(

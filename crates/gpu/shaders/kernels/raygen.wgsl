@@ -32,12 +32,6 @@ fn primary_rays(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     rays[i] = GpuRay(camera.eye, RAY_T_MAX, direction, 0u);
 }
 
-// Jarzynski & Olano's PCG hash (bvh::bench_rays::pcg_hash).
-fn pcg_hash(x: u32) -> u32 {
-    let state = x * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
 
 // Replaces each primary ray that hit something (primary_hits from a closest-hit trace) by
 // one cosine-distributed ray from its hit point; rays that missed become unused (t_max 0).

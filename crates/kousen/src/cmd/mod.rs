@@ -1,7 +1,9 @@
 //! One module per subcommand.
 
 mod bench;
+mod diff;
 pub mod info;
+mod path_render;
 mod render;
 
 use crate::cli::Command;
@@ -11,5 +13,6 @@ pub fn run(command: Command) -> anyhow::Result<()> {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args.command),
+        Command::Diff(args) => diff::run(&args),
     }
 }

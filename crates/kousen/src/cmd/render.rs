@@ -1,20 +1,22 @@
-//! `kousen render`: renders a scene to an image. Until the SPPM integrator lands (issue 4) the
-//! only backend is the CPU path tracer of [`crate::path_trace`].
+//! `kousen render`: a scene to an image with SPPM on the GPU or CPU backend (or, with
+//! `--integrator path`, the CPU path tracer kept as an independent reference).
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
 use glam::Vec3;
+use render::{Backend, Budget, Progress, Rendered, Settings, Sppm};
 use serde::Serialize;
 
-use crate::cli::{Backend, CameraArgs, RenderArgs};
+use crate::cli::{Backend as BackendChoice, CameraArgs, Integrator, RenderArgs};
 use crate::image_io::Output;
-use crate::path_trace::{Image, PathTracer, RenderSettings};
+use crate::progress::ProgressBar;
 
-/// Bounces per path before it is cut off.
-const MAX_DEPTH: u32 = 32;
-/// Passes when neither --passes nor --time is given.
+/// Photon passes when neither --passes nor --time is given.
 const DEFAULT_PASSES: u32 = 64;
+/// Photon slots per pass on CPU-type devices (glslppm's 512²) and on GPUs.
+const DEFAULT_SLOTS_CPU: u32 = 1 << 18;
+const DEFAULT_SLOTS_GPU: u32 = 1 << 20;
 
 #[derive(Serialize)]
 struct Stats {
@@ -22,23 +24,25 @@ struct Stats {
     eye_passes: u32,
     photon_paths: u64,
     seconds: f64,
+    photon_paths_per_second: f64,
     backend: &'static str,
-    adapter: Option<String>,
+    adapter: String,
+    host_cpu_seconds: f64,
     integrator: &'static str,
     width: u32,
     height: u32,
+    photon_slots: u32,
+    hash_entries: u32,
+    alpha: f32,
+    eye_every: u32,
+    seed: u64,
     mean_radiance: [f32; 3],
+    /// Bytes allocated by the backend, by kind.
+    memory_bytes: std::collections::BTreeMap<&'static str, u64>,
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    if let Some(t) = args.time
-        && !(t.is_finite() && t > 0.0)
-    {
-        bail!("--time must be a positive number of seconds, got {t}");
-    }
-    if args.backend == Backend::Gpu {
-        bail!("the GPU backend is not built yet; use --backend cpu (or auto)");
-    }
+    let budget = budget(args)?;
     // Fail on a bad output path before any work.
     let output = Output::create(&args.output)?;
     let scene = scene::load(&args.scene)?;
@@ -54,31 +58,121 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let aspect = camera.aspect_ratio.unwrap_or(1.0);
         ((width as f32 / aspect).round() as u32).clamp(1, 16384)
     });
-    if args.backend == Backend::Auto {
-        log::info!("no GPU backend yet: rendering on the CPU");
+    if args.photons == Some(0) {
+        bail!("--photons must be at least 1");
     }
     super::info::check_bvh_limits(&scene)?;
-    let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
-    let tracer = PathTracer::new(&scene, &bvh, camera);
-
     let started = Instant::now();
-    let (image, passes) = render_passes(&tracer, args, width, height, started);
-    let seconds = started.elapsed().as_secs_f64();
-    output.commit(&image, args.exposure)?;
-    log::info!("{passes} passes in {seconds:.2} s");
+    let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
+    log::info!("BVH built in {:.2} s", started.elapsed().as_secs_f64());
 
+    if args.integrator == Integrator::Path {
+        if args.backend == BackendChoice::Gpu {
+            bail!("--integrator path runs on the CPU only; use --backend cpu or auto");
+        }
+        return super::path_render::run(args, &scene, &bvh, camera, width, height, budget, output);
+    }
+
+    let settings = |slots: u32| Settings {
+        alpha: args.alpha,
+        eye_every: args.eye_every,
+        hash_ratio: args.hash_ratio,
+        max_depth: args.max_depth,
+        seed: fold_seed(args.seed),
+        ..Settings::new(width, height, args.photons.unwrap_or(slots))
+    };
+    let use_gpu = match args.backend {
+        BackendChoice::Cpu => false,
+        BackendChoice::Gpu => true,
+        BackendChoice::Auto => match gpu::GpuContext::new(args.adapter.as_deref()) {
+            Ok(_) => true,
+            Err(e) => {
+                eprintln!("kousen: no GPU adapter ({e}); rendering on the CPU backend");
+                false
+            }
+        },
+    };
+    if use_gpu {
+        let context = gpu::GpuContext::new(args.adapter.as_deref())?;
+        let slots = if context.is_cpu_device() {
+            DEFAULT_SLOTS_CPU
+        } else {
+            DEFAULT_SLOTS_GPU
+        };
+        let backend = gpu::sppm::GpuBackend::new(context, &scene, bvh)?;
+        finish(
+            args,
+            &scene,
+            &camera,
+            settings(slots),
+            backend,
+            budget,
+            output,
+        )
+    } else {
+        let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
+        finish(
+            args,
+            &scene,
+            &camera,
+            settings(DEFAULT_SLOTS_CPU),
+            backend,
+            budget,
+            output,
+        )
+    }
+}
+
+fn finish<B: Backend>(
+    args: &RenderArgs,
+    scene: &scene::Scene,
+    camera: &scene::Camera,
+    settings: Settings,
+    backend: B,
+    budget: Budget,
+    output: Output,
+) -> anyhow::Result<()> {
+    let backend_name = backend.name();
+    let adapter = backend.adapter();
+    log::info!(
+        "SPPM on the {backend_name} backend ({adapter}): {}×{}, {} photon slots",
+        settings.width,
+        settings.height,
+        settings.photons
+    );
+    let cpu_before = thread_cpu_seconds();
+    let mut sppm = Sppm::new(backend, scene, camera, settings.clone())?;
+    let mut bar = ProgressBar::new(budget);
+    let rendered: Rendered = sppm.run(budget, &mut |p: &Progress| bar.update(p))?;
+    bar.finish();
+    let host_cpu_seconds = thread_cpu_seconds() - cpu_before;
+    output.commit(&rendered.image, args.exposure)?;
+    log::info!(
+        "{} passes, {} photon paths in {:.2} s",
+        rendered.passes,
+        rendered.photon_paths,
+        rendered.seconds
+    );
     if let Some(path) = &args.stats {
         let stats = Stats {
-            passes,
-            eye_passes: passes,
-            photon_paths: 0,
-            seconds,
-            backend: "cpu",
-            adapter: None,
-            integrator: "path tracing (interim, until SPPM)",
-            width,
-            height,
-            mean_radiance: crate::image_io::mean(&image).to_array(),
+            passes: rendered.passes,
+            eye_passes: rendered.eye_passes,
+            photon_paths: rendered.photon_paths,
+            seconds: rendered.seconds,
+            photon_paths_per_second: rendered.photon_paths as f64 / rendered.seconds.max(1e-9),
+            backend: backend_name,
+            adapter,
+            host_cpu_seconds,
+            integrator: "sppm",
+            width: settings.width,
+            height: settings.height,
+            photon_slots: settings.photons,
+            hash_entries: settings.hash_size(),
+            alpha: settings.alpha,
+            eye_every: settings.eye_every,
+            seed: args.seed,
+            mean_radiance: rendered.image.mean().to_array(),
+            memory_bytes: sppm.backend().memory().into_iter().collect(),
         };
         let json = serde_json::to_string_pretty(&stats)?;
         crate::output_file::write_atomically(path, json.as_bytes())?;
@@ -86,54 +180,39 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Renders one sample per pixel per pass until the pass count or the time is reached, and
-/// averages the passes.
-fn render_passes(
-    tracer: &PathTracer,
-    args: &RenderArgs,
-    width: u32,
-    height: u32,
-    started: Instant,
-) -> (Image, u32) {
-    let target_passes = match (args.passes, args.time) {
-        (Some(n), _) => n,
-        (None, Some(_)) => u32::MAX,
-        (None, None) => DEFAULT_PASSES,
-    };
-    let mut sum = vec![Vec3::ZERO; (width * height) as usize];
-    let mut passes = 0;
-    while passes < target_passes {
-        let settings = RenderSettings {
-            width,
-            height,
-            samples_per_pixel: 1,
-            max_depth: MAX_DEPTH,
-            seed: args
-                .seed
-                .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-                .wrapping_add(passes as u64),
-        };
-        let pass = tracer.render(&settings);
-        for (s, p) in sum.iter_mut().zip(&pass.pixels) {
-            *s += *p;
+/// --passes, --time or the default, checked.
+fn budget(args: &RenderArgs) -> anyhow::Result<Budget> {
+    Ok(match (args.passes, args.time) {
+        (Some(n), _) => Budget::Passes(n),
+        (None, Some(t)) => {
+            if !(t.is_finite() && t > 0.0 && t < 1e9) {
+                bail!("--time must be a positive number of seconds, got {t}");
+            }
+            Budget::Time(Duration::from_secs_f64(t))
         }
-        passes += 1;
-        if args
-            .time
-            .is_some_and(|t| started.elapsed().as_secs_f64() >= t)
-        {
-            break;
+        (None, None) => Budget::Passes(DEFAULT_PASSES),
+    })
+}
+
+/// The kernels take a 32-bit seed: the 64-bit one folded.
+fn fold_seed(seed: u64) -> u32 {
+    (seed ^ (seed >> 32)) as u32
+}
+
+/// CPU time of the calling thread, in seconds (0 where the platform cannot say).
+pub fn thread_cpu_seconds() -> f64 {
+    #[cfg(unix)]
+    {
+        let mut t = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: clock_gettime writes one timespec through the valid pointer given.
+        if unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0 {
+            return t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9;
         }
     }
-    let pixels = sum.into_iter().map(|s| s / passes as f32).collect();
-    (
-        Image {
-            width,
-            height,
-            pixels,
-        },
-        passes,
-    )
+    0.0
 }
 
 /// The camera from --eye/--target, --camera I, or the scene's default.

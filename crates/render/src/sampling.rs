@@ -1,4 +1,4 @@
-//! Random numbers and direction sampling for the CPU path tracer.
+//! Random numbers (PCG32, for the CPU path tracer) and direction sampling.
 
 use glam::Vec3;
 

@@ -1,4 +1,4 @@
-//! Specular optics for the CPU path tracer: mirror reflection, Snell refraction, Fresnel.
+//! Specular optics shared by the integrators: mirror reflection, Snell refraction, Fresnel.
 
 use glam::Vec3;
 

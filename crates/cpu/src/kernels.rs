@@ -1,0 +1,283 @@
+//! The SPPM kernels, one function per GPU invocation: the same names, arithmetic and random
+//! numbers as `crates/gpu/shaders/kernels/sppm_*.wgsl`. Each takes one element's input and
+//! returns its output, so the backend can run them on rayon and the tests can run them alone.
+
+use std::f32::consts::FRAC_1_PI;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+
+use glam::Vec3;
+use render::buffers::{
+    HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams,
+    VisiblePoint, counter, hash_word, vec3,
+};
+use render::emission::sample_emission;
+use render::hash::{cell_of, cell_size, entry_of, priority, query_entries};
+use render::integrator::camera_direction;
+use render::packing::{pack_normal, unpack_normal};
+use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM};
+use render::sampling::{cosine_hemisphere, orthonormal_basis};
+use scene::Surface;
+
+use crate::SceneData;
+use crate::surface::{base_color, emitted, is_cut_out, offset_origin, specular_direction, trace};
+
+/// What one photon-pass invocation leaves behind.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhotonStep {
+    pub slot: PathSlot,
+    /// The photon stored at this bounce (zero flux if none).
+    pub photon: Photon,
+    /// Whether the slot started a new light path.
+    pub emitted: bool,
+}
+
+/// Photon pass, slot `index`: an idle slot starts a new light path; then the path advances
+/// one segment. A diffuse hit stores a photon and continues by Russian roulette on its albedo;
+/// a specular one reflects or refracts (roulette on its tint); a cut-out is passed through.
+pub fn photon_pass(
+    scene: &SceneData,
+    params: &SppmParams,
+    pass: u32,
+    index: u32,
+    mut slot: PathSlot,
+) -> PhotonStep {
+    let mut rng = KernelRng::new(params.seed, PHOTON_STREAM, pass, index);
+    let mut emitted = false;
+    if slot.depth == SLOT_IDLE {
+        let u = [(); 5].map(|_| rng.next_f32());
+        let e = sample_emission(&scene.lights, u);
+        slot = PathSlot {
+            origin: (e.origin + params.epsilon * e.normal).to_array(),
+            depth: 0,
+            direction: e.direction.to_array(),
+            pass_throughs: 0,
+            flux: e.flux.to_array(),
+            pad: 0,
+        };
+        emitted = true;
+    }
+    let mut photon = Photon::default();
+    let direction = vec3(slot.direction);
+    let Some(hit) = trace(scene, vec3(slot.origin), direction) else {
+        slot.depth = SLOT_IDLE;
+        return PhotonStep {
+            slot,
+            photon,
+            emitted,
+        };
+    };
+    let material = &scene.materials[hit.material as usize];
+    if is_cut_out(scene, material, hit.uv) {
+        slot.pass_throughs += 1;
+        slot.origin = (hit.position + params.epsilon * direction).to_array();
+        if slot.pass_throughs > MAX_PASS_THROUGHS {
+            slot.depth = SLOT_IDLE;
+        }
+        return PhotonStep {
+            slot,
+            photon,
+            emitted,
+        };
+    }
+    let tint = base_color(scene, material, hit.uv);
+    let flux = vec3(slot.flux);
+    let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
+    let next = if let Surface::Diffuse = material.surface {
+        photon = Photon {
+            position: hit.position.to_array(),
+            normal: pack_normal(hit.shading),
+            flux: slot.flux,
+            pad: 0,
+        };
+        let (t, b) = orthonormal_basis(hit.shading);
+        let local = cosine_hemisphere(u_direction[0], u_direction[1]);
+        let next = t * local.x + b * local.y + hit.shading * local.z;
+        // A bounce below the geometric surface would leak light through it.
+        (next.dot(hit.geometric) > 0.0).then_some(next)
+    } else {
+        specular_direction(material, &hit, direction, u_direction[0])
+    };
+    let survival = tint.max_element().min(1.0);
+    slot.depth += 1;
+    match next {
+        Some(next) if u_roulette < survival && slot.depth < params.max_depth => {
+            slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
+            slot.direction = next.to_array();
+            slot.flux = (flux * tint / survival).to_array();
+        }
+        _ => slot.depth = SLOT_IDLE,
+    }
+    PhotonStep {
+        slot,
+        photon,
+        emitted,
+    }
+}
+
+/// What one eye-pass invocation leaves: the pixel's new visible point and the emission its
+/// camera path saw on the way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EyeStep {
+    pub visible_point: VisiblePoint,
+    pub direct: Vec3,
+}
+
+/// Eye pass, pixel `index`: a jittered camera ray through mirror and glass chains to the
+/// first diffuse surface, where it leaves a visible point.
+pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -> EyeStep {
+    let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
+    let (x, y) = (index % params.width, index / params.width);
+    let sx = (x as f32 + rng.next_f32()) / params.width as f32 * 2.0 - 1.0;
+    let sy = 1.0 - (y as f32 + rng.next_f32()) / params.height as f32 * 2.0;
+    let mut origin = vec3(params.eye);
+    let mut direction = camera_direction(params, sx, sy);
+    let mut throughput = Vec3::ONE;
+    let mut direct = Vec3::ZERO;
+    let mut visible_point = VisiblePoint::default();
+    let (mut depth, mut pass_throughs) = (0, 0);
+    while depth < params.max_depth {
+        let Some(hit) = trace(scene, origin, direction) else {
+            break;
+        };
+        let material = &scene.materials[hit.material as usize];
+        if is_cut_out(scene, material, hit.uv) {
+            pass_throughs += 1;
+            if pass_throughs > MAX_PASS_THROUGHS {
+                break;
+            }
+            origin = hit.position + params.epsilon * direction;
+            continue;
+        }
+        direct += throughput * emitted(scene, material, &hit);
+        let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
+        let u = rng.next_f32();
+        let Some(next) = specular_direction(material, &hit, direction, u) else {
+            let weight = throughput * tint * FRAC_1_PI;
+            if weight.max_element() > 0.0 {
+                visible_point = VisiblePoint {
+                    position: hit.position.to_array(),
+                    normal: pack_normal(hit.shading),
+                    weight: weight.to_array(),
+                    pad: 0,
+                };
+            }
+            break;
+        };
+        throughput *= tint;
+        if throughput.max_element() <= 0.0 {
+            break;
+        }
+        origin = offset_origin(&hit, next, params.epsilon);
+        direction = next;
+        depth += 1;
+    }
+    EyeStep {
+        visible_point,
+        direct,
+    }
+}
+
+/// Hash build, first half, photon `index`: raises its entry's priority to the photon's and
+/// counts it.
+pub fn hash_count(
+    params: &SppmParams,
+    counters: &[AtomicU32],
+    hash: &[AtomicU32],
+    index: u32,
+    photon: &Photon,
+) {
+    if !photon.is_stored() {
+        return;
+    }
+    let entry = photon_entry(params, counters, photon);
+    let pass = counters[counter::PASS].load(Relaxed);
+    hash[entry + hash_word::PRIORITY].fetch_max(priority(params.seed, pass, index), Relaxed);
+    hash[entry + hash_word::COUNT].fetch_add(1, Relaxed);
+}
+
+/// Hash build, second half, photon `index`: the photon whose priority won writes its index
+/// (the largest index among equal priorities, so the result never depends on timing).
+pub fn hash_select(
+    params: &SppmParams,
+    counters: &[AtomicU32],
+    hash: &[AtomicU32],
+    index: u32,
+    photon: &Photon,
+) {
+    if !photon.is_stored() {
+        return;
+    }
+    let entry = photon_entry(params, counters, photon);
+    let pass = counters[counter::PASS].load(Relaxed);
+    if hash[entry + hash_word::PRIORITY].load(Relaxed) == priority(params.seed, pass, index) {
+        hash[entry + hash_word::WINNER].fetch_max(index, Relaxed);
+    }
+}
+
+/// First word of a photon's hash entry.
+fn photon_entry(params: &SppmParams, counters: &[AtomicU32], photon: &Photon) -> usize {
+    let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
+    let cell = cell_of(vec3(photon.position), cell_size);
+    entry_of(cell, params.hash_size) as usize * HASH_ENTRY_WORDS
+}
+
+/// Gather and update, one pixel: the visible point reads the hash entries its radius
+/// overlaps, weights each kept photon by its entry's count, and updates N, R and τ
+/// (DESIGN.md, "SPPM update"). Every pixel then offers its radius to the pass's maximum.
+pub fn gather(
+    params: &SppmParams,
+    counters: &[AtomicU32],
+    hash: &[AtomicU32],
+    photons: &[Photon],
+    visible_point: &VisiblePoint,
+    mut stats: PixelStats,
+) -> PixelStats {
+    if visible_point.is_valid() {
+        let position = vec3(visible_point.position);
+        let normal = unpack_normal(visible_point.normal);
+        let radius = stats.radius;
+        let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
+        let (entries, count) = query_entries(position, radius, cell_size, params.hash_size);
+        let mut found = 0u32;
+        let mut flux = Vec3::ZERO;
+        for &entry in &entries[..count] {
+            let word = entry as usize * HASH_ENTRY_WORDS;
+            let photons_in_entry = hash[word + hash_word::COUNT].load(Relaxed);
+            if photons_in_entry == 0 {
+                continue;
+            }
+            let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
+            let offset = vec3(photon.position) - position;
+            if offset.length_squared() < radius * radius
+                && unpack_normal(photon.normal).dot(normal) > 0.0
+            {
+                found += photons_in_entry;
+                flux += photons_in_entry as f32 * vec3(photon.flux);
+            }
+        }
+        if found > 0 {
+            let n = stats.photon_count;
+            let m = found as f32;
+            let n_next = n + params.alpha * m;
+            let ratio = n_next / (n + m);
+            stats.photon_count = n_next;
+            stats.radius = radius * ratio.sqrt();
+            stats.tau = ((vec3(stats.tau) + vec3(visible_point.weight) * flux) * ratio).to_array();
+        }
+    }
+    counters[counter::MAX_RADIUS].fetch_max(stats.radius.to_bits(), Relaxed);
+    stats
+}
+
+/// Closes a pass (one invocation): folds this pass's emitted paths into the 64-bit total,
+/// sets the next pass's cell size from the largest radius, and advances the pass counter.
+pub fn finish_pass(counters: &[AtomicU32]) {
+    let emitted = counters[counter::EMITTED_PASS].swap(0, Relaxed);
+    let low = counters[counter::EMITTED_LO].load(Relaxed);
+    let (sum, carry) = low.overflowing_add(emitted);
+    counters[counter::EMITTED_LO].store(sum, Relaxed);
+    counters[counter::EMITTED_HI].fetch_add(carry as u32, Relaxed);
+    let max_radius = f32::from_bits(counters[counter::MAX_RADIUS].swap(0, Relaxed));
+    counters[counter::CELL_SIZE].store(cell_size(max_radius).to_bits(), Relaxed);
+    counters[counter::PASS].fetch_add(1, Relaxed);
+}

@@ -1,0 +1,127 @@
+//! What the kernels know about a hit, read from the packed triangles exactly as the WGSL
+//! kernels read them, and the specular events both eye and photon paths take.
+
+use glam::{Vec2, Vec3, Vec4};
+use render::optics::{fresnel_dielectric, reflect, refract};
+use scene::{AlphaMode, Material, Surface, Texture};
+
+use crate::SceneData;
+
+/// A ray's hit, turned to face the side the ray came from.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub position: Vec3,
+    /// Unit geometric normal on the ray's side.
+    pub geometric: Vec3,
+    /// Unit shading normal on the ray's side (the geometric one where interpolation turns it
+    /// below the surface).
+    pub shading: Vec3,
+    pub uv: Vec2,
+    pub material: u32,
+    /// Whether the ray met the triangle's front (counter-clockwise) face.
+    pub front: bool,
+}
+
+/// Closest hit along a ray, or `None` if it leaves the scene.
+pub fn trace(scene: &SceneData, origin: Vec3, direction: Vec3) -> Option<SurfaceHit> {
+    let ray = bvh::Ray {
+        origin,
+        direction,
+        t_max: render::buffers::RAY_T_MAX,
+    };
+    let hit = bvh::closest_hit_mtbvh(&scene.bvh, &ray)?;
+    let triangle = scene.bvh.triangles[hit.triangle as usize].unpack();
+    let [a, b, c] = triangle.vertices;
+    let geometric = triangle
+        .geometric_normal_unnormalized()
+        .normalize_or(Vec3::Z);
+    let w = 1.0 - hit.u - hit.v;
+    let shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal).normalize_or(geometric);
+    let front = direction.dot(geometric) < 0.0;
+    let side = if front { 1.0 } else { -1.0 };
+    let (geometric, mut shading) = (side * geometric, side * shading);
+    if shading.dot(geometric) <= 0.0 {
+        shading = geometric;
+    }
+    Some(SurfaceHit {
+        position: origin + hit.t * direction,
+        geometric,
+        shading,
+        uv: w * a.uv + hit.u * b.uv + hit.v * c.uv,
+        material: triangle.material,
+        front,
+    })
+}
+
+/// Where a ray leaving `hit` in `direction` starts: off the surface on the side it goes.
+pub fn offset_origin(hit: &SurfaceHit, direction: Vec3, epsilon: f32) -> Vec3 {
+    let side = if direction.dot(hit.geometric) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    hit.position + side * epsilon * hit.geometric
+}
+
+pub fn texture(textures: &[Texture], id: Option<u32>, uv: Vec2) -> Vec4 {
+    id.map_or(Vec4::ONE, |t| {
+        textures[t as usize].sample_nearest(uv.x, uv.y)
+    })
+}
+
+/// Whether an alpha cut-out lets the ray through here.
+pub fn is_cut_out(scene: &SceneData, material: &Material, uv: Vec2) -> bool {
+    match material.alpha_mode {
+        AlphaMode::Opaque => false,
+        AlphaMode::Mask { cutoff } => {
+            material.alpha * texture(&scene.textures, material.base_color_texture, uv).w < cutoff
+        }
+    }
+}
+
+/// Base colour × texture: a diffuse surface's albedo, a specular one's tint.
+pub fn base_color(scene: &SceneData, material: &Material, uv: Vec2) -> Vec3 {
+    material.base_color * texture(&scene.textures, material.base_color_texture, uv).truncate()
+}
+
+/// Radiance the surface emits towards the ray (front face only unless double-sided).
+pub fn emitted(scene: &SceneData, material: &Material, hit: &SurfaceHit) -> Vec3 {
+    if !material.is_emissive() || !(hit.front || material.double_sided) {
+        return Vec3::ZERO;
+    }
+    material.emission * texture(&scene.textures, material.emission_texture, hit.uv).truncate()
+}
+
+/// The direction a specular surface sends `incoming` on, choosing reflection or refraction
+/// of a dielectric by Fresnel with the uniform number `u`. `None` for a diffuse surface.
+pub fn specular_direction(
+    material: &Material,
+    hit: &SurfaceHit,
+    incoming: Vec3,
+    u: f32,
+) -> Option<Vec3> {
+    let normal = hit.shading;
+    match material.surface {
+        Surface::Diffuse => None,
+        Surface::Mirror => Some(reflect(incoming, normal)),
+        Surface::Dielectric { ior, thin_walled } => {
+            let eta = if hit.front || thin_walled {
+                1.0 / ior
+            } else {
+                ior
+            };
+            let mut reflectance = fresnel_dielectric(-incoming.dot(normal), eta);
+            if thin_walled {
+                // A sheet: light bounces between its two faces; the total reflectance.
+                reflectance = 2.0 * reflectance / (1.0 + reflectance);
+            }
+            if u < reflectance {
+                Some(reflect(incoming, normal))
+            } else if thin_walled {
+                Some(incoming)
+            } else {
+                Some(refract(incoming, normal, eta).unwrap_or_else(|| reflect(incoming, normal)))
+            }
+        }
+    }
+}

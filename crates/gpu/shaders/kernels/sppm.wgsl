@@ -1,0 +1,287 @@
+// The SPPM kernels, twins of cpu::kernels (same names, arithmetic and random numbers).
+
+@group(1) @binding(0) var<uniform> params: SppmParams;
+@group(1) @binding(1) var<storage, read> lights: array<Light>;
+@group(1) @binding(2) var<storage, read_write> slots: array<PathSlot>;
+@group(1) @binding(3) var<storage, read_write> photons: array<Photon>;
+@group(1) @binding(4) var<storage, read_write> visible_points: array<VisiblePoint>;
+@group(1) @binding(5) var<storage, read_write> pixels: array<PixelStats>;
+@group(1) @binding(6) var<storage, read_write> hash: array<atomic<u32>>;
+@group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>, COUNTER_COUNT>;
+
+// render::emission::pick_light: binary search of the CDF.
+fn pick_light(u: f32) -> u32 {
+    var lo = 0u;
+    var hi = params.light_count - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if u < lights[mid].cdf {
+            hi = mid;
+        } else {
+            lo = mid + 1u;
+        }
+    }
+    return lo;
+}
+
+// render::emission::sample_emission, written into a fresh slot.
+fn emit(rng: ptr<function, u32>) -> PathSlot {
+    let u0 = next_f32(rng);
+    let u1 = next_f32(rng);
+    let u2 = next_f32(rng);
+    let u3 = next_f32(rng);
+    let u4 = next_f32(rng);
+    let light = lights[pick_light(u0)];
+    var b1 = u1;
+    var b2 = u2;
+    if b1 + b2 > 1.0 {
+        b1 = 1.0 - b1;
+        b2 = 1.0 - b2;
+    }
+    let origin = light.v0 + b1 * light.edge1 + b2 * light.edge2;
+    var normal = normalize(cross(light.edge1, light.edge2));
+    var u_direction = u3;
+    if light.double_sided != 0u {
+        u_direction *= 2.0;
+        if u_direction >= 1.0 {
+            u_direction -= 1.0;
+            normal = -normal;
+        }
+    }
+    let direction = normalize(cosine_direction(normal, u_direction, u4));
+    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, light.flux, 0u);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    if index >= params.slot_count {
+        return;
+    }
+    let pass_index = atomicLoad(&counters[COUNTER_PASS]);
+    var rng = stream_key(params.seed, PHOTON_STREAM, pass_index, index);
+    var slot = slots[index];
+    if slot.depth == SLOT_IDLE {
+        slot = emit(&rng);
+        atomicAdd(&counters[COUNTER_EMITTED_PASS], 1u);
+    }
+    var photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
+    let direction = slot.direction;
+    let hit = trace_surface(slot.origin, direction);
+    if !hit.found {
+        slot.depth = SLOT_IDLE;
+        slots[index] = slot;
+        photons[index] = photon;
+        return;
+    }
+    let material = materials[hit.material];
+    if is_cut_out(material, hit.uv) {
+        slot.pass_throughs += 1u;
+        slot.origin = hit.position + params.epsilon * direction;
+        if slot.pass_throughs > MAX_PASS_THROUGHS {
+            slot.depth = SLOT_IDLE;
+        }
+        slots[index] = slot;
+        photons[index] = photon;
+        return;
+    }
+    let tint = base_color(material, hit.uv);
+    let u_roulette = next_f32(&rng);
+    let u_direction0 = next_f32(&rng);
+    let u_direction1 = next_f32(&rng);
+    var next = vec3<f32>(0.0);
+    var scattered = true;
+    if material.surface == SURFACE_DIFFUSE {
+        photon = Photon(hit.position, pack_normal(hit.shading), slot.flux, 0u);
+        next = cosine_direction(hit.shading, u_direction0, u_direction1);
+        scattered = dot(next, hit.geometric) > 0.0;
+    } else {
+        next = specular_direction(material, hit, direction, u_direction0);
+    }
+    let survival = min(max3(tint), 1.0);
+    slot.depth += 1u;
+    if scattered && u_roulette < survival && slot.depth < params.max_depth {
+        slot.origin = offset_origin(hit, next, params.epsilon);
+        slot.direction = next;
+        slot.flux = slot.flux * tint / survival;
+    } else {
+        slot.depth = SLOT_IDLE;
+    }
+    slots[index] = slot;
+    photons[index] = photon;
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    if index >= params.width * params.height {
+        return;
+    }
+    let pass_index = atomicLoad(&counters[COUNTER_PASS]);
+    var rng = stream_key(params.seed, EYE_STREAM, pass_index, index);
+    let x = index % params.width;
+    let y = index / params.width;
+    let sx = (f32(x) + next_f32(&rng)) / f32(params.width) * 2.0 - 1.0;
+    let sy = 1.0 - (f32(y) + next_f32(&rng)) / f32(params.height) * 2.0;
+    var origin = params.eye;
+    var direction = normalize(params.forward + sx * params.right + sy * params.up);
+    var throughput = vec3<f32>(1.0);
+    var direct = vec3<f32>(0.0);
+    var point = VisiblePoint(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
+    var depth = 0u;
+    var pass_throughs = 0u;
+    while depth < params.max_depth {
+        let hit = trace_surface(origin, direction);
+        if !hit.found {
+            break;
+        }
+        let material = materials[hit.material];
+        if is_cut_out(material, hit.uv) {
+            pass_throughs += 1u;
+            if pass_throughs > MAX_PASS_THROUGHS {
+                break;
+            }
+            origin = hit.position + params.epsilon * direction;
+            continue;
+        }
+        direct += throughput * emitted(material, hit);
+        let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
+        let u = next_f32(&rng);
+        if material.surface == SURFACE_DIFFUSE {
+            let weight = throughput * tint * (1.0 / PI);
+            if max3(weight) > 0.0 {
+                point = VisiblePoint(hit.position, pack_normal(hit.shading), weight, 0u);
+            }
+            break;
+        }
+        let next = specular_direction(material, hit, direction, u);
+        throughput *= tint;
+        if max3(throughput) <= 0.0 {
+            break;
+        }
+        origin = offset_origin(hit, next, params.epsilon);
+        direction = next;
+        depth += 1u;
+    }
+    visible_points[index] = point;
+    pixels[index].direct += direct;
+}
+
+fn photon_entry(photon: Photon) -> u32 {
+    let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
+    return entry_of(cell_of(photon.position, cell_size), params.hash_size) * HASH_ENTRY_WORDS;
+}
+
+fn photon_priority(index: u32) -> u32 {
+    let pass_index = atomicLoad(&counters[COUNTER_PASS]);
+    return stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;
+}
+
+fn is_stored(photon: Photon) -> bool {
+    return any(photon.flux != vec3<f32>(0.0));
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn hash_count(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    if index >= params.slot_count {
+        return;
+    }
+    let photon = photons[index];
+    if !is_stored(photon) {
+        return;
+    }
+    let entry = photon_entry(photon);
+    atomicMax(&hash[entry + HASH_PRIORITY], photon_priority(index));
+    atomicAdd(&hash[entry + HASH_COUNT], 1u);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn hash_select(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    if index >= params.slot_count {
+        return;
+    }
+    let photon = photons[index];
+    if !is_stored(photon) {
+        return;
+    }
+    let entry = photon_entry(photon);
+    if atomicLoad(&hash[entry + HASH_PRIORITY]) == photon_priority(index) {
+        atomicMax(&hash[entry + HASH_WINNER], index);
+    }
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    if index >= params.width * params.height {
+        return;
+    }
+    var stats = pixels[index];
+    let point = visible_points[index];
+    if any(point.weight != vec3<f32>(0.0)) {
+        let normal = unpack_normal(point.normal);
+        let radius = stats.radius;
+        let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
+        // render::hash::query_entries: the cells the sphere's box touches, each entry once.
+        let lo = cell_of(point.position - vec3<f32>(radius), cell_size);
+        let hi = min(cell_of(point.position + vec3<f32>(radius), cell_size), lo + vec3<i32>(1));
+        var entries: array<u32, 8>;
+        var count = 0u;
+        var found = 0u;
+        var flux = vec3<f32>(0.0);
+        for (var z = lo.z; z <= hi.z; z += 1) {
+            for (var y = lo.y; y <= hi.y; y += 1) {
+                for (var x = lo.x; x <= hi.x; x += 1) {
+                    let entry = entry_of(vec3<i32>(x, y, z), params.hash_size);
+                    var seen = false;
+                    for (var k = 0u; k < count; k += 1u) {
+                        seen = seen || entries[k] == entry;
+                    }
+                    if seen {
+                        continue;
+                    }
+                    entries[count] = entry;
+                    count += 1u;
+                    let word = entry * HASH_ENTRY_WORDS;
+                    let in_entry = atomicLoad(&hash[word + HASH_COUNT]);
+                    if in_entry == 0u {
+                        continue;
+                    }
+                    let photon = photons[atomicLoad(&hash[word + HASH_WINNER])];
+                    let offset = photon.position - point.position;
+                    if dot(offset, offset) < radius * radius && dot(unpack_normal(photon.normal), normal) > 0.0 {
+                        found += in_entry;
+                        flux += f32(in_entry) * photon.flux;
+                    }
+                }
+            }
+        }
+        if found > 0u {
+            let n = stats.photon_count;
+            let m = f32(found);
+            let n_next = n + params.alpha * m;
+            let ratio = n_next / (n + m);
+            stats.photon_count = n_next;
+            stats.radius = radius * sqrt(ratio);
+            stats.tau = (stats.tau + point.weight * flux) * ratio;
+            pixels[index] = stats;
+        }
+    }
+    atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(stats.radius));
+}
+
+// One invocation: the pass's emitted paths into the 64-bit total, the next cell size from the
+// largest radius, the pass counter advanced (cpu::kernels::finish_pass).
+@compute @workgroup_size(1)
+fn finish_pass() {
+    let emitted = atomicExchange(&counters[COUNTER_EMITTED_PASS], 0u);
+    let low = atomicLoad(&counters[COUNTER_EMITTED_LO]);
+    let sum = low + emitted;
+    atomicStore(&counters[COUNTER_EMITTED_LO], sum);
+    atomicAdd(&counters[COUNTER_EMITTED_HI], select(0u, 1u, sum < low));
+    let max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
+    atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(hash_cell_size(max_radius)));
+    atomicAdd(&counters[COUNTER_PASS], 1u);
+}

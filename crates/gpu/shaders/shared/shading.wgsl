@@ -1,0 +1,204 @@
+// Twins of render::{optics, sampling, packing, emission, hash} and cpu::surface: what the SPPM
+// kernels know about a hit, and the arithmetic both eye and photon paths share.
+
+fn max3(v: vec3<f32>) -> f32 {
+    return max(max(v.x, v.y), v.z);
+}
+
+fn sign_not_zero(x: f32) -> f32 {
+    return select(-1.0, 1.0, x >= 0.0);
+}
+
+// ---- render::packing: octahedral normals in one u32 ----
+fn fold(a: f32, b: f32) -> f32 {
+    return (1.0 - abs(b)) * sign_not_zero(a);
+}
+
+fn pack_normal(n: vec3<f32>) -> u32 {
+    var p = n.xy / max(abs(n.x) + abs(n.y) + abs(n.z), 1.17549435e-38);
+    if n.z < 0.0 {
+        p = vec2<f32>(fold(p.x, p.y), fold(p.y, p.x));
+    }
+    return pack2x16snorm(p);
+}
+
+fn unpack_normal(bits: u32) -> vec3<f32> {
+    let o = unpack2x16snorm(bits);
+    let z = 1.0 - abs(o.x) - abs(o.y);
+    var xy = o;
+    if z < 0.0 {
+        xy = vec2<f32>(fold(o.x, o.y), fold(o.y, o.x));
+    }
+    let n = vec3<f32>(xy, z);
+    let length_squared = dot(n, n);
+    return select(vec3<f32>(0.0, 0.0, 1.0), n * inverseSqrt(length_squared), length_squared > 0.0);
+}
+
+// ---- render::sampling ----
+fn cosine_hemisphere(u1: f32, u2: f32) -> vec3<f32> {
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+}
+
+// copysign(1, z), as Rust's: -0.0 counts as negative.
+fn sign_of(z: f32) -> f32 {
+    return select(1.0, -1.0, (bitcast<u32>(z) & 0x80000000u) != 0u);
+}
+
+// Duff et al. 2017 (render::sampling::orthonormal_basis); returns the two tangents.
+fn basis_tangent(n: vec3<f32>) -> vec3<f32> {
+    let s = sign_of(n.z);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+}
+
+fn basis_bitangent(n: vec3<f32>) -> vec3<f32> {
+    let s = sign_of(n.z);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return vec3<f32>(b, s + n.y * n.y * a, -n.y);
+}
+
+fn cosine_direction(n: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let local = cosine_hemisphere(u1, u2);
+    return basis_tangent(n) * local.x + basis_bitangent(n) * local.y + n * local.z;
+}
+
+// ---- render::optics ----
+fn reflect_about(incoming: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    return incoming - 2.0 * dot(incoming, normal) * normal;
+}
+
+fn fresnel_dielectric(cos_incident: f32, eta: f32) -> f32 {
+    let cos_i = clamp(cos_incident, 0.0, 1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = sqrt(1.0 - sin2_t);
+    let r_parallel = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let r_perpendicular = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    return 0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
+}
+
+// Refraction, or reflection under total internal reflection.
+fn refract_or_reflect(incoming: vec3<f32>, normal: vec3<f32>, eta: f32) -> vec3<f32> {
+    let cos_i = -dot(incoming, normal);
+    let sin2_t = eta * eta * max(1.0 - cos_i * cos_i, 0.0);
+    if sin2_t >= 1.0 {
+        return reflect_about(incoming, normal);
+    }
+    let cos_t = sqrt(1.0 - sin2_t);
+    return normalize(eta * incoming + (eta * cos_i - cos_t) * normal);
+}
+
+// ---- cpu::surface ----
+struct SurfaceHit {
+    position: vec3<f32>,
+    geometric: vec3<f32>,
+    shading: vec3<f32>,
+    uv: vec2<f32>,
+    material: u32,
+    front: bool,
+    found: bool,
+}
+
+fn vertex_normal(v: PackedVertex) -> vec3<f32> {
+    let z = sqrt(max(1.0 - v.normal_xy.x * v.normal_xy.x - v.normal_xy.y * v.normal_xy.y, 0.0));
+    return vec3<f32>(v.normal_xy, select(z, -z, v.signed_material < 0.0));
+}
+
+fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let length_squared = dot(v, v);
+    return select(fallback, v * inverseSqrt(length_squared), length_squared > 0.0);
+}
+
+fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {
+    var result: SurfaceHit;
+    let hit = trace_mtbvh(GpuRay(origin, RAY_T_MAX, direction, 0u), false);
+    if hit.triangle == NO_HIT {
+        result.found = false;
+        return result;
+    }
+    let triangle = bvh_triangles[hit.triangle];
+    let a = triangle.vertices[0];
+    let b = triangle.vertices[1];
+    let c = triangle.vertices[2];
+    let geometric = normalize_or(cross(b.position - a.position, c.position - a.position), vec3<f32>(0.0, 0.0, 1.0));
+    let w = 1.0 - hit.u - hit.v;
+    let shading = normalize_or(w * vertex_normal(a) + hit.u * vertex_normal(b) + hit.v * vertex_normal(c), geometric);
+    let front = dot(direction, geometric) < 0.0;
+    let side = select(-1.0, 1.0, front);
+    result.geometric = side * geometric;
+    result.shading = side * shading;
+    if dot(result.shading, result.geometric) <= 0.0 {
+        result.shading = result.geometric;
+    }
+    result.position = origin + hit.t * direction;
+    result.uv = w * vec2<f32>(a.u, a.v) + hit.u * vec2<f32>(b.u, b.v) + hit.v * vec2<f32>(c.u, c.v);
+    result.material = u32(abs(a.signed_material)) - 1u;
+    result.front = front;
+    result.found = true;
+    return result;
+}
+
+fn offset_origin(hit: SurfaceHit, direction: vec3<f32>, epsilon: f32) -> vec3<f32> {
+    let side = select(-1.0, 1.0, dot(direction, hit.geometric) >= 0.0);
+    return hit.position + side * epsilon * hit.geometric;
+}
+
+fn is_cut_out(material: GpuMaterial, uv: vec2<f32>) -> bool {
+    if material.alpha_cutoff < 0.0 {
+        return false;
+    }
+    return sample_texture(material.base_color_texture, uv).w < material.alpha_cutoff;
+}
+
+fn base_color(material: GpuMaterial, uv: vec2<f32>) -> vec3<f32> {
+    return material.base_color * sample_texture(material.base_color_texture, uv).xyz;
+}
+
+fn emitted(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {
+    let double_sided = (material.flags & MATERIAL_DOUBLE_SIDED) != 0u;
+    if max3(material.emission) <= 0.0 || !(hit.front || double_sided) {
+        return vec3<f32>(0.0);
+    }
+    return material.emission * sample_texture(material.emission_texture, hit.uv).xyz;
+}
+
+// cpu::surface::specular_direction; only called for mirrors and dielectrics.
+fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32) -> vec3<f32> {
+    let normal = hit.shading;
+    if material.surface == SURFACE_MIRROR {
+        return reflect_about(incoming, normal);
+    }
+    let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
+    let eta = select(material.ior, 1.0 / material.ior, hit.front || thin_walled);
+    var reflectance = fresnel_dielectric(-dot(incoming, normal), eta);
+    if thin_walled {
+        reflectance = 2.0 * reflectance / (1.0 + reflectance);
+    }
+    if u < reflectance {
+        return reflect_about(incoming, normal);
+    }
+    if thin_walled {
+        return incoming;
+    }
+    return refract_or_reflect(incoming, normal, eta);
+}
+
+// ---- render::hash ----
+fn hash_cell_size(max_radius: f32) -> f32 {
+    return max(2.0 * max_radius * 1.0001, 1.17549435e-38 * 4.0);
+}
+
+fn cell_of(position: vec3<f32>, cell_size: f32) -> vec3<i32> {
+    return vec3<i32>(floor(position / cell_size));
+}
+
+fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {
+    let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z))));
+    return h % table_size;
+}

@@ -1,0 +1,61 @@
+// WGSL twins of render::buffers; tests/layout.rs checks sizes and offsets against Rust.
+
+struct PathSlot {
+    origin: vec3<f32>,
+    depth: u32,
+    direction: vec3<f32>,
+    pass_throughs: u32,
+    flux: vec3<f32>,
+    pad: u32,
+}
+
+struct Photon {
+    position: vec3<f32>,
+    normal: u32,
+    flux: vec3<f32>,
+    pad: u32,
+}
+
+struct VisiblePoint {
+    position: vec3<f32>,
+    normal: u32,
+    weight: vec3<f32>,
+    pad: u32,
+}
+
+struct PixelStats {
+    tau: vec3<f32>,
+    photon_count: f32,
+    direct: vec3<f32>,
+    radius: f32,
+}
+
+struct Light {
+    v0: vec3<f32>,
+    cdf: f32,
+    edge1: vec3<f32>,
+    double_sided: u32,
+    edge2: vec3<f32>,
+    pad0: u32,
+    flux: vec3<f32>,
+    pad1: u32,
+}
+
+struct SppmParams {
+    eye: vec3<f32>,
+    width: u32,
+    forward: vec3<f32>,
+    height: u32,
+    right: vec3<f32>,
+    slot_count: u32,
+    up: vec3<f32>,
+    hash_size: u32,
+    alpha: f32,
+    max_depth: u32,
+    light_count: u32,
+    seed: u32,
+    epsilon: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}

@@ -1,0 +1,448 @@
+//! The GPU backend of the SPPM integrator: the kernels of `shaders/kernels/sppm.wgsl` on the
+//! state of `render::buffers` in storage buffers. Each pass is one command buffer; the host
+//! never reads anything back per pass, and keeps at most [`MAX_PASSES_IN_FLIGHT`] submitted
+//! ahead so that progress and `--time` stay honest.
+
+use std::collections::VecDeque;
+
+use render::backend::{Backend, BackendError, Setup, Statistics};
+use render::buffers::{
+    HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
+    initial_counters,
+};
+use wgpu::util::DeviceExt;
+
+use crate::readback::{read_buffer, wait_idle};
+use crate::scene_upload::{bind_buffers, scene_layout, storage_entry};
+use crate::shader::Module;
+use crate::traversal::workgroups;
+use crate::{GpuContext, GpuError, GpuScene, check_buffer_fits};
+
+/// Passes submitted but not known finished before the host waits.
+const MAX_PASSES_IN_FLIGHT: usize = 2;
+/// Storage buffers the SPPM kernels bind per stage: the scene's five and the state's seven.
+pub const SPPM_STORAGE_BUFFERS: u32 = 12;
+
+const KERNELS: [&str; 6] = [
+    "eye_pass",
+    "photon_pass",
+    "hash_count",
+    "hash_select",
+    "gather",
+    "finish_pass",
+];
+
+/// The render's state on the device.
+struct State {
+    params: SppmParams,
+    slots: wgpu::Buffer,
+    photons: wgpu::Buffer,
+    visible_points: wgpu::Buffer,
+    pixels: wgpu::Buffer,
+    hash: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    /// (kind, bytes) of every buffer.
+    memory: Vec<(&'static str, u64)>,
+}
+
+pub struct GpuBackend {
+    context: GpuContext,
+    scene: GpuScene,
+    scene_bytes: u64,
+    layout: wgpu::BindGroupLayout,
+    pipelines: Vec<wgpu::ComputePipeline>,
+    state: Option<State>,
+    encoder: Option<wgpu::CommandEncoder>,
+    in_flight: VecDeque<wgpu::SubmissionIndex>,
+    /// The first device error met while encoding or submitting (reported at the next wait).
+    error: Option<String>,
+}
+
+fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let mut entries = vec![wgpu::BindGroupLayoutEntry {
+        binding: 0,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }];
+    entries.push(storage_entry(1, true));
+    entries.extend((2..8).map(|b| storage_entry(b, false)));
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sppm state"),
+        entries: &entries,
+    })
+}
+
+impl GpuBackend {
+    /// Uploads the scene and compiles the kernels.
+    pub fn new(
+        context: GpuContext,
+        scene: &scene::Scene,
+        bvh: bvh::PackedBvh,
+    ) -> Result<GpuBackend, GpuError> {
+        if context.limits.max_storage_buffers_per_shader_stage < SPPM_STORAGE_BUFFERS {
+            return Err(GpuError::TooFewStorageBuffers {
+                needed: SPPM_STORAGE_BUFFERS,
+                limit: context.limits.max_storage_buffers_per_shader_stage,
+            });
+        }
+        let gpu_scene = GpuScene::upload(&context, &bvh, &scene.materials)?;
+        let device = &context.device;
+        let layout = state_layout(device);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sppm"),
+            bind_group_layouts: &[Some(&scene_layout(device)), Some(&layout)],
+            immediate_size: 0,
+        });
+        let module = Module::Sppm.create(device);
+        let pipelines = KERNELS
+            .iter()
+            .map(|entry| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            })
+            .collect();
+        Ok(GpuBackend {
+            scene_bytes: gpu_scene.bytes,
+            context,
+            scene: gpu_scene,
+            layout,
+            pipelines,
+            state: None,
+            encoder: None,
+            in_flight: VecDeque::new(),
+            error: None,
+        })
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.context
+    }
+
+    fn allocate(&self, setup: &Setup) -> Result<State, GpuError> {
+        let params = setup.params;
+        let device = &self.context.device;
+        let limits = &self.context.limits;
+        let pixels = params.pixel_count() as u64;
+        let slots = params.slot_count as u64;
+        let sizes: [(&'static str, &'static str, u64); 6] = [
+            (
+                "photon_slots",
+                "photons",
+                slots * size_of::<PathSlot>() as u64,
+            ),
+            ("photons", "photons", slots * size_of::<Photon>() as u64),
+            (
+                "visible_points",
+                "visible_points",
+                pixels * size_of::<VisiblePoint>() as u64,
+            ),
+            (
+                "pixel_stats",
+                "statistics",
+                pixels * size_of::<PixelStats>() as u64,
+            ),
+            (
+                "hash_table",
+                "hash",
+                params.hash_size as u64 * HASH_ENTRY_WORDS as u64 * 4,
+            ),
+            (
+                "lights",
+                "scene",
+                (setup.lights.len() * size_of::<Light>()) as u64,
+            ),
+        ];
+        for (label, _, bytes) in sizes {
+            check_buffer_fits(label, bytes, limits)?;
+        }
+        let usage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        let init = |label: &str, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let zeroed = |label: &str, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let params_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sppm_params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let lights = init("lights", bytemuck::cast_slice(&setup.lights));
+        let slots = init(
+            "photon_slots",
+            bytemuck::cast_slice(&vec![PathSlot::IDLE; params.slot_count as usize]),
+        );
+        let photons = zeroed("photons", sizes[1].2);
+        let visible_points = zeroed("visible_points", sizes[2].2);
+        let pixels = init(
+            "pixel_stats",
+            bytemuck::cast_slice(&vec![
+                PixelStats::initial(setup.initial_radius);
+                params.pixel_count() as usize
+            ]),
+        );
+        let hash = zeroed("hash_table", sizes[4].2);
+        let counters = init(
+            "counters",
+            bytemuck::cast_slice(&initial_counters(setup.initial_radius)),
+        );
+        let bind_group = bind_buffers(
+            device,
+            "sppm state",
+            &self.layout,
+            &[
+                &params_buffer,
+                &lights,
+                &slots,
+                &photons,
+                &visible_points,
+                &pixels,
+                &hash,
+                &counters,
+            ],
+        );
+        let mut memory: Vec<(&'static str, u64)> = vec![
+            (
+                "scene",
+                self.scene_bytes - self.scene.nodes.size() - self.scene.links.size(),
+            ),
+            ("bvh", self.scene.nodes.size() + self.scene.links.size()),
+        ];
+        for (_, kind, bytes) in sizes {
+            match memory.iter_mut().find(|(k, _)| *k == kind) {
+                Some((_, total)) => *total += bytes,
+                None => memory.push((kind, bytes)),
+            }
+        }
+        Ok(State {
+            params,
+            slots,
+            photons,
+            visible_points,
+            pixels,
+            hash,
+            counters,
+            bind_group,
+            memory,
+        })
+    }
+
+    /// Records `kernel` over `count` invocations into this pass's command buffer.
+    fn dispatch(&mut self, kernel: usize, count: u32) {
+        let Some(state) = &self.state else {
+            return;
+        };
+        let encoder = self.encoder.get_or_insert_with(|| {
+            self.context
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("sppm pass"),
+                })
+        });
+        let (x, y) = workgroups(
+            count,
+            self.context.limits.max_compute_workgroups_per_dimension,
+        );
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(KERNELS[kernel]),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipelines[kernel]);
+        pass.set_bind_group(0, &self.scene.bind_group, &[]);
+        pass.set_bind_group(1, &state.bind_group, &[]);
+        if KERNELS[kernel] == "finish_pass" {
+            pass.dispatch_workgroups(1, 1, 1);
+        } else {
+            pass.dispatch_workgroups(x, y, 1);
+        }
+    }
+
+    /// Submits what was recorded; waits for the oldest pass when too many are in flight.
+    fn submit(&mut self) {
+        if let Some(encoder) = self.encoder.take() {
+            let index = self.context.queue.submit([encoder.finish()]);
+            self.in_flight.push_back(index);
+        }
+        while self.in_flight.len() > MAX_PASSES_IN_FLIGHT {
+            let index = self.in_flight.pop_front().expect("non-empty");
+            let waited = self.context.device.poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            });
+            if let Err(e) = waited {
+                self.error.get_or_insert(e.to_string());
+            }
+        }
+    }
+
+    fn state(&self) -> Result<&State, BackendError> {
+        self.state
+            .as_ref()
+            .ok_or_else(|| BackendError::Device("the render was not started".into()))
+    }
+
+    fn read_counters(&mut self) -> Result<Vec<u32>, BackendError> {
+        self.synchronize()?;
+        let state = self.state()?;
+        read_buffer::<u32>(&self.context, &state.counters, counter::COUNT).map_err(device_error)
+    }
+
+    /// This pass's photons (for tests).
+    pub fn read_photons(&mut self) -> Result<Vec<Photon>, BackendError> {
+        self.synchronize()?;
+        let state = self.state()?;
+        read_buffer(
+            &self.context,
+            &state.photons,
+            state.params.slot_count as usize,
+        )
+        .map_err(device_error)
+    }
+
+    pub fn read_slots(&mut self) -> Result<Vec<PathSlot>, BackendError> {
+        self.synchronize()?;
+        let state = self.state()?;
+        read_buffer(
+            &self.context,
+            &state.slots,
+            state.params.slot_count as usize,
+        )
+        .map_err(device_error)
+    }
+
+    pub fn read_visible_points(&mut self) -> Result<Vec<VisiblePoint>, BackendError> {
+        self.synchronize()?;
+        let state = self.state()?;
+        read_buffer(
+            &self.context,
+            &state.visible_points,
+            state.params.pixel_count() as usize,
+        )
+        .map_err(device_error)
+    }
+
+    /// The hash table's words (entry-major: priority, count, winner).
+    pub fn read_hash(&mut self) -> Result<Vec<u32>, BackendError> {
+        self.synchronize()?;
+        let state = self.state()?;
+        let words = state.params.hash_size as usize * HASH_ENTRY_WORDS;
+        read_buffer(&self.context, &state.hash, words).map_err(device_error)
+    }
+
+    pub fn counters(&mut self) -> Result<Vec<u32>, BackendError> {
+        self.read_counters()
+    }
+}
+
+fn device_error(e: GpuError) -> BackendError {
+    BackendError::Device(e.to_string())
+}
+
+impl Backend for GpuBackend {
+    fn name(&self) -> &'static str {
+        "gpu"
+    }
+
+    fn adapter(&self) -> String {
+        self.context.description()
+    }
+
+    fn start(&mut self, setup: &Setup) -> Result<(), BackendError> {
+        self.state = Some(self.allocate(setup).map_err(device_error)?);
+        Ok(())
+    }
+
+    fn eye_pass(&mut self) {
+        let pixels = self.state.as_ref().map_or(0, |s| s.params.pixel_count());
+        self.dispatch(0, pixels);
+    }
+
+    fn photon_pass(&mut self) {
+        let slots = self.state.as_ref().map_or(0, |s| s.params.slot_count);
+        self.dispatch(1, slots);
+    }
+
+    fn build_hash(&mut self) {
+        let Some(state) = &self.state else {
+            return;
+        };
+        let slots = state.params.slot_count;
+        let hash = state.hash.clone();
+        let encoder = self.encoder.get_or_insert_with(|| {
+            self.context
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("sppm pass"),
+                })
+        });
+        encoder.clear_buffer(&hash, 0, None);
+        self.dispatch(2, slots);
+        self.dispatch(3, slots);
+    }
+
+    fn gather(&mut self) {
+        let pixels = self.state.as_ref().map_or(0, |s| s.params.pixel_count());
+        self.dispatch(4, pixels);
+        self.dispatch(5, 1);
+        self.submit();
+    }
+
+    fn synchronize(&mut self) -> Result<(), BackendError> {
+        self.submit();
+        wait_idle(&self.context).map_err(device_error)?;
+        self.in_flight.clear();
+        match self.error.take() {
+            Some(e) => Err(BackendError::Device(e)),
+            None => Ok(()),
+        }
+    }
+
+    fn emitted_paths(&mut self) -> Result<u64, BackendError> {
+        let c = self.read_counters()?;
+        Ok(((c[counter::EMITTED_HI] as u64) << 32) | c[counter::EMITTED_LO] as u64)
+    }
+
+    fn read_statistics(&mut self) -> Result<Statistics, BackendError> {
+        let emitted_paths = self.emitted_paths()?;
+        let state = self.state()?;
+        let pixels = read_buffer(
+            &self.context,
+            &state.pixels,
+            state.params.pixel_count() as usize,
+        )
+        .map_err(device_error)?;
+        Ok(Statistics {
+            pixels,
+            emitted_paths,
+        })
+    }
+
+    fn memory(&self) -> Vec<(&'static str, u64)> {
+        self.state
+            .as_ref()
+            .map_or_else(Vec::new, |s| s.memory.clone())
+    }
+}

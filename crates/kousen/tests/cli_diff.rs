@@ -1,0 +1,133 @@
+//! `kousen diff A B`: the figures it prints and writes as JSON, and clean errors for images that
+//! cannot be compared. The images are PFM files written here by hand.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use common::*;
+
+/// A colour PFM: little-endian, rows bottom to top as the format has them.
+fn pfm(dir: &Path, name: &str, width: u32, height: u32, pixel: [f32; 3]) -> PathBuf {
+    let mut bytes = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    for _ in 0..width * height {
+        bytes.extend(pixel.iter().flat_map(|c| c.to_le_bytes()));
+    }
+    write(dir, name, &bytes)
+}
+
+fn diff(a: &Path, b: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["diff", a.to_str().unwrap(), b.to_str().unwrap()];
+    args.extend(extra);
+    kousen(&args)
+}
+
+/// The "name value" lines of a successful run.
+fn figures(output: &std::process::Output) -> BTreeMap<String, f64> {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "kousen diff failed: {stderr}");
+    let stdout = String::from_utf8(output.stdout.clone()).unwrap();
+    stdout
+        .lines()
+        .map(|line| {
+            let (name, value) = line.split_once(' ').expect("\"name value\"");
+            (name.to_string(), value.parse().expect("a number"))
+        })
+        .collect()
+}
+
+fn assert_close(figures: &BTreeMap<String, f64>, name: &str, expected: f64) {
+    let value = figures[name];
+    assert!(
+        (value - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+        "{name}: {value}, expected {expected}"
+    );
+}
+
+#[test]
+fn diff_prints_the_closed_form_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    // B = (0.5, 1, 2), A = B + 0.25 everywhere.
+    let reference = pfm(dir.path(), "b.pfm", 3, 2, [0.5, 1.0, 2.0]);
+    let image = pfm(dir.path(), "a.pfm", 3, 2, [0.75, 1.25, 2.25]);
+    let json = dir.path().join("diff.json");
+    let output = diff(&image, &reference, &["--json", json.to_str().unwrap()]);
+    let printed = figures(&output);
+
+    let names = [
+        "mean_ratio",
+        "mean_ratio_b",
+        "mean_ratio_g",
+        "mean_ratio_r",
+        "rel_mse",
+        "rmse",
+    ];
+    assert_eq!(printed.keys().collect::<Vec<_>>(), names);
+    let rel_mse = (0.0625 / 0.26 + 0.0625 / 1.01 + 0.0625 / 4.01) / 3.0;
+    assert_close(&printed, "rel_mse", rel_mse);
+    assert_close(&printed, "rmse", 0.25);
+    assert_close(&printed, "mean_ratio", 4.25 / 3.5);
+    assert_close(&printed, "mean_ratio_r", 1.5);
+    assert_close(&printed, "mean_ratio_g", 1.25);
+    assert_close(&printed, "mean_ratio_b", 1.125);
+
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    for name in names {
+        assert_eq!(written[name].as_f64(), Some(printed[name]), "{name}");
+    }
+    assert_eq!(
+        (written["width"].as_u64(), written["height"].as_u64()),
+        (Some(3), Some(2))
+    );
+}
+
+#[test]
+fn diff_of_an_image_with_itself_is_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = pfm(dir.path(), "a.pfm", 4, 4, [0.1, 0.2, 0.3]);
+    let printed = figures(&diff(&image, &image, &[]));
+    assert_eq!(printed["rel_mse"], 0.0);
+    assert_eq!(printed["rmse"], 0.0);
+    for name in ["mean_ratio", "mean_ratio_r", "mean_ratio_g", "mean_ratio_b"] {
+        assert_eq!(printed[name], 1.0, "{name}");
+    }
+}
+
+#[test]
+fn diff_of_different_sizes_names_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = pfm(dir.path(), "a.pfm", 4, 2, [1.0; 3]);
+    let reference = pfm(dir.path(), "b.pfm", 2, 4, [1.0; 3]);
+    let json = dir.path().join("diff.json");
+    let output = diff(&image, &reference, &["--json", json.to_str().unwrap()]);
+    assert_clean_error(&output, "4x2");
+    assert_clean_error(&output, "2x4");
+    assert!(output.stdout.is_empty());
+    assert!(!json.exists(), "no JSON after a failure");
+}
+
+#[test]
+fn diff_of_unreadable_images_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = pfm(dir.path(), "good.pfm", 2, 2, [1.0; 3]);
+    let whole = std::fs::read(&good).unwrap();
+    let cases = [
+        ("cut.pfm", &whole[..whole.len() - 3], "truncated"),
+        ("header.pfm", &b"PF\n2 two\n-1.0\n"[..], "header"),
+        ("text.pfm", &b"hello"[..], "not a PFM"),
+        ("empty.exr", &b""[..], "empty.exr"),
+        ("bad.png", &b"\x89PNG\r\n\x1a\nbroken"[..], "bad.png"),
+        ("image.tif", &b"II*\0"[..], ".exr"),
+    ];
+    for (name, bytes, needle) in cases {
+        let path = write(dir.path(), name, bytes);
+        assert_clean_error(&diff(&path, &good, &[]), needle);
+        assert_clean_error(&diff(&good, &path, &[]), needle);
+    }
+    assert_clean_error(
+        &diff(&dir.path().join("absent.pfm"), &good, &[]),
+        "absent.pfm",
+    );
+}

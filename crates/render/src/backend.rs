@@ -1,0 +1,57 @@
+//! The kernels an SPPM backend runs (DESIGN.md, step 3). The GPU backend (crate `gpu`) and the
+//! CPU backend (crate `cpu`) implement them under the same names; the integrator only decides
+//! when each runs. Kernels may run asynchronously: only `synchronize` and the `read_*` methods
+//! wait for them.
+
+use crate::buffers::{Light, PixelStats, SppmParams};
+
+/// Everything a backend needs to start a render, made by the integrator.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub params: SppmParams,
+    pub lights: Vec<Light>,
+    /// Every pixel's starting gather radius.
+    pub initial_radius: f32,
+}
+
+/// What a backend reads back: every pixel's statistics and the paths emitted so far.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Statistics {
+    pub pixels: Vec<PixelStats>,
+    pub emitted_paths: u64,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum BackendError {
+    /// The device or its driver failed, or the render does not fit it (said in words).
+    #[error("{0}")]
+    Device(String),
+}
+
+pub trait Backend {
+    /// "gpu" or "cpu".
+    fn name(&self) -> &'static str;
+    /// The adapter (GPU) or processor (CPU) doing the work.
+    fn adapter(&self) -> String;
+
+    /// Allocates and initialises the state: idle path slots, pixel statistics at the initial
+    /// radius, counters at zero.
+    fn start(&mut self, setup: &Setup) -> Result<(), BackendError>;
+    /// Camera paths to the first non-specular surface: new visible points, direct emission.
+    fn eye_pass(&mut self);
+    /// Every path slot advances one bounce; idle slots start new light paths first.
+    fn photon_pass(&mut self);
+    /// The stochastic spatial hash of this pass's photons.
+    fn build_hash(&mut self);
+    /// Each visible point gathers from the hash and updates its pixel's statistics; then the
+    /// pass is closed (emitted count totalled, next cell size from the largest radius).
+    fn gather(&mut self);
+    /// Waits until every kernel asked for so far has finished.
+    fn synchronize(&mut self) -> Result<(), BackendError>;
+    /// Paths emitted so far (waits for the work queued).
+    fn emitted_paths(&mut self) -> Result<u64, BackendError>;
+    /// Every pixel's statistics and the paths emitted (waits for the work queued).
+    fn read_statistics(&mut self) -> Result<Statistics, BackendError>;
+    /// Bytes the backend allocated for the render, by kind (scene, BVH, photons, hash, ...).
+    fn memory(&self) -> Vec<(&'static str, u64)>;
+}

@@ -1,0 +1,190 @@
+//! The state both backends keep, as `#[repr(C)]` structs the GPU mirrors in WGSL
+//! (`crates/gpu/shaders/shared/sppm_types.wgsl`; `crates/gpu/tests/layout.rs` checks sizes and
+//! offsets through naga). The CPU backend holds the same structs in `Vec`s, so the twins run on
+//! identical data.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+/// `PathSlot::depth` of a slot whose path has ended: the next photon pass starts a new one.
+pub const SLOT_IDLE: u32 = u32::MAX;
+
+/// One photon path slot (48 bytes): a light path in flight, advanced one bounce per pass.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PathSlot {
+    /// Where the next segment starts (already offset off the surface).
+    pub origin: [f32; 3],
+    /// Bounces so far, or [`SLOT_IDLE`].
+    pub depth: u32,
+    /// Unit direction of the next segment.
+    pub direction: [f32; 3],
+    /// Alpha cut-outs passed through (they do not count as bounces).
+    pub pass_throughs: u32,
+    /// The path's flux (RGB, watts in scene units).
+    pub flux: [f32; 3],
+    pub pad: u32,
+}
+
+impl PathSlot {
+    /// A slot with no path: the first photon pass starts one in it.
+    pub const IDLE: PathSlot = PathSlot {
+        origin: [0.0; 3],
+        depth: SLOT_IDLE,
+        direction: [0.0; 3],
+        pass_throughs: 0,
+        flux: [0.0; 3],
+        pad: 0,
+    };
+}
+
+/// A photon stored by this pass's slot (32 bytes). Zero flux: the slot stored none.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Photon {
+    pub position: [f32; 3],
+    /// The surface normal on the side the photon arrived from, octahedral-packed
+    /// ([`crate::packing::pack_normal`]).
+    pub normal: u32,
+    /// Flux arriving (RGB).
+    pub flux: [f32; 3],
+    pub pad: u32,
+}
+
+impl Photon {
+    pub fn is_stored(&self) -> bool {
+        self.flux != [0.0; 3]
+    }
+}
+
+/// Where a pixel's eye path met its first non-specular surface (32 bytes). Zero weight: none
+/// (the path escaped, or ended on a black or specular chain).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct VisiblePoint {
+    pub position: [f32; 3],
+    /// The shading normal on the side the eye path arrived from, octahedral-packed.
+    pub normal: u32,
+    /// Eye-path throughput × albedo / π: turns gathered flux into radiance.
+    pub weight: [f32; 3],
+    pub pad: u32,
+}
+
+impl VisiblePoint {
+    pub fn is_valid(&self) -> bool {
+        self.weight != [0.0; 3]
+    }
+}
+
+/// A pixel's progressive statistics (32 bytes): SPPM's τ, N and R, and the sum of the emission
+/// its eye paths saw directly.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PixelStats {
+    /// Accumulated flux, already scaled to the current radius.
+    pub tau: [f32; 3],
+    /// Accumulated photon count N (fractional: α·M per update).
+    pub photon_count: f32,
+    /// Sum over eye passes of the emission seen through specular chains.
+    pub direct: [f32; 3],
+    /// Current gather radius R.
+    pub radius: f32,
+}
+
+impl PixelStats {
+    pub fn initial(radius: f32) -> PixelStats {
+        PixelStats {
+            radius,
+            ..PixelStats::default()
+        }
+    }
+}
+
+/// One emissive triangle for photon emission (64 bytes), in a table ordered like its CDF.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Light {
+    pub v0: [f32; 3],
+    /// Probability of picking this light or one before it (the last is exactly 1).
+    pub cdf: f32,
+    pub edge1: [f32; 3],
+    /// 1 if the light emits from both faces.
+    pub double_sided: u32,
+    pub edge2: [f32; 3],
+    pub pad0: u32,
+    /// Flux a path leaving this light carries: its power / the probability of picking it.
+    pub flux: [f32; 3],
+    pub pad1: u32,
+}
+
+/// Render-wide constants (uniform buffer, 96 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SppmParams {
+    pub eye: [f32; 3],
+    pub width: u32,
+    pub forward: [f32; 3],
+    pub height: u32,
+    /// Camera right × tan(yfov/2) × aspect: film x = ±1 lies at forward ± this.
+    pub right: [f32; 3],
+    pub slot_count: u32,
+    /// Camera up × tan(yfov/2).
+    pub up: [f32; 3],
+    /// Entries in the stochastic hash table.
+    pub hash_size: u32,
+    /// SPPM's α.
+    pub alpha: f32,
+    /// Bounces before a path (photon or eye) is cut off.
+    pub max_depth: u32,
+    pub light_count: u32,
+    pub seed: u32,
+    /// Offset of a continuation ray's origin off a surface (scene-relative).
+    pub epsilon: f32,
+    pub pad: [u32; 3],
+}
+
+impl SppmParams {
+    pub fn pixel_count(&self) -> u32 {
+        self.width * self.height
+    }
+}
+
+/// Indices into the counters buffer (u32 atomics on the GPU).
+pub mod counter {
+    /// Photon passes finished.
+    pub const PASS: usize = 0;
+    /// Emitted photon paths, low and high words of a u64.
+    pub const EMITTED_LO: usize = 1;
+    pub const EMITTED_HI: usize = 2;
+    /// Paths emitted by the pass in flight (folded into the total by `finish_pass`).
+    pub const EMITTED_PASS: usize = 3;
+    /// Bits of the largest radius after this pass's update (f32, positive, so u32 order).
+    pub const MAX_RADIUS: usize = 4;
+    /// Bits of the hash cell size for this pass (f32).
+    pub const CELL_SIZE: usize = 5;
+    pub const COUNT: usize = 8;
+}
+
+/// Words per hash entry: the kept photon's priority, the cell's photon count, the kept photon.
+pub const HASH_ENTRY_WORDS: usize = 3;
+pub mod hash_word {
+    pub const PRIORITY: usize = 0;
+    pub const COUNT: usize = 1;
+    pub const WINNER: usize = 2;
+}
+
+/// The counters' starting values for a render whose gather radius starts at `radius`.
+pub fn initial_counters(radius: f32) -> [u32; counter::COUNT] {
+    let mut counters = [0; counter::COUNT];
+    counters[counter::CELL_SIZE] = crate::hash::cell_size(radius).to_bits();
+    counters
+}
+
+pub fn vec3(a: [f32; 3]) -> Vec3 {
+    Vec3::from_array(a)
+}
+
+/// The far end of an unbounded ray (finite, so the kernels never meet inf).
+pub const RAY_T_MAX: f32 = f32::MAX / 2.0;
+/// Alpha cut-outs a path may pass through before it is cut off.
+pub const MAX_PASS_THROUGHS: u32 = 16;

@@ -1,0 +1,89 @@
+//! The stochastic spatial hash's arithmetic (DESIGN.md, "Stochastic hash"), shared by both
+//! backends' kernels: cells of side ≥ 2·R_max, so a gather sphere touches at most 2×2×2 cells;
+//! each table entry keeps one photon picked uniformly among those hashed to it, and their count.
+
+use bvh::bench_rays::pcg_hash;
+use glam::{IVec3, Vec3};
+
+use crate::rng::{HASH_STREAM, stream_key};
+
+/// The cell side for a largest gather radius: a little over 2·R so that rounding in
+/// `floor((x ± R) / cell)` can never span three cells.
+pub fn cell_size(max_radius: f32) -> f32 {
+    (2.0 * max_radius * 1.0001).max(f32::MIN_POSITIVE * 4.0)
+}
+
+pub fn cell_of(position: Vec3, cell_size: f32) -> IVec3 {
+    (position / cell_size).floor().as_ivec3()
+}
+
+/// The table entry of a cell.
+pub fn entry_of(cell: IVec3, table_size: u32) -> u32 {
+    let h = pcg_hash(cell.x as u32 ^ pcg_hash(cell.y as u32 ^ pcg_hash(cell.z as u32)));
+    h % table_size
+}
+
+/// The random priority of photon `index` in pass `pass`: never 0, so an entry whose priority
+/// is 0 holds no photon. The largest priority wins an entry, a uniform pick.
+pub fn priority(seed: u32, pass: u32, index: u32) -> u32 {
+    stream_key(seed, HASH_STREAM, pass, index) | 1
+}
+
+/// The distinct table entries a gather sphere at `position` with `radius` reads: the cells its
+/// bounding box touches (at most 8), entries reached twice (collisions) listed once.
+pub fn query_entries(
+    position: Vec3,
+    radius: f32,
+    cell_size: f32,
+    table_size: u32,
+) -> ([u32; 8], usize) {
+    let lo = cell_of(position - Vec3::splat(radius), cell_size);
+    let hi = cell_of(position + Vec3::splat(radius), cell_size).min(lo + IVec3::ONE);
+    let mut entries = [0u32; 8];
+    let mut count = 0;
+    for z in lo.z..=hi.z {
+        for y in lo.y..=hi.y {
+            for x in lo.x..=hi.x {
+                let entry = entry_of(IVec3::new(x, y, z), table_size);
+                if !entries[..count].contains(&entry) {
+                    entries[count] = entry;
+                    count += 1;
+                }
+            }
+        }
+    }
+    (entries, count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sphere_touches_at_most_two_cells_per_axis() {
+        let radius = 0.37;
+        let cell = cell_size(radius);
+        for i in 0..1000 {
+            let p = Vec3::new(
+                i as f32 * 0.0131 - 5.0,
+                i as f32 * -0.007 + 2.0,
+                0.5 * i as f32,
+            );
+            let lo = cell_of(p - Vec3::splat(radius), cell);
+            let hi = cell_of(p + Vec3::splat(radius), cell);
+            assert!((hi - lo).max_element() <= 1, "{p}");
+        }
+    }
+
+    #[test]
+    fn query_lists_each_entry_once() {
+        let (entries, count) = query_entries(Vec3::new(0.5, 0.5, 0.5), 0.1, 1.0, 1);
+        assert_eq!((count, entries[0]), (1, 0));
+        let (entries, count) = query_entries(Vec3::ZERO, 0.1, 1.0, 1 << 20);
+        assert_eq!(count, 8);
+        let mut sorted = entries.to_vec();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), 8);
+    }
+}

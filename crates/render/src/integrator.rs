@@ -1,0 +1,207 @@
+//! The SPPM pass schedule: an eye pass before every K-th photon pass, and every photon pass
+//! followed by the hash build and the gather/update (DESIGN.md step 3). The backend does the
+//! work; this decides what runs when, and assembles the image.
+
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use scene::{Camera, Scene};
+
+use crate::backend::{Backend, BackendError, Setup};
+use crate::buffers::SppmParams;
+use crate::emission::light_table;
+use crate::settings::{Budget, INITIAL_RADIUS_FOOTPRINTS, Settings, SettingsError};
+use crate::{Image, resolve};
+
+/// How often the progress callback runs, at most.
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(250);
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    #[error("the scene has no emissive surface, so the image would be black")]
+    NoLights,
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+}
+
+/// Where a render stands, for progress bars and logs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    pub passes: u32,
+    pub eye_passes: u32,
+    pub photon_paths: u64,
+    pub elapsed: Duration,
+    /// The pass count or time asked for.
+    pub budget: Budget,
+}
+
+/// A finished render.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    pub image: Image,
+    pub passes: u32,
+    pub eye_passes: u32,
+    pub photon_paths: u64,
+    pub seconds: f64,
+}
+
+/// The initial gather radius: [`INITIAL_RADIUS_FOOTPRINTS`] × the mean side of the scene's
+/// bounding box / the image's larger side. On glslppm's Cornell scene at 512² this is its own
+/// choice (0.038); a camera that sees a small part of a large scene gets a larger radius than
+/// it needs, which SPPM's radius reduction then shrinks.
+pub fn initial_radius(scene: &Scene, width: u32, height: u32) -> f32 {
+    let mean_side = scene.bounds().extent().element_sum() / 3.0;
+    INITIAL_RADIUS_FOOTPRINTS * mean_side / width.max(height) as f32
+}
+
+/// The render-wide constants for a scene, camera and settings.
+pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) -> SppmParams {
+    let tan_half = (0.5 * camera.yfov).tan();
+    let aspect = settings.width as f32 / settings.height as f32;
+    SppmParams {
+        eye: camera.eye.to_array(),
+        width: settings.width,
+        forward: camera.forward.to_array(),
+        height: settings.height,
+        right: (camera.right() * tan_half * aspect).to_array(),
+        slot_count: settings.photons,
+        up: (camera.up * tan_half).to_array(),
+        hash_size: settings.hash_size(),
+        alpha: settings.alpha,
+        max_depth: settings.max_depth,
+        light_count: lights,
+        seed: settings.seed,
+        epsilon: 1e-5 * scene.bounds().extent().length().max(1e-3),
+        pad: [0; 3],
+    }
+}
+
+/// The integrator: a backend started on one scene, camera and settings.
+pub struct Sppm<B: Backend> {
+    backend: B,
+    settings: Settings,
+    passes: u32,
+    eye_passes: u32,
+}
+
+impl<B: Backend> Sppm<B> {
+    pub fn new(
+        mut backend: B,
+        scene: &Scene,
+        camera: &Camera,
+        settings: Settings,
+    ) -> Result<Sppm<B>, RenderError> {
+        settings.validate()?;
+        let lights = light_table(scene);
+        if lights.is_empty() {
+            return Err(RenderError::NoLights);
+        }
+        let setup = Setup {
+            params: params(scene, camera, &settings, lights.len() as u32),
+            lights,
+            initial_radius: initial_radius(scene, settings.width, settings.height),
+        };
+        backend.start(&setup)?;
+        Ok(Sppm {
+            backend,
+            settings,
+            passes: 0,
+            eye_passes: 0,
+        })
+    }
+
+    pub fn backend(&mut self) -> &mut B {
+        &mut self.backend
+    }
+
+    /// One SPPM iteration: the eye pass when due, a photon pass, the hash, the gather.
+    pub fn pass(&mut self) {
+        if self.passes.is_multiple_of(self.settings.eye_every) {
+            self.backend.eye_pass();
+            self.eye_passes += 1;
+        }
+        self.backend.photon_pass();
+        self.backend.build_hash();
+        self.backend.gather();
+        self.passes += 1;
+    }
+
+    /// Runs passes until the budget is spent, calling `progress` now and then.
+    pub fn run(
+        &mut self,
+        budget: Budget,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<Rendered, RenderError> {
+        let started = Instant::now();
+        let mut last_report = started;
+        loop {
+            let done = match budget {
+                Budget::Passes(n) => self.passes >= n,
+                Budget::Time(t) => started.elapsed() >= t,
+            };
+            if done {
+                break;
+            }
+            self.pass();
+            if last_report.elapsed() >= PROGRESS_INTERVAL {
+                last_report = Instant::now();
+                progress(&Progress {
+                    passes: self.passes,
+                    eye_passes: self.eye_passes,
+                    photon_paths: self.backend.emitted_paths()?,
+                    elapsed: started.elapsed(),
+                    budget,
+                });
+            }
+        }
+        self.backend.synchronize()?;
+        let seconds = started.elapsed().as_secs_f64();
+        let image = self.image()?;
+        let photon_paths = self.backend.emitted_paths()?;
+        progress(&Progress {
+            passes: self.passes,
+            eye_passes: self.eye_passes,
+            photon_paths,
+            elapsed: started.elapsed(),
+            budget,
+        });
+        Ok(Rendered {
+            image,
+            passes: self.passes,
+            eye_passes: self.eye_passes,
+            photon_paths,
+            seconds,
+        })
+    }
+
+    /// The image so far: every pixel's radiance.
+    pub fn image(&mut self) -> Result<Image, RenderError> {
+        let stats = self.backend.read_statistics()?;
+        Ok(resolve::resolve(
+            &stats.pixels,
+            self.settings.width,
+            self.settings.height,
+            self.eye_passes,
+            stats.emitted_paths,
+        ))
+    }
+
+    pub fn passes(&self) -> u32 {
+        self.passes
+    }
+
+    pub fn eye_passes(&self) -> u32 {
+        self.eye_passes
+    }
+}
+
+/// Camera ray direction through film point (sx, sy) ∈ [−1, 1]², +y up, as the eye kernels
+/// make it.
+pub fn camera_direction(params: &SppmParams, sx: f32, sy: f32) -> Vec3 {
+    (Vec3::from_array(params.forward)
+        + sx * Vec3::from_array(params.right)
+        + sy * Vec3::from_array(params.up))
+    .normalize()
+}

@@ -1,0 +1,22 @@
+//! kousen's SPPM integrator (DESIGN.md, "What the system does", step 3): the pass schedule,
+//! per-pixel statistics and resolve, driving a [`Backend`]; and what the backends share: the
+//! buffers' structs, random streams, light table, hash arithmetic and specular optics.
+
+pub mod backend;
+pub mod buffers;
+pub mod emission;
+pub mod hash;
+pub mod image;
+pub mod integrator;
+pub mod light_sampling;
+pub mod optics;
+pub mod packing;
+pub mod resolve;
+pub mod rng;
+pub mod sampling;
+pub mod settings;
+
+pub use backend::{Backend, BackendError, Setup, Statistics};
+pub use image::Image;
+pub use integrator::{Progress, RenderError, Rendered, Sppm};
+pub use settings::{Budget, Settings};

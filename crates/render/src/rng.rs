@@ -1,0 +1,118 @@
+//! The kernels' random numbers: one PCG stream per (slot or pixel, pass), made by hashing the
+//! stream's key (Jarzynski & Olano 2020's `pcg` hash, the one ANCHORS.md's rays use) and
+//! advanced by PCG's 32-bit LCG with the RXS-M-XS output. Both backends draw the same numbers.
+
+use bvh::bench_rays::pcg_hash;
+
+/// Salts that keep the kernels' streams apart for the same (index, pass).
+pub const PHOTON_STREAM: u32 = 0x2f6b_17c9;
+pub const EYE_STREAM: u32 = 0x8d3e_a541;
+pub const HASH_STREAM: u32 = 0x51c4_9e0b;
+
+/// A PCG stream.
+#[derive(Clone, Copy, Debug)]
+pub struct KernelRng {
+    pub state: u32,
+}
+
+impl KernelRng {
+    /// The stream of element `index` (a slot, pixel or photon) in pass `pass` of kernel `salt`.
+    pub fn new(seed: u32, salt: u32, pass: u32, index: u32) -> KernelRng {
+        KernelRng {
+            state: stream_key(seed, salt, pass, index),
+        }
+    }
+
+    pub fn next_u32(&mut self) -> u32 {
+        let old = self.state;
+        self.state = old.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+        pcg_hash(old)
+    }
+
+    /// Uniform in [0, 1): the top 24 bits, exact in f32, never 1.
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+}
+
+/// The starting state of a stream: the key hashed in three rounds so that neighbouring
+/// indices and passes land far apart.
+pub fn stream_key(seed: u32, salt: u32, pass: u32, index: u32) -> u32 {
+    pcg_hash(index ^ pcg_hash(pass ^ pcg_hash(seed ^ salt)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Chi-square over 64 bins of many streams' first draws and of one stream's sequence.
+    #[test]
+    fn draws_are_uniform() {
+        const BINS: usize = 64;
+        let n = 200_000;
+        let chi_square = |values: &mut dyn Iterator<Item = f32>| {
+            let mut counts = [0u32; BINS];
+            for v in values.take(n) {
+                assert!((0.0..1.0).contains(&v));
+                counts[(v * BINS as f32) as usize] += 1;
+            }
+            let expected = n as f64 / BINS as f64;
+            counts
+                .iter()
+                .map(|&c| (c as f64 - expected).powi(2) / expected)
+                .sum::<f64>()
+        };
+        // 63 degrees of freedom: the 0.999 quantile is 103.4.
+        let mut across = (0..n as u32).map(|i| KernelRng::new(7, PHOTON_STREAM, 3, i).next_f32());
+        let across = chi_square(&mut across);
+        assert!(across < 103.4, "across streams: {across}");
+        let mut rng = KernelRng::new(7, EYE_STREAM, 0, 0);
+        let mut along = std::iter::from_fn(|| Some(rng.next_f32()));
+        let along = chi_square(&mut along);
+        assert!(along < 103.4, "along one stream: {along}");
+    }
+
+    /// Neighbouring streams (index i and i + 1, and pass p and p + 1) are uncorrelated: the
+    /// sample correlation of their k-th draws stays within 4 standard errors of 0.
+    #[test]
+    fn neighbouring_streams_are_independent() {
+        let n = 100_000u32;
+        let correlation = |a: &dyn Fn(u32) -> KernelRng, b: &dyn Fn(u32) -> KernelRng| {
+            let mut worst: f64 = 0.0;
+            for draw in 0..4 {
+                let (mut sxy, mut sx, mut sy, mut sxx, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+                for i in 0..n {
+                    let (mut ra, mut rb) = (a(i), b(i));
+                    for _ in 0..draw {
+                        ra.next_u32();
+                        rb.next_u32();
+                    }
+                    let (x, y) = (ra.next_f32() as f64, rb.next_f32() as f64);
+                    sxy += x * y;
+                    sx += x;
+                    sy += y;
+                    sxx += x * x;
+                    syy += y * y;
+                }
+                let n = n as f64;
+                let cov = sxy / n - sx / n * sy / n;
+                let r = cov / ((sxx / n - (sx / n).powi(2)) * (syy / n - (sy / n).powi(2))).sqrt();
+                worst = worst.max(r.abs());
+            }
+            worst
+        };
+        let limit = 4.0 / (n as f64).sqrt();
+        let by_index = correlation(&|i| KernelRng::new(1, PHOTON_STREAM, 5, i), &|i| {
+            KernelRng::new(1, PHOTON_STREAM, 5, i + 1)
+        });
+        assert!(by_index < limit, "index neighbours: r = {by_index}");
+        let by_pass = correlation(&|i| KernelRng::new(1, EYE_STREAM, i, 9), &|i| {
+            KernelRng::new(1, EYE_STREAM, i + 1, 9)
+        });
+        assert!(by_pass < limit, "pass neighbours: r = {by_pass}");
+        let by_kernel = correlation(&|i| KernelRng::new(1, PHOTON_STREAM, 2, i), &|i| {
+            KernelRng::new(1, EYE_STREAM, 2, i)
+        });
+        assert!(by_kernel < limit, "kernel salts: r = {by_kernel}");
+    }
+}

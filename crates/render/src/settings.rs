@@ -1,0 +1,100 @@
+//! What an SPPM render is asked to do, checked before any work.
+
+use std::time::Duration;
+
+/// α of the SPPM radius update (Hachisuka & Jensen 2009 suggest 2/3 … 0.7).
+pub const DEFAULT_ALPHA: f32 = 2.0 / 3.0;
+/// Photon passes per eye pass. Measured on lavapipe with the Cornell scenes (docs/BENCHMARKS.md
+/// §3): fewer eye passes leave more time for photons, more anti-alias the edges sooner.
+pub const DEFAULT_EYE_EVERY: u32 = 8;
+/// Bounces before a photon or eye path is cut off (glslppm's limit).
+pub const DEFAULT_MAX_DEPTH: u32 = 10;
+/// Initial gather radius in pixel footprints (glslppm's choice).
+pub const INITIAL_RADIUS_FOOTPRINTS: f32 = 2.5;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    /// Photon path slots, each advanced one bounce per pass.
+    pub photons: u32,
+    pub alpha: f32,
+    /// An eye pass before every `eye_every`-th photon pass (the first included).
+    pub eye_every: u32,
+    /// Hash table entries per photon slot.
+    pub hash_ratio: f32,
+    pub max_depth: u32,
+    pub seed: u32,
+}
+
+impl Settings {
+    /// Default settings for an image size and a number of photon slots.
+    pub fn new(width: u32, height: u32, photons: u32) -> Settings {
+        Settings {
+            width,
+            height,
+            photons,
+            alpha: DEFAULT_ALPHA,
+            eye_every: DEFAULT_EYE_EVERY,
+            hash_ratio: 1.0,
+            max_depth: DEFAULT_MAX_DEPTH,
+            seed: 0,
+        }
+    }
+
+    /// Hash table entries: `hash_ratio × photons`, at least 1.
+    pub fn hash_size(&self) -> u32 {
+        ((self.photons as f64 * self.hash_ratio as f64).round() as u64).clamp(1, u32::MAX as u64)
+            as u32
+    }
+
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        if self.width == 0 || self.height == 0 {
+            return Err(SettingsError::EmptyImage);
+        }
+        if self.width as u64 * self.height as u64 > u32::MAX as u64 {
+            return Err(SettingsError::TooManyPixels);
+        }
+        if self.photons == 0 {
+            return Err(SettingsError::NoPhotons);
+        }
+        if !(self.alpha > 0.0 && self.alpha < 1.0) {
+            return Err(SettingsError::Alpha(self.alpha));
+        }
+        if self.eye_every == 0 {
+            return Err(SettingsError::EyeEvery);
+        }
+        if !(self.hash_ratio.is_finite() && self.hash_ratio > 0.0) {
+            return Err(SettingsError::HashRatio(self.hash_ratio));
+        }
+        if self.max_depth == 0 {
+            return Err(SettingsError::MaxDepth);
+        }
+        Ok(())
+    }
+}
+
+/// How long to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Budget {
+    Passes(u32),
+    Time(Duration),
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SettingsError {
+    #[error("the image must be at least 1×1 pixels")]
+    EmptyImage,
+    #[error("the image has more than 4294967295 pixels")]
+    TooManyPixels,
+    #[error("--photons must be at least 1")]
+    NoPhotons,
+    #[error("--alpha must lie strictly between 0 and 1, got {0}")]
+    Alpha(f32),
+    #[error("--eye-every must be at least 1")]
+    EyeEvery,
+    #[error("--hash-ratio must be a positive number, got {0}")]
+    HashRatio(f32),
+    #[error("--max-depth must be at least 1")]
+    MaxDepth,
+}

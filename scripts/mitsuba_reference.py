@@ -1,0 +1,388 @@
+#!/usr/bin/env python3
+"""Render a glTF scene with Mitsuba 3 under kousen's material rules: an independent reference.
+
+Written for and tested with Mitsuba 3.9.1 / Dr.Jit 1.5.0 (`pip install mitsuba numpy`), variant
+`llvm_ad_rgb` (the default here) or `scalar_rgb` (needs nothing else, but is much slower).
+
+The llvm variants need a newer LLVM than Debian's default; on this project's machines:
+
+    apt-get install libllvm19
+    export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
+    python3 scripts/mitsuba_reference.py scenes/cornell-box.gltf out.exr \
+        --width 64 --height 64 --spp 16384 --seed 1
+
+Output: an OpenEXR file of float32 linear RGB radiance (no exposure, no tone mapping).
+
+How the scene is read (the glTF is parsed here, with json and numpy; Mitsuba's own loaders are
+not used, so nothing about the mapping is hidden):
+- Geometry: every triangle primitive (mode 4) of every node reachable from the default scene,
+  placed by the node's world transform (matrix or TRS, parents included). Normals go through the
+  cofactor of the linear part; a mirroring transform swaps two vertices of each triangle so the
+  front face (counter-clockwise winding) stays the front face. Vertex normals become Mitsuba's
+  shading normals (missing ones are smoothed over the primitive, area-weighted).
+- Materials (kousen's rules, DESIGN.md "Materials", crates/scene/src/gltf/materials.rs):
+  transmission > 0 and metallic < 0.5 -> smooth dielectric, ior from KHR_materials_ior (1.5),
+  exterior ior exactly 1, transmittance tinted by baseColor; `dielectric` when
+  KHR_materials_volume thicknessFactor > 0, else `thindielectric`.
+  metallic >= 0.5 and roughness <= 0.2 -> perfect mirror: `conductor` with material "none"
+  (reflectance 1 at every angle) times specular_reflectance = baseColor.
+  Everything else -> Lambertian `diffuse`, reflectance = baseColor.
+  Diffuse and mirror are wrapped in `twosided`, since kousen's rays hit and scatter off both
+  faces of every triangle (Mitsuba's opaque BSDFs are black from behind by default).
+- Emission: emissiveFactor x KHR_materials_emissive_strength, as an `area` emitter. Mitsuba's
+  area light emits to the side of the surface normal only, so emissive primitives are given no
+  vertex normals: the normal is then the geometric one, fixed by the counter-clockwise winding,
+  which is exactly kousen's front face. doubleSided emitters are refused (not needed yet).
+- Camera: the first camera node in the scene's depth-first node order; perspective yfov
+  (vertical field of view); the aspect ratio comes from the image size. glTF cameras look down
+  their local -z with +y up. Pixels: `box` reconstruction filter (each sample lands in the one
+  pixel whose area it was drawn from), i.e. the average of radiance over the pixel's area.
+- Integrator: `path` with max_depth -1 (unlimited, Russian roulette from depth 5 unless
+  --max-depth/--rr-depth say otherwise): unbiased, converges to the same image as any other
+  correct renderer.
+- Large sample counts are split into passes of at most --pass-samples samples in total (the
+  llvm variants keep a whole pass's wavefront in memory); pass i of seed s uses Mitsuba seed
+  s * 1_000_003 + i, and the passes are averaged (equal spp each, so the mean is exact).
+"""
+import argparse
+import base64
+import json
+import math
+import os
+import struct
+import sys
+import time
+
+import numpy as np
+
+MIRROR_MIN_METALLIC = 0.5
+MIRROR_MAX_ROUGHNESS = 0.2
+DEFAULT_IOR = 1.5
+
+COMPONENT_DTYPES = {5120: "i1", 5121: "u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
+TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
+
+
+# ----------------------------------------------------------------------------------- glTF reading
+
+def load_gltf(path):
+    """The JSON document and its buffers (bytes), from .gltf (+ files or data URIs) or .glb."""
+    raw = open(path, "rb").read()
+    glb_bin = None
+    if raw[:4] == b"glTF":
+        _, _, length = struct.unpack_from("<4sII", raw, 0)
+        pos, doc = 12, None
+        while pos < length:
+            clen, ctype = struct.unpack_from("<II", raw, pos)
+            chunk = raw[pos + 8:pos + 8 + clen]
+            if ctype == 0x4E4F534A:
+                doc = json.loads(chunk.decode("utf-8"))
+            elif ctype == 0x004E4942:
+                glb_bin = chunk
+            pos += 8 + clen
+    else:
+        doc = json.loads(raw.decode("utf-8"))
+    base = os.path.dirname(os.path.abspath(path))
+    buffers = []
+    for i, b in enumerate(doc.get("buffers", [])):
+        uri = b.get("uri")
+        if uri is None:
+            if glb_bin is None:
+                raise ValueError("buffer %d has no uri and there is no GLB binary chunk" % i)
+            buffers.append(glb_bin)
+        elif uri.startswith("data:"):
+            buffers.append(base64.b64decode(uri.split(",", 1)[1]))
+        else:
+            from urllib.parse import unquote
+            buffers.append(open(os.path.join(base, unquote(uri)), "rb").read())
+    return doc, buffers
+
+
+def read_accessor(doc, buffers, index):
+    """An accessor as a float64 or integer numpy array of shape (count, components)."""
+    a = doc["accessors"][index]
+    if "sparse" in a:
+        raise NotImplementedError("sparse accessors are not supported (accessor %d)" % index)
+    ncomp = TYPE_COMPONENTS[a["type"]]
+    dtype = np.dtype(COMPONENT_DTYPES[a["componentType"]])
+    count = a["count"]
+    if "bufferView" not in a:
+        return np.zeros((count, ncomp), dtype=dtype)
+    bv = doc["bufferViews"][a["bufferView"]]
+    blob = buffers[bv["buffer"]]
+    offset = bv.get("byteOffset", 0) + a.get("byteOffset", 0)
+    elem = dtype.itemsize * ncomp
+    stride = bv.get("byteStride", elem)
+    if stride == elem:
+        arr = np.frombuffer(blob, dtype=dtype, count=count * ncomp, offset=offset)
+        arr = arr.reshape(count, ncomp)
+    else:
+        rows = [np.frombuffer(blob, dtype=dtype, count=ncomp, offset=offset + k * stride)
+                for k in range(count)]
+        arr = np.array(rows, dtype=dtype).reshape(count, ncomp)
+    if a.get("normalized", False):
+        info = np.iinfo(dtype)
+        arr = np.maximum(arr.astype(np.float64) / info.max, -1.0)
+    return arr
+
+
+def quat_to_matrix(q):
+    x, y, z, w = q
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def local_matrix(node):
+    if "matrix" in node:
+        return np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T  # column-major
+    m = np.eye(4)
+    t = node.get("translation", [0.0, 0.0, 0.0])
+    r = node.get("rotation", [0.0, 0.0, 0.0, 1.0])
+    s = node.get("scale", [1.0, 1.0, 1.0])
+    m[:3, :3] = quat_to_matrix(r) @ np.diag(s)
+    m[:3, 3] = t
+    return m
+
+
+def walk_nodes(doc):
+    """(node index, world matrix) for every node of the default scene, depth first."""
+    scene_index = doc.get("scene", 0)
+    if "scenes" in doc and doc["scenes"]:
+        roots = doc["scenes"][scene_index].get("nodes", [])
+    else:
+        roots = list(range(len(doc.get("nodes", []))))
+    out = []
+
+    def visit(i, parent):
+        node = doc["nodes"][i]
+        world = parent @ local_matrix(node)
+        out.append((i, world))
+        for c in node.get("children", []):
+            visit(c, world)
+
+    for r in roots:
+        visit(r, np.eye(4))
+    return out
+
+
+def smooth_normals(p, tri):
+    n = np.zeros_like(p)
+    fn = np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])  # 2 x area weighted
+    for k in range(3):
+        np.add.at(n, tri[:, k], fn)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    return np.where(length > 0, n / np.maximum(length, 1e-30), np.array([0.0, 0.0, 1.0]))
+
+
+# ------------------------------------------------------------------------------------- materials
+
+def material_info(doc, index):
+    """kousen's reading of a glTF material: (kind, params, emission rgb, double_sided)."""
+    m = doc["materials"][index] if index is not None else {}
+    pbr = m.get("pbrMetallicRoughness", {})
+    for tex in ("baseColorTexture", "metallicRoughnessTexture"):
+        if tex in pbr:
+            raise NotImplementedError("material %r: textures are not supported" % m.get("name"))
+    if "emissiveTexture" in m:
+        raise NotImplementedError("material %r: textures are not supported" % m.get("name"))
+    if m.get("alphaMode", "OPAQUE") != "OPAQUE":
+        raise NotImplementedError("material %r: alphaMode is not supported" % m.get("name"))
+    base = [float(c) for c in pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])[:3]]
+    metallic = float(pbr.get("metallicFactor", 1.0))
+    roughness = float(pbr.get("roughnessFactor", 1.0))
+    ext = m.get("extensions", {})
+    transmission = float(ext.get("KHR_materials_transmission", {}).get("transmissionFactor", 0.0))
+    ior = float(ext.get("KHR_materials_ior", {}).get("ior", DEFAULT_IOR))
+    thickness = float(ext.get("KHR_materials_volume", {}).get("thicknessFactor", 0.0))
+    if transmission > 0.0 and metallic < MIRROR_MIN_METALLIC:
+        if ior == 0.0:
+            kind, params = "mirror", {"color": base}
+        else:
+            kind, params = "dielectric", {"color": base, "ior": ior, "thin": thickness == 0.0}
+    elif metallic >= MIRROR_MIN_METALLIC and roughness <= MIRROR_MAX_ROUGHNESS:
+        kind, params = "mirror", {"color": base}
+    else:
+        kind, params = "diffuse", {"color": base}
+    strength = float(ext.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
+    emission = [float(c) * strength for c in m.get("emissiveFactor", [0.0, 0.0, 0.0])]
+    return kind, params, emission, bool(m.get("doubleSided", False)), m.get("name", str(index))
+
+
+def mitsuba_bsdf(kind, params):
+    rgb = lambda c: {"type": "rgb", "value": c}
+    if kind == "diffuse":
+        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(params["color"])}}
+    if kind == "mirror":
+        return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
+                                             "specular_reflectance": rgb(params["color"])}}
+    if kind == "dielectric":
+        return {"type": "thindielectric" if params["thin"] else "dielectric",
+                "int_ior": params["ior"], "ext_ior": 1.0,
+                "specular_transmittance": rgb(params["color"])}
+    raise ValueError(kind)
+
+
+# ----------------------------------------------------------------------------------------- scene
+
+def gather_primitives(doc, buffers):
+    """World-space (positions, normals or None, triangles, material index) per primitive."""
+    prims = []
+    for node_index, world in walk_nodes(doc):
+        node = doc["nodes"][node_index]
+        if "mesh" not in node:
+            continue
+        linear = world[:3, :3]
+        mirrored = np.linalg.det(linear) < 0.0
+        cof = np.stack([np.cross(linear[:, 1], linear[:, 2]),
+                        np.cross(linear[:, 2], linear[:, 0]),
+                        np.cross(linear[:, 0], linear[:, 1])], axis=1)  # det * inverse transpose
+        if mirrored:
+            cof = -cof
+        for prim in doc["meshes"][node["mesh"]]["primitives"]:
+            if prim.get("mode", 4) != 4:
+                raise NotImplementedError("only triangle lists (mode 4) are supported")
+            attrs = prim["attributes"]
+            p = read_accessor(doc, buffers, attrs["POSITION"]).astype(np.float64)
+            if "indices" in prim:
+                tri = read_accessor(doc, buffers, prim["indices"]).astype(np.int64).reshape(-1, 3)
+            else:
+                tri = np.arange(len(p), dtype=np.int64).reshape(-1, 3)
+            p = p @ linear.T + world[:3, 3]
+            if mirrored:
+                tri = tri[:, [0, 2, 1]]
+            if "NORMAL" in attrs:
+                n = read_accessor(doc, buffers, attrs["NORMAL"]).astype(np.float64) @ cof.T
+                n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)
+            else:
+                n = smooth_normals(p, tri)
+            prims.append((p, n, tri, prim.get("material")))
+    return prims
+
+
+def first_camera(doc):
+    for node_index, world in walk_nodes(doc):
+        node = doc["nodes"][node_index]
+        if "camera" in node:
+            cam = doc["cameras"][node["camera"]]
+            if cam.get("type") != "perspective":
+                raise NotImplementedError("only perspective cameras are supported")
+            return world, cam["perspective"]["yfov"]
+    raise ValueError("the scene has no camera")
+
+
+def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log):
+    world, yfov = first_camera(doc)
+    eye = world[:3, 3]
+    forward = -world[:3, 2] / np.linalg.norm(world[:3, 2])
+    up = world[:3, 1] / np.linalg.norm(world[:3, 1])
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": max_depth, "rr_depth": rr_depth},
+        "sensor": {
+            "type": "perspective",
+            "fov_axis": "y",
+            "fov": math.degrees(yfov),
+            "near_clip": 1e-3 * float(np.linalg.norm(eye) + 1.0),
+            # Mitsuba's camera looks down its +z with +x to the image's LEFT; look_at builds
+            # exactly that frame from the glTF camera's eye, forward and up.
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=eye.tolist(), target=(eye + forward).tolist(), up=up.tolist()),
+            "film": {"type": "hdrfilm", "width": width, "height": height,
+                     "pixel_format": "rgb", "component_format": "float32",
+                     "rfilter": {"type": "box"}},
+            "sampler": {"type": "independent", "sample_count": 1},
+        },
+    }
+    ntri = 0
+    for k, (p, n, tri, mat) in enumerate(gather_primitives(doc, buffers)):
+        kind, params, emission, double_sided, name = material_info(doc, mat)
+        emissive = max(emission) > 0.0
+        # Winding against the given normals, for the record (Mitsuba shades with the normals).
+        fn = np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])
+        agree = np.einsum("ij,ij->i", fn, n[tri].sum(axis=1)) > 0.0
+        if not agree.all():
+            log("primitive %d (%s): %d of %d triangles wind against their normals"
+                % (k, name, int((~agree).sum()), len(tri)))
+        props = mi.Properties()
+        props["bsdf"] = mi.load_dict(mitsuba_bsdf(kind, params))
+        if emissive:
+            if double_sided:
+                raise NotImplementedError("material %r: double-sided emission" % name)
+            props["emitter"] = mi.load_dict({"type": "area",
+                                             "radiance": {"type": "rgb", "value": emission}})
+        # Emitters get geometric normals only: Mitsuba's area light emits on the normal's side.
+        with_normals = not emissive
+        mesh = mi.Mesh("prim_%d" % k, vertex_count=len(p), face_count=len(tri),
+                       has_vertex_normals=with_normals, props=props)
+        params_m = mi.traverse(mesh)
+        params_m["vertex_positions"] = mi.Float(p.astype(np.float32).ravel())
+        if with_normals:
+            params_m["vertex_normals"] = mi.Float(n.astype(np.float32).ravel())
+        params_m["faces"] = mi.UInt32(tri.astype(np.uint32).ravel())
+        params_m.update()
+        scene["prim_%d" % k] = mesh
+        ntri += len(tri)
+        log("primitive %d: %s, %d triangles, %s%s" % (
+            k, name, len(tri), kind + ("" if kind != "dielectric" else
+                                        " ior %g %s" % (params["ior"], "thin" if params["thin"] else "solid")),
+            (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else ""))
+    log("%d triangles; camera eye %s forward %s up %s, yfov %.4f deg"
+        % (ntri, eye.round(4).tolist(), forward.round(6).tolist(), up.round(6).tolist(),
+           math.degrees(yfov)))
+    return mi.load_dict(scene)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("scene")
+    ap.add_argument("output", help="OpenEXR output (float32 linear RGB)")
+    ap.add_argument("--width", type=int, default=64)
+    ap.add_argument("--height", type=int, default=None, help="default: width")
+    ap.add_argument("--spp", type=int, default=1024)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--variant", default="llvm_ad_rgb", help="llvm_ad_rgb (default) or scalar_rgb")
+    ap.add_argument("--max-depth", type=int, default=-1)
+    ap.add_argument("--rr-depth", type=int, default=5)
+    ap.add_argument("--pass-samples", type=int, default=1 << 22,
+                    help="most samples (pixels x spp) in one Mitsuba render call")
+    args = ap.parse_args()
+    height = args.height or args.width
+    log = lambda s: print(s, file=sys.stderr, flush=True)
+
+    import mitsuba as mi
+    import drjit as dr
+    mi.set_variant(args.variant)
+    log("mitsuba %s, drjit %s, variant %s" % (mi.__version__, dr.__version__, args.variant))
+
+    doc, buffers = load_gltf(args.scene)
+    scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log)
+
+    pixels = args.width * height
+    per_pass = max(1, min(args.spp, args.pass_samples // pixels))
+    passes = [per_pass] * (args.spp // per_pass)
+    if args.spp % per_pass:
+        passes.append(args.spp % per_pass)
+    started = time.time()
+    acc = np.zeros((height, args.width, 3), dtype=np.float64)
+    for i, spp in enumerate(passes):
+        seed = args.seed * 1_000_003 + i
+        img = mi.render(scene, spp=spp, seed=seed)
+        acc += np.array(img, dtype=np.float64)[..., :3] * spp
+        if i == 0 or (i + 1) % 8 == 0 or i + 1 == len(passes):
+            log("pass %d/%d (%d spp), %.1f s" % (i + 1, len(passes), spp, time.time() - started))
+    img = (acc / args.spp).astype(np.float32)
+    seconds = time.time() - started
+    if not np.isfinite(img).all():
+        raise RuntimeError("non-finite pixels")
+    os.makedirs(os.path.dirname(os.path.abspath(args.output)) or ".", exist_ok=True)
+    mi.Bitmap(img, pixel_format=mi.Bitmap.PixelFormat.RGB).write(args.output)
+    log("%dx%d, %d spp in %d passes, %.1f s; channel means %s -> %s"
+        % (args.width, height, args.spp, len(passes), seconds,
+           img.reshape(-1, 3).mean(axis=0).round(6).tolist(), args.output))
+
+
+if __name__ == "__main__":
+    main()

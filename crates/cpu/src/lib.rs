@@ -13,14 +13,16 @@ use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
     initial_counters,
 };
-use scene::{Material, Scene, Texture};
+use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
+use scene::{Material, Scene};
 
 /// The scene as the CPU kernels read it: the packed BVH and triangles the GPU reads, the
-/// materials, textures and light table.
+/// materials, textures (in the array the GPU binds, at the side it would choose by default)
+/// and light table.
 pub struct SceneData {
     pub bvh: bvh::PackedBvh,
     pub materials: Vec<Material>,
-    pub textures: Vec<Texture>,
+    pub textures: TextureArray,
     pub lights: Vec<Light>,
 }
 
@@ -29,7 +31,7 @@ impl SceneData {
         SceneData {
             bvh,
             materials: scene.materials.clone(),
-            textures: scene.textures.clone(),
+            textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
             lights: render::emission::light_table(scene),
         }
     }

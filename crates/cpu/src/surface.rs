@@ -3,7 +3,8 @@
 
 use glam::{Vec2, Vec3, Vec4};
 use render::optics::{fresnel_dielectric, reflect, refract};
-use scene::{AlphaMode, Material, Surface, Texture};
+use render::textures::TextureArray;
+use scene::{AlphaMode, Material, Surface};
 
 use crate::SceneData;
 
@@ -63,10 +64,10 @@ pub fn offset_origin(hit: &SurfaceHit, direction: Vec3, epsilon: f32) -> Vec3 {
     hit.position + side * epsilon * hit.geometric
 }
 
-pub fn texture(textures: &[Texture], id: Option<u32>, uv: Vec2) -> Vec4 {
-    id.map_or(Vec4::ONE, |t| {
-        textures[t as usize].sample_nearest(uv.x, uv.y)
-    })
+/// A texture's linear RGBA at `uv` (nearest, repeat), white for none: `sample_texture` of
+/// `textures.wgsl`.
+pub fn texture(textures: &TextureArray, id: Option<u32>, uv: Vec2) -> Vec4 {
+    id.map_or(Vec4::ONE, |t| textures.sample(t, uv))
 }
 
 /// Whether an alpha cut-out lets the ray through here.

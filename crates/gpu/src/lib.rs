@@ -7,6 +7,7 @@
 //!   by `tests/layout.rs`), [`prelude`]: the constants they share, generated from Rust;
 //! - [`shader`]: WGSL modules assembled from `shaders/`;
 //! - [`scene_upload`]: the packed BVH and materials in storage buffers;
+//! - [`textures`]: the scene's textures as one texture array (`render::textures`);
 //! - [`traversal`]: closest- and any-hit kernels (stack, TBVH, MTBVH) and benchmark ray
 //!   generation, twins of `bvh::traverse` and `bvh::bench_rays`.
 
@@ -17,6 +18,7 @@ pub mod readback;
 pub mod scene_upload;
 pub mod shader;
 pub mod sppm;
+pub mod textures;
 pub mod traversal;
 pub mod types;
 
@@ -67,6 +69,16 @@ pub enum GpuError {
         /// What the kernels need.
         needed: u32,
         /// The device's limit.
+        limit: u32,
+    },
+    /// The scene's texture array is larger than the device allows.
+    #[error("the scene's textures need {needed} but the device allows {limit_name} = {limit}")]
+    TexturesTooLarge {
+        /// What the array needs, in words.
+        needed: String,
+        /// Which limit it broke.
+        limit_name: &'static str,
+        /// The limit.
         limit: u32,
     },
     /// More rays than a u32 can index.

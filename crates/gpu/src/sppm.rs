@@ -15,6 +15,7 @@ use wgpu::util::DeviceExt;
 use crate::readback::{read_buffer, wait_idle};
 use crate::scene_upload::{bind_buffers, scene_layout, storage_entry};
 use crate::shader::Module;
+use crate::textures::GpuTextures;
 use crate::traversal::workgroups;
 use crate::{GpuContext, GpuError, GpuScene, check_buffer_fits};
 
@@ -50,6 +51,9 @@ pub struct GpuBackend {
     context: GpuContext,
     scene: GpuScene,
     scene_bytes: u64,
+    /// The scene's textures, kept alive for their bind group (group 2).
+    textures: GpuTextures,
+    textures_bind_group: wgpu::BindGroup,
     layout: wgpu::BindGroupLayout,
     pipelines: Vec<wgpu::ComputePipeline>,
     state: Option<State>,
@@ -57,6 +61,14 @@ pub struct GpuBackend {
     in_flight: VecDeque<wgpu::SubmissionIndex>,
     /// The first device error met while encoding or submitting (reported at the next wait).
     error: Option<String>,
+}
+
+/// Group 2: the scene's texture array (`textures.wgsl`).
+fn textures_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("scene textures"),
+        entries: &[crate::textures::layout_entry(0)],
+    })
 }
 
 fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
@@ -79,7 +91,8 @@ fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 }
 
 impl GpuBackend {
-    /// Uploads the scene and compiles the kernels.
+    /// Uploads the scene (its textures as one array, see [`crate::textures`]) and compiles
+    /// the kernels.
     pub fn new(
         context: GpuContext,
         scene: &scene::Scene,
@@ -91,12 +104,31 @@ impl GpuBackend {
                 limit: context.limits.max_storage_buffers_per_shader_stage,
             });
         }
+        let array = render::textures::TextureArray::build(
+            &scene.textures,
+            crate::textures::max_side(&context.limits),
+        );
+        let textures = GpuTextures::upload(&context, &array)?;
+        drop(array);
         let gpu_scene = GpuScene::upload(&context, &bvh, &scene.materials)?;
         let device = &context.device;
         let layout = state_layout(device);
+        let texture_layout = textures_layout(device);
+        let textures_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene textures"),
+            layout: &texture_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&textures.view),
+            }],
+        });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sppm"),
-            bind_group_layouts: &[Some(&scene_layout(device)), Some(&layout)],
+            bind_group_layouts: &[
+                Some(&scene_layout(device)),
+                Some(&layout),
+                Some(&texture_layout),
+            ],
             immediate_size: 0,
         });
         let module = Module::Sppm.create(device);
@@ -117,6 +149,8 @@ impl GpuBackend {
             scene_bytes: gpu_scene.bytes,
             context,
             scene: gpu_scene,
+            textures,
+            textures_bind_group,
             layout,
             pipelines,
             state: None,
@@ -230,6 +264,7 @@ impl GpuBackend {
                 self.scene_bytes - self.scene.nodes.size() - self.scene.links.size(),
             ),
             ("bvh", self.scene.nodes.size() + self.scene.links.size()),
+            ("textures", self.textures.bytes),
         ];
         for (_, kind, bytes) in sizes {
             match memory.iter_mut().find(|(k, _)| *k == kind) {
@@ -273,6 +308,7 @@ impl GpuBackend {
         pass.set_pipeline(&self.pipelines[kernel]);
         pass.set_bind_group(0, &self.scene.bind_group, &[]);
         pass.set_bind_group(1, &state.bind_group, &[]);
+        pass.set_bind_group(2, &self.textures_bind_group, &[]);
         if KERNELS[kernel] == "finish_pass" {
             pass.dispatch_workgroups(1, 1, 1);
         } else {

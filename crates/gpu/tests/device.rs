@@ -64,3 +64,40 @@ fn scene_over_a_lowered_binding_limit_is_refused_in_words() {
     );
     assert!(!message.contains('\n'), "{message}");
 }
+
+#[test]
+fn sppm_photons_over_a_lowered_binding_limit_are_refused_in_words() {
+    let mut context = context();
+    let scene = scene::testing::cornell_box();
+    let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
+    let camera = scene.camera(None).expect("the Cornell box has a camera");
+    let settings = render::Settings::new(16, 16, 1 << 20);
+    let slot_bytes = (settings.photons as usize * size_of::<render::buffers::PathSlot>()) as u64;
+    let photon_bytes = (settings.photons as usize * size_of::<render::buffers::Photon>()) as u64;
+    // Simulate a smaller device: the scene and every per-pixel buffer fit, the photon
+    // buffers (1 Mi slots: 48 MiB of path slots, 32 MiB of photons) do not.
+    let limit = 16 << 20;
+    assert!(photon_bytes > limit && slot_bytes > limit);
+    context.limits.max_storage_buffer_binding_size = limit;
+    let backend =
+        gpu::sppm::GpuBackend::new(context, &scene, bvh).expect("the scene fits the lowered limit");
+    let error = render::Sppm::new(backend, &scene, &camera, settings)
+        .err()
+        .expect("photon buffers larger than the binding limit");
+    let message = error.to_string();
+    assert!(
+        matches!(
+            error,
+            render::RenderError::Backend(render::BackendError::Device(_))
+        ),
+        "{error:?}"
+    );
+    // The first buffer checked that breaks the limit: the path slots, 48 MiB.
+    assert!(message.contains("photon_slots"), "{message}");
+    assert!(message.contains("48.0 MiB"), "{message}");
+    assert!(
+        message.contains("max_storage_buffer_binding_size = 16.0 MiB"),
+        "{message}"
+    );
+    assert!(!message.contains('\n'), "{message}");
+}

@@ -265,3 +265,126 @@ fn gpu_types_layout_matches_rust() {
         ],
     );
 }
+
+#[test]
+fn sppm_types_layout_matches_render_buffers() {
+    use render::buffers::{Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint};
+    let source = Module::Sppm.source();
+    let module = parse(&source, "sppm");
+    assert_layout(
+        &module,
+        "PathSlot",
+        size_of::<PathSlot>(),
+        &[
+            ("origin", offset_of!(PathSlot, origin)),
+            ("depth", offset_of!(PathSlot, depth)),
+            ("direction", offset_of!(PathSlot, direction)),
+            ("pass_throughs", offset_of!(PathSlot, pass_throughs)),
+            ("flux", offset_of!(PathSlot, flux)),
+            ("pad", offset_of!(PathSlot, pad)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "Photon",
+        size_of::<Photon>(),
+        &[
+            ("position", offset_of!(Photon, position)),
+            ("normal", offset_of!(Photon, normal)),
+            ("flux", offset_of!(Photon, flux)),
+            ("pad", offset_of!(Photon, pad)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "VisiblePoint",
+        size_of::<VisiblePoint>(),
+        &[
+            ("position", offset_of!(VisiblePoint, position)),
+            ("normal", offset_of!(VisiblePoint, normal)),
+            ("weight", offset_of!(VisiblePoint, weight)),
+            ("pad", offset_of!(VisiblePoint, pad)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "PixelStats",
+        size_of::<PixelStats>(),
+        &[
+            ("tau", offset_of!(PixelStats, tau)),
+            ("photon_count", offset_of!(PixelStats, photon_count)),
+            ("direct", offset_of!(PixelStats, direct)),
+            ("radius", offset_of!(PixelStats, radius)),
+        ],
+    );
+    assert_layout(
+        &module,
+        "Light",
+        size_of::<Light>(),
+        &[
+            ("v0", offset_of!(Light, v0)),
+            ("cdf", offset_of!(Light, cdf)),
+            ("edge1", offset_of!(Light, edge1)),
+            ("double_sided", offset_of!(Light, double_sided)),
+            ("edge2", offset_of!(Light, edge2)),
+            ("pad0", offset_of!(Light, pad0)),
+            ("flux", offset_of!(Light, flux)),
+            ("pad1", offset_of!(Light, pad1)),
+        ],
+    );
+    // Rust's `pad: [u32; 3]` is WGSL's pad0..pad2 (a uniform buffer's arrays need a 16-byte
+    // stride, so WGSL spells the words out).
+    let pad = offset_of!(SppmParams, pad);
+    assert_layout(
+        &module,
+        "SppmParams",
+        size_of::<SppmParams>(),
+        &[
+            ("eye", offset_of!(SppmParams, eye)),
+            ("width", offset_of!(SppmParams, width)),
+            ("forward", offset_of!(SppmParams, forward)),
+            ("height", offset_of!(SppmParams, height)),
+            ("right", offset_of!(SppmParams, right)),
+            ("slot_count", offset_of!(SppmParams, slot_count)),
+            ("up", offset_of!(SppmParams, up)),
+            ("hash_size", offset_of!(SppmParams, hash_size)),
+            ("alpha", offset_of!(SppmParams, alpha)),
+            ("max_depth", offset_of!(SppmParams, max_depth)),
+            ("light_count", offset_of!(SppmParams, light_count)),
+            ("seed", offset_of!(SppmParams, seed)),
+            ("epsilon", offset_of!(SppmParams, epsilon)),
+            ("pad0", pad),
+            ("pad1", pad + 4),
+            ("pad2", pad + 8),
+        ],
+    );
+}
+
+#[test]
+fn sppm_module_is_validated_and_binds_the_buffers_the_backend_counts() {
+    assert!(
+        Module::ALL.contains(&Module::Sppm),
+        "Module::ALL lacks Sppm"
+    );
+    let used: Vec<&str> = Module::Sppm.parts().iter().map(|(name, _)| *name).collect();
+    for part in [
+        "shared/sppm_types.wgsl",
+        "shared/shading.wgsl",
+        "kernels/sppm.wgsl",
+    ] {
+        assert!(used.contains(&part), "Module::Sppm lacks {part}");
+    }
+    let source = Module::Sppm.source();
+    let module = parse(&source, "sppm");
+    validate(&module, &source, "sppm");
+    let storage = module
+        .global_variables
+        .iter()
+        .filter(|(_, v)| matches!(v.space, naga::AddressSpace::Storage { .. }))
+        .count();
+    assert_eq!(
+        storage as u32,
+        gpu::sppm::SPPM_STORAGE_BUFFERS,
+        "storage buffers bound by sppm.wgsl vs gpu::sppm::SPPM_STORAGE_BUFFERS"
+    );
+}

@@ -148,7 +148,7 @@ pub enum Integrator {
 pub struct RenderArgs {
     /// A .gltf, .glb or .obj file.
     pub scene: PathBuf,
-    /// Output image: .png (exposure + sRGB tonemap) or .pfm (linear).
+    /// Output image: .exr or .pfm (linear radiance), .png (exposure + sRGB tonemap).
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=16384))]
@@ -164,6 +164,9 @@ pub struct RenderArgs {
     pub time: Option<f64>,
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Bits per channel of an .exr output.
+    #[arg(long, value_enum, default_value_t = crate::image_io::ExrPrecision::Float)]
+    pub exr_precision: crate::image_io::ExrPrecision,
     /// Exposure in stops applied before the PNG tonemap.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,

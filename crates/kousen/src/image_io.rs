@@ -60,6 +60,7 @@ pub struct Output {
 
 impl Output {
     /// An output with f32 channels if it is an EXR.
+    #[cfg(test)]
     pub fn create(path: &Path) -> anyhow::Result<Output> {
         Output::create_with(path, ExrPrecision::Float)
     }

@@ -176,6 +176,35 @@ fn render_refuses_bad_outputs_and_leaves_no_file() {
 }
 
 #[test]
+fn render_refuses_bad_sppm_settings_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = lit_quad_scene(dir.path());
+    let out = dir.path().join("out.exr");
+    for (flag, value, words) in [
+        ("--photons", "0", "--photons"),
+        ("--alpha", "1.5", "--alpha"),
+        ("--eye-every", "0", "--eye-every"),
+        ("--hash-ratio", "0", "--hash-ratio"),
+        ("--max-depth", "0", "--max-depth"),
+    ] {
+        let output = kousen(&[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--passes",
+            "1",
+            flag,
+            value,
+        ]);
+        assert_clean_error(&output, words);
+        assert_no_files_but(dir.path(), &["lit.gltf"]);
+    }
+}
+
+#[test]
 fn render_refuses_a_camera_index_out_of_range() {
     let dir = tempfile::tempdir().unwrap();
     let scene = lit_quad_scene(dir.path());

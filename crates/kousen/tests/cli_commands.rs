@@ -60,6 +60,10 @@ fn render_writes_a_readable_png_of_the_requested_size() {
         "16",
         "--passes",
         "2",
+        "--photons",
+        "4096",
+        "--backend",
+        "cpu",
         "--stats",
         stats.to_str().unwrap(),
     ]);
@@ -86,5 +90,57 @@ fn render_writes_a_readable_png_of_the_requested_size() {
     }
     let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
     assert_eq!(stats["passes"], 2);
+    assert_eq!(stats["eye_passes"], 1);
     assert_eq!(stats["backend"], "cpu");
+    assert!(stats["photon_paths"].as_u64().unwrap() >= 4096);
+}
+
+/// The GPU backend (lavapipe in CI) renders to EXR, and --stats keeps its contract: passes,
+/// eye passes, paths, time, backend, adapter, host CPU time and memory by buffer kind.
+#[test]
+fn render_on_the_gpu_writes_exr_and_stats() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box.exr");
+    let stats = dir.path().join("stats.json");
+    let scene = shipped("cornell-box.gltf");
+    let output = kousen(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--passes",
+        "3",
+        "--eye-every",
+        "2",
+        "--photons",
+        "2048",
+        "--backend",
+        "gpu",
+        "--stats",
+        stats.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(std::fs::metadata(&out).unwrap().len() > 16 * 16 * 12);
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(stats["passes"], 3);
+    assert_eq!(stats["eye_passes"], 2);
+    assert_eq!(stats["backend"], "gpu");
+    assert!(stats["photon_paths"].as_u64().unwrap() >= 2048);
+    assert!(stats["seconds"].as_f64().unwrap() > 0.0);
+    assert!(stats["host_cpu_seconds"].as_f64().unwrap() >= 0.0);
+    assert!(!stats["adapter"].as_str().unwrap().is_empty());
+    for kind in ["scene", "bvh", "photons", "hash", "visible_points", "statistics"] {
+        assert!(
+            stats["memory_bytes"][kind].as_u64().unwrap() > 0,
+            "memory_bytes.{kind}"
+        );
+    }
 }

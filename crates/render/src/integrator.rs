@@ -47,13 +47,48 @@ pub struct Rendered {
     pub seconds: f64,
 }
 
-/// The initial gather radius: [`INITIAL_RADIUS_FOOTPRINTS`] × the mean side of the scene's
-/// bounding box / the image's larger side. On glslppm's Cornell scene at 512² this is its own
-/// choice (0.038); a camera that sees a small part of a large scene gets a larger radius than
-/// it needs, which SPPM's radius reduction then shrinks.
+/// The initial gather radius from the scene's bounding box: [`INITIAL_RADIUS_FOOTPRINTS`] ×
+/// its mean side / the image's larger side. The fallback of [`initial_radius_from_view`].
 pub fn initial_radius(scene: &Scene, width: u32, height: u32) -> f32 {
     let mean_side = scene.bounds().extent().element_sum() / 3.0;
     INITIAL_RADIUS_FOOTPRINTS * mean_side / width.max(height) as f32
+}
+
+/// Camera rays cast to size the initial radius (a grid of this many per side).
+const RADIUS_PROBES: u32 = 32;
+
+/// The initial gather radius from what the camera sees, glslppm's rule: [`INITIAL_RADIUS_FOOTPRINTS`]
+/// × the mean side of the bounding box of the first surfaces seen / the image's larger side.
+/// On glslppm's Cornell scene at 512² this is its 0.038; a camera seeing a small part of a
+/// large scene gets a radius fitted to that part. `None` if every probe ray misses.
+pub fn initial_radius_from_view(
+    bvh: &bvh::PackedBvh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Option<f32> {
+    let aspect = width as f32 / height as f32;
+    let mut bounds = scene::Bounds::EMPTY;
+    for j in 0..RADIUS_PROBES {
+        for i in 0..RADIUS_PROBES {
+            let sx = (i as f32 + 0.5) / RADIUS_PROBES as f32 * 2.0 - 1.0;
+            let sy = 1.0 - (j as f32 + 0.5) / RADIUS_PROBES as f32 * 2.0;
+            let ray = bvh::Ray {
+                origin: camera.eye,
+                direction: camera.direction(sx, sy, aspect),
+                t_max: f32::INFINITY,
+            };
+            if let Some(hit) = bvh::closest_hit_mtbvh(bvh, &ray) {
+                bounds = bounds.grow(ray.origin + hit.t * ray.direction);
+            }
+        }
+    }
+    if bounds.is_empty() {
+        return None;
+    }
+    let mean_side = bounds.extent().element_sum() / 3.0;
+    let radius = INITIAL_RADIUS_FOOTPRINTS * mean_side / width.max(height) as f32;
+    (radius > 0.0).then_some(radius)
 }
 
 /// The render-wide constants for a scene, camera and settings.
@@ -101,7 +136,9 @@ impl<B: Backend> Sppm<B> {
         let setup = Setup {
             params: params(scene, camera, &settings, lights.len() as u32),
             lights,
-            initial_radius: initial_radius(scene, settings.width, settings.height),
+            initial_radius: settings
+                .initial_radius
+                .unwrap_or_else(|| initial_radius(scene, settings.width, settings.height)),
         };
         backend.start(&setup)?;
         Ok(Sppm {

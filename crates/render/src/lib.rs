@@ -15,6 +15,7 @@ pub mod resolve;
 pub mod rng;
 pub mod sampling;
 pub mod settings;
+pub mod textures;
 
 pub use backend::{Backend, BackendError, Setup, Statistics};
 pub use image::Image;

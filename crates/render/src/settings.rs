@@ -25,6 +25,10 @@ pub struct Settings {
     pub hash_ratio: f32,
     pub max_depth: u32,
     pub seed: u32,
+    /// Every pixel's starting gather radius; `None`: from the scene's bounding box
+    /// ([`crate::integrator::initial_radius`]). Renderers set it from the view
+    /// ([`crate::integrator::initial_radius_from_view`]).
+    pub initial_radius: Option<f32>,
 }
 
 impl Settings {
@@ -39,6 +43,7 @@ impl Settings {
             hash_ratio: 1.0,
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
+            initial_radius: None,
         }
     }
 
@@ -70,6 +75,11 @@ impl Settings {
         if self.max_depth == 0 {
             return Err(SettingsError::MaxDepth);
         }
+        if let Some(r) = self.initial_radius
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(SettingsError::Radius(r));
+        }
         Ok(())
     }
 }
@@ -97,4 +107,6 @@ pub enum SettingsError {
     HashRatio(f32),
     #[error("--max-depth must be at least 1")]
     MaxDepth,
+    #[error("the initial radius must be a positive number, got {0}")]
+    Radius(f32),
 }

@@ -44,7 +44,7 @@ struct Stats {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let budget = budget(args)?;
     // Fail on a bad output path before any work.
-    let output = Output::create(&args.output)?;
+    let output = Output::create_with(&args.output, args.exr_precision)?;
     let scene = scene::load(&args.scene)?;
     if scene.lights.triangles.is_empty() {
         bail!(
@@ -73,7 +73,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         return super::path_render::run(args, &scene, &bvh, camera, width, height, budget, output);
     }
 
+    let initial_radius = render::integrator::initial_radius_from_view(&bvh, &camera, width, height);
     let settings = |slots: u32| Settings {
+        initial_radius,
         alpha: args.alpha,
         eye_every: args.eye_every,
         hash_ratio: args.hash_ratio,

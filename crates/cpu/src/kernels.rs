@@ -223,7 +223,7 @@ fn photon_entry(params: &SppmParams, counters: &[AtomicU32], photon: &Photon) ->
 
 /// Gather and update, one pixel: the visible point reads the hash entries its radius
 /// overlaps, weights each kept photon by its entry's count, and updates N, R and τ
-/// (DESIGN.md, "SPPM update"). Every pixel then offers its radius to the pass's maximum.
+/// (DESIGN.md, "SPPM update"). Lit pixels then offer their radius to the pass's maximum.
 pub fn gather(
     params: &SppmParams,
     counters: &[AtomicU32],
@@ -232,11 +232,19 @@ pub fn gather(
     visible_point: &VisiblePoint,
     mut stats: PixelStats,
 ) -> PixelStats {
+    let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
+    // A pixel whose radius is larger than the cells allow (one that has not met a photon
+    // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
+    let largest = largest_radius(cell_size);
+    if stats.radius > largest {
+        let scale = (largest / stats.radius) * (largest / stats.radius);
+        stats.tau = (vec3(stats.tau) * scale).to_array();
+        stats.radius = largest;
+    }
     if visible_point.is_valid() {
         let position = vec3(visible_point.position);
         let normal = unpack_normal(visible_point.normal);
         let radius = stats.radius;
-        let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
         let (entries, count) = query_entries(position, radius, cell_size, params.hash_size);
         let mut found = 0u32;
         let mut flux = Vec3::ZERO;
@@ -265,8 +273,17 @@ pub fn gather(
             stats.tau = ((vec3(stats.tau) + vec3(visible_point.weight) * flux) * ratio).to_array();
         }
     }
-    counters[counter::MAX_RADIUS].fetch_max(stats.radius.to_bits(), Relaxed);
+    // Only pixels that have met photons size the cells: the others would hold them at the
+    // initial radius for ever, and one photon kept per cell would then serve ever more pixels.
+    if visible_point.is_valid() && stats.photon_count > 0.0 {
+        counters[counter::MAX_RADIUS].fetch_max(stats.radius.to_bits(), Relaxed);
+    }
     stats
+}
+
+/// The largest gather radius cells of `cell_size` serve (the inverse of `hash::cell_size`).
+pub fn largest_radius(cell_size: f32) -> f32 {
+    cell_size * (0.5 / 1.0001)
 }
 
 /// Closes a pass (one invocation): folds this pass's emitted paths into the 64-bit total,
@@ -277,7 +294,10 @@ pub fn finish_pass(counters: &[AtomicU32]) {
     let (sum, carry) = low.overflowing_add(emitted);
     counters[counter::EMITTED_LO].store(sum, Relaxed);
     counters[counter::EMITTED_HI].fetch_add(carry as u32, Relaxed);
+    // No pixel has met a photon yet: the cells stay as they are.
     let max_radius = f32::from_bits(counters[counter::MAX_RADIUS].swap(0, Relaxed));
-    counters[counter::CELL_SIZE].store(cell_size(max_radius).to_bits(), Relaxed);
+    if max_radius > 0.0 {
+        counters[counter::CELL_SIZE].store(cell_size(max_radius).to_bits(), Relaxed);
+    }
     counters[counter::PASS].fetch_add(1, Relaxed);
 }

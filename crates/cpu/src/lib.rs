@@ -224,6 +224,7 @@ impl Backend for CpuBackend {
         vec![
             ("scene", bvh.triangle_bytes as u64),
             ("bvh", (bvh.node_bytes + 7 * bvh.link_set_bytes) as u64),
+            ("textures", self.scene.textures.bytes()),
             (
                 "photons",
                 bytes(s.slots.len(), 48) + bytes(s.photons.len(), 32),

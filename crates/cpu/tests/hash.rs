@@ -118,7 +118,7 @@ fn the_kept_photon_is_a_uniform_pick() {
     // cell is alone in its entry (it is, for this layout; asserted below).
     let table = Table::new(64, 7, cell, 2.0 / 3.0);
     let up = Vec3::Y;
-    let centre = Vec3::new(0.5, 0.5, 0.5);
+    let centre = Vec3::ZERO;
     // Slots 0..20: the cell's photons at scattered indices (one of them index 0, whose
     // win leaves the winner word at its initial 0), empty slots, photons in other cells.
     let mut photons = vec![Photon::default(); 20];
@@ -128,7 +128,7 @@ fn the_kept_photon_is_a_uniform_pick() {
         photons[i] = photon(centre + offset - Vec3::splat(0.15), up, Vec3::ONE);
     }
     for (i, elsewhere) in [(1, 3.5), (7, -2.5), (8, 3.6), (15, 9.5)] {
-        photons[i] = photon(Vec3::new(elsewhere, 0.5, 0.5), up, Vec3::ONE);
+        photons[i] = photon(Vec3::new(elsewhere - 0.5, 0.0, 0.0), up, Vec3::ONE);
     }
     let entry_of_cell = entry_of(cell_of(centre, cell), 64);
     for p in photons.iter().filter(|p| p.is_stored()) {

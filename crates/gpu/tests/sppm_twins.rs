@@ -17,7 +17,6 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use bvh::{BuildOptions, PackedBvh};
 use cpu::{CpuBackend, SceneData, kernels};
-use glam::Vec3;
 use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::buffers::{
@@ -31,8 +30,11 @@ use scene::{Camera, Scene};
 /// Share of elements (pixels, slots) allowed to differ beyond the tolerances: a branch flipped
 /// by rounding.
 const MAX_DIVERGED: f64 = 0.005;
-/// Share of hash entries allowed to differ between the two backends (a photon a rounding
-/// apart lands in another cell).
+/// Share of the filled hash entries allowed to differ between the two backends (a photon a
+/// rounding apart lands in another cell). This holds only if no cell boundary lies on a plane
+/// the scene's photons crowd onto: with boundaries at coordinate 0 (an unshifted grid) and the
+/// Cornell floor at y = 0, a floor photon's y comes out 0 or −6e-5 by one rounding (the GPU
+/// fuses `origin + t · direction`), and 40% of the filled entries differ.
 const MAX_HASH_DIVERGED: f64 = 0.001;
 /// Positions: absolute, × the scene's diagonal.
 const POSITION_TOLERANCE: f32 = 1e-4;
@@ -229,7 +231,7 @@ impl Comparison {
             let errors = errors(g, c);
             let bad: Vec<&str> = errors
                 .iter()
-                .filter(|(_, e)| !(*e <= 1.0))
+                .filter(|(_, e)| e.is_nan() || *e > 1.0)
                 .map(|(f, _)| *f)
                 .collect();
             if bad.is_empty() {
@@ -401,11 +403,11 @@ fn first_pass_matches_the_cpu_backend() {
         "pixel statistics after 1 pass",
         &gpu_stats.pixels,
         &cpu_stats.pixels,
-        |g, c| stats_errors(g, c),
+        stats_errors,
     )
     .assert_at_most(MAX_DIVERGED);
 
-    // A few passes more: paths continue from the slots, radii shrink, cells follow them.
+    // A few passes more: paths continue from the slots past specular bounces, radii shrink.
     for _ in 0..3 {
         g.pass();
         c.pass();
@@ -416,7 +418,7 @@ fn first_pass_matches_the_cpu_backend() {
         "pixel statistics after 4 passes",
         &gpu_stats.pixels,
         &cpu_stats.pixels,
-        |g, c| stats_errors(g, c),
+        stats_errors,
     )
     .assert_at_most(MAX_DIVERGED);
     assert_eq!(
@@ -542,7 +544,7 @@ fn every_kernel_matches_its_twin_on_the_gpu_state() {
             format!("pass {pass} gather"),
             &stats,
             &twin_stats,
-            |g, c| stats_errors(g, c),
+            stats_errors,
         )
         .assert_at_most(MAX_DIVERGED);
         kernels::finish_pass(&twin_counters);

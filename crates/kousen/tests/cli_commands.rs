@@ -137,7 +137,14 @@ fn render_on_the_gpu_writes_exr_and_stats() {
     assert!(stats["seconds"].as_f64().unwrap() > 0.0);
     assert!(stats["host_cpu_seconds"].as_f64().unwrap() >= 0.0);
     assert!(!stats["adapter"].as_str().unwrap().is_empty());
-    for kind in ["scene", "bvh", "photons", "hash", "visible_points", "statistics"] {
+    for kind in [
+        "scene",
+        "bvh",
+        "photons",
+        "hash",
+        "visible_points",
+        "statistics",
+    ] {
         assert!(
             stats["memory_bytes"][kind].as_u64().unwrap() > 0,
             "memory_bytes.{kind}"

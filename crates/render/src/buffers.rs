@@ -158,7 +158,8 @@ pub mod counter {
     pub const EMITTED_HI: usize = 2;
     /// Paths emitted by the pass in flight (folded into the total by `finish_pass`).
     pub const EMITTED_PASS: usize = 3;
-    /// Bits of the largest radius after this pass's update (f32, positive, so u32 order).
+    /// Bits of the largest radius, after this pass's update, of the pixels that have met photons
+    /// (f32, positive, so u32 order; 0: none has).
     pub const MAX_RADIUS: usize = 4;
     /// Bits of the hash cell size for this pass (f32).
     pub const CELL_SIZE: usize = 5;

@@ -220,10 +220,20 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     }
     var stats = pixels[index];
     let point = visible_points[index];
-    if any(point.weight != vec3<f32>(0.0)) {
+    let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
+    // cpu::kernels::gather: a radius larger than the cells allow shrinks to fit.
+    let largest = cell_size * (0.5 / 1.0001);
+    var changed = false;
+    if stats.radius > largest {
+        let scale = (largest / stats.radius) * (largest / stats.radius);
+        stats.tau = stats.tau * scale;
+        stats.radius = largest;
+        changed = true;
+    }
+    let valid = any(point.weight != vec3<f32>(0.0));
+    if valid {
         let normal = unpack_normal(point.normal);
         let radius = stats.radius;
-        let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
         // render::hash::query_entries: the cells the sphere's box touches, each entry once.
         let lo = cell_of(point.position - vec3<f32>(radius), cell_size);
         let hi = min(cell_of(point.position + vec3<f32>(radius), cell_size), lo + vec3<i32>(1));
@@ -266,10 +276,15 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
             stats.photon_count = n_next;
             stats.radius = radius * sqrt(ratio);
             stats.tau = (stats.tau + point.weight * flux) * ratio;
-            pixels[index] = stats;
+            changed = true;
         }
     }
-    atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(stats.radius));
+    if changed {
+        pixels[index] = stats;
+    }
+    if valid && stats.photon_count > 0.0 {
+        atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(stats.radius));
+    }
 }
 
 // One invocation: the pass's emitted paths into the 64-bit total, the next cell size from the
@@ -282,6 +297,8 @@ fn finish_pass() {
     atomicStore(&counters[COUNTER_EMITTED_LO], sum);
     atomicAdd(&counters[COUNTER_EMITTED_HI], select(0u, 1u, sum < low));
     let max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
-    atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(hash_cell_size(max_radius)));
+    if max_radius > 0.0 {
+        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(hash_cell_size(max_radius)));
+    }
     atomicAdd(&counters[COUNTER_PASS], 1u);
 }

@@ -194,8 +194,9 @@ fn hash_cell_size(max_radius: f32) -> f32 {
     return max(2.0 * max_radius * 1.0001, 1.17549435e-38 * 4.0);
 }
 
+// render::hash::cell_of: the grid offset by half a cell (no boundary on the plane 0).
 fn cell_of(position: vec3<f32>, cell_size: f32) -> vec3<i32> {
-    return vec3<i32>(floor(position / cell_size));
+    return vec3<i32>(floor(position / cell_size + 0.5));
 }
 
 fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {

@@ -156,7 +156,7 @@ pub struct RenderArgs {
     /// Default: from the camera's aspect ratio, else square.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
-    /// Photon passes to render (default 64).
+    /// Photon passes to render (default 256).
     #[arg(long, conflicts_with = "time", value_parser = clap::value_parser!(u32).range(1..))]
     pub passes: Option<u32>,
     /// Render for this many seconds instead of a number of passes.

@@ -13,7 +13,7 @@ use crate::image_io::Output;
 use crate::progress::ProgressBar;
 
 /// Photon passes when neither --passes nor --time is given.
-const DEFAULT_PASSES: u32 = 64;
+const DEFAULT_PASSES: u32 = 256;
 /// Photon slots per pass on CPU-type devices (glslppm's 512²) and on GPUs.
 const DEFAULT_SLOTS_CPU: u32 = 1 << 18;
 const DEFAULT_SLOTS_GPU: u32 = 1 << 20;
@@ -86,7 +86,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let use_gpu = match args.backend {
         BackendChoice::Cpu => false,
         BackendChoice::Gpu => true,
+        // A CPU-type adapter (lavapipe) runs the same kernels slower than the native CPU
+        // backend on the same cores (docs/BENCHMARKS.md §3), so auto takes it only if named.
         BackendChoice::Auto => match gpu::GpuContext::new(args.adapter.as_deref()) {
+            Ok(context) if context.is_cpu_device() && args.adapter.is_none() => {
+                eprintln!(
+                    "kousen: the only adapter is a CPU ({}); rendering on the CPU backend (use --backend gpu to render through it)",
+                    context.info.name
+                );
+                false
+            }
             Ok(_) => true,
             Err(e) => {
                 eprintln!("kousen: no GPU adapter ({e}); rendering on the CPU backend");

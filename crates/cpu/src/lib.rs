@@ -227,11 +227,15 @@ impl Backend for CpuBackend {
             ("textures", self.scene.textures.bytes()),
             (
                 "photons",
-                bytes(s.slots.len(), 48) + bytes(s.photons.len(), 32),
+                bytes(s.slots.len(), size_of::<PathSlot>())
+                    + bytes(s.photons.len(), size_of::<Photon>()),
             ),
-            ("hash", bytes(s.hash.len(), 4)),
-            ("visible_points", bytes(s.visible_points.len(), 32)),
-            ("statistics", bytes(s.pixels.len(), 32)),
+            ("hash", bytes(s.hash.len(), size_of::<u32>())),
+            (
+                "visible_points",
+                bytes(s.visible_points.len(), size_of::<VisiblePoint>()),
+            ),
+            ("statistics", bytes(s.pixels.len(), size_of::<PixelStats>())),
         ]
     }
 }

@@ -178,7 +178,8 @@ pub struct RenderArgs {
     /// Write statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
-    /// Photon path slots per pass (default: sized to the device).
+    /// Photon path slots per pass (default: one per pixel, capped at 2¹⁸ on CPUs and CPU-type
+    /// adapters, 2²⁰ on GPUs).
     #[arg(long, value_name = "N")]
     pub photons: Option<u32>,
     /// SPPM's radius reduction α, in (0, 1).

@@ -14,9 +14,18 @@ use crate::progress::ProgressBar;
 
 /// Photon passes when neither --passes nor --time is given.
 const DEFAULT_PASSES: u32 = 256;
-/// Photon slots per pass on CPU-type devices (glslppm's 512²) and on GPUs.
+/// Photon slots per pass: one per pixel (glslppm's choice; the stochastic hash keeps one
+/// photon per cell, so many more slots than pixels mostly trace photons it drops: at 128²,
+/// 2¹⁴ slots reached half the error of 2¹⁸ in the same time, docs/BENCHMARKS.md §3), at
+/// least [`MIN_SLOTS`] and at most the device's cap: 2¹⁸ on CPU-type devices (glslppm's 512²)
+/// and the CPU backend, 2²⁰ on GPUs.
+const MIN_SLOTS: u32 = 1 << 12;
 const DEFAULT_SLOTS_CPU: u32 = 1 << 18;
 const DEFAULT_SLOTS_GPU: u32 = 1 << 20;
+
+fn default_slots(width: u32, height: u32, cap: u32) -> u32 {
+    (width as u64 * height as u64).clamp(MIN_SLOTS as u64, cap as u64) as u32
+}
 
 #[derive(Serialize)]
 struct Stats {
@@ -81,7 +90,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         hash_ratio: args.hash_ratio,
         max_depth: args.max_depth,
         seed: fold_seed(args.seed),
-        ..Settings::new(width, height, args.photons.unwrap_or(slots))
+        ..Settings::new(
+            width,
+            height,
+            args.photons.unwrap_or(default_slots(width, height, slots)),
+        )
     };
     let use_gpu = match args.backend {
         BackendChoice::Cpu => false,

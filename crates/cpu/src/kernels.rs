@@ -11,7 +11,7 @@ use render::buffers::{
     VisiblePoint, counter, hash_word, vec3,
 };
 use render::emission::sample_emission;
-use render::hash::{cell_of, cell_size, entry_of, priority, query_entries};
+use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
 use render::packing::{pack_normal, unpack_normal};
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM};
@@ -186,13 +186,10 @@ pub fn hash_count(
     index: u32,
     photon: &Photon,
 ) {
-    if !photon.is_stored() {
-        return;
+    if let Some((entry, priority)) = photon_key(params, counters, index, photon) {
+        hash[entry + hash_word::PRIORITY].fetch_max(priority, Relaxed);
+        hash[entry + hash_word::COUNT].fetch_add(1, Relaxed);
     }
-    let entry = photon_entry(params, counters, photon);
-    let pass = counters[counter::PASS].load(Relaxed);
-    hash[entry + hash_word::PRIORITY].fetch_max(priority(params.seed, pass, index), Relaxed);
-    hash[entry + hash_word::COUNT].fetch_add(1, Relaxed);
 }
 
 /// Hash build, second half, photon `index`: the photon whose priority won writes its index
@@ -204,21 +201,29 @@ pub fn hash_select(
     index: u32,
     photon: &Photon,
 ) {
-    if !photon.is_stored() {
-        return;
-    }
-    let entry = photon_entry(params, counters, photon);
-    let pass = counters[counter::PASS].load(Relaxed);
-    if hash[entry + hash_word::PRIORITY].load(Relaxed) == priority(params.seed, pass, index) {
+    if let Some((entry, priority)) = photon_key(params, counters, index, photon)
+        && hash[entry + hash_word::PRIORITY].load(Relaxed) == priority
+    {
         hash[entry + hash_word::WINNER].fetch_max(index, Relaxed);
     }
 }
 
-/// First word of a photon's hash entry.
-fn photon_entry(params: &SppmParams, counters: &[AtomicU32], photon: &Photon) -> usize {
+/// A stored photon's first hash-entry word and its priority this pass; `None` if the slot
+/// stored no photon.
+fn photon_key(
+    params: &SppmParams,
+    counters: &[AtomicU32],
+    index: u32,
+    photon: &Photon,
+) -> Option<(usize, u32)> {
+    if !photon.is_stored() {
+        return None;
+    }
     let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
     let cell = cell_of(vec3(photon.position), cell_size);
-    entry_of(cell, params.hash_size) as usize * HASH_ENTRY_WORDS
+    let entry = entry_of(cell, params.hash_size) as usize * HASH_ENTRY_WORDS;
+    let pass = counters[counter::PASS].load(Relaxed);
+    Some((entry, priority(params.seed, pass, index)))
 }
 
 /// Gather and update, one pixel: the visible point reads the hash entries its radius
@@ -279,11 +284,6 @@ pub fn gather(
         counters[counter::MAX_RADIUS].fetch_max(stats.radius.to_bits(), Relaxed);
     }
     stats
-}
-
-/// The largest gather radius cells of `cell_size` serve (the inverse of `hash::cell_size`).
-pub fn largest_radius(cell_size: f32) -> f32 {
-    cell_size * (0.5 / 1.0001)
 }
 
 /// Closes a pass (one invocation): folds this pass's emitted paths into the 64-bit total,

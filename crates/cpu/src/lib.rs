@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use render::backend::{Backend, BackendError, Setup, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
-    initial_counters,
+    emitted_total, initial_counters,
 };
 use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
 use scene::{Material, Scene};
@@ -89,19 +89,23 @@ impl CpuBackend {
     }
 }
 
-/// The name of the processor, from /proc/cpuinfo where there is one.
-pub fn processor_name() -> String {
-    let threads = rayon::current_num_threads();
-    let model = std::fs::read_to_string("/proc/cpuinfo")
+/// The CPU's model name ("Intel(R) Xeon(R) Processor @ 2.50GHz"), from /proc/cpuinfo where
+/// there is one, else the architecture.
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|info| {
-            info.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
+        .and_then(|text| {
+            text.lines()
+                .find(|line| line.starts_with("model name"))
+                .and_then(|line| line.split_once(':'))
+                .map(|(_, name)| name.trim().to_owned())
         })
-        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
-    format!("{model} ({threads} threads)")
+        .unwrap_or_else(|| std::env::consts::ARCH.to_owned())
+}
+
+/// The processor doing the CPU backend's work: its model and rayon's thread count.
+pub fn processor_name() -> String {
+    format!("{} ({} threads)", cpu_model(), rayon::current_num_threads())
 }
 
 fn atomics(values: impl IntoIterator<Item = u32>) -> Vec<AtomicU32> {
@@ -206,8 +210,10 @@ impl Backend for CpuBackend {
 
     fn emitted_paths(&mut self) -> Result<u64, BackendError> {
         let c = &self.state.counters;
-        Ok(((c[counter::EMITTED_HI].load(Relaxed) as u64) << 32)
-            | c[counter::EMITTED_LO].load(Relaxed) as u64)
+        Ok(emitted_total(
+            c[counter::EMITTED_LO].load(Relaxed),
+            c[counter::EMITTED_HI].load(Relaxed),
+        ))
     }
 
     fn read_statistics(&mut self) -> Result<Statistics, BackendError> {

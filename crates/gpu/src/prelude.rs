@@ -46,6 +46,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("PHOTON_STREAM", U32(rng::PHOTON_STREAM)),
         ("EYE_STREAM", U32(rng::EYE_STREAM)),
         ("HASH_STREAM", U32(rng::HASH_STREAM)),
+        ("CELL_SLACK", F32(render::hash::CELL_SLACK)),
         ("HASH_ENTRY_WORDS", U32(buffers::HASH_ENTRY_WORDS as u32)),
         ("HASH_PRIORITY", U32(buffers::hash_word::PRIORITY as u32)),
         ("HASH_COUNT", U32(buffers::hash_word::COUNT as u32)),

@@ -8,7 +8,7 @@ use std::collections::VecDeque;
 use render::backend::{Backend, BackendError, Setup, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
-    initial_counters,
+    emitted_total, initial_counters,
 };
 use wgpu::util::DeviceExt;
 
@@ -16,7 +16,7 @@ use crate::readback::{read_buffer, wait_idle};
 use crate::scene_upload::{bind_buffers, scene_layout, storage_entry};
 use crate::shader::Module;
 use crate::textures::GpuTextures;
-use crate::traversal::workgroups;
+use crate::traversal::{uniform_entry, workgroups};
 use crate::{GpuContext, GpuError, GpuScene, check_buffer_fits};
 
 /// Passes submitted but not known finished before the host waits.
@@ -24,6 +24,7 @@ const MAX_PASSES_IN_FLIGHT: usize = 2;
 /// Storage buffers the SPPM kernels bind per stage: the scene's five and the state's seven.
 pub const SPPM_STORAGE_BUFFERS: u32 = 12;
 
+/// The kernels' entry points; indices into `GpuBackend::pipelines`.
 const KERNELS: [&str; 6] = [
     "eye_pass",
     "photon_pass",
@@ -32,6 +33,12 @@ const KERNELS: [&str; 6] = [
     "gather",
     "finish_pass",
 ];
+const EYE_PASS: usize = 0;
+const PHOTON_PASS: usize = 1;
+const HASH_COUNT: usize = 2;
+const HASH_SELECT: usize = 3;
+const GATHER: usize = 4;
+const FINISH_PASS: usize = 5;
 
 /// The render's state on the device.
 struct State {
@@ -72,17 +79,7 @@ fn textures_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 }
 
 fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let mut entries = vec![wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }];
-    entries.push(storage_entry(1, true));
+    let mut entries = vec![uniform_entry(0), storage_entry(1, true)];
     entries.extend((2..8).map(|b| storage_entry(b, false)));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sppm state"),
@@ -290,13 +287,7 @@ impl GpuBackend {
         let Some(state) = &self.state else {
             return;
         };
-        let encoder = self.encoder.get_or_insert_with(|| {
-            self.context
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("sppm pass"),
-                })
-        });
+        let encoder = pass_encoder(&mut self.encoder, &self.context);
         let (x, y) = workgroups(
             count,
             self.context.limits.max_compute_workgroups_per_dimension,
@@ -309,11 +300,7 @@ impl GpuBackend {
         pass.set_bind_group(0, &self.scene.bind_group, &[]);
         pass.set_bind_group(1, &state.bind_group, &[]);
         pass.set_bind_group(2, &self.textures_bind_group, &[]);
-        if KERNELS[kernel] == "finish_pass" {
-            pass.dispatch_workgroups(1, 1, 1);
-        } else {
-            pass.dispatch_workgroups(x, y, 1);
-        }
+        pass.dispatch_workgroups(x, y, 1);
     }
 
     /// Submits what was recorded; waits for the oldest pass when too many are in flight.
@@ -340,57 +327,55 @@ impl GpuBackend {
             .ok_or_else(|| BackendError::Device("the render was not started".into()))
     }
 
-    fn read_counters(&mut self) -> Result<Vec<u32>, BackendError> {
+    /// Waits for the queued work, then reads `count` elements of the state buffer `pick` names.
+    fn read_state<T: bytemuck::Pod>(
+        &mut self,
+        pick: impl Fn(&State) -> (&wgpu::Buffer, usize),
+    ) -> Result<Vec<T>, BackendError> {
         self.synchronize()?;
-        let state = self.state()?;
-        read_buffer::<u32>(&self.context, &state.counters, counter::COUNT).map_err(device_error)
+        let (buffer, count) = pick(self.state()?);
+        read_buffer(&self.context, buffer, count).map_err(device_error)
+    }
+
+    fn read_counters(&mut self) -> Result<Vec<u32>, BackendError> {
+        self.read_state(|s| (&s.counters, counter::COUNT))
     }
 
     /// This pass's photons (for tests).
     pub fn read_photons(&mut self) -> Result<Vec<Photon>, BackendError> {
-        self.synchronize()?;
-        let state = self.state()?;
-        read_buffer(
-            &self.context,
-            &state.photons,
-            state.params.slot_count as usize,
-        )
-        .map_err(device_error)
+        self.read_state(|s| (&s.photons, s.params.slot_count as usize))
     }
 
     pub fn read_slots(&mut self) -> Result<Vec<PathSlot>, BackendError> {
-        self.synchronize()?;
-        let state = self.state()?;
-        read_buffer(
-            &self.context,
-            &state.slots,
-            state.params.slot_count as usize,
-        )
-        .map_err(device_error)
+        self.read_state(|s| (&s.slots, s.params.slot_count as usize))
     }
 
     pub fn read_visible_points(&mut self) -> Result<Vec<VisiblePoint>, BackendError> {
-        self.synchronize()?;
-        let state = self.state()?;
-        read_buffer(
-            &self.context,
-            &state.visible_points,
-            state.params.pixel_count() as usize,
-        )
-        .map_err(device_error)
+        self.read_state(|s| (&s.visible_points, s.params.pixel_count() as usize))
     }
 
     /// The hash table's words (entry-major: priority, count, winner).
     pub fn read_hash(&mut self) -> Result<Vec<u32>, BackendError> {
-        self.synchronize()?;
-        let state = self.state()?;
-        let words = state.params.hash_size as usize * HASH_ENTRY_WORDS;
-        read_buffer(&self.context, &state.hash, words).map_err(device_error)
+        self.read_state(|s| (&s.hash, s.params.hash_size as usize * HASH_ENTRY_WORDS))
     }
 
     pub fn counters(&mut self) -> Result<Vec<u32>, BackendError> {
         self.read_counters()
     }
+}
+
+/// This pass's command encoder, made on first use.
+fn pass_encoder<'a>(
+    encoder: &'a mut Option<wgpu::CommandEncoder>,
+    context: &GpuContext,
+) -> &'a mut wgpu::CommandEncoder {
+    encoder.get_or_insert_with(|| {
+        context
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sppm pass"),
+            })
+    })
 }
 
 fn device_error(e: GpuError) -> BackendError {
@@ -413,12 +398,12 @@ impl Backend for GpuBackend {
 
     fn eye_pass(&mut self) {
         let pixels = self.state.as_ref().map_or(0, |s| s.params.pixel_count());
-        self.dispatch(0, pixels);
+        self.dispatch(EYE_PASS, pixels);
     }
 
     fn photon_pass(&mut self) {
         let slots = self.state.as_ref().map_or(0, |s| s.params.slot_count);
-        self.dispatch(1, slots);
+        self.dispatch(PHOTON_PASS, slots);
     }
 
     fn build_hash(&mut self) {
@@ -426,23 +411,15 @@ impl Backend for GpuBackend {
             return;
         };
         let slots = state.params.slot_count;
-        let hash = state.hash.clone();
-        let encoder = self.encoder.get_or_insert_with(|| {
-            self.context
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("sppm pass"),
-                })
-        });
-        encoder.clear_buffer(&hash, 0, None);
-        self.dispatch(2, slots);
-        self.dispatch(3, slots);
+        pass_encoder(&mut self.encoder, &self.context).clear_buffer(&state.hash, 0, None);
+        self.dispatch(HASH_COUNT, slots);
+        self.dispatch(HASH_SELECT, slots);
     }
 
     fn gather(&mut self) {
         let pixels = self.state.as_ref().map_or(0, |s| s.params.pixel_count());
-        self.dispatch(4, pixels);
-        self.dispatch(5, 1);
+        self.dispatch(GATHER, pixels);
+        self.dispatch(FINISH_PASS, 1);
         self.submit();
     }
 
@@ -458,18 +435,15 @@ impl Backend for GpuBackend {
 
     fn emitted_paths(&mut self) -> Result<u64, BackendError> {
         let c = self.read_counters()?;
-        Ok(((c[counter::EMITTED_HI] as u64) << 32) | c[counter::EMITTED_LO] as u64)
+        Ok(emitted_total(
+            c[counter::EMITTED_LO],
+            c[counter::EMITTED_HI],
+        ))
     }
 
     fn read_statistics(&mut self) -> Result<Statistics, BackendError> {
         let emitted_paths = self.emitted_paths()?;
-        let state = self.state()?;
-        let pixels = read_buffer(
-            &self.context,
-            &state.pixels,
-            state.params.pixel_count() as usize,
-        )
-        .map_err(device_error)?;
+        let pixels = self.read_state(|s| (&s.pixels, s.params.pixel_count() as usize))?;
         Ok(Statistics {
             pixels,
             emitted_paths,

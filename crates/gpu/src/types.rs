@@ -18,7 +18,7 @@ pub const NO_DISTANCE: f32 = f32::MAX;
 
 /// The largest `t_max` a GPU ray carries (an unbounded ray's): half of [`NO_DISTANCE`], so
 /// that widening a slab exit by `1 + 2γ₃` cannot overflow.
-pub const RAY_T_MAX: f32 = f32::MAX / 2.0;
+pub const RAY_T_MAX: f32 = render::buffers::RAY_T_MAX;
 
 /// A ray for the kernels (32 bytes).
 #[repr(C)]

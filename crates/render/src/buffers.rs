@@ -174,6 +174,11 @@ pub mod hash_word {
     pub const WINNER: usize = 2;
 }
 
+/// Emitted photon paths so far, from the counters' two words.
+pub fn emitted_total(low: u32, high: u32) -> u64 {
+    ((high as u64) << 32) | low as u64
+}
+
 /// The counters' starting values for a render whose gather radius starts at `radius`.
 pub fn initial_counters(radius: f32) -> [u32; counter::COUNT] {
     let mut counters = [0; counter::COUNT];

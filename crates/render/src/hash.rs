@@ -7,10 +7,18 @@ use glam::{IVec3, Vec3};
 
 use crate::rng::{HASH_STREAM, stream_key};
 
-/// The cell side for a largest gather radius: a little over 2·R so that rounding in
-/// `floor((x ± R) / cell)` can never span three cells.
+/// How much wider than 2·R a cell is, so that rounding in `floor((x ± R) / cell)` can never
+/// span three cells.
+pub const CELL_SLACK: f32 = 1.0001;
+
+/// The cell side for a largest gather radius: a little over 2·R.
 pub fn cell_size(max_radius: f32) -> f32 {
-    (2.0 * max_radius * 1.0001).max(f32::MIN_POSITIVE * 4.0)
+    (2.0 * max_radius * CELL_SLACK).max(f32::MIN_POSITIVE * 4.0)
+}
+
+/// The largest gather radius cells of `cell_size` serve (the inverse of [`cell_size`]).
+pub fn largest_radius(cell_size: f32) -> f32 {
+    cell_size * (0.5 / CELL_SLACK)
 }
 
 /// The cell holding `position`. The grid is offset by half a cell so that no cell boundary

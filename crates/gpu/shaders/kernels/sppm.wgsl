@@ -167,48 +167,44 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     pixels[index].direct += direct;
 }
 
-fn photon_entry(photon: Photon) -> u32 {
+// cpu::kernels::photon_key: slot `index`'s stored photon's first hash-entry word and its
+// priority this pass; `stored` false if the slot stored none (or lies past the slots).
+struct PhotonKey {
+    entry: u32,
+    priority: u32,
+    stored: bool,
+}
+
+fn photon_key(index: u32) -> PhotonKey {
+    if index >= params.slot_count {
+        return PhotonKey(0u, 0u, false);
+    }
+    let photon = photons[index];
+    if !any(photon.flux != vec3<f32>(0.0)) {
+        return PhotonKey(0u, 0u, false);
+    }
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
-    return entry_of(cell_of(photon.position, cell_size), params.hash_size) * HASH_ENTRY_WORDS;
-}
-
-fn photon_priority(index: u32) -> u32 {
+    let entry = entry_of(cell_of(photon.position, cell_size), params.hash_size) * HASH_ENTRY_WORDS;
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
-    return stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;
-}
-
-fn is_stored(photon: Photon) -> bool {
-    return any(photon.flux != vec3<f32>(0.0));
+    let priority = stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;
+    return PhotonKey(entry, priority, true);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn hash_count(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let index = invocation_index(id, groups);
-    if index >= params.slot_count {
-        return;
+    let key = photon_key(invocation_index(id, groups));
+    if key.stored {
+        atomicMax(&hash[key.entry + HASH_PRIORITY], key.priority);
+        atomicAdd(&hash[key.entry + HASH_COUNT], 1u);
     }
-    let photon = photons[index];
-    if !is_stored(photon) {
-        return;
-    }
-    let entry = photon_entry(photon);
-    atomicMax(&hash[entry + HASH_PRIORITY], photon_priority(index));
-    atomicAdd(&hash[entry + HASH_COUNT], 1u);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn hash_select(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let index = invocation_index(id, groups);
-    if index >= params.slot_count {
-        return;
-    }
-    let photon = photons[index];
-    if !is_stored(photon) {
-        return;
-    }
-    let entry = photon_entry(photon);
-    if atomicLoad(&hash[entry + HASH_PRIORITY]) == photon_priority(index) {
-        atomicMax(&hash[entry + HASH_WINNER], index);
+    let key = photon_key(index);
+    if key.stored && atomicLoad(&hash[key.entry + HASH_PRIORITY]) == key.priority {
+        atomicMax(&hash[key.entry + HASH_WINNER], index);
     }
 }
 
@@ -222,7 +218,7 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     let point = visible_points[index];
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
     // cpu::kernels::gather: a radius larger than the cells allow shrinks to fit.
-    let largest = cell_size * (0.5 / 1.0001);
+    let largest = largest_radius(cell_size);
     var changed = false;
     if stats.radius > largest {
         let scale = (largest / stats.radius) * (largest / stats.radius);

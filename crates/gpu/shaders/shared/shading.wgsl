@@ -191,7 +191,12 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
 
 // ---- render::hash ----
 fn hash_cell_size(max_radius: f32) -> f32 {
-    return max(2.0 * max_radius * 1.0001, 1.17549435e-38 * 4.0);
+    return max(2.0 * max_radius * CELL_SLACK, 1.17549435e-38 * 4.0);
+}
+
+// render::hash::largest_radius: the inverse of hash_cell_size.
+fn largest_radius(cell_size: f32) -> f32 {
+    return cell_size * (0.5 / CELL_SLACK);
 }
 
 // render::hash::cell_of: the grid offset by half a cell (no boundary on the plane 0).

@@ -96,9 +96,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             args.photons.unwrap_or(default_slots(width, height, slots)),
         )
     };
-    let use_gpu = match args.backend {
-        BackendChoice::Cpu => false,
-        BackendChoice::Gpu => true,
+    let gpu_context = match args.backend {
+        BackendChoice::Cpu => None,
+        BackendChoice::Gpu => Some(gpu::GpuContext::new(args.adapter.as_deref())?),
         // A CPU-type adapter (lavapipe) runs the same kernels slower than the native CPU
         // backend on the same cores (docs/BENCHMARKS.md §3), so auto takes it only if named.
         BackendChoice::Auto => match gpu::GpuContext::new(args.adapter.as_deref()) {
@@ -107,17 +107,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                     "kousen: the only adapter is a CPU ({}); rendering on the CPU backend (use --backend gpu to render through it)",
                     context.info.name
                 );
-                false
+                None
             }
-            Ok(_) => true,
+            Ok(context) => Some(context),
             Err(e) => {
                 eprintln!("kousen: no GPU adapter ({e}); rendering on the CPU backend");
-                false
+                None
             }
         },
     };
-    if use_gpu {
-        let context = gpu::GpuContext::new(args.adapter.as_deref())?;
+    if let Some(context) = gpu_context {
         let slots = if context.is_cpu_device() {
             DEFAULT_SLOTS_CPU
         } else {

@@ -1,18 +1,6 @@
 //! What a benchmark records about the machine it ran on, and its statistics.
 
-/// The CPU's model name ("Intel(R) Xeon(R) Processor @ 2.50GHz"), from /proc/cpuinfo where
-/// there is one, else the architecture.
-pub fn cpu_model() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|text| {
-            text.lines()
-                .find(|line| line.starts_with("model name"))
-                .and_then(|line| line.split_once(':'))
-                .map(|(_, name)| name.trim().to_owned())
-        })
-        .unwrap_or_else(|| std::env::consts::ARCH.to_owned())
-}
+pub use cpu::cpu_model;
 
 /// The median of `samples` (which must not be empty); the mean of the middle two when even.
 pub fn median(samples: &[f64]) -> f64 {

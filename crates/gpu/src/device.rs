@@ -15,7 +15,7 @@ const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
 const ADAPTER_NAME_ENV: &str = "WGPU_ADAPTER_NAME";
 
 /// An open device and its queue, with what was learned about the adapter.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct GpuContext {
     /// The logical device, created with [`GpuContext::limits`] and [`GpuContext::features`].
     pub device: wgpu::Device,
@@ -41,21 +41,34 @@ impl GpuContext {
     }
 
     async fn new_async(adapter_filter: Option<&str>) -> Result<GpuContext, GpuError> {
-        // Vulkan, Metal, DX12 (and WebGPU) unless WGPU_BACKEND says otherwise: the GL backend
-        // lacks the storage-buffer compute we need on many drivers, and probing it where there
-        // is no display only prints EGL errors.
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        desc.backends = wgpu::Backends::PRIMARY.with_env();
-        let backends = desc.backends;
-        let instance = wgpu::Instance::new(desc);
+        let instance = wgpu::Instance::new(instance_descriptor(None));
+        Self::open(&instance, adapter_filter, None).await
+    }
+
+    /// Opens the best adapter (as [`GpuContext::new`] chooses) among those of `instance` that
+    /// can present to `surface`: the device the window of `kousen view` draws with.
+    pub fn for_surface(
+        instance: &wgpu::Instance,
+        surface: &wgpu::Surface<'_>,
+        adapter_filter: Option<&str>,
+    ) -> Result<GpuContext, GpuError> {
+        pollster::block_on(Self::open(instance, adapter_filter, Some(surface)))
+    }
+
+    async fn open(
+        instance: &wgpu::Instance,
+        adapter_filter: Option<&str>,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<GpuContext, GpuError> {
         let env_filter = std::env::var(ADAPTER_NAME_ENV).ok();
         let filter = adapter_filter.or(env_filter.as_deref());
 
-        let adapters = instance.enumerate_adapters(backends).await;
+        let adapters = instance.enumerate_adapters(backends()).await;
         let seen: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
         let adapter = adapters
             .into_iter()
             .filter(|a| filter.is_none_or(|f| name_matches(&a.get_info().name, f)))
+            .filter(|a| surface.is_none_or(|s| a.is_surface_supported(s)))
             .min_by_key(|a| type_rank(a.get_info().device_type))
             .ok_or_else(|| GpuError::NoAdapter {
                 filter: filter.map(str::to_owned),
@@ -98,6 +111,26 @@ impl GpuContext {
     pub fn description(&self) -> String {
         describe(&self.info)
     }
+}
+
+/// The backends kousen uses: Vulkan, Metal, DX12 (and WebGPU) unless `WGPU_BACKEND` says
+/// otherwise. The GL backend lacks the storage-buffer compute we need on many drivers, and
+/// probing it where there is no display only prints EGL errors.
+pub fn backends() -> wgpu::Backends {
+    wgpu::Backends::PRIMARY.with_env()
+}
+
+/// An instance over [`backends`], flags from wgpu's environment variables; a window's display
+/// handle where one will present (GL needs it; the others ignore it).
+pub fn instance_descriptor(
+    display: Option<Box<dyn wgpu::wgt::WgpuHasDisplayHandle>>,
+) -> wgpu::InstanceDescriptor {
+    let mut desc = match display {
+        Some(display) => wgpu::InstanceDescriptor::new_with_display_handle_from_env(display),
+        None => wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
+    };
+    desc.backends = backends();
+    desc
 }
 
 /// "name (backend, type, driver driver_info)", driver parts left out when the backend is silent.

@@ -9,9 +9,12 @@
 //! - [`scene_upload`]: the packed BVH and materials in storage buffers;
 //! - [`textures`]: the scene's textures as one texture array (`render::textures`);
 //! - [`traversal`]: closest- and any-hit kernels (stack, TBVH, MTBVH) and benchmark ray
-//!   generation, twins of `bvh::traverse` and `bvh::bench_rays`.
+//!   generation, twins of `bvh::traverse` and `bvh::bench_rays`;
+//! - [`display`]: the progressive image drawn straight from the SPPM statistics on the device
+//!   (a render pass for the viewer) and captured as RGBA8.
 
 pub mod device;
+pub mod display;
 pub mod limits;
 pub mod prelude;
 pub mod readback;
@@ -22,7 +25,7 @@ pub mod textures;
 pub mod traversal;
 pub mod types;
 
-pub use device::GpuContext;
+pub use device::{GpuContext, instance_descriptor};
 pub use limits::check_buffer_fits;
 pub use scene_upload::GpuScene;
 pub use traversal::{RayBatch, TraversalKernels, Variant};

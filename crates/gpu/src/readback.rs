@@ -32,6 +32,18 @@ pub fn read_buffer<T: bytemuck::Pod>(
         .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
     encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, bytes);
     context.queue.submit([encoder.finish()]);
+    map_staging(context, &staging, |bytes| {
+        bytemuck::cast_slice(bytes).to_vec()
+    })
+}
+
+/// Maps `staging` (a `MAP_READ` buffer whose copies were submitted), waits for the device, and
+/// hands its bytes to `read`.
+pub fn map_staging<R>(
+    context: &GpuContext,
+    staging: &wgpu::Buffer,
+    read: impl FnOnce(&[u8]) -> R,
+) -> Result<R, GpuError> {
     let (sender, receiver) = std::sync::mpsc::channel();
     staging.map_async(wgpu::MapMode::Read, .., move |result| {
         // The receiver waits below, so the send cannot fail.
@@ -45,8 +57,8 @@ pub fn read_buffer<T: bytemuck::Pod>(
     let view = staging
         .get_mapped_range(..)
         .map_err(|e| GpuError::Device(e.to_string()))?;
-    let data = bytemuck::cast_slice(&view).to_vec();
+    let result = read(&view);
     drop(view);
     staging.unmap();
-    Ok(data)
+    Ok(result)
 }

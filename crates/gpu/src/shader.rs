@@ -18,6 +18,7 @@ const SPPM_TYPES: &str = include_str!("../shaders/shared/sppm_types.wgsl");
 const TEXTURES: &str = include_str!("../shaders/shared/textures.wgsl");
 const SHADING: &str = include_str!("../shaders/shared/shading.wgsl");
 const SPPM: &str = include_str!("../shaders/kernels/sppm.wgsl");
+const DISPLAY: &str = include_str!("../shaders/kernels/display.wgsl");
 
 /// A shader module of kousen's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,10 +29,13 @@ pub enum Module {
     Raygen,
     /// The SPPM kernels (`sppm.wgsl`).
     Sppm,
+    /// The progressive image on screen: vertex and fragment shaders over the SPPM statistics
+    /// (`display.wgsl`, used by [`crate::display`]); no scene bindings.
+    Display,
 }
 
 impl Module {
-    pub const ALL: [Module; 3] = [Module::Trace, Module::Raygen, Module::Sppm];
+    pub const ALL: [Module; 4] = [Module::Trace, Module::Raygen, Module::Sppm, Module::Display];
 
     /// The files it is made of, as (name, text), after the prelude.
     pub fn parts(self) -> Vec<(&'static str, &'static str)> {
@@ -60,6 +64,13 @@ impl Module {
                 ("shared/shading.wgsl", SHADING),
                 ("kernels/sppm.wgsl", SPPM),
             ],
+            // The statistics' struct only: the display binds no scene.
+            Module::Display => {
+                return vec![
+                    ("shared/sppm_types.wgsl", SPPM_TYPES),
+                    ("kernels/display.wgsl", DISPLAY),
+                ];
+            }
         };
         scene.iter().chain(own).copied().collect()
     }
@@ -87,6 +98,7 @@ impl Module {
             Module::Trace => "trace.wgsl",
             Module::Raygen => "raygen.wgsl",
             Module::Sppm => "sppm.wgsl",
+            Module::Display => "display.wgsl",
         }
     }
 }

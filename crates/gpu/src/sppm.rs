@@ -12,6 +12,7 @@ use render::buffers::{
 };
 use wgpu::util::DeviceExt;
 
+use crate::display::DisplaySource;
 use crate::readback::{read_buffer, wait_idle};
 use crate::scene_upload::{bind_buffers, scene_layout, storage_entry};
 use crate::shader::Module;
@@ -361,6 +362,18 @@ impl GpuBackend {
 
     pub fn counters(&mut self) -> Result<Vec<u32>, BackendError> {
         self.read_counters()
+    }
+
+    /// The statistics and counters buffers for [`crate::display::DisplayPass`] (handles to the
+    /// same buffers, read in place on the device); None before `start`. A new `start`
+    /// allocates new buffers, so take a new source after it.
+    pub fn display_source(&self) -> Option<DisplaySource> {
+        self.state.as_ref().map(|s| DisplaySource {
+            pixels: s.pixels.clone(),
+            counters: s.counters.clone(),
+            width: s.params.width,
+            height: s.params.height,
+        })
     }
 }
 

@@ -388,3 +388,40 @@ fn sppm_module_is_validated_and_binds_the_buffers_the_backend_counts() {
         "storage buffers bound by sppm.wgsl vs gpu::sppm::SPPM_STORAGE_BUFFERS"
     );
 }
+
+#[test]
+fn display_params_layout_matches_rust() {
+    use gpu::display::DisplayParams;
+    let source = Module::Display.source();
+    let module = parse(&source, "display");
+    assert_layout(
+        &module,
+        "DisplayParams",
+        size_of::<DisplayParams>(),
+        &[
+            ("render_width", offset_of!(DisplayParams, render_width)),
+            ("render_height", offset_of!(DisplayParams, render_height)),
+            ("target_width", offset_of!(DisplayParams, target_width)),
+            ("target_height", offset_of!(DisplayParams, target_height)),
+            ("eye_passes", offset_of!(DisplayParams, eye_passes)),
+            ("exposure", offset_of!(DisplayParams, exposure)),
+            ("encode_srgb", offset_of!(DisplayParams, encode_srgb)),
+            ("pad", offset_of!(DisplayParams, pad)),
+        ],
+    );
+    // The statistics it reads are the SPPM kernels' struct.
+    assert_layout(
+        &module,
+        "PixelStats",
+        size_of::<render::buffers::PixelStats>(),
+        &[
+            ("tau", offset_of!(render::buffers::PixelStats, tau)),
+            (
+                "photon_count",
+                offset_of!(render::buffers::PixelStats, photon_count),
+            ),
+            ("direct", offset_of!(render::buffers::PixelStats, direct)),
+            ("radius", offset_of!(render::buffers::PixelStats, radius)),
+        ],
+    );
+}

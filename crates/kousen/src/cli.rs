@@ -24,6 +24,14 @@ pub enum Command {
     Render(RenderArgs),
     /// Triangles, materials, lights, BVH statistics and memory of a scene.
     Info(InfoArgs),
+    /// An interactive window showing the GPU renderer's image as it converges.
+    ///
+    /// Mouse: left drag orbits, middle or shift + left drag pans, the wheel zooms, right drag
+    /// looks around; W A S D move, Q E down and up. Keys: Space pause, R restart, S save
+    /// (EXR and PNG), F1 hide the overlay. Drop a .gltf, .glb or .obj file on the window to
+    /// open it.
+    #[command(verbatim_doc_comment)]
+    View(ViewArgs),
     /// Measure speed, variants side by side in one run.
     Bench(BenchArgs),
     /// Compare an image with a reference: relMSE, RMSE and mean ratio
@@ -197,6 +205,51 @@ pub struct RenderArgs {
     /// The integrator: SPPM, or the CPU path tracer kept as an independent reference.
     #[arg(long, value_enum, default_value_t = Integrator::Sppm)]
     pub integrator: Integrator,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
+}
+
+#[derive(Args)]
+pub struct ViewArgs {
+    /// A .gltf, .glb or .obj file.
+    pub scene: PathBuf,
+    /// Window width in pixels.
+    #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub width: u32,
+    /// Window height in pixels.
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub height: u32,
+    /// Render resolution as a fraction of the window's (default: 1 on GPUs, 0.5 on CPU-type
+    /// adapters such as lavapipe).
+    #[arg(long, value_name = "FRACTION")]
+    pub render_scale: Option<f32>,
+    /// Photon path slots per pass (default: one per rendered pixel, fewer on slow adapters).
+    #[arg(long, value_name = "N")]
+    pub photons: Option<u32>,
+    /// Exposure in stops.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// SPPM's radius reduction α, in (0, 1).
+    #[arg(long, default_value_t = render::settings::DEFAULT_ALPHA)]
+    pub alpha: f32,
+    /// An eye pass every this many photon passes.
+    #[arg(long, value_name = "K", default_value_t = render::settings::DEFAULT_EYE_EVERY)]
+    pub eye_every: u32,
+    /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
+    #[arg(long, value_name = "SUBSTRING")]
+    pub adapter: Option<String>,
+    /// Start without the overlay (F1 shows it).
+    #[arg(long)]
+    pub no_overlay: bool,
+    /// Save what the window shows (the image, without the overlay) as a PNG this many seconds
+    /// after the first frame; may be given several times. For scripts and tests.
+    #[arg(long, num_args = 2, value_names = ["SECONDS", "PATH"], action = clap::ArgAction::Append)]
+    pub screenshot_after: Vec<String>,
+    /// Close the window this many seconds after the first frame (exit 0).
+    #[arg(long, value_name = "SECONDS")]
+    pub quit_after: Option<f64>,
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]

@@ -8,6 +8,7 @@ use std::path::Path;
 use anyhow::{Context, bail, ensure};
 use glam::Vec3;
 use render::Image;
+use render::tonemap::{linear_to_srgb8, srgb_to_linear};
 
 use crate::output_file::PendingFile;
 
@@ -302,37 +303,10 @@ impl<'a> PfmHeader<'a> {
     }
 }
 
-/// The sRGB transfer function, unclamped.
-fn linear_to_srgb(c: f32) -> f32 {
-    if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// The inverse of [`linear_to_srgb`].
-fn srgb_to_linear(s: f32) -> f32 {
-    if s <= 0.040_45 {
-        s / 12.92
-    } else {
-        ((s + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// Clamps to [0, 1] and applies the sRGB transfer function.
-pub fn linear_to_srgb8(c: f32) -> u8 {
-    let c = if c.is_finite() {
-        c.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (linear_to_srgb(c) * 255.0 + 0.5) as u8
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use render::tonemap::linear_to_srgb;
 
     /// Distinct values in every channel, from below 1e-3 to above 100, no two pixels alike.
     fn test_image(width: u32, height: u32) -> Image {

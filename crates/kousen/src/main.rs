@@ -7,6 +7,7 @@ mod image_metrics;
 mod output_file;
 mod path_trace;
 mod progress;
+mod view;
 
 use std::process::ExitCode;
 

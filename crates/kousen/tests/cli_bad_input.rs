@@ -229,3 +229,43 @@ fn assert_no_files_but(dir: &std::path::Path, expected: &[&str]) {
     names.sort();
     assert_eq!(names, expected, "stray files left behind");
 }
+
+/// `kousen view` where no display can be reached: one line that points to `kousen render`.
+#[test]
+fn view_without_a_display_suggests_render() {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_kousen"))
+        .args([
+            "view",
+            &format!(
+                "{}/../../scenes/cornell-box.gltf",
+                env!("CARGO_MANIFEST_DIR")
+            ),
+        ])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    assert_clean_error(&output, "kousen render");
+}
+
+/// Bad `kousen view` arguments fail before a window is asked for.
+#[test]
+fn view_bad_arguments_are_clean_errors() {
+    let scene = format!(
+        "{}/../../scenes/cornell-box.gltf",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let absent = dir.path().join("absent.gltf");
+    assert_clean_error(&kousen(&["view", absent.to_str().unwrap()]), "absent");
+    assert_clean_error(
+        &kousen(&["view", &scene, "--screenshot-after", "1", "shot.exr"]),
+        "png",
+    );
+    assert_clean_error(
+        &kousen(&["view", &scene, "--render-scale", "0"]),
+        "render-scale",
+    );
+    assert_clean_error(&kousen(&["view", &scene, "--alpha", "1.5"]), "alpha");
+}

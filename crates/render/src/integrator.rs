@@ -153,6 +153,19 @@ impl<B: Backend> Sppm<B> {
         &mut self.backend
     }
 
+    pub fn backend_ref(&self) -> &B {
+        &self.backend
+    }
+
+    /// The backend back, to start another render on the same scene (a new camera, say).
+    pub fn into_backend(self) -> B {
+        self.backend
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
     /// One SPPM iteration: the eye pass when due, a photon pass, the hash, the gather.
     pub fn pass(&mut self) {
         if self.passes.is_multiple_of(self.settings.eye_every) {

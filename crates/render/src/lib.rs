@@ -16,6 +16,7 @@ pub mod rng;
 pub mod sampling;
 pub mod settings;
 pub mod textures;
+pub mod tonemap;
 
 pub use backend::{Backend, BackendError, Setup, Statistics};
 pub use image::Image;

@@ -4,7 +4,7 @@ mod bench;
 mod diff;
 pub mod info;
 mod path_render;
-mod render;
+pub mod render;
 
 use crate::cli::Command;
 
@@ -14,5 +14,6 @@ pub fn run(command: Command) -> anyhow::Result<()> {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args.command),
         Command::Diff(args) => diff::run(&args),
+        Command::View(args) => crate::view::run(&args),
     }
 }

@@ -1,0 +1,104 @@
+// The progressive image on screen (gpu::display): a full-screen triangle whose fragments read
+// the SPPM statistics in place, resolve them like render::resolve::resolve_pixel, apply the
+// exposure and clamp like render::tonemap::display_value and, for targets that are not sRGB,
+// the sRGB transfer like render::tonemap::linear_to_srgb.
+
+// Mirrors gpu::display::DisplayParams (tests/layout.rs checks the offsets).
+struct DisplayParams {
+    render_width: u32,
+    render_height: u32,
+    // The size in pixels of the viewport the image fills.
+    target_width: u32,
+    target_height: u32,
+    eye_passes: u32,
+    // Stops: the radiance is multiplied by 2^exposure.
+    exposure: f32,
+    // 1: write sRGB-encoded values (the target is not an sRGB format); 0: linear values.
+    encode_srgb: u32,
+    pad: u32,
+}
+
+@group(0) @binding(0) var<uniform> display: DisplayParams;
+@group(0) @binding(1) var<storage, read> display_pixels: array<PixelStats>;
+@group(0) @binding(2) var<storage, read> display_counters: array<u32>;
+
+struct DisplayVertex {
+    @builtin(position) position: vec4<f32>,
+    // (0, 0) at the viewport's top-left corner, (1, 1) at its bottom-right.
+    @location(0) uv: vec2<f32>,
+}
+
+// One triangle covering the viewport: vertices at clip (-1, -1), (3, -1) and (-1, 3).
+@vertex
+fn display_vertex(@builtin(vertex_index) index: u32) -> DisplayVertex {
+    let x = f32((index & 1u) * 4u) - 1.0;
+    let y = f32((index >> 1u) * 4u) - 1.0;
+    var out: DisplayVertex;
+    out.position = vec4<f32>(x, y, 0.0, 1.0);
+    out.uv = vec2<f32>(0.5 * (x + 1.0), 0.5 * (1.0 - y));
+    return out;
+}
+
+// The render pixel shown at viewport pixel `target` of `target_size` pixels in one dimension:
+// the one under its centre when the image is scaled to fill the viewport (nearest pixel).
+fn display_source_index(target_pixel: u32, target_size: u32, render_size: u32) -> u32 {
+    let scaled = ((2u * target_pixel + 1u) * render_size) / (2u * target_size);
+    return min(scaled, render_size - 1u);
+}
+
+// render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted).
+fn display_resolve(stats: PixelStats) -> vec3<f32> {
+    var direct = vec3<f32>(0.0);
+    if display.eye_passes > 0u {
+        direct = stats.direct / f32(display.eye_passes);
+    }
+    let emitted = f32(display_counters[COUNTER_EMITTED_HI]) * 4294967296.0
+        + f32(display_counters[COUNTER_EMITTED_LO]);
+    let area = PI * stats.radius * stats.radius;
+    var photons = vec3<f32>(0.0);
+    if emitted > 0.0 && area > 0.0 {
+        photons = stats.tau / (area * emitted);
+    }
+    return direct + photons;
+}
+
+// Whether `x` is neither infinite nor NaN, from its bits (WGSL has no isnan, and compilers may
+// assume floats are finite).
+fn display_is_finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+// render::tonemap::display_value.
+fn display_value(linear: f32, scale: f32) -> f32 {
+    let scaled = linear * scale;
+    if display_is_finite(scaled) {
+        return clamp(scaled, 0.0, 1.0);
+    }
+    return 0.0;
+}
+
+// render::tonemap::linear_to_srgb.
+fn display_encode_srgb(c: vec3<f32>) -> vec3<f32> {
+    let low = 12.92 * c;
+    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, low, c <= vec3<f32>(0.0031308));
+}
+
+@fragment
+fn display_fragment(vertex: DisplayVertex) -> @location(0) vec4<f32> {
+    let target_size = vec2<u32>(display.target_width, display.target_height);
+    let target_pixel = min(vec2<u32>(vertex.uv * vec2<f32>(target_size)), target_size - 1u);
+    let x = display_source_index(target_pixel.x, display.target_width, display.render_width);
+    let y = display_source_index(target_pixel.y, display.target_height, display.render_height);
+    let radiance = display_resolve(display_pixels[y * display.render_width + x]);
+    let scale = exp2(display.exposure);
+    var colour = vec3<f32>(
+        display_value(radiance.x, scale),
+        display_value(radiance.y, scale),
+        display_value(radiance.z, scale),
+    );
+    if display.encode_srgb != 0u {
+        colour = display_encode_srgb(colour);
+    }
+    return vec4<f32>(colour, 1.0);
+}

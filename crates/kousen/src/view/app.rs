@@ -1,0 +1,817 @@
+//! The window: winit events in, SPPM passes and a drawn frame out. Each frame runs as many
+//! passes as fit the frame budget, then the display pass tonemaps the accumulation buffers
+//! straight into the swapchain image and egui draws the overlay on top.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::{Mutex, mpsc};
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use glam::Vec2;
+use gpu::GpuContext;
+use gpu::display::DisplayPass;
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
+use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use super::camera_control::{CameraController, FlyKey, drag_mode};
+use super::frame_budget::{FrameBudget, TARGET_FRAME, initial_photons};
+use super::overlay::{Action, Overlay, OverlayInfo};
+use super::schedule::Schedule;
+use super::session::{LoadedScene, RenderControls, Session, load_scene};
+use crate::cli::{BvhArgs, ViewArgs};
+
+/// How often the emitted-path count (a tiny readback) and the mean radius (every pixel's
+/// statistics) are refreshed for the overlay.
+const PATHS_REFRESH: Duration = Duration::from_millis(500);
+const RADIUS_REFRESH: Duration = Duration::from_secs(2);
+/// Photon-count cuts allowed per scene and window size, and only while a render is this young.
+const MAX_PHOTON_CUTS: u32 = 2;
+const PHOTON_CUT_MAX_PASSES: u32 = 32;
+/// Scene files a drop may open.
+const SCENE_EXTENSIONS: [&str; 3] = ["gltf", "glb", "obj"];
+
+/// The window and what draws into it, made once the event loop has resumed.
+struct Gfx {
+    /// The first device error wgpu reported (it would otherwise panic).
+    device_error: Arc<Mutex<Option<String>>>,
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    context: GpuContext,
+    display: DisplayPass,
+    egui_ctx: egui::Context,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+}
+
+#[derive(Default)]
+struct Mouse {
+    left: bool,
+    middle: bool,
+    right: bool,
+    position: Option<Vec2>,
+}
+
+pub struct App {
+    instance: wgpu::Instance,
+    title: String,
+    window_size: (u32, u32),
+    adapter_filter: Option<String>,
+    /// `--render-scale`, until the adapter is known; then the scale in use.
+    render_scale: Option<f32>,
+    scale: f32,
+    photons_override: Option<u32>,
+    bvh_args: BvhArgs,
+    initial_camera: Option<scene::Camera>,
+    /// The scene given on the command line, until the device exists to upload it.
+    initial_scene: Option<LoadedScene>,
+    gfx: Option<Gfx>,
+    session: Option<Session>,
+    /// A dropped file being read on another thread.
+    loading: Option<(PathBuf, mpsc::Receiver<anyhow::Result<LoadedScene>>)>,
+    controller: Option<CameraController>,
+    budget: FrameBudget,
+    overlay: Overlay,
+    mouse: Mouse,
+    modifiers: ModifiersState,
+    paused: bool,
+    minimized: bool,
+    overlay_animating: bool,
+    /// The render must start again (camera, size or settings changed).
+    restart: bool,
+    /// Size and photons of the running render: the frame budget's estimate holds while they
+    /// stay (a camera move costs the same per pass).
+    render_shape: Option<((u32, u32), u32)>,
+    /// Times the photon count may still be lowered for slow passes: a few, early, since each
+    /// restarts the render and per-pixel work (not photons) may be what makes a pass slow.
+    photon_cuts_left: u32,
+    first_frame: Option<Instant>,
+    last_frame: Instant,
+    schedule: Schedule,
+    message: Option<String>,
+    paths_checked: Instant,
+    radius_checked: Option<Instant>,
+    paths_rate: f64,
+    last_paths: (u64, f64),
+    mean_radius: Option<f32>,
+    /// An error that ends the program (reported after the event loop returns).
+    pub fatal: Option<anyhow::Error>,
+}
+
+impl App {
+    pub fn new(
+        args: &ViewArgs,
+        instance: wgpu::Instance,
+        loaded: LoadedScene,
+        camera: scene::Camera,
+    ) -> anyhow::Result<App> {
+        let (schedule, controls) = check_arguments(args)?;
+        let now = Instant::now();
+        Ok(App {
+            instance,
+            title: String::new(),
+            window_size: (args.width, args.height),
+            adapter_filter: args.adapter.clone(),
+            render_scale: args.render_scale,
+            scale: 1.0,
+            photons_override: args.photons,
+            bvh_args: args.bvh,
+            initial_camera: Some(camera),
+            initial_scene: Some(loaded),
+            gfx: None,
+            session: None,
+            loading: None,
+            controller: None,
+            budget: FrameBudget::new(TARGET_FRAME),
+            overlay: Overlay::new(!args.no_overlay, args.exposure, controls),
+            mouse: Mouse::default(),
+            modifiers: ModifiersState::empty(),
+            paused: false,
+            minimized: false,
+            overlay_animating: false,
+            restart: true,
+            render_shape: None,
+            photon_cuts_left: MAX_PHOTON_CUTS,
+            first_frame: None,
+            last_frame: now,
+            schedule,
+            message: None,
+            paths_checked: now,
+            radius_checked: None,
+            paths_rate: 0.0,
+            last_paths: (0, 0.0),
+            mean_radius: None,
+            fatal: None,
+        })
+    }
+
+    /// Opens the window, the device that presents to it, and uploads the first scene.
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
+        let loaded = self
+            .initial_scene
+            .take()
+            .context("the scene is already open")?;
+        let title = window_title(&loaded.path);
+        let attributes = Window::default_attributes()
+            .with_title(&title)
+            .with_inner_size(winit::dpi::PhysicalSize::new(
+                self.window_size.0,
+                self.window_size.1,
+            ));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .context("cannot open a window (use `kousen render` without a display)")?,
+        );
+        let surface = self
+            .instance
+            .create_surface(window.clone())
+            .context("cannot draw into the window")?;
+        let context =
+            GpuContext::for_surface(&self.instance, &surface, self.adapter_filter.as_deref())
+                .context("no GPU adapter can present to the window (use `kousen render`)")?;
+        eprintln!("kousen: viewing on {}", context.description());
+        let device_error = Arc::new(Mutex::new(None));
+        let sink = device_error.clone();
+        context
+            .device
+            .on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+                let mut first = sink.lock().unwrap_or_else(|p| p.into_inner());
+                first.get_or_insert_with(|| e.to_string().replace('\n', " "));
+            }));
+        let config = surface_config(&surface, &context, window.inner_size())?;
+        surface.configure(&context.device, &config);
+        let display = DisplayPass::new(&context.device, config.format);
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(context.limits.max_texture_dimension_2d as usize),
+        );
+        let egui_renderer =
+            egui_wgpu::Renderer::new(&context.device, config.format, Default::default());
+        self.scale = self
+            .render_scale
+            .unwrap_or(if context.is_cpu_device() { 0.5 } else { 1.0 });
+        if self.photons_override.is_none() {
+            let (w, h) = render_size(&config, self.scale);
+            self.overlay.controls.photons = initial_photons(w * h, context.is_cpu_device());
+        }
+        let session = Session::new(&context, loaded)?;
+        let camera = self.initial_camera.take().context("no camera")?;
+        self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
+        self.session = Some(session);
+        self.title = title;
+        self.gfx = Some(Gfx {
+            device_error,
+            window,
+            surface,
+            config,
+            context,
+            display,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+        });
+        Ok(())
+    }
+
+    fn exit_with(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
+        self.fatal.get_or_insert(error);
+        event_loop.exit();
+    }
+
+    /// Input the overlay did not take: camera moves and keys.
+    fn handle_input(&mut self, event: &WindowEvent) {
+        let Some(controller) = &mut self.controller else {
+            return;
+        };
+        match event {
+            WindowEvent::ModifiersChanged(m) => self.modifiers = m.state(),
+            WindowEvent::MouseInput { state, button, .. } => {
+                let down = *state == ElementState::Pressed;
+                match button {
+                    MouseButton::Left => self.mouse.left = down,
+                    MouseButton::Middle => self.mouse.middle = down,
+                    MouseButton::Right => {
+                        self.mouse.right = down;
+                        if !down {
+                            controller.release_keys();
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let position = Vec2::new(position.x as f32, position.y as f32);
+                if let Some(last) = self.mouse.position {
+                    let mode = drag_mode(
+                        self.mouse.left,
+                        self.mouse.middle,
+                        self.mouse.right,
+                        self.modifiers.shift_key(),
+                    );
+                    let height = self.gfx.as_ref().map_or(1, |g| g.config.height) as f32;
+                    if let Some(mode) = mode {
+                        self.restart |= controller.drag(mode, position - last, height);
+                    }
+                }
+                self.mouse.position = Some(position);
+            }
+            WindowEvent::CursorLeft { .. } => self.mouse.position = None,
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => *y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.restart |= controller.zoom(lines);
+            }
+            WindowEvent::KeyboardInput { event, .. } => {
+                let PhysicalKey::Code(code) = event.physical_key else {
+                    return;
+                };
+                let pressed = event.state == ElementState::Pressed;
+                // WASD QE fly while the right button is held (S alone saves).
+                if let Some(key) = fly_key(code)
+                    && (self.mouse.right || !pressed)
+                {
+                    controller.key(key, pressed);
+                    if self.mouse.right {
+                        return;
+                    }
+                }
+                if !pressed || event.repeat {
+                    return;
+                }
+                match code {
+                    KeyCode::Space => self.act(Action::TogglePause),
+                    KeyCode::KeyR => self.act(Action::Restart),
+                    KeyCode::KeyS => self.act(Action::Save),
+                    KeyCode::F1 => self.overlay.visible = !self.overlay.visible,
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn act(&mut self, action: Action) {
+        log::debug!("view: {action:?}");
+        match action {
+            Action::TogglePause => self.paused = !self.paused,
+            Action::Restart | Action::ControlsChanged => self.restart = true,
+            Action::Save => self.save(),
+            Action::SelectCamera(i) => {
+                let camera = self.session.as_ref().and_then(|s| s.scene.camera(Some(i)));
+                if let (Some(camera), Some(controller)) = (camera, &mut self.controller) {
+                    controller.set_camera(&camera);
+                    self.restart = true;
+                }
+            }
+        }
+    }
+
+    /// Writes the image so far as `<scene>-<passes>.exr` and `.png` in the working directory.
+    fn save(&mut self) {
+        let Some(session) = &mut self.session else {
+            return;
+        };
+        let stem = format!("{}-{:05}", session.name(), session.stats().passes);
+        let written = session.image().and_then(|image| {
+            for extension in ["exr", "png"] {
+                let path = PathBuf::from(format!("{stem}.{extension}"));
+                crate::image_io::Output::create_with(&path, Default::default())?
+                    .commit(&image, self.overlay.exposure)?;
+            }
+            Ok(())
+        });
+        self.message = Some(match written {
+            Ok(()) => format!("saved {stem}.exr and {stem}.png"),
+            Err(e) => format!("cannot save: {e:#}"),
+        });
+    }
+
+    /// A dropped file: read it on another thread; the current scene stays until it is ready.
+    fn open_dropped(&mut self, path: &Path) {
+        let known = path
+            .extension()
+            .is_some_and(|e| SCENE_EXTENSIONS.iter().any(|k| e.eq_ignore_ascii_case(k)));
+        if !known {
+            self.message = Some(format!(
+                "{}: not a scene (drop a .gltf, .glb or .obj file)",
+                path.display()
+            ));
+            return;
+        }
+        let (send, receive) = mpsc::channel();
+        let owned = path.to_owned();
+        let bvh_args = self.bvh_args;
+        std::thread::spawn(move || {
+            // The receiver may be gone if another file was dropped meanwhile.
+            let _ = send.send(load_scene(&owned, bvh_args));
+        });
+        self.message = Some(format!("loading {} …", path.display()));
+        self.loading = Some((path.to_owned(), receive));
+    }
+
+    /// Swaps in a dropped scene once it has been read, or reports why it cannot be.
+    fn finish_loading(&mut self) {
+        let Some((path, receive)) = &self.loading else {
+            return;
+        };
+        let result = match receive.try_recv() {
+            Ok(result) => result,
+            Err(mpsc::TryRecvError::Empty) => return,
+            Err(mpsc::TryRecvError::Disconnected) => {
+                Err(anyhow::anyhow!("the loader stopped unexpectedly"))
+            }
+        };
+        let path = path.clone();
+        self.loading = None;
+        let Some(gfx) = &self.gfx else {
+            return;
+        };
+        match result.and_then(|loaded| Session::new(&gfx.context, loaded)) {
+            Ok(session) => {
+                let camera = session
+                    .scene
+                    .camera(None)
+                    .unwrap_or_else(|| scene::Camera::outside_view(session.scene.bounds()));
+                self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
+                self.title = window_title(&path);
+                gfx.window.set_title(&self.title);
+                self.session = Some(session);
+                self.photon_cuts_left = MAX_PHOTON_CUTS;
+                self.message = Some(format!("opened {}", path.display()));
+                self.restart = true;
+            }
+            Err(e) => self.message = Some(format!("cannot open {}: {e:#}", path.display())),
+        }
+    }
+
+    /// One frame: restart if due, passes within the budget, the overlay's figures, drawing,
+    /// screenshots.
+    fn frame(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
+        self.last_frame = now;
+        self.finish_loading();
+        if let Some(controller) = &mut self.controller {
+            self.restart |= controller.update(dt);
+        }
+        if self.restart {
+            self.start_render();
+        }
+        if !self.paused {
+            self.run_passes()?;
+        }
+        self.refresh_figures();
+        self.draw()?;
+        if let Some(gfx) = &self.gfx {
+            let error = gfx.device_error.lock().unwrap_or_else(|p| p.into_inner());
+            if let Some(error) = error.as_ref() {
+                anyhow::bail!("the device failed: {error}");
+            }
+        }
+        let first = *self.first_frame.get_or_insert(now);
+        let elapsed = first.elapsed().as_secs_f64();
+        for path in self.schedule.take_due(elapsed) {
+            self.screenshot(&path)?;
+            eprintln!("kousen: saved {}", path.display());
+        }
+        if self.schedule.should_quit(elapsed) {
+            event_loop.exit();
+        }
+        Ok(())
+    }
+
+    fn start_render(&mut self) {
+        self.restart = false;
+        let (Some(gfx), Some(session), Some(controller)) =
+            (&self.gfx, &mut self.session, &self.controller)
+        else {
+            return;
+        };
+        let size = render_size(&gfx.config, self.scale);
+        let camera = controller.camera();
+        match session.restart(&camera, size, self.overlay.controls) {
+            Ok(()) => {
+                let shape = Some((size, self.overlay.controls.photons));
+                if self.render_shape != shape {
+                    self.budget.reset();
+                    self.render_shape = shape;
+                }
+                self.mean_radius = None;
+                self.radius_checked = None;
+                self.paths_rate = 0.0;
+                self.last_paths = (0, 0.0);
+            }
+            Err(e) => self.message = Some(format!("{e:#}")),
+        }
+    }
+
+    fn run_passes(&mut self) -> anyhow::Result<()> {
+        let Some(session) = &mut self.session else {
+            return Ok(());
+        };
+        if !session.is_running() {
+            return Ok(());
+        }
+        let passes = self.budget.passes_per_frame();
+        let started = Instant::now();
+        session.run_passes(passes)?;
+        self.budget.record(passes, started.elapsed());
+        if self.photons_override.is_none()
+            && self.photon_cuts_left > 0
+            && session.stats().passes <= PHOTON_CUT_MAX_PASSES
+            && let Some(fewer) = self.budget.photons_advice(self.overlay.controls.photons)
+        {
+            log::info!("view: passes are slow; {fewer} photon slots per pass");
+            self.photon_cuts_left -= 1;
+            self.overlay.controls.photons = fewer;
+            self.restart = true;
+        }
+        Ok(())
+    }
+
+    fn refresh_figures(&mut self) {
+        let Some(session) = &mut self.session else {
+            return;
+        };
+        if self.paths_checked.elapsed() >= PATHS_REFRESH {
+            self.paths_checked = Instant::now();
+            if session.refresh_photon_paths().is_ok() {
+                let stats = session.stats();
+                let (paths, seconds) = self.last_paths;
+                let dt = stats.seconds - seconds;
+                if dt > 0.0 && stats.photon_paths >= paths {
+                    self.paths_rate = (stats.photon_paths - paths) as f64 / dt;
+                }
+                self.last_paths = (stats.photon_paths, stats.seconds);
+            }
+        }
+        let radius_due = self
+            .radius_checked
+            .is_none_or(|t| t.elapsed() >= RADIUS_REFRESH);
+        if self.overlay.visible && radius_due && session.stats().passes > 0 {
+            self.radius_checked = Some(Instant::now());
+            self.mean_radius = session.mean_radius().ok().flatten();
+        }
+    }
+
+    fn draw(&mut self) -> anyhow::Result<()> {
+        let Some(gfx) = &mut self.gfx else {
+            return Ok(());
+        };
+        let frame = match gfx.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(frame)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(frame) => frame,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                // A window closed from outside loses its surface for good.
+                anyhow::ensure!(
+                    gfx.context.adapter.is_surface_supported(&gfx.surface),
+                    "the window's surface is gone"
+                );
+                gfx.surface.configure(&gfx.context.device, &gfx.config);
+                return Ok(());
+            }
+            other => {
+                log::warn!("view: no frame to draw into ({other:?})");
+                return Ok(());
+            }
+        };
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+
+        // The overlay's layout for this frame.
+        let cameras: Vec<String> = self.session.as_ref().map_or_else(Vec::new, |s| {
+            s.scene
+                .cameras
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    if c.name.is_empty() {
+                        format!("{i}")
+                    } else {
+                        c.name.clone()
+                    }
+                })
+                .collect()
+        });
+        let adapter = gfx.context.info.name.clone();
+        let render_size = render_size(&gfx.config, self.scale);
+        let info = OverlayInfo {
+            scene: &self.title,
+            adapter: &adapter,
+            stats: self
+                .session
+                .as_ref()
+                .map(Session::stats)
+                .unwrap_or_default(),
+            photon_paths_per_second: self.paths_rate,
+            mean_radius: self.mean_radius,
+            render_size,
+            passes_per_frame: self.budget.passes_per_frame(),
+            seconds_per_pass: self.budget.seconds_per_pass(),
+            paused: self.paused,
+            cameras: &cameras,
+            message: self.message.as_deref(),
+        };
+        let input = gfx.egui_state.take_egui_input(&gfx.window);
+        let overlay = &mut self.overlay;
+        let mut actions = Vec::new();
+        let output = gfx.egui_ctx.run_pass(input, |ctx| {
+            actions = overlay.ui(ctx, &info);
+        });
+        gfx.egui_state
+            .handle_platform_output(&gfx.window, output.platform_output);
+        // An overlay animation (a hover fading, say) wants the next frame now.
+        self.overlay_animating = output
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .is_some_and(|v| v.repaint_delay.is_zero());
+        let jobs = gfx
+            .egui_ctx
+            .tessellate(output.shapes, output.pixels_per_point);
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [gfx.config.width, gfx.config.height],
+            pixels_per_point: output.pixels_per_point,
+        };
+        let device = &gfx.context.device;
+        let queue = &gfx.context.queue;
+        for (id, deltas) in &output.textures_delta.set {
+            for delta in deltas {
+                gfx.egui_renderer.update_texture(device, queue, *id, delta);
+            }
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("view frame"),
+        });
+        let callbacks =
+            gfx.egui_renderer
+                .update_buffers(device, queue, &mut encoder, &jobs, &screen);
+        {
+            let mut pass = encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("view frame"),
+                    color_attachments: &[Some(gpu::display::cleared_attachment(&view))],
+                    ..Default::default()
+                })
+                .forget_lifetime();
+            if let Some((source, eye_passes)) =
+                self.session.as_ref().and_then(Session::display_source)
+            {
+                gfx.display.draw(
+                    device,
+                    queue,
+                    &mut pass,
+                    &source,
+                    eye_passes,
+                    self.overlay.exposure,
+                    (gfx.config.width, gfx.config.height),
+                );
+            }
+            gfx.egui_renderer.render(&mut pass, &jobs, &screen);
+        }
+        queue.submit(callbacks.into_iter().chain([encoder.finish()]));
+        gfx.window.pre_present_notify();
+        queue.present(frame);
+        for id in &output.textures_delta.free {
+            gfx.egui_renderer.free_texture(id);
+        }
+        let mut applied = output.textures_delta;
+        applied.clear();
+        for action in actions {
+            self.act(action);
+        }
+        Ok(())
+    }
+
+    /// What the window shows (without the overlay), as a PNG.
+    fn screenshot(&mut self, path: &Path) -> anyhow::Result<()> {
+        let (Some(gfx), Some(session)) = (&mut self.gfx, &self.session) else {
+            return Ok(());
+        };
+        let (source, eye_passes) = session
+            .display_source()
+            .context("no render to take a screenshot of")?;
+        let size = (gfx.config.width, gfx.config.height);
+        let rgba = gfx.display.capture(
+            &gfx.context,
+            &source,
+            eye_passes,
+            self.overlay.exposure,
+            size,
+        )?;
+        super::screenshot::write_png(path, size, &rgba)
+    }
+
+    /// Whether frames must keep coming without input.
+    fn is_animating(&self) -> bool {
+        let flying = self.controller.as_ref().is_some_and(|c| c.is_flying());
+        let busy = !self.paused
+            || flying
+            || self.restart
+            || self.loading.is_some()
+            || self.overlay_animating;
+        !self.minimized && (busy || self.schedule.is_pending())
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        if let Err(e) = self.open(event_loop) {
+            self.exit_with(event_loop, e);
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let Some(gfx) = &mut self.gfx else {
+            return;
+        };
+        let response = gfx.egui_state.on_window_event(&gfx.window, &event);
+        // egui asks to repaint after every redraw too; that would never let the loop sleep.
+        if response.repaint && event != WindowEvent::RedrawRequested {
+            gfx.window.request_redraw();
+        }
+        match &event {
+            WindowEvent::CloseRequested | WindowEvent::Destroyed => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                self.minimized = size.width == 0 || size.height == 0;
+                let changed = (size.width, size.height) != (gfx.config.width, gfx.config.height);
+                if !self.minimized && changed {
+                    gfx.config.width = size.width;
+                    gfx.config.height = size.height;
+                    gfx.surface.configure(&gfx.context.device, &gfx.config);
+                    self.restart = true;
+                    self.photon_cuts_left = MAX_PHOTON_CUTS;
+                }
+            }
+            WindowEvent::Occluded(occluded) => self.minimized = *occluded,
+            WindowEvent::DroppedFile(path) => {
+                let path = path.clone();
+                self.open_dropped(&path);
+            }
+            WindowEvent::RedrawRequested => {
+                if !self.minimized
+                    && let Err(e) = self.frame(event_loop)
+                {
+                    self.exit_with(event_loop, e);
+                }
+            }
+            _ if !response.consumed => self.handle_input(&event),
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        // Draw continuously while converging; sleep until the next event when paused or
+        // minimised (no busy loop).
+        if self.is_animating() {
+            if let Some(gfx) = &self.gfx {
+                gfx.window.request_redraw();
+            }
+            event_loop.set_control_flow(ControlFlow::Poll);
+        } else {
+            event_loop.set_control_flow(ControlFlow::Wait);
+        }
+    }
+}
+
+/// Every argument checked before a window opens: the schedule and the render's controls.
+pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderControls)> {
+    let schedule = Schedule::new(&args.screenshot_after, args.quit_after)?;
+    if let Some(s) = args.render_scale {
+        anyhow::ensure!(
+            s.is_finite() && s > 0.0 && s <= 4.0,
+            "--render-scale must be in (0, 4], got {s}"
+        );
+    }
+    anyhow::ensure!(args.photons != Some(0), "--photons must be at least 1");
+    let controls = RenderControls {
+        photons: args.photons.unwrap_or(1 << 16),
+        alpha: args.alpha,
+        eye_every: args.eye_every,
+    };
+    render::Settings {
+        alpha: controls.alpha,
+        eye_every: controls.eye_every,
+        ..render::Settings::new(1, 1, controls.photons)
+    }
+    .validate()?;
+    Ok((schedule, controls))
+}
+
+fn window_title(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    format!("kousen — {name}")
+}
+
+fn fly_key(code: KeyCode) -> Option<FlyKey> {
+    Some(match code {
+        KeyCode::KeyW => FlyKey::Forward,
+        KeyCode::KeyS => FlyKey::Back,
+        KeyCode::KeyA => FlyKey::Left,
+        KeyCode::KeyD => FlyKey::Right,
+        KeyCode::KeyE => FlyKey::Up,
+        KeyCode::KeyQ => FlyKey::Down,
+        _ => return None,
+    })
+}
+
+/// The render's size: the window's scaled, at least 1×1.
+fn render_size(config: &wgpu::SurfaceConfiguration, scale: f32) -> (u32, u32) {
+    let scaled = |n: u32| ((n as f32 * scale).round() as u32).max(1);
+    (scaled(config.width), scaled(config.height))
+}
+
+/// A gamma-space (non-sRGB) 8-bit format where the surface has one: egui blends in gamma
+/// space, and the display pass then applies the sRGB transfer itself.
+fn surface_config(
+    surface: &wgpu::Surface,
+    context: &GpuContext,
+    size: winit::dpi::PhysicalSize<u32>,
+) -> anyhow::Result<wgpu::SurfaceConfiguration> {
+    let caps = surface.get_capabilities(&context.adapter);
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(|f| {
+            matches!(
+                f,
+                wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
+            )
+        })
+        .or_else(|| caps.formats.first().copied())
+        .context("the window's surface offers no format")?;
+    Ok(wgpu::SurfaceConfiguration {
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        format,
+        color_space: wgpu::SurfaceColorSpace::Auto,
+        width: size.width.max(1),
+        height: size.height.max(1),
+        present_mode: wgpu::PresentMode::AutoVsync,
+        desired_maximum_frame_latency: 2,
+        alpha_mode: caps
+            .alpha_modes
+            .first()
+            .copied()
+            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+        view_formats: vec![],
+    })
+}

@@ -1,0 +1,164 @@
+//! The egui overlay: figures of the running render and its controls. It only reports what the
+//! user asked for; the app acts on it.
+
+use super::session::{RenderControls, SessionStats};
+
+/// What the overlay shows besides its own controls.
+pub struct OverlayInfo<'a> {
+    pub scene: &'a str,
+    pub adapter: &'a str,
+    pub stats: SessionStats,
+    pub photon_paths_per_second: f64,
+    pub mean_radius: Option<f32>,
+    pub render_size: (u32, u32),
+    pub passes_per_frame: u32,
+    pub seconds_per_pass: Option<f64>,
+    pub paused: bool,
+    pub cameras: &'a [String],
+    /// The last error or notice (loading failures, saved files).
+    pub message: Option<&'a str>,
+}
+
+/// A request from the overlay.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    TogglePause,
+    Restart,
+    Save,
+    SelectCamera(usize),
+    /// `Overlay::controls` changed: restart with them.
+    ControlsChanged,
+}
+
+pub struct Overlay {
+    pub visible: bool,
+    /// Stops; applied by the display pass, no restart.
+    pub exposure: f32,
+    pub controls: RenderControls,
+}
+
+/// Photon slots per pass offered: 2^10 … 2^22.
+const PHOTONS_LOG2: std::ops::RangeInclusive<u32> = 10..=22;
+
+impl Overlay {
+    pub fn new(visible: bool, exposure: f32, controls: RenderControls) -> Overlay {
+        Overlay {
+            visible,
+            exposure,
+            controls,
+        }
+    }
+
+    /// Lays the overlay out for this frame; returns what the user asked for.
+    pub fn ui(&mut self, ctx: &egui::Context, info: &OverlayInfo) -> Vec<Action> {
+        let mut actions = Vec::new();
+        if !self.visible {
+            return actions;
+        }
+        egui::Window::new("kousen")
+            .default_pos([8.0, 8.0])
+            .resizable(false)
+            .show(ctx, |ui| {
+                self.figures(ui, info);
+                ui.separator();
+                self.controls_ui(ui, info, &mut actions);
+                if let Some(message) = info.message {
+                    ui.separator();
+                    ui.add(egui::Label::new(message).wrap());
+                }
+            });
+        actions
+    }
+
+    fn figures(&self, ui: &mut egui::Ui, info: &OverlayInfo) {
+        let stats = &info.stats;
+        egui::Grid::new("figures").num_columns(2).show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.label(value);
+                ui.end_row();
+            };
+            row("scene", info.scene.to_owned());
+            row("adapter", info.adapter.to_owned());
+            row(
+                "image",
+                format!("{} × {}", info.render_size.0, info.render_size.1),
+            );
+            row(
+                "passes",
+                format!(
+                    "{} ({} eye), {} per frame",
+                    stats.passes, stats.eye_passes, info.passes_per_frame
+                ),
+            );
+            row(
+                "pass time",
+                info.seconds_per_pass
+                    .map_or_else(|| "—".to_owned(), |s| format!("{:.2} ms", s * 1e3)),
+            );
+            row(
+                "photon paths/s",
+                format!("{:.3} M", info.photon_paths_per_second / 1e6),
+            );
+            row(
+                "mean radius",
+                info.mean_radius
+                    .map_or_else(|| "—".to_owned(), |r| format!("{r:.4}")),
+            );
+            row(
+                "elapsed",
+                format!(
+                    "{:.1} s{}",
+                    stats.seconds,
+                    if info.paused { " (paused)" } else { "" }
+                ),
+            );
+        });
+    }
+
+    fn controls_ui(&mut self, ui: &mut egui::Ui, info: &OverlayInfo, actions: &mut Vec<Action>) {
+        ui.add(egui::Slider::new(&mut self.exposure, -8.0..=8.0).text("exposure (stops)"));
+
+        let mut log2 = self.controls.photons.max(1).ilog2();
+        let photons = ui.add(
+            egui::Slider::new(&mut log2, PHOTONS_LOG2)
+                .text("photons per pass")
+                .custom_formatter(|v, _| format!("2^{v} = {}", 1u64 << v as u32)),
+        );
+        let alpha = ui.add(egui::Slider::new(&mut self.controls.alpha, 0.05..=0.95).text("α"));
+        let eye_every =
+            ui.add(egui::Slider::new(&mut self.controls.eye_every, 1..=64).text("eye pass every"));
+        if photons.changed() {
+            self.controls.photons = 1 << log2;
+        }
+        // Restart once the slider is let go, not at every step of a drag.
+        let settled = |r: &egui::Response| r.changed() && !r.dragged() || r.drag_stopped();
+        if settled(&photons) || settled(&alpha) || settled(&eye_every) {
+            actions.push(Action::ControlsChanged);
+        }
+
+        if !info.cameras.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.label("camera");
+                for (i, name) in info.cameras.iter().enumerate() {
+                    if ui.button(name).clicked() {
+                        actions.push(Action::SelectCamera(i));
+                    }
+                }
+            });
+        }
+        ui.horizontal(|ui| {
+            let pause = if info.paused { "resume" } else { "pause" };
+            if ui.button(format!("{pause} (Space)")).clicked() {
+                actions.push(Action::TogglePause);
+            }
+            if ui.button("restart (R)").clicked() {
+                actions.push(Action::Restart);
+            }
+            if ui.button("save EXR + PNG (S)").clicked() {
+                actions.push(Action::Save);
+            }
+        });
+        ui.small("drag: orbit · shift/middle: pan · wheel: zoom · right + WASD QE: fly · F1: hide");
+    }
+}

@@ -1,0 +1,189 @@
+//! The render behind the window: one scene on the GPU backend, restarted whenever the camera,
+//! the render size or a setting that shapes the state changes.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use gpu::GpuContext;
+use gpu::sppm::GpuBackend;
+use render::{Backend, Settings, Sppm};
+
+use crate::cli::BvhArgs;
+
+/// A scene read and its BVH built: the part of opening a file that may run off the window's
+/// thread.
+pub struct LoadedScene {
+    pub path: PathBuf,
+    pub scene: scene::Scene,
+    pub bvh: bvh::PackedBvh,
+}
+
+/// Reads a scene the viewer can render: a known format with at least one emissive surface.
+pub fn load_scene(path: &Path, bvh_args: BvhArgs) -> anyhow::Result<LoadedScene> {
+    let scene = scene::load(path)?;
+    if scene.lights.triangles.is_empty() {
+        bail!(
+            "{}: the scene has no emissive surface, so the image would be black",
+            path.display()
+        );
+    }
+    crate::cmd::info::check_bvh_limits(&scene)?;
+    let bvh = bvh::PackedBvh::build(&scene.triangles, &crate::cmd::info::build_options(bvh_args));
+    Ok(LoadedScene {
+        path: path.to_owned(),
+        scene,
+        bvh,
+    })
+}
+
+/// What the overlay may change; any change but exposure restarts the render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderControls {
+    pub photons: u32,
+    pub alpha: f32,
+    pub eye_every: u32,
+}
+
+/// Figures for the overlay.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SessionStats {
+    pub passes: u32,
+    pub eye_passes: u32,
+    pub photon_paths: u64,
+    pub seconds: f64,
+}
+
+pub struct Session {
+    pub scene: scene::Scene,
+    pub path: PathBuf,
+    /// A CPU copy of the BVH: each restart probes the view for the initial radius.
+    bvh: bvh::PackedBvh,
+    context: GpuContext,
+    sppm: Option<Sppm<GpuBackend>>,
+    /// The backend while no render runs (before the first start, after a failed one).
+    idle_backend: Option<GpuBackend>,
+    started: Instant,
+    /// Paths emitted, read now and then (reading waits for the queued passes).
+    photon_paths: u64,
+}
+
+impl Session {
+    /// Uploads the scene to `context`'s device and compiles the kernels.
+    pub fn new(context: &GpuContext, loaded: LoadedScene) -> anyhow::Result<Session> {
+        let backend = GpuBackend::new(context.clone(), &loaded.scene, loaded.bvh.clone())?;
+        Ok(Session {
+            scene: loaded.scene,
+            path: loaded.path,
+            bvh: loaded.bvh,
+            context: context.clone(),
+            sppm: None,
+            idle_backend: Some(backend),
+            started: Instant::now(),
+            photon_paths: 0,
+        })
+    }
+
+    /// File name for titles and saved images.
+    pub fn name(&self) -> String {
+        self.path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".into())
+    }
+
+    /// Starts accumulating anew from `camera` at `size`.
+    pub fn restart(
+        &mut self,
+        camera: &scene::Camera,
+        size: (u32, u32),
+        controls: RenderControls,
+    ) -> anyhow::Result<()> {
+        let (width, height) = size;
+        let settings = Settings {
+            alpha: controls.alpha,
+            eye_every: controls.eye_every,
+            initial_radius: render::integrator::initial_radius_from_view(
+                &self.bvh, camera, width, height,
+            ),
+            ..Settings::new(width, height, controls.photons)
+        };
+        settings.validate()?;
+        let backend = match (self.sppm.take(), self.idle_backend.take()) {
+            (Some(sppm), _) => sppm.into_backend(),
+            (None, Some(backend)) => backend,
+            // A failed start consumed it: upload the scene again.
+            (None, None) => GpuBackend::new(self.context.clone(), &self.scene, self.bvh.clone())?,
+        };
+        self.sppm = Some(
+            Sppm::new(backend, &self.scene, camera, settings).context("cannot start the render")?,
+        );
+        self.started = Instant::now();
+        self.photon_paths = 0;
+        Ok(())
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.sppm.is_some()
+    }
+
+    /// Queues `passes` SPPM passes and waits for them: the caller times the work.
+    pub fn run_passes(&mut self, passes: u32) -> anyhow::Result<()> {
+        let Some(sppm) = &mut self.sppm else {
+            return Ok(());
+        };
+        for _ in 0..passes {
+            sppm.pass();
+        }
+        sppm.backend().synchronize()?;
+        Ok(())
+    }
+
+    /// Reads the emitted-path total (a few words; waits for queued work).
+    pub fn refresh_photon_paths(&mut self) -> anyhow::Result<()> {
+        if let Some(sppm) = &mut self.sppm {
+            self.photon_paths = sppm.backend().emitted_paths()?;
+        }
+        Ok(())
+    }
+
+    pub fn stats(&self) -> SessionStats {
+        let Some(sppm) = &self.sppm else {
+            return SessionStats::default();
+        };
+        SessionStats {
+            passes: sppm.passes(),
+            eye_passes: sppm.eye_passes(),
+            photon_paths: self.photon_paths,
+            seconds: self.started.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// The mean gather radius over the pixels that have met photons (reads every pixel's
+    /// statistics back: call it rarely).
+    pub fn mean_radius(&mut self) -> anyhow::Result<Option<f32>> {
+        let Some(sppm) = &mut self.sppm else {
+            return Ok(None);
+        };
+        let stats = sppm.backend().read_statistics()?;
+        let lit: Vec<f32> = stats
+            .pixels
+            .iter()
+            .filter(|p| p.photon_count > 0.0)
+            .map(|p| p.radius)
+            .collect();
+        Ok((!lit.is_empty()).then(|| lit.iter().sum::<f32>() / lit.len() as f32))
+    }
+
+    /// The image so far, in linear radiance (reads the statistics back).
+    pub fn image(&mut self) -> anyhow::Result<render::Image> {
+        let sppm = self.sppm.as_mut().context("no render is running")?;
+        Ok(sppm.image()?)
+    }
+
+    /// The backend's accumulation buffers for the display pass, and the eye passes so far.
+    pub fn display_source(&self) -> Option<(gpu::display::DisplaySource, u32)> {
+        let sppm = self.sppm.as_ref()?;
+        Some((sppm.backend_ref().display_source()?, sppm.eye_passes()))
+    }
+}

@@ -6,7 +6,9 @@
 #   2. the window's own screenshots show the box: block averages (the picture without its noise)
 #      close to a `kousen render` of the same view,
 #   3. the image converges: the later screenshot is closer to that reference than the earlier,
-#   4. the window closes cleanly (exit 0) when asked to (--quit-after).
+#   4. opening a broken file (the path a drag and drop takes, driven by --open-after) reports
+#      the error and keeps the current scene; opening another scene shows that scene,
+#   5. the window closes cleanly (exit 0) when asked to (--quit-after).
 # Needs: xvfb (Xvfb), x11-apps (xwd), netpbm (xwdtopnm), python3; .ci/run installs them.
 # Usage: scripts/view_e2e.sh [KOUSEN_BINARY]   (default target/debug/kousen, built if missing)
 set -euo pipefail
@@ -15,6 +17,7 @@ cd "$(dirname "$0")/.."
 kousen=${1:-target/debug/kousen}
 [ -x "$kousen" ] || cargo build -p kousen --locked
 scene=scenes/cornell-box.gltf
+second=scenes/cornell-caustics.gltf
 size=256
 work=$(mktemp -d)
 trap 'kill "${xvfb_pid:-}" 2>/dev/null || true; [ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT
@@ -29,9 +32,12 @@ export DISPLAY=":$display"
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$work}
 
 echo "view_e2e: kousen view $scene on $DISPLAY"
-DISPLAY=":$display" "$kousen" view "$scene" --width $size --height $size --render-scale 1 \
-    --no-overlay --screenshot-after 2 "$work/early.png" --screenshot-after 12 "$work/late.png" \
-    --quit-after 14 >"$work/view.log" 2>&1 &
+printf '{"asset": {"version": "2.0"}, "nodes": [' >"$work/broken.gltf"
+"$kousen" view "$scene" --width $size --height $size --render-scale 1 --no-overlay \
+    --screenshot-after 2 "$work/early.png" --screenshot-after 12 "$work/late.png" \
+    --open-after 12.5 "$work/broken.gltf" --screenshot-after 14 "$work/kept.png" \
+    --open-after 14.5 "$second" --screenshot-after 28 "$work/second.png" \
+    --quit-after 29 >"$work/view.log" 2>&1 &
 view_pid=$!
 
 # Grab the whole X screen once the window has drawn for a while.
@@ -46,18 +52,23 @@ if [ $status -ne 0 ]; then
     echo "view_e2e: FAIL: kousen view exited with status $status" >&2
     exit 1
 fi
-for shot in early late; do
+for shot in early late kept second; do
     [ -s "$work/$shot.png" ] || { echo "view_e2e: FAIL: no $shot screenshot" >&2; exit 1; }
 done
+grep -q "cannot open $work/broken.gltf" "$work/view.log" \
+    || { echo "view_e2e: FAIL: the broken file's error was not reported" >&2; exit 1; }
 
-# The reference: the same scene, camera and size rendered to convergence on the CPU backend.
+# References: the same scenes, camera and size rendered to convergence on the CPU backend.
 "$kousen" render "$scene" --backend cpu --width $size --height $size --passes 256 -o "$work/reference.png"
+"$kousen" render "$second" --backend cpu --width $size --height $size --passes 256 -o "$work/second-reference.png"
 "$kousen" diff "$work/early.png" "$work/reference.png" --json "$work/early.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/reference.png" --json "$work/late.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/early.png" --json "$work/change.json" >/dev/null
-for image in late reference; do pngtopnm "$work/$image.png" >"$work/$image.ppm"; done
+for image in late kept second reference second-reference; do
+    pngtopnm "$work/$image.png" >"$work/$image.ppm"
+done
 
-python3 - "$work" <<'EOF'
+python3 - "$work" <<'PYTHON'
 import json, sys
 
 work = sys.argv[1]
@@ -83,29 +94,9 @@ def read_ppm(path):
     width, height = int(fields[1]), int(fields[2])
     return width, height, data[pos + 1:pos + 1 + width * height * 3]
 
-failures = []
-try:
-    width, height, rgb = read_ppm(f"{work}/screen.ppm")
-    lit = sum(1 for i in range(0, len(rgb), 3) if max(rgb[i:i + 3]) > 24)
-    # The window is 256x256 on a black 640x480 screen: the box's walls light most of it.
-    print(f"screen grab: {width}x{height}, {lit} pixels lit (window area {256 * 256})")
-    if lit < 0.4 * 256 * 256:
-        failures.append(f"the screen grab is (nearly) blank: {lit} lit pixels")
-except Exception as e:  # no grab: say so, the window's own screenshots still count
-    failures.append(f"could not read the X screen grab: {e}")
-
-print(f"early vs reference: rel_mse {early['rel_mse']:.4f}, mean_ratio {early['mean_ratio']:.3f}")
-print(f"late  vs reference: rel_mse {late['rel_mse']:.4f}, mean_ratio {late['mean_ratio']:.3f}")
-print(f"late  vs early:     rel_mse {change['rel_mse']:.5f}")
-if not 0.8 < late["mean_ratio"] < 1.25:
-    failures.append(f"the late screenshot's brightness is off: mean_ratio {late['mean_ratio']:.3f}")
-for name in ("r", "g", "b"):  # the red and green walls: every channel in proportion
-    ratio = late[f"mean_ratio_{name}"]
-    if not 0.75 < ratio < 1.33:
-        failures.append(f"the late screenshot's {name} channel is off: {ratio:.3f}")
-# The picture without its noise: 8x8 blocks of 32x32 pixels, mean 8-bit value per channel.
-def blocks(path, n=8):
-    width, height, rgb = read_ppm(path)
+def blocks(name, n=8):
+    """The picture without its noise: n x n blocks, mean 8-bit value per channel."""
+    width, height, rgb = read_ppm(f"{work}/{name}.ppm")
     sums = [[0.0] * 3 for _ in range(n * n)]
     for y in range(height):
         for x in range(width):
@@ -115,22 +106,59 @@ def blocks(path, n=8):
     count = width * height / (n * n)
     return [[v / count for v in s] for s in sums]
 
-shown, reference = blocks(f"{work}/late.ppm"), blocks(f"{work}/reference.ppm")
-# Mean absolute difference of block values, relative to the reference's mean value.
-mean_value = sum(map(sum, reference)) / (3 * len(reference))
-block_error = sum(abs(a - b) for s, r in zip(shown, reference) for a, b in zip(s, r)) / (3 * len(reference)) / mean_value
-left, right = shown[4 * 8 + 0], shown[4 * 8 + 7]  # the middle row's first and last blocks
-print(f"block error {block_error:.3f}; left wall RGB {[round(v) for v in left]}, right wall {[round(v) for v in right]}")
-if not block_error < 0.1:
-    failures.append(f"the late screenshot does not look like the reference: block error {block_error:.3f}")
-if not (left[0] > 2 * left[1] and right[1] > 1.2 * right[0]):
-    failures.append("the red wall is not on the left and the green one on the right")
+def block_error(name, reference):
+    """Mean absolute block difference relative to the reference's mean value."""
+    a, b = blocks(name), blocks(reference)
+    mean_value = sum(map(sum, b)) / (3 * len(b))
+    return sum(abs(x - y) for s, r in zip(a, b) for x, y in zip(s, r)) / (3 * len(b)) / mean_value
+
+failures = []
+try:
+    width, height, rgb = read_ppm(f"{work}/screen.ppm")
+    lit = sum(1 for i in range(0, len(rgb), 3) if max(rgb[i:i + 3]) > 24)
+    # The window is 256x256 on a black 640x480 screen: the box's walls light most of it.
+    print(f"screen grab: {width}x{height}, {lit} pixels lit (window area {256 * 256})")
+    if lit < 0.4 * 256 * 256:
+        failures.append(f"the screen grab is (nearly) blank: {lit} lit pixels")
+except Exception as e:
+    failures.append(f"could not read the X screen grab: {e}")
+
+print(f"early vs reference: rel_mse {early['rel_mse']:.4f}, mean_ratio {early['mean_ratio']:.3f}")
+print(f"late  vs reference: rel_mse {late['rel_mse']:.4f}, mean_ratio {late['mean_ratio']:.3f}")
+print(f"late  vs early:     rel_mse {change['rel_mse']:.5f}")
+if not 0.8 < late["mean_ratio"] < 1.25:
+    failures.append(f"the late screenshot's brightness is off: mean_ratio {late['mean_ratio']:.3f}")
+for name in ("r", "g", "b"):
+    ratio = late[f"mean_ratio_{name}"]
+    if not 0.75 < ratio < 1.33:
+        failures.append(f"the late screenshot's {name} channel is off: {ratio:.3f}")
 if not change["rel_mse"] > 1e-5:
     failures.append("the image did not change between the screenshots")
 if not late["rel_mse"] < early["rel_mse"]:
     failures.append("the image did not converge towards the reference")
+
+shown = blocks("late")
+left, right = shown[4 * 8 + 0], shown[4 * 8 + 7]  # the middle row's first and last blocks
+print(f"left wall RGB {[round(v) for v in left]}, right wall {[round(v) for v in right]}")
+if not (left[0] > 2 * left[1] and right[1] > 1.2 * right[0]):
+    failures.append("the red wall is not on the left and the green one on the right")
+
+errors = {
+    "late vs its scene": block_error("late", "reference"),
+    "kept (after the broken file) vs the first scene": block_error("kept", "reference"),
+    "second vs the second scene": block_error("second", "second-reference"),
+    "second vs the first scene": block_error("second", "reference"),
+}
+for what, error in errors.items():
+    print(f"block error, {what}: {error:.3f}")
+for what in list(errors)[:3]:
+    if not errors[what] < 0.1:
+        failures.append(f"block error {what} is {errors[what]:.3f} (must be < 0.1)")
+if not errors["second vs the first scene"] > 2 * errors["second vs the second scene"]:
+    failures.append("after opening the second scene the window does not show it")
+
 for f in failures:
     print(f"view_e2e: FAIL: {f}", file=sys.stderr)
 sys.exit(1 if failures else 0)
-EOF
+PYTHON
 echo "view_e2e: ok"

@@ -20,7 +20,7 @@ use winit::window::{Window, WindowId};
 use super::camera_control::{CameraController, FlyKey, drag_mode};
 use super::frame_budget::{FrameBudget, TARGET_FRAME, initial_photons};
 use super::overlay::{Action, Overlay, OverlayInfo};
-use super::schedule::Schedule;
+use super::schedule::{Schedule, Timed};
 use super::session::{LoadedScene, RenderControls, Session, load_scene};
 use crate::cli::{BvhArgs, ViewArgs};
 
@@ -318,6 +318,12 @@ impl App {
         }
     }
 
+    /// Shows `text` in the overlay, and on stderr for scripts.
+    fn notify(&mut self, text: String) {
+        eprintln!("kousen: {text}");
+        self.message = Some(text);
+    }
+
     /// Writes the image so far as `<scene>-<passes>.exr` and `.png` in the working directory.
     fn save(&mut self) {
         let Some(session) = &mut self.session else {
@@ -332,7 +338,7 @@ impl App {
             }
             Ok(())
         });
-        self.message = Some(match written {
+        self.notify(match written {
             Ok(()) => format!("saved {stem}.exr and {stem}.png"),
             Err(e) => format!("cannot save: {e:#}"),
         });
@@ -344,7 +350,7 @@ impl App {
             .extension()
             .is_some_and(|e| SCENE_EXTENSIONS.iter().any(|k| e.eq_ignore_ascii_case(k)));
         if !known {
-            self.message = Some(format!(
+            self.notify(format!(
                 "{}: not a scene (drop a .gltf, .glb or .obj file)",
                 path.display()
             ));
@@ -357,7 +363,7 @@ impl App {
             // The receiver may be gone if another file was dropped meanwhile.
             let _ = send.send(load_scene(&owned, bvh_args));
         });
-        self.message = Some(format!("loading {} …", path.display()));
+        self.notify(format!("loading {} …", path.display()));
         self.loading = Some((path.to_owned(), receive));
     }
 
@@ -389,10 +395,10 @@ impl App {
                 gfx.window.set_title(&self.title);
                 self.session = Some(session);
                 self.photon_cuts_left = MAX_PHOTON_CUTS;
-                self.message = Some(format!("opened {}", path.display()));
+                self.notify(format!("opened {}", path.display()));
                 self.restart = true;
             }
-            Err(e) => self.message = Some(format!("cannot open {}: {e:#}", path.display())),
+            Err(e) => self.notify(format!("cannot open {}: {e:#}", path.display())),
         }
     }
 
@@ -422,9 +428,14 @@ impl App {
         }
         let first = *self.first_frame.get_or_insert(now);
         let elapsed = first.elapsed().as_secs_f64();
-        for path in self.schedule.take_due(elapsed) {
-            self.screenshot(&path)?;
-            eprintln!("kousen: saved {}", path.display());
+        for event in self.schedule.take_due(elapsed) {
+            match event {
+                Timed::Screenshot(path) => {
+                    self.screenshot(&path)?;
+                    eprintln!("kousen: saved {}", path.display());
+                }
+                Timed::Open(path) => self.open_dropped(&path),
+            }
         }
         if self.schedule.should_quit(elapsed) {
             event_loop.exit();
@@ -453,7 +464,7 @@ impl App {
                 self.paths_rate = 0.0;
                 self.last_paths = (0, 0.0);
             }
-            Err(e) => self.message = Some(format!("{e:#}")),
+            Err(e) => self.notify(format!("{e:#}")),
         }
     }
 
@@ -731,7 +742,7 @@ impl ApplicationHandler for App {
 
 /// Every argument checked before a window opens: the schedule and the render's controls.
 pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderControls)> {
-    let schedule = Schedule::new(&args.screenshot_after, args.quit_after)?;
+    let schedule = Schedule::new(&args.screenshot_after, &args.open_after, args.quit_after)?;
     if let Some(s) = args.render_scale {
         anyhow::ensure!(
             s.is_finite() && s > 0.0 && s <= 4.0,

@@ -6,6 +6,7 @@
 //! - [`mtbvh`]: hit/miss links for the TBVH (one order) and the MTBVH (six directions).
 //! - [`pack`]: `#[repr(C)]` Pod nodes, links and triangles ([`PackedBvh`]).
 //! - [`traverse`]: stack, TBVH and MTBVH traversal, closest and any hit, and brute force.
+//! - [`compact`]: the MTBVH in 32-byte records with 16-bit boxes and links, and its traversal.
 //! - [`testing`]: random triangle soups and rays from a seed.
 //!
 //! Default leaf size: at most two triangles (the talk uses one); measured against 1, 4 and 8
@@ -16,6 +17,7 @@ mod aabb;
 pub mod bench_rays;
 mod binning;
 pub mod build_sah;
+pub mod compact;
 pub mod intersect;
 pub mod mtbvh;
 pub mod pack;
@@ -25,6 +27,10 @@ pub mod traverse;
 pub mod tree;
 
 pub use build_sah::{BuildOptions, build_sah};
+pub use compact::{
+    CompactError, CompactFrame, CompactMemory, CompactMtbvh, CompactNode, any_hit_mtbvh_compact,
+    closest_hit_mtbvh_compact, trace_mtbvh_compact,
+};
 pub use intersect::{Hit, Ray, SlabRay};
 pub use mtbvh::{DIRECTION_COUNT, LINK_END, Order, Threading, Threadings};
 pub use pack::{BvhNode, Links, Memory, PackedBvh, PackedTriangle, PackedVertex, direction_index};

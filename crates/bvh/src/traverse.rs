@@ -42,7 +42,7 @@ pub struct TraversalCounters {
 pub type TraceFn = fn(&PackedBvh, &Ray, Query, &mut TraversalCounters) -> Option<Hit>;
 
 /// Tests a leaf's triangles, updating `best` and `t_best`; true if one was hit.
-fn test_leaf(
+pub(crate) fn test_leaf(
     bvh: &PackedBvh,
     leaf: &BvhNode,
     ray: &Ray,

@@ -114,6 +114,57 @@ pub fn photon_pass(
     }
 }
 
+/// The naive scheme's path for slot `index` in pass `pass`: `pass × slots + index`, wrapping,
+/// so that every pass traces new paths (see `render::PhotonTracing`).
+pub fn naive_path(params: &SppmParams, pass: u32, index: u32) -> u32 {
+    pass.wrapping_mul(params.slot_count).wrapping_add(index)
+}
+
+/// Segments a path can take at most: every bounce counts towards `max_depth`, and the alpha
+/// pass-throughs end it once there are more than [`MAX_PASS_THROUGHS`]. The naive loop stops
+/// here too, though a path always ends by then.
+pub fn naive_segment_limit(params: &SppmParams) -> u32 {
+    params.max_depth.saturating_add(MAX_PASS_THROUGHS + 1)
+}
+
+/// What one invocation of the naive scheme leaves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NaivePath {
+    /// Segments traced, the first (from the light) included.
+    pub segments: u32,
+    /// The last photon the path stored (zero flux if none).
+    pub photon: Photon,
+}
+
+/// The naive scheme, slot `index` in pass `pass`: a new light path traced to its end in one
+/// invocation, as [`photon_pass`] steps on a slot from idle until the slot is idle again, its
+/// `k`-th step drawing the numbers of pass `k` for slot [`naive_path`].
+pub fn photon_trace_naive(
+    scene: &SceneData,
+    params: &SppmParams,
+    pass: u32,
+    index: u32,
+) -> NaivePath {
+    let path = naive_path(params, pass, index);
+    let limit = naive_segment_limit(params);
+    let mut slot = PathSlot::IDLE;
+    let mut last = NaivePath {
+        segments: 0,
+        photon: Photon::default(),
+    };
+    loop {
+        let step = photon_pass(scene, params, last.segments, path, slot);
+        last.segments += 1;
+        if step.photon.is_stored() {
+            last.photon = step.photon;
+        }
+        slot = step.slot;
+        if slot.depth == SLOT_IDLE || last.segments >= limit {
+            return last;
+        }
+    }
+}
+
 /// What one eye-pass invocation leaves: the pixel's new visible point and the emission its
 /// camera path saw on the way.
 #[derive(Clone, Copy, Debug, PartialEq)]

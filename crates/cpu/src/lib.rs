@@ -8,7 +8,7 @@ pub mod surface;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
-use render::backend::{Backend, BackendError, Setup, Statistics};
+use render::backend::{Backend, BackendError, PhotonTracing, Setup, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
     emitted_total, initial_counters,
@@ -47,6 +47,8 @@ struct State {
     pixels: Vec<PixelStats>,
     hash: Vec<AtomicU32>,
     counters: Vec<AtomicU32>,
+    /// Per slot, the segments of its last naive path (empty until the naive scheme runs).
+    path_segments: Vec<u32>,
 }
 
 pub struct CpuBackend {
@@ -136,6 +138,7 @@ impl Backend for CpuBackend {
                 params.hash_size as usize * HASH_ENTRY_WORDS,
             )),
             counters: atomics(initial_counters(setup.initial_radius)),
+            path_segments: Vec::new(),
         };
         Ok(())
     }
@@ -243,5 +246,34 @@ impl Backend for CpuBackend {
             ),
             ("statistics", bytes(s.pixels.len(), size_of::<PixelStats>())),
         ]
+    }
+}
+
+impl PhotonTracing for CpuBackend {
+    fn finish_pass(&mut self) {
+        kernels::finish_pass(&self.state.counters);
+    }
+
+    fn photon_trace_naive(&mut self) {
+        let pass = self.pass_index();
+        let (scene, state) = (&self.scene, &mut self.state);
+        let params = state.params;
+        let counters = &state.counters;
+        state.path_segments.resize(params.slot_count as usize, 0);
+        state
+            .path_segments
+            .par_iter_mut()
+            .zip(state.photons.par_iter_mut())
+            .enumerate()
+            .for_each(|(index, (segments, photon))| {
+                let path = kernels::photon_trace_naive(scene, &params, pass, index as u32);
+                *segments = path.segments;
+                *photon = path.photon;
+                counters[counter::EMITTED_PASS].fetch_add(1, Relaxed);
+            });
+    }
+
+    fn read_path_segments(&mut self) -> Result<Vec<u32>, BackendError> {
+        Ok(self.state.path_segments.clone())
     }
 }

@@ -1,17 +1,23 @@
 //! The packed scene in storage buffers (bind group 0 of every kernel): BVH nodes (boxes shared
 //! by all threadings), triangles (vertices as two vec4 each), the six MTBVH link sets followed
-//! by the TBVH's, where each threading starts, and the materials.
+//! by the TBVH's, where each threading starts, and the materials. On request
+//! ([`GpuScene::upload_compact`]) also the compact MTBVH, bind group 2 of its trace kernels.
 
 use wgpu::util::DeviceExt;
 
-use bvh::{BvhNode, Links, PackedBvh, PackedTriangle};
+use bvh::{BvhNode, CompactMtbvh, CompactNode, Links, PackedBvh, PackedTriangle};
 use scene::Material;
 
+use crate::traversal::uniform_entry;
 use crate::types::{GpuMaterial, SceneInfo};
 use crate::{GpuContext, GpuError, check_buffer_fits};
 
 /// Storage buffers bound at once by the busiest kernel (scene group + a ray batch).
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 7;
+
+/// Storage buffers bound by the compact MTBVH's trace kernels: the scene's five, the ray
+/// batch's two and the compact records.
+pub const COMPACT_STORAGE_BUFFERS_PER_STAGE: u32 = 8;
 
 /// The scene's buffers on the device.
 #[derive(Debug)]
@@ -26,6 +32,29 @@ pub struct GpuScene {
     pub info: SceneInfo,
     /// Bytes uploaded.
     pub bytes: u64,
+    /// The compact MTBVH, once [`GpuScene::upload_compact`] has put it there.
+    pub compact: Option<GpuCompact>,
+}
+
+/// The compact MTBVH on the device (see `shaders/shared/traverse_compact.wgsl`).
+#[derive(Debug)]
+pub struct GpuCompact {
+    /// Node records, then far records.
+    pub records: wgpu::Buffer,
+    /// The quantisation frame (a uniform).
+    pub frame: wgpu::Buffer,
+    /// Group 2 of the compact trace kernels, made with [`compact_layout`].
+    pub bind_group: wgpu::BindGroup,
+    /// Bytes uploaded.
+    pub bytes: u64,
+}
+
+/// The layout of bind group 2 of the compact trace kernels.
+pub fn compact_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("compact mtbvh"),
+        entries: &[storage_entry(0, true), uniform_entry(1)],
+    })
 }
 
 /// The links buffer's contents: the six MTBVH sets (direction-major), then the TBVH's.
@@ -162,7 +191,56 @@ impl GpuScene {
             bind_group,
             info,
             bytes,
+            compact: None,
         })
+    }
+
+    /// Uploads `compact` (made from the uploaded BVH) for the `mtbvh16` trace kernels,
+    /// after checking it fits the device.
+    pub fn upload_compact(
+        &mut self,
+        context: &GpuContext,
+        compact: &CompactMtbvh,
+    ) -> Result<(), GpuError> {
+        let limits = &context.limits;
+        if limits.max_storage_buffers_per_shader_stage < COMPACT_STORAGE_BUFFERS_PER_STAGE {
+            return Err(GpuError::TooFewStorageBuffers {
+                needed: COMPACT_STORAGE_BUFFERS_PER_STAGE,
+                limit: limits.max_storage_buffers_per_shader_stage,
+            });
+        }
+        let record_bytes = (compact.records.len().max(1) * size_of::<CompactNode>()) as u64;
+        check_buffer_fits("compact_nodes", record_bytes, limits)?;
+        let device = &context.device;
+        // A binding cannot be empty; an empty tree's root is LINK_END, so nothing reads it.
+        let mut records = compact.records.clone();
+        if records.is_empty() {
+            records.push(CompactNode::default());
+        }
+        let records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("compact_nodes"),
+            contents: bytemuck::cast_slice(&records),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let frame = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("compact_frame"),
+            contents: bytemuck::bytes_of(&compact.frame),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind_group = bind_buffers(
+            device,
+            "compact mtbvh",
+            &compact_layout(device),
+            &[&records, &frame],
+        );
+        let bytes = records.size() + frame.size();
+        self.compact = Some(GpuCompact {
+            records,
+            frame,
+            bind_group,
+            bytes,
+        });
+        Ok(())
     }
 }
 

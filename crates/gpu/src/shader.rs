@@ -11,6 +11,7 @@ const GPU_TYPES: &str = include_str!("../shaders/shared/gpu_types.wgsl");
 const SCENE_BINDINGS: &str = include_str!("../shaders/shared/scene_bindings.wgsl");
 const INTERSECT: &str = include_str!("../shaders/shared/intersect.wgsl");
 const TRAVERSE: &str = include_str!("../shaders/shared/traverse.wgsl");
+const TRAVERSE_COMPACT: &str = include_str!("../shaders/shared/traverse_compact.wgsl");
 const TRACE: &str = include_str!("../shaders/kernels/trace.wgsl");
 const RAYGEN: &str = include_str!("../shaders/kernels/raygen.wgsl");
 const RANDOM: &str = include_str!("../shaders/shared/random.wgsl");
@@ -19,11 +20,13 @@ const TEXTURES: &str = include_str!("../shaders/shared/textures.wgsl");
 const SHADING: &str = include_str!("../shaders/shared/shading.wgsl");
 const SPPM: &str = include_str!("../shaders/kernels/sppm.wgsl");
 const DISPLAY: &str = include_str!("../shaders/kernels/display.wgsl");
+const PHOTON_TRACE_NAIVE: &str = include_str!("../shaders/kernels/photon_trace_naive.wgsl");
 
 /// A shader module of kousen's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Module {
-    /// Closest- and any-hit traversal kernels (`trace.wgsl`).
+    /// Closest- and any-hit traversal kernels (`trace.wgsl`); the compact MTBVH's bind group 2
+    /// (`traverse_compact.wgsl`) is theirs alone.
     Trace,
     /// Benchmark ray generation (`raygen.wgsl`).
     Raygen,
@@ -32,10 +35,19 @@ pub enum Module {
     /// The progressive image on screen: vertex and fragment shaders over the SPPM statistics
     /// (`display.wgsl`, used by [`crate::display`]); no scene bindings.
     Display,
+    /// The SPPM kernels and the naive photon-tracing scheme (`photon_trace_naive.wgsl`), for
+    /// `kousen bench photons` only: its extra storage buffer keeps it out of [`Module::Sppm`].
+    PhotonTraceNaive,
 }
 
 impl Module {
-    pub const ALL: [Module; 4] = [Module::Trace, Module::Raygen, Module::Sppm, Module::Display];
+    pub const ALL: [Module; 5] = [
+        Module::Trace,
+        Module::Raygen,
+        Module::Sppm,
+        Module::Display,
+        Module::PhotonTraceNaive,
+    ];
 
     /// The files it is made of, as (name, text), after the prelude.
     pub fn parts(self) -> Vec<(&'static str, &'static str)> {
@@ -49,6 +61,7 @@ impl Module {
             Module::Trace => &[
                 ("shared/intersect.wgsl", INTERSECT),
                 ("shared/traverse.wgsl", TRAVERSE),
+                ("shared/traverse_compact.wgsl", TRAVERSE_COMPACT),
                 ("kernels/trace.wgsl", TRACE),
             ],
             Module::Raygen => &[
@@ -64,6 +77,11 @@ impl Module {
                 ("shared/shading.wgsl", SHADING),
                 ("kernels/sppm.wgsl", SPPM),
             ],
+            Module::PhotonTraceNaive => {
+                let mut parts = Module::Sppm.parts();
+                parts.push(("kernels/photon_trace_naive.wgsl", PHOTON_TRACE_NAIVE));
+                return parts;
+            }
             // The statistics' struct only: the display binds no scene.
             Module::Display => {
                 return vec![
@@ -99,6 +117,7 @@ impl Module {
             Module::Raygen => "raygen.wgsl",
             Module::Sppm => "sppm.wgsl",
             Module::Display => "display.wgsl",
+            Module::PhotonTraceNaive => "photon_trace_naive.wgsl",
         }
     }
 }

@@ -3,7 +3,11 @@
 //! never reads anything back per pass, and keeps at most [`MAX_PASSES_IN_FLIGHT`] submitted
 //! ahead so that progress and `--time` stay honest.
 
+mod naive;
+
 use std::collections::VecDeque;
+
+pub use naive::NAIVE_STORAGE_BUFFERS;
 
 use render::backend::{Backend, BackendError, Setup, Statistics};
 use render::buffers::{
@@ -69,6 +73,8 @@ pub struct GpuBackend {
     in_flight: VecDeque<wgpu::SubmissionIndex>,
     /// The first device error met while encoding or submitting (reported at the next wait).
     error: Option<String>,
+    /// The naive photon-tracing scheme, made on first use (`kousen bench photons`).
+    naive: Option<naive::NaiveTracer>,
 }
 
 /// Group 2: the scene's texture array (`textures.wgsl`).
@@ -155,6 +161,7 @@ impl GpuBackend {
             encoder: None,
             in_flight: VecDeque::new(),
             error: None,
+            naive: None,
         })
     }
 

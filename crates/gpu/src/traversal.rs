@@ -1,19 +1,20 @@
-//! The traversal kernels (`trace.wgsl`) and benchmark ray generation (`raygen.wgsl`): pipelines,
-//! ray batches, dispatch and timing.
+//! The traversal kernels (`trace.wgsl`, with `traverse_compact.wgsl` for the compact MTBVH) and
+//! benchmark ray generation (`raygen.wgsl`): pipelines, ray batches, dispatch and timing.
 
 use wgpu::util::DeviceExt;
 
 use bvh::bench_rays::BenchCamera;
-use bvh::traverse::Query;
+use bvh::traverse::{Query, TraversalCounters};
+use bvh::{CompactMtbvh, Hit, PackedBvh, Ray};
 
 use crate::prelude::WORKGROUP_SIZE;
 use crate::readback::{read_buffer, wait_idle};
-use crate::scene_upload::{GpuScene, bind_buffers, scene_layout, storage_entry};
+use crate::scene_upload::{GpuScene, bind_buffers, compact_layout, scene_layout, storage_entry};
 use crate::shader::Module;
 use crate::types::{BenchCameraUniform, GpuHit, GpuRay};
 use crate::{GpuContext, GpuError, check_buffer_fits};
 
-/// The three ways through the BVH, the same on the GPU and in `bvh::traverse`.
+/// The ways through the BVH, the same on the GPU and in `bvh::traverse` / `bvh::compact`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Variant {
     /// Fixed-array stack, nearer child first.
@@ -22,18 +23,27 @@ pub enum Variant {
     Tbvh,
     /// Stackless, the threading of the ray's major direction.
     Mtbvh,
+    /// The MTBVH in the compact layout (`bvh::compact`: 16-bit boxes and links, one 32-byte
+    /// record per node); needs [`GpuScene::upload_compact`].
+    MtbvhCompact,
 }
 
 impl Variant {
     /// In discriminant order, so `variant as usize` indexes arrays built from it.
-    pub const ALL: [Variant; 3] = [Variant::Stack, Variant::Tbvh, Variant::Mtbvh];
+    pub const ALL: [Variant; 4] = [
+        Variant::Stack,
+        Variant::Tbvh,
+        Variant::Mtbvh,
+        Variant::MtbvhCompact,
+    ];
 
-    /// "stack", "tbvh" or "mtbvh" (the bench's JSON contract).
+    /// "stack", "tbvh", "mtbvh" or "mtbvh16" (the bench's JSON contract).
     pub fn name(self) -> &'static str {
         match self {
             Variant::Stack => "stack",
             Variant::Tbvh => "tbvh",
             Variant::Mtbvh => "mtbvh",
+            Variant::MtbvhCompact => "mtbvh16",
         }
     }
 
@@ -42,18 +52,31 @@ impl Variant {
             (Query::Closest, Variant::Stack) => "closest_stack",
             (Query::Closest, Variant::Tbvh) => "closest_tbvh",
             (Query::Closest, Variant::Mtbvh) => "closest_mtbvh",
+            (Query::Closest, Variant::MtbvhCompact) => "closest_mtbvh16",
             (Query::Any, Variant::Stack) => "any_stack",
             (Query::Any, Variant::Tbvh) => "any_tbvh",
             (Query::Any, Variant::Mtbvh) => "any_mtbvh",
+            (Query::Any, Variant::MtbvhCompact) => "any_mtbvh16",
         }
     }
 
-    /// The CPU twin.
-    pub fn cpu_trace(self) -> bvh::traverse::TraceFn {
+    /// The CPU twin on `bvh`, or for [`Variant::MtbvhCompact`] on `compact` (made from `bvh`)
+    /// and `bvh`'s triangles; `counters` accumulate the work done.
+    pub fn cpu_trace(
+        self,
+        bvh: &PackedBvh,
+        compact: &CompactMtbvh,
+        ray: &Ray,
+        query: Query,
+        counters: &mut TraversalCounters,
+    ) -> Option<Hit> {
         match self {
-            Variant::Stack => bvh::traverse::trace_stack,
-            Variant::Tbvh => bvh::traverse::trace_tbvh,
-            Variant::Mtbvh => bvh::traverse::trace_mtbvh,
+            Variant::Stack => bvh::traverse::trace_stack(bvh, ray, query, counters),
+            Variant::Tbvh => bvh::traverse::trace_tbvh(bvh, ray, query, counters),
+            Variant::Mtbvh => bvh::traverse::trace_mtbvh(bvh, ray, query, counters),
+            Variant::MtbvhCompact => {
+                bvh::compact::trace_mtbvh_compact(bvh, compact, ray, query, counters)
+            }
         }
     }
 }
@@ -93,8 +116,8 @@ pub struct RayBatch {
 pub struct TraversalKernels {
     trace_layout: wgpu::BindGroupLayout,
     raygen_layout: wgpu::BindGroupLayout,
-    closest: [wgpu::ComputePipeline; 3],
-    any: [wgpu::ComputePipeline; 3],
+    closest: [wgpu::ComputePipeline; Variant::ALL.len()],
+    any: [wgpu::ComputePipeline; Variant::ALL.len()],
     primary: wgpu::ComputePipeline,
     diffuse: wgpu::ComputePipeline,
     timer: Option<Timer>,
@@ -164,20 +187,28 @@ impl TraversalKernels {
                 uniform_entry(2),
             ],
         });
-        let layout = |batch: &wgpu::BindGroupLayout| {
+        let compact = compact_layout(device);
+        let layout = |groups: &[Option<&wgpu::BindGroupLayout>]| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: None,
-                bind_group_layouts: &[Some(&scene), Some(batch)],
+                bind_group_layouts: groups,
                 immediate_size: 0,
             })
         };
-        let (trace_pipeline_layout, raygen_pipeline_layout) =
-            (layout(&trace_layout), layout(&raygen_layout));
+        let trace_pipeline_layout = layout(&[Some(&scene), Some(&trace_layout)]);
+        let raygen_pipeline_layout = layout(&[Some(&scene), Some(&raygen_layout)]);
+        // Only the compact kernels bind group 2, so the others keep their two groups.
+        let compact_pipeline_layout = layout(&[Some(&scene), Some(&trace_layout), Some(&compact)]);
         let trace = Module::Trace.create(device);
         let raygen = Module::Raygen.create(device);
         let kernels = |query| {
-            Variant::ALL
-                .map(|v| pipeline(device, &trace_pipeline_layout, &trace, v.entry_point(query)))
+            Variant::ALL.map(|v| {
+                let layout = match v {
+                    Variant::MtbvhCompact => &compact_pipeline_layout,
+                    _ => &trace_pipeline_layout,
+                };
+                pipeline(device, layout, &trace, v.entry_point(query))
+            })
         };
         let timer = context
             .features
@@ -314,8 +345,7 @@ impl TraversalKernels {
         self.run(
             context,
             pipeline,
-            &scene.bind_group,
-            &group,
+            &[&scene.bind_group, &group],
             batch.count,
             false,
         )
@@ -324,7 +354,7 @@ impl TraversalKernels {
 
     /// Traces every ray of `batch` into `batch.hits` and returns the seconds the pass took: GPU
     /// time from timestamp queries where the device has them, else the wall time of a
-    /// submit-and-wait.
+    /// submit-and-wait. [`Variant::MtbvhCompact`] needs [`GpuScene::upload_compact`] first.
     pub fn trace(
         &self,
         context: &GpuContext,
@@ -337,23 +367,33 @@ impl TraversalKernels {
             Query::Closest => &self.closest,
             Query::Any => &self.any,
         };
-        self.run(
-            context,
-            &pipelines[variant as usize],
-            &scene.bind_group,
-            &batch.trace_group,
-            batch.count,
-            true,
-        )
+        let pipeline = &pipelines[variant as usize];
+        let groups = [&scene.bind_group, &batch.trace_group];
+        if variant == Variant::MtbvhCompact {
+            let compact = scene.compact.as_ref().ok_or_else(|| {
+                GpuError::Device(
+                    "the compact MTBVH is not on the device (GpuScene::upload_compact)".to_owned(),
+                )
+            })?;
+            let [scene_group, batch_group] = groups;
+            return self.run(
+                context,
+                pipeline,
+                &[scene_group, batch_group, &compact.bind_group],
+                batch.count,
+                true,
+            );
+        }
+        self.run(context, pipeline, &groups, batch.count, true)
     }
 
-    /// One pass of `pipeline` over `count` invocations; its duration in seconds.
+    /// One pass of `pipeline` over `count` invocations with `groups` bound at 0, 1, ...; its
+    /// duration in seconds.
     fn run(
         &self,
         context: &GpuContext,
         pipeline: &wgpu::ComputePipeline,
-        scene_group: &wgpu::BindGroup,
-        batch_group: &wgpu::BindGroup,
+        groups: &[&wgpu::BindGroup],
         count: u32,
         timed: bool,
     ) -> Result<f64, GpuError> {
@@ -371,8 +411,9 @@ impl TraversalKernels {
                 }),
             });
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, scene_group, &[]);
-            pass.set_bind_group(1, batch_group, &[]);
+            for (index, group) in groups.iter().enumerate() {
+                pass.set_bind_group(index as u32, *group, &[]);
+            }
             let (x, y) = workgroups(count, context.limits.max_compute_workgroups_per_dimension);
             pass.dispatch_workgroups(x, y, 1);
         }

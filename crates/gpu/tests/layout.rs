@@ -5,7 +5,7 @@
 use std::mem::{offset_of, size_of};
 use std::path::{Path, PathBuf};
 
-use bvh::{BvhNode, Links, PackedTriangle, PackedVertex};
+use bvh::{BvhNode, CompactFrame, CompactNode, Links, PackedTriangle, PackedVertex};
 use gpu::prelude;
 use gpu::shader::Module;
 use gpu::types::{BenchCameraUniform, GpuHit, GpuMaterial, GpuRay, SceneInfo};
@@ -70,6 +70,36 @@ fn links_layout_matches_rust() {
         &[
             ("hit", offset_of!(Links, hit)),
             ("miss", offset_of!(Links, miss)),
+        ],
+    );
+}
+
+#[test]
+fn compact_node_layout_matches_rust() {
+    let module = parse(BVH_TYPES, "bvh_types.wgsl");
+    assert_layout(
+        &module,
+        "CompactNode",
+        size_of::<CompactNode>(),
+        &[
+            ("bounds_and_meta", offset_of!(CompactNode, bounds_and_meta)),
+            ("links", offset_of!(CompactNode, links)),
+        ],
+    );
+}
+
+#[test]
+fn compact_frame_layout_matches_rust() {
+    let module = parse(BVH_TYPES, "bvh_types.wgsl");
+    assert_layout(
+        &module,
+        "CompactFrame",
+        size_of::<CompactFrame>(),
+        &[
+            ("origin", offset_of!(CompactFrame, origin)),
+            ("root", offset_of!(CompactFrame, root)),
+            ("scale", offset_of!(CompactFrame, scale)),
+            ("node_count", offset_of!(CompactFrame, node_count)),
         ],
     );
 }

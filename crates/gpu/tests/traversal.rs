@@ -1,12 +1,14 @@
 //! The GPU kernels against their CPU twins on the same rays: every variant's closest hit has
 //! the same triangle and t (relative 1e-5), misses agree, any-hit answers agree; ray generation
-//! matches `bvh::bench_rays`. Runs on whatever adapter wgpu finds (lavapipe in CI).
+//! matches `bvh::bench_rays`. The compact MTBVH (`mtbvh16`) is one of the variants, and on
+//! the GPU too returns exactly the exact MTBVH's hits. Runs on whatever adapter wgpu finds
+//! (lavapipe in CI).
 
 use std::path::Path;
 
 use bvh::bench_rays::{self, BenchCamera, View};
 use bvh::traverse::{Query, TraversalCounters};
-use bvh::{BuildOptions, PackedBvh, Ray};
+use bvh::{BuildOptions, CompactMtbvh, PackedBvh, Ray};
 use glam::Vec3;
 use gpu::traversal::RayKind;
 use gpu::types::{GpuHit, GpuRay};
@@ -25,16 +27,16 @@ fn context() -> GpuContext {
 /// Describes every disagreement between the GPU's `hits` and the CPU twin on `rays`.
 fn disagreements(
     bvh: &PackedBvh,
+    compact: &CompactMtbvh,
     rays: &[GpuRay],
     hits: &[GpuHit],
     variant: Variant,
     query: Query,
 ) -> Vec<String> {
-    let trace = variant.cpu_trace();
     let mut found = Vec::new();
     for (i, (gpu_ray, gpu_hit)) in rays.iter().zip(hits).enumerate() {
         let ray = gpu_ray.to_ray();
-        let cpu = trace(bvh, &ray, query, &mut TraversalCounters::default());
+        let cpu = variant.cpu_trace(bvh, compact, &ray, query, &mut TraversalCounters::default());
         let gpu = gpu_hit.to_hit();
         let agree = match (query, cpu, gpu) {
             (_, None, None) => true,
@@ -51,13 +53,20 @@ fn disagreements(
     found
 }
 
-/// Traces `rays` with every GPU variant and query and compares with the twins.
+/// Traces `rays` with every GPU variant and query and compares with the twins; the compact
+/// MTBVH's closest hits must also equal the exact MTBVH's on the GPU (triangle and t), except
+/// where the compact one reaches a closer fragile hit (`bvh::testing::is_fragile_hit`).
 fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &[GpuRay]) {
     let kernels = TraversalKernels::new(context);
-    let scene = GpuScene::upload(context, bvh, &vec![Material::default(); 8]).expect("upload");
+    let mut scene = GpuScene::upload(context, bvh, &vec![Material::default(); 8]).expect("upload");
+    let compact = CompactMtbvh::new(bvh).expect("compactable");
+    scene
+        .upload_compact(context, &compact)
+        .expect("compact upload");
     let batch = kernels.upload_rays(context, rays).expect("ray batch");
     let mut report = Vec::new();
     let mut closest_hits = 0;
+    let mut closest_by_variant = Vec::new();
     for variant in Variant::ALL {
         for query in [Query::Closest, Query::Any] {
             kernels
@@ -66,8 +75,9 @@ fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &
             let hits = batch.read_hits(context).expect("read hits");
             if query == Query::Closest {
                 closest_hits = hits.iter().filter(|h| h.to_hit().is_some()).count();
+                closest_by_variant.push((variant, hits.clone()));
             }
-            let bad = disagreements(bvh, rays, &hits, variant, query);
+            let bad = disagreements(bvh, &compact, rays, &hits, variant, query);
             if !bad.is_empty() {
                 report.push(format!(
                     "{name} {} {query:?}: {} of {} rays disagree, first: {}",
@@ -80,6 +90,30 @@ fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &
         }
     }
     assert!(report.is_empty(), "{}", report.join("\n"));
+    let gpu_closest = |v: Variant| {
+        &closest_by_variant
+            .iter()
+            .find(|(variant, _)| *variant == v)
+            .expect("traced")
+            .1
+    };
+    let (exact, compact_hits) = (
+        gpu_closest(Variant::Mtbvh),
+        gpu_closest(Variant::MtbvhCompact),
+    );
+    for (i, (e, c)) in exact.iter().zip(compact_hits).enumerate() {
+        let (e, c) = (e.to_hit(), c.to_hit());
+        if e != c {
+            let ray = rays[i].to_ray();
+            let fragile = c.is_some_and(|c| {
+                bvh::testing::is_fragile_hit(bvh, &ray, &c) && e.is_none_or(|e| c.t < e.t)
+            });
+            assert!(
+                fragile,
+                "{name}: ray {i} {ray:?}: gpu mtbvh {e:?}, gpu mtbvh16 {c:?}"
+            );
+        }
+    }
     // The test means something only if the rays hit and miss.
     assert!(
         closest_hits > rays.len() / 10 && closest_hits < rays.len(),
@@ -107,6 +141,24 @@ fn kernels_match_cpu_twins_on_random_soups_and_rays() {
             assert_twins_agree(&context, &name, &bvh, &rays);
         }
     }
+}
+
+#[test]
+fn compact_kernels_follow_far_links_on_a_large_soup() {
+    // 40k triangles in leaves of 1 make ~80k nodes: links near the root pass 16 bits.
+    let triangles = bvh::testing::random_soup(5, 40_000);
+    let options = BuildOptions {
+        max_leaf_size: 1,
+        ..BuildOptions::default()
+    };
+    let bvh = PackedBvh::build(&triangles, &options);
+    let far = CompactMtbvh::new(&bvh).expect("compactable").far_count();
+    assert!(far > 0, "no far records: the test would not test them");
+    let rays: Vec<GpuRay> = bvh::testing::random_rays(105, 20_000, &triangles)
+        .iter()
+        .map(GpuRay::from_ray)
+        .collect();
+    assert_twins_agree(&context(), "soup 5, 40k triangles", &bvh, &rays);
 }
 
 #[test]
@@ -149,6 +201,14 @@ fn ray_generation_matches_bench_rays() {
     let triangles = &cornell.triangles;
     let bvh = PackedBvh::build(triangles, &BuildOptions::default());
     let scene = GpuScene::upload(&context, &bvh, &[Material::default()]).expect("upload");
+    // Without the compact upload its kernels refuse in words.
+    let none = kernels
+        .batch(&context, 1)
+        .and_then(|b| kernels.trace(&context, &scene, &b, Variant::MtbvhCompact, Query::Closest));
+    assert!(
+        none.is_err_and(|e| e.to_string().contains("upload_compact")),
+        "compact trace without its upload"
+    );
     let bounds = cornell.bounds();
     let diagonal = bounds.extent().length();
     let camera = BenchCamera::new(bounds, View::Outside, 96);

@@ -64,8 +64,12 @@ pub struct BenchArgs {
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
-    /// Mrays/s of the stack, TBVH and MTBVH traversals on the GPU and the CPU twins.
+    /// Mrays/s of the stack, TBVH, MTBVH and compact MTBVH (mtbvh16) traversals on the GPU and
+    /// the CPU twins.
     Traversal(TraversalArgs),
+    /// Photon paths per second: one bounce per pass with asynchronous path regeneration against
+    /// the naive scheme (every path traced to its end in one pass), with lane occupancy.
+    Photons(PhotonsArgs),
 }
 
 /// The benchmark camera of ANCHORS.md.
@@ -125,6 +129,37 @@ pub struct TraversalArgs {
     /// Timed runs per measurement (after a warm-up); the median is reported.
     #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(5..=1000))]
     pub runs: u32,
+    /// Where to run, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]
+    pub devices: Vec<BenchDevice>,
+    /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
+    #[arg(long, value_name = "SUBSTRING")]
+    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
+}
+
+#[derive(Args)]
+pub struct PhotonsArgs {
+    /// .gltf, .glb or .obj files, each with at least one emissive surface.
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Also write the results as JSON (a contract for scripts).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Photon path slots: invocations per pass in both schemes.
+    #[arg(long, value_name = "N", default_value_t = 1 << 16, value_parser = clap::value_parser!(u32).range(1..=1 << 24))]
+    pub photons: u32,
+    /// Photon passes per timed run of the asynchronous scheme; the naive scheme's run traces as
+    /// many paths (to within half a pass of slots).
+    #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub passes: u32,
+    /// Timed runs per scheme (after a warm-up, the schemes alternating); the median is reported.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub runs: u32,
+    /// Bounces before a photon path is cut off.
+    #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub max_depth: u32,
     /// Where to run, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]
     pub devices: Vec<BenchDevice>,

@@ -3,30 +3,7 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-use common::assert_clean_error;
-
-fn shipped(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-/// Runs kousen with a private runtime directory, so Mesa's window-system probing has nothing
-/// to complain about on stderr.
-fn kousen(args: &[&str]) -> Output {
-    let runtime = tempfile::tempdir().expect("temporary directory");
-    Command::new(env!("CARGO_BIN_EXE_kousen"))
-        .args(args)
-        .env("RUST_LOG", "error")
-        .env("XDG_RUNTIME_DIR", runtime.path())
-        .output()
-        .expect("the kousen binary runs")
-}
+use common::{assert_clean_error, kousen_quiet as kousen, shipped};
 
 #[test]
 fn bench_traversal_json_keeps_the_contract_with_no_mismatches() {
@@ -61,13 +38,13 @@ fn bench_traversal_json_keeps_the_contract_with_no_mismatches() {
         );
     }
     let results = report["results"].as_array().expect("results array");
-    // 2 ray kinds × 3 variants × 2 devices (CI has lavapipe, so the GPU rows are there).
-    assert_eq!(results.len(), 12, "{report}");
+    // 2 ray kinds × 4 variants × 2 devices (CI has lavapipe, so the GPU rows are there).
+    assert_eq!(results.len(), 16, "{report}");
     let mut primary_rays = 0;
     for row in results {
         assert_eq!(row["scene"], "cornell-caustics", "{row}");
         assert!(["primary", "diffuse"].contains(&row["rays"].as_str().unwrap()));
-        assert!(["stack", "tbvh", "mtbvh"].contains(&row["variant"].as_str().unwrap()));
+        assert!(["stack", "tbvh", "mtbvh", "mtbvh16"].contains(&row["variant"].as_str().unwrap()));
         assert!(["gpu", "cpu"].contains(&row["device"].as_str().unwrap()));
         assert!(row["mrays_per_s"].as_f64().unwrap() > 0.0, "{row}");
         assert_eq!(row["mismatches"].as_u64(), Some(0), "{row}");
@@ -81,7 +58,7 @@ fn bench_traversal_json_keeps_the_contract_with_no_mismatches() {
     }
     assert_eq!(primary_rays, 48 * 48);
     assert!(
-        stdout.contains("mtbvh") && stdout.contains("Mrays/s"),
+        stdout.contains("mtbvh16") && stdout.contains("Mrays/s"),
         "{stdout}"
     );
 }
@@ -106,7 +83,7 @@ fn bench_traversal_cpu_only_needs_no_adapter() {
         .lines()
         .filter(|l| l.starts_with("cornell-box"))
         .collect();
-    assert_eq!(rows.len(), 3, "{stdout}");
+    assert_eq!(rows.len(), 4, "{stdout}");
     assert!(
         rows.iter()
             .all(|r| r.contains("diffuse") && r.contains("cpu"))

@@ -41,6 +41,17 @@ fn info_json_keeps_the_contract_for_scripts() {
     assert!(number("/bvh/nodes") >= 1.0 && number("/bvh/depth") >= 1.0);
     assert!(number("/bvh/sah_cost") > 1.0 && number("/bvh/build_ms") >= 0.0);
     assert!(number("/memory/mtbvh_bytes") > number("/memory/tbvh_bytes"));
+    // The compact MTBVH: smaller than the MTBVH, with its ratios.
+    let compact = number("/memory/mtbvh_compact_bytes");
+    assert!(compact > 0.0 && compact < number("/memory/mtbvh_bytes"));
+    let per_triangle = number("/memory/mtbvh_compact_bytes_per_triangle");
+    assert!((per_triangle * number("/triangles") - compact).abs() < 1e-6 * compact);
+    assert!(number("/memory/mtbvh_compact_over_mtbvh") < 1.0);
+    assert!(number("/memory/mtbvh_compact_over_tbvh") > 0.0);
+    assert!(
+        info.pointer("/memory/mtbvh_compact_error")
+            .is_some_and(|v| v.is_null())
+    );
 }
 
 #[test]

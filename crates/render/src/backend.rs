@@ -55,3 +55,26 @@ pub trait Backend {
     /// Bytes the backend allocated for the render, by kind (scene, BVH, photons, hash, ...).
     fn memory(&self) -> Vec<(&'static str, u64)>;
 }
+
+/// Photon tracing alone, for `kousen bench photons` (issue 6): the photon pass without the hash
+/// and gather, and the naive scheme that asynchronous path regeneration replaces.
+///
+/// In the naive scheme (the talk's "one pixel = one photon path") every slot starts a new
+/// light path and traces it bounce after bounce to its end in one pass, so a pass lasts as long
+/// as its longest path. Each path is exactly one that [`Backend::photon_pass`] would trace: slot
+/// `i` in pass `p` traces path number `g = p × slots + i` (wrapping), whose `k`-th segment draws
+/// the random numbers `photon_pass` draws for slot `g` in pass `k`, so path `g` is the first path
+/// a slot numbered `g` traces from pass 0 under asynchronous regeneration.
+pub trait PhotonTracing: Backend {
+    /// Closes a pass that ran only [`Backend::photon_pass`] or
+    /// [`PhotonTracing::photon_trace_naive`]: the pass's emitted paths are added to the total
+    /// and the pass counter advances (the cell size stays: no pixel gathered).
+    fn finish_pass(&mut self);
+    /// The naive scheme: every slot traces one new light path to its end. Each path counts as
+    /// emitted; each slot's segment count and its path's last stored photon are kept (the
+    /// photon where `photon_pass` keeps its photon). Slots in flight are left untouched.
+    fn photon_trace_naive(&mut self);
+    /// Segments (rays traced: bounces and alpha pass-throughs) of each slot's path in the
+    /// last [`PhotonTracing::photon_trace_naive`]; waits for the work queued.
+    fn read_path_segments(&mut self) -> Result<Vec<u32>, BackendError>;
+}

@@ -18,7 +18,7 @@ pub mod settings;
 pub mod textures;
 pub mod tonemap;
 
-pub use backend::{Backend, BackendError, Setup, Statistics};
+pub use backend::{Backend, BackendError, PhotonTracing, Setup, Statistics};
 pub use image::Image;
 pub use integrator::{Progress, RenderError, Rendered, Sppm};
 pub use settings::{Budget, Settings};

@@ -52,27 +52,32 @@ fn emit(rng: ptr<function, u32>) -> PathSlot {
     return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, light.flux, 0u);
 }
 
-@compute @workgroup_size(WORKGROUP_SIZE)
-fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let index = invocation_index(id, groups);
-    if index >= params.slot_count {
-        return;
-    }
-    let pass_index = atomicLoad(&counters[COUNTER_PASS]);
+// What one photon-pass step leaves (cpu::kernels::PhotonStep).
+struct PhotonStep {
+    slot: PathSlot,
+    // The photon stored at this bounce (zero flux if none).
+    photon: Photon,
+    // Whether the slot started a new light path.
+    emitted: bool,
+}
+
+// cpu::kernels::photon_pass for one slot: an idle slot starts a new light path; then the path
+// advances one segment, drawing the numbers of stream (pass_index, index). Shared by
+// photon_pass and photon_trace_naive, so both schemes run the same bounce.
+fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     var rng = stream_key(params.seed, PHOTON_STREAM, pass_index, index);
-    var slot = slots[index];
+    var slot = slot_in;
+    var emitted = false;
     if slot.depth == SLOT_IDLE {
         slot = emit(&rng);
-        atomicAdd(&counters[COUNTER_EMITTED_PASS], 1u);
+        emitted = true;
     }
     var photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     let direction = slot.direction;
     let hit = trace_surface(slot.origin, direction);
     if !hit.found {
         slot.depth = SLOT_IDLE;
-        slots[index] = slot;
-        photons[index] = photon;
-        return;
+        return PhotonStep(slot, photon, emitted);
     }
     let material = materials[hit.material];
     if is_cut_out(material, hit.uv) {
@@ -81,9 +86,7 @@ fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
         if slot.pass_throughs > MAX_PASS_THROUGHS {
             slot.depth = SLOT_IDLE;
         }
-        slots[index] = slot;
-        photons[index] = photon;
-        return;
+        return PhotonStep(slot, photon, emitted);
     }
     let tint = base_color(material, hit.uv);
     let u_roulette = next_f32(&rng);
@@ -107,8 +110,22 @@ fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     } else {
         slot.depth = SLOT_IDLE;
     }
-    slots[index] = slot;
-    photons[index] = photon;
+    return PhotonStep(slot, photon, emitted);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    if index >= params.slot_count {
+        return;
+    }
+    let pass_index = atomicLoad(&counters[COUNTER_PASS]);
+    let step = photon_step(slots[index], pass_index, index);
+    if step.emitted {
+        atomicAdd(&counters[COUNTER_EMITTED_PASS], 1u);
+    }
+    slots[index] = step.slot;
+    photons[index] = step.photon;
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

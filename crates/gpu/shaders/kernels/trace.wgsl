@@ -55,3 +55,20 @@ fn any_mtbvh(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgrou
         hits[i] = trace_mtbvh(rays[i], true);
     }
 }
+
+// The compact MTBVH: bind group 2 (traverse_compact.wgsl).
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn closest_mtbvh16(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = invocation_index(id, groups);
+    if i < batch.ray_count {
+        hits[i] = trace_mtbvh16(rays[i], false);
+    }
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn any_mtbvh16(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = invocation_index(id, groups);
+    if i < batch.ray_count {
+        hits[i] = trace_mtbvh16(rays[i], true);
+    }
+}

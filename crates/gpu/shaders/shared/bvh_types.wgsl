@@ -31,3 +31,23 @@ struct PackedVertex {
 struct PackedTriangle {
     vertices: array<PackedVertex, 3>,
 }
+
+// The compact MTBVH's record (bvh::compact, 32 bytes): bounds_and_meta.xyz = the box, 16 bits
+// per coordinate (min.x | min.y << 16, min.z | max.x << 16, max.y | max.z << 16); .w = meta
+// (COMPACT_LEAF, COMPACT_FAR, a leaf's triangle count or an internal node's right-first bit
+// per direction); links.x = first triangle or right child; links.yzw = six 16-bit miss
+// offsets (0 = LINK_END), or for a far node links.y = its far record, whose eight words are
+// the six absolute links.
+struct CompactNode {
+    bounds_and_meta: vec4<u32>,
+    links: vec4<u32>,
+}
+
+// Decoding of the compact boxes: coordinate = origin + q * scale, scale = m * 2^k with m < 256
+// (32 bytes).
+struct CompactFrame {
+    origin: vec3<f32>,
+    root: u32,
+    scale: vec3<f32>,
+    node_count: u32,
+}

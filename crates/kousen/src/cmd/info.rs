@@ -42,6 +42,9 @@ struct BvhInfo {
     build_ms: f64,
     /// Threading for TBVH and the six MTBVH orders, and packing for the GPU.
     thread_and_pack_ms: f64,
+    /// Making the compact MTBVH from the packed one (`bvh::compact`); null where it could
+    /// not be made (see `memory.mtbvh_compact_error`).
+    compact_ms: Option<f64>,
     max_leaf_size: usize,
     /// `leaf_size_histogram[k]` = number of leaves holding k triangles.
     leaf_size_histogram: Vec<usize>,
@@ -54,6 +57,16 @@ struct MemoryInfo {
     tbvh_bytes_per_triangle: f64,
     mtbvh_bytes_per_triangle: f64,
     mtbvh_over_tbvh: f64,
+    /// The compact MTBVH ("mtbvh16": 16-bit boxes and links, `bvh::compact`) with its
+    /// triangles; the `mtbvh_compact_*` keys are null where it could not be made.
+    mtbvh_compact_bytes: Option<usize>,
+    mtbvh_compact_bytes_per_triangle: Option<f64>,
+    mtbvh_compact_over_tbvh: Option<f64>,
+    mtbvh_compact_over_mtbvh: Option<f64>,
+    /// Nodes whose links pass 16-bit offsets and live in a 32-byte far record.
+    mtbvh_compact_far_records: Option<usize>,
+    /// Why the compact MTBVH could not be made, else null.
+    mtbvh_compact_error: Option<String>,
 }
 
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
@@ -80,9 +93,17 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
     let packed = bvh::PackedBvh::from_bvh(&scene.triangles, &tree);
     let thread_and_pack_ms = millis(started);
     let memory = packed.memory();
+    let started = Instant::now();
+    let compact = bvh::CompactMtbvh::new(&packed);
+    let compact_ms = millis(started);
 
     let triangles = scene.triangles.len();
     let per_triangle = |bytes: usize| bytes as f64 / triangles as f64;
+    let compact_memory = compact
+        .as_ref()
+        .ok()
+        .map(|c| (c.memory(packed.triangles.len()).total_bytes, c.far_count()));
+    let compact_bytes = compact_memory.map(|(bytes, _)| bytes);
     let bounds = scene.bounds();
     Ok(Info {
         scene: args.scene.display().to_string(),
@@ -106,6 +127,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             sah_cost: tree.sah_cost(),
             build_ms,
             thread_and_pack_ms,
+            compact_ms: compact.is_ok().then_some(compact_ms),
             max_leaf_size: options.max_leaf_size,
             leaf_size_histogram: tree.leaf_size_histogram(),
         },
@@ -115,6 +137,12 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             tbvh_bytes_per_triangle: per_triangle(memory.tbvh_bytes),
             mtbvh_bytes_per_triangle: per_triangle(memory.mtbvh_bytes),
             mtbvh_over_tbvh: memory.mtbvh_bytes as f64 / memory.tbvh_bytes as f64,
+            mtbvh_compact_bytes: compact_bytes,
+            mtbvh_compact_bytes_per_triangle: compact_bytes.map(per_triangle),
+            mtbvh_compact_over_tbvh: compact_bytes.map(|b| b as f64 / memory.tbvh_bytes as f64),
+            mtbvh_compact_over_mtbvh: compact_bytes.map(|b| b as f64 / memory.mtbvh_bytes as f64),
+            mtbvh_compact_far_records: compact_memory.map(|(_, far)| far),
+            mtbvh_compact_error: compact.err().map(|e| e.to_string()),
         },
         warnings: scene.warnings,
     })
@@ -201,12 +229,35 @@ fn print_table(info: &Info) {
             "MTBVH / TBVH",
             format!("{:.3}×", info.memory.mtbvh_over_tbvh),
         ),
+        ("compact MTBVH", compact_row(info, bytes)),
     ];
     for (name, value) in rows {
         println!("{name:<20} {value}");
     }
     for warning in &info.warnings {
         println!("{:<20} {warning}", "warning");
+    }
+}
+
+/// The compact MTBVH's memory, its ratios and far records, or why it could not be made.
+fn compact_row(info: &Info, bytes: impl Fn(usize, f64) -> String) -> String {
+    let m = &info.memory;
+    match (
+        m.mtbvh_compact_bytes,
+        m.mtbvh_compact_bytes_per_triangle,
+        m.mtbvh_compact_over_tbvh,
+        m.mtbvh_compact_over_mtbvh,
+    ) {
+        (Some(total), Some(per), Some(over_tbvh), Some(over_mtbvh)) => format!(
+            "{}, {over_tbvh:.3}× TBVH, {over_mtbvh:.3}× MTBVH, {} far records, made in {:.1} ms",
+            bytes(total, per),
+            m.mtbvh_compact_far_records.unwrap_or(0),
+            info.bvh.compact_ms.unwrap_or(0.0)
+        ),
+        _ => format!(
+            "n/a ({})",
+            m.mtbvh_compact_error.as_deref().unwrap_or("not made")
+        ),
     }
 }
 

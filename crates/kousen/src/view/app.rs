@@ -721,7 +721,9 @@ impl ApplicationHandler for App {
                     self.exit_with(event_loop, e);
                 }
             }
-            _ if !response.consumed => self.handle_input(&event),
+            // Releases always reach the camera, so a drag or a fly key let go over the
+            // overlay does not stick.
+            _ if !response.consumed || is_release(&event) => self.handle_input(&event),
             _ => {}
         }
     }
@@ -770,6 +772,15 @@ fn window_title(path: &Path) -> String {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     format!("kousen — {name}")
+}
+
+fn is_release(event: &WindowEvent) -> bool {
+    match event {
+        WindowEvent::MouseInput { state, .. } => *state == ElementState::Released,
+        WindowEvent::KeyboardInput { event, .. } => event.state == ElementState::Released,
+        WindowEvent::ModifiersChanged(_) => true,
+        _ => false,
+    }
 }
 
 fn fly_key(code: KeyCode) -> Option<FlyKey> {

@@ -16,6 +16,27 @@ pub fn kousen(args: &[&str]) -> Output {
         .expect("the kousen binary runs")
 }
 
+/// The path of a scene shipped in `scenes/`.
+pub fn shipped(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Runs kousen with a private runtime directory, so Mesa's window-system probing has nothing
+/// to complain about on stderr.
+pub fn kousen_quiet(args: &[&str]) -> Output {
+    let runtime = tempfile::tempdir().expect("temporary directory");
+    Command::new(env!("CARGO_BIN_EXE_kousen"))
+        .args(args)
+        .env("RUST_LOG", "error")
+        .env("XDG_RUNTIME_DIR", runtime.path())
+        .output()
+        .expect("the kousen binary runs")
+}
+
 /// Asserts a clean failure: non-zero exit, one line on stderr that starts with "kousen: error:"
 /// and mentions `needle`, no panic.
 pub fn assert_clean_error(output: &Output, needle: &str) {

@@ -1,6 +1,8 @@
 //! `kousen bench ...`: speed measured side by side in one run, with the machine and adapter.
 
 mod host;
+mod occupancy;
+mod photons;
 mod traversal;
 
 use crate::cli::BenchCommand;
@@ -8,5 +10,6 @@ use crate::cli::BenchCommand;
 pub fn run(command: &BenchCommand) -> anyhow::Result<()> {
     match command {
         BenchCommand::Traversal(args) => traversal::run(args),
+        BenchCommand::Photons(args) => photons::run(args),
     }
 }

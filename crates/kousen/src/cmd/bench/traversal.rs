@@ -1,7 +1,8 @@
-//! `kousen bench traversal SCENE...`: Mrays/s of the stack, TBVH and MTBVH traversals on the
-//! GPU adapter and of their CPU twins (rayon, all cores), on ANCHORS.md's primary and diffuse
-//! rays, measured side by side in one run (a warm-up, then the median of `--runs`), with every
-//! variant's hits checked against the CPU stack traversal's.
+//! `kousen bench traversal SCENE...`: Mrays/s of the stack, TBVH, MTBVH and compact MTBVH
+//! ("mtbvh16", `bvh::compact`) traversals on the GPU adapter and of their CPU twins (rayon, all
+//! cores), on ANCHORS.md's primary and diffuse rays, measured side by side in one run (a
+//! warm-up, then the median of `--runs`), with every variant's hits checked against the CPU
+//! stack traversal's.
 
 use std::path::Path;
 use std::time::Instant;
@@ -12,7 +13,7 @@ use serde::Serialize;
 
 use bvh::bench_rays::{self, BenchCamera, View};
 use bvh::traverse::{Query, TraversalCounters, hits_agree};
-use bvh::{Hit, PackedBvh, Ray};
+use bvh::{CompactMtbvh, Hit, PackedBvh, Ray};
 use gpu::traversal::RayKind;
 use gpu::types::GpuRay;
 use gpu::{GpuContext, GpuError, GpuScene, RayBatch, TraversalKernels, Variant};
@@ -167,7 +168,7 @@ fn print_header(report: &Report, gpu: Option<&Gpu>) {
         report.cpu_model, report.cpu_threads, report.view, report.image_side, report.runs
     );
     println!(
-        "{:<16} {:<8} {:<6} {:<4} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10}",
+        "{:<16} {:<8} {:<7} {:<4} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10}",
         "scene",
         "rays",
         "variant",
@@ -184,7 +185,7 @@ fn print_header(report: &Report, gpu: Option<&Gpu>) {
 fn print_row(row: &Row, tbvh_rate: Option<f64>) {
     let ratio = tbvh_rate.map_or("".to_owned(), |t| format!("{:.2}", row.mrays_per_s / t));
     println!(
-        "{:<16} {:<8} {:<6} {:<4} {:>9} {:>9.2} {:>8} {:>9.1} {:>9.1} {:>10}",
+        "{:<16} {:<8} {:<7} {:<4} {:>9} {:>9.2} {:>8} {:>9.1} {:>9.1} {:>10}",
         row.scene,
         row.rays,
         row.variant,
@@ -207,12 +208,30 @@ fn bench_scene(
     let scene = scene::load(path)?;
     crate::cmd::info::check_bvh_limits(&scene)?;
     let bvh = PackedBvh::build(&scene.triangles, &crate::cmd::info::build_options(args.bvh));
+    // The compact MTBVH is measured where the scene's coordinates allow it.
+    let compact = match CompactMtbvh::new(&bvh) {
+        Ok(compact) => Some(compact),
+        Err(error) => {
+            eprintln!("kousen: {}: {error}; mtbvh16 not measured", path.display());
+            None
+        }
+    };
     let bounds = scene.bounds();
     let camera = BenchCamera::new(bounds, view, args.size);
     let diagonal = bounds.extent().length();
     let gpu_scene = gpu
-        .map(|g| GpuScene::upload(&g.context, &bvh, &scene.materials))
+        .map(|g| -> anyhow::Result<GpuScene> {
+            let mut gpu_scene = GpuScene::upload(&g.context, &bvh, &scene.materials)?;
+            if let Some(compact) = &compact {
+                gpu_scene.upload_compact(&g.context, compact)?;
+            }
+            Ok(gpu_scene)
+        })
         .transpose()?;
+    let twins = Twins {
+        bvh: &bvh,
+        compact: compact.as_ref(),
+    };
     let device = gpu.zip(gpu_scene.as_ref());
     let stem = path
         .file_stem()
@@ -230,12 +249,12 @@ fn bench_scene(
             RayKind::Primary => &primary,
             RayKind::Diffuse => {
                 let hits = primary_hits
-                    .get_or_insert_with(|| cpu_trace(&bvh, &primary.rays, Variant::Stack).0);
+                    .get_or_insert_with(|| cpu_trace(twins, &primary.rays, Variant::Stack).0);
                 diffuse = diffuse_rays(device, &camera, diagonal, &primary, hits, &bvh, &scene)?;
                 &diffuse
             }
         };
-        let (reference, kind_rows) = bench_rays(args, device, &bvh, set, &stem, path)?;
+        let (reference, kind_rows) = bench_rays(args, device, twins, set, &stem, path)?;
         if kind == RayKind::Primary {
             primary_hits = Some(reference);
         }
@@ -328,21 +347,40 @@ fn diffuse_rays(
     })
 }
 
+/// What the CPU twins traverse: the packed BVH and, where the scene allows it, its compact
+/// MTBVH.
+#[derive(Clone, Copy)]
+struct Twins<'a> {
+    bvh: &'a PackedBvh,
+    compact: Option<&'a CompactMtbvh>,
+}
+
+impl Twins<'_> {
+    /// The variants measured: all of them, less the compact MTBVH where it could not be made.
+    fn variants(&self) -> Vec<Variant> {
+        Variant::ALL
+            .into_iter()
+            .filter(|&v| v != Variant::MtbvhCompact || self.compact.is_some())
+            .collect()
+    }
+}
+
 /// Closest hits of `rays` by the CPU twin of `variant` on all cores, the seconds it took, and
 /// the work done.
 fn cpu_trace(
-    bvh: &PackedBvh,
+    twins: Twins<'_>,
     rays: &[Ray],
     variant: Variant,
 ) -> (Vec<Option<Hit>>, f64, TraversalCounters) {
-    let trace = variant.cpu_trace();
+    let empty = CompactMtbvh::default();
+    let compact = twins.compact.unwrap_or(&empty);
     let start = Instant::now();
     let results: Vec<(Option<Hit>, TraversalCounters)> = rays
         .par_iter()
         .with_min_len(256)
         .map(|ray| {
             let mut counters = TraversalCounters::default();
-            let hit = trace(bvh, ray, Query::Closest, &mut counters);
+            let hit = variant.cpu_trace(twins.bvh, compact, ray, Query::Closest, &mut counters);
             (hit, counters)
         })
         .collect();
@@ -364,7 +402,7 @@ fn cpu_trace(
 fn bench_rays(
     args: &TraversalArgs,
     device: Option<(&Gpu, &GpuScene)>,
-    bvh: &PackedBvh,
+    twins: Twins<'_>,
     set: &RaySet,
     stem: &str,
     path: &Path,
@@ -381,7 +419,7 @@ fn bench_rays(
     let mut reference: Vec<Option<Hit>> = Vec::new();
     let mut rows = Vec::new();
     let mut tbvh_rate = [None, None]; // cpu, gpu
-    for variant in [Variant::Stack, Variant::Tbvh, Variant::Mtbvh] {
+    for variant in twins.variants() {
         let row = |device: &'static str,
                    hits: &[Option<Hit>],
                    seconds: f64,
@@ -399,10 +437,10 @@ fn bench_rays(
             triangle_tests_per_ray: work.triangles as f64 / count,
         };
         // CPU: warm-up, then the median of the runs.
-        let (mut hits, _, work) = cpu_trace(bvh, rays, variant);
+        let (mut hits, _, work) = cpu_trace(twins, rays, variant);
         let mut times = Vec::new();
         for _ in 0..args.runs {
-            let (run_hits, seconds, _) = cpu_trace(bvh, rays, variant);
+            let (run_hits, seconds, _) = cpu_trace(twins, rays, variant);
             hits = run_hits;
             times.push(seconds);
         }

@@ -37,8 +37,8 @@
 //! of `meta` says which), a leaf's equals its miss link. A miss link is the next subtree
 //! after the node's, usually near it in the depth-first array: it is stored as a 16-bit offset
 //! whenever it fits in `-32768..=32767`. Otherwise the node is "far" and its six links live
-//! in a far record of full u32 indices, so every scene size is handled — Crytek Sponza's 286k
-//! nodes need a far record for about one node in a thousand.
+//! in a far record of full u32 indices, so every scene size is handled — Crytek Sponza needs
+//! far records for 445 of its 286,499 nodes (leaves of ≤ 2).
 //!
 //! **Why one record.** Every step of the traversal reads the node's box, its kind and one link:
 //! here one aligned 32-byte read (one memory sector on GPUs that fetch 32-byte sectors), where

@@ -135,11 +135,7 @@ pub fn instance_descriptor(
 
 /// "name (backend, type, driver driver_info)", driver parts left out when the backend is silent.
 pub fn describe(info: &wgpu::AdapterInfo) -> String {
-    let driver = [info.driver.trim(), info.driver_info.trim()]
-        .into_iter()
-        .filter(|s| !s.is_empty())
-        .collect::<Vec<_>>()
-        .join(" ");
+    let driver = driver(info);
     let driver = if driver.is_empty() {
         "unknown driver".to_owned()
     } else {
@@ -149,6 +145,15 @@ pub fn describe(info: &wgpu::AdapterInfo) -> String {
         "{} ({}, {:?}, {driver})",
         info.name, info.backend, info.device_type
     )
+}
+
+/// "driver driver_info", the parts the backend leaves empty left out ("" if both are).
+pub fn driver(info: &wgpu::AdapterInfo) -> String {
+    [info.driver.trim(), info.driver_info.trim()]
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Lower is better: discrete, integrated, virtual, CPU, other.

@@ -196,10 +196,7 @@ fn adapter_report(context: &GpuContext) -> AdapterReport {
     AdapterReport {
         name: info.name.clone(),
         backend: info.backend.to_string(),
-        driver: [info.driver.trim(), info.driver_info.trim()]
-            .join(" ")
-            .trim()
-            .to_owned(),
+        driver: gpu::device::driver(info),
         device_type: format!("{:?}", info.device_type),
         subgroup_size: lockstep_width(context),
     }

@@ -91,13 +91,7 @@ pub fn run(args: &TraversalArgs) -> anyhow::Result<()> {
         adapter: gpu.as_ref().map(|g| AdapterReport {
             name: g.context.info.name.clone(),
             backend: g.context.info.backend.to_string(),
-            driver: [
-                g.context.info.driver.trim(),
-                g.context.info.driver_info.trim(),
-            ]
-            .join(" ")
-            .trim()
-            .to_owned(),
+            driver: gpu::device::driver(&g.context.info),
         }),
         cpu_model: cpu_model(),
         cpu_threads: rayon::current_num_threads(),

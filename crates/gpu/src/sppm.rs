@@ -102,6 +102,20 @@ impl GpuBackend {
         scene: &scene::Scene,
         bvh: bvh::PackedBvh,
     ) -> Result<GpuBackend, GpuError> {
+        let source = Module::Sppm.source();
+        GpuBackend::with_kernels(context, scene, bvh, Module::Sppm.label(), source)
+    }
+
+    /// [`GpuBackend::new`] with the SPPM kernels compiled from `source` (WGSL holding the
+    /// entry points of `sppm.wgsl`, e.g. with another random generator): for benchmarks that
+    /// compare variants of one kernel.
+    pub fn with_kernels(
+        context: GpuContext,
+        scene: &scene::Scene,
+        bvh: bvh::PackedBvh,
+        label: &str,
+        source: String,
+    ) -> Result<GpuBackend, GpuError> {
         if context.limits.max_storage_buffers_per_shader_stage < SPPM_STORAGE_BUFFERS {
             return Err(GpuError::TooFewStorageBuffers {
                 needed: SPPM_STORAGE_BUFFERS,
@@ -135,7 +149,10 @@ impl GpuBackend {
             ],
             immediate_size: 0,
         });
-        let module = Module::Sppm.create(device);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
         let pipelines = KERNELS
             .iter()
             .map(|entry| {

@@ -25,7 +25,7 @@ fn pick_light(u: f32) -> u32 {
 }
 
 // render::emission::sample_emission, written into a fresh slot.
-fn emit(rng: ptr<function, u32>) -> PathSlot {
+fn emit(rng: ptr<function, Rng>) -> PathSlot {
     let u0 = next_f32(rng);
     let u1 = next_f32(rng);
     let u2 = next_f32(rng);
@@ -65,7 +65,7 @@ struct PhotonStep {
 // advances one segment, drawing the numbers of stream (pass_index, index). Shared by
 // photon_pass and photon_trace_naive, so both schemes run the same bounce.
 fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
-    var rng = stream_key(params.seed, PHOTON_STREAM, pass_index, index);
+    var rng = rng_start(params.seed, PHOTON_STREAM, pass_index, index);
     var slot = slot_in;
     var emitted = false;
     if slot.depth == SLOT_IDLE {
@@ -135,7 +135,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         return;
     }
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
-    var rng = stream_key(params.seed, EYE_STREAM, pass_index, index);
+    var rng = rng_start(params.seed, EYE_STREAM, pass_index, index);
     let x = index % params.width;
     let y = index / params.width;
     let sx = (f32(x) + next_f32(&rng)) / f32(params.width) * 2.0 - 1.0;

@@ -14,6 +14,7 @@ use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
 use render::packing::{pack_normal, unpack_normal};
+use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use scene::Surface;
@@ -39,9 +40,21 @@ pub fn photon_pass(
     params: &SppmParams,
     pass: u32,
     index: u32,
+    slot: PathSlot,
+) -> PhotonStep {
+    photon_pass_with::<KernelRng>(scene, params, pass, index, slot)
+}
+
+/// [`photon_pass`] drawing from generator `R` (the twin of the kernels compiled with
+/// `gpu::random_variants`), for `kousen bench rng`.
+pub fn photon_pass_with<R: StreamRng>(
+    scene: &SceneData,
+    params: &SppmParams,
+    pass: u32,
+    index: u32,
     mut slot: PathSlot,
 ) -> PhotonStep {
-    let mut rng = KernelRng::new(params.seed, PHOTON_STREAM, pass, index);
+    let mut rng = R::start(params.seed, PHOTON_STREAM, pass, index);
     let mut emitted = false;
     if slot.depth == SLOT_IDLE {
         let u = [(); 5].map(|_| rng.next_f32());
@@ -286,7 +299,78 @@ pub fn gather(
     hash: &[AtomicU32],
     photons: &[Photon],
     visible_point: &VisiblePoint,
+    stats: PixelStats,
+) -> PixelStats {
+    gather_with(counters, params, visible_point, stats, |query| {
+        stochastic_query(params, hash, photons, query)
+    })
+}
+
+/// Where and how far a visible point gathers, and the hash cells serving it.
+#[derive(Clone, Copy, Debug)]
+pub struct GatherQuery {
+    pub position: Vec3,
+    pub normal: Vec3,
+    pub radius: f32,
+    pub cell_size: f32,
+}
+
+/// What a gather found: the photons it counts (M) and their flux.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GatherSum {
+    pub found: u32,
+    pub flux: Vec3,
+}
+
+impl GatherSum {
+    /// Adds `count` photons of `flux` each when `photon` lies inside the query's sphere and on
+    /// its side of the surface.
+    pub fn add_if_near(&mut self, query: &GatherQuery, photon: &Photon, count: u32) {
+        let offset = vec3(photon.position) - query.position;
+        if offset.length_squared() < query.radius * query.radius
+            && unpack_normal(photon.normal).dot(query.normal) > 0.0
+        {
+            self.found += count;
+            self.flux += count as f32 * vec3(photon.flux);
+        }
+    }
+}
+
+/// The stochastic hash's query: each distinct entry the sphere overlaps gives its kept photon,
+/// weighted by the entry's count.
+pub fn stochastic_query(
+    params: &SppmParams,
+    hash: &[AtomicU32],
+    photons: &[Photon],
+    query: &GatherQuery,
+) -> GatherSum {
+    let (entries, count) = query_entries(
+        query.position,
+        query.radius,
+        query.cell_size,
+        params.hash_size,
+    );
+    let mut sum = GatherSum::default();
+    for &entry in &entries[..count] {
+        let word = entry as usize * HASH_ENTRY_WORDS;
+        let photons_in_entry = hash[word + hash_word::COUNT].load(Relaxed);
+        if photons_in_entry == 0 {
+            continue;
+        }
+        let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
+        sum.add_if_near(query, photon, photons_in_entry);
+    }
+    sum
+}
+
+/// Gather and update with any density method: `query` finds the photons around the visible
+/// point; the statistics update is the same for all.
+pub fn gather_with(
+    counters: &[AtomicU32],
+    params: &SppmParams,
+    visible_point: &VisiblePoint,
     mut stats: PixelStats,
+    query: impl FnOnce(&GatherQuery) -> GatherSum,
 ) -> PixelStats {
     let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
@@ -298,35 +382,22 @@ pub fn gather(
         stats.radius = largest;
     }
     if visible_point.is_valid() {
-        let position = vec3(visible_point.position);
-        let normal = unpack_normal(visible_point.normal);
         let radius = stats.radius;
-        let (entries, count) = query_entries(position, radius, cell_size, params.hash_size);
-        let mut found = 0u32;
-        let mut flux = Vec3::ZERO;
-        for &entry in &entries[..count] {
-            let word = entry as usize * HASH_ENTRY_WORDS;
-            let photons_in_entry = hash[word + hash_word::COUNT].load(Relaxed);
-            if photons_in_entry == 0 {
-                continue;
-            }
-            let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
-            let offset = vec3(photon.position) - position;
-            if offset.length_squared() < radius * radius
-                && unpack_normal(photon.normal).dot(normal) > 0.0
-            {
-                found += photons_in_entry;
-                flux += photons_in_entry as f32 * vec3(photon.flux);
-            }
-        }
-        if found > 0 {
+        let sum = query(&GatherQuery {
+            position: vec3(visible_point.position),
+            normal: unpack_normal(visible_point.normal),
+            radius,
+            cell_size,
+        });
+        if sum.found > 0 {
             let n = stats.photon_count;
-            let m = found as f32;
+            let m = sum.found as f32;
             let n_next = n + params.alpha * m;
             let ratio = n_next / (n + m);
             stats.photon_count = n_next;
             stats.radius = radius * ratio.sqrt();
-            stats.tau = ((vec3(stats.tau) + vec3(visible_point.weight) * flux) * ratio).to_array();
+            stats.tau =
+                ((vec3(stats.tau) + vec3(visible_point.weight) * sum.flux) * ratio).to_array();
         }
     }
     // Only pixels that have met photons size the cells: the others would hold them at the

@@ -2,6 +2,7 @@
 //! same buffers the GPU backend keeps. It renders where no GPU adapter exists, and it is the
 //! oracle the GPU kernels are tested against.
 
+pub mod density;
 pub mod kernels;
 pub mod surface;
 
@@ -11,8 +12,11 @@ use rayon::prelude::*;
 use render::backend::{Backend, BackendError, PhotonTracing, Setup, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
-    emitted_total, initial_counters,
+    emitted_total, initial_counters, vec3,
 };
+use render::density::Density;
+use render::half_storage::{Precision, round_photon, round_visible_point};
+use render::kdtree::PhotonKdTree;
 use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
 use scene::{Material, Scene};
 
@@ -49,6 +53,13 @@ struct State {
     counters: Vec<AtomicU32>,
     /// Per slot, the segments of its last naive path (empty until the naive scheme runs).
     path_segments: Vec<u32>,
+    density: Density,
+    precision: Precision,
+    /// The full hash's photon indices in entry order and its scan blocks' offsets.
+    photon_order: Vec<AtomicU32>,
+    block_offsets: Vec<u32>,
+    /// This pass's kd-tree (kd-tree density only).
+    kd_tree: Option<PhotonKdTree>,
 }
 
 pub struct CpuBackend {
@@ -110,6 +121,10 @@ pub fn processor_name() -> String {
     format!("{} ({} threads)", cpu_model(), rayon::current_num_threads())
 }
 
+fn clear(words: &[AtomicU32]) {
+    words.par_iter().for_each(|w| w.store(0, Relaxed));
+}
+
 fn atomics(values: impl IntoIterator<Item = u32>) -> Vec<AtomicU32> {
     values.into_iter().map(AtomicU32::new).collect()
 }
@@ -139,6 +154,14 @@ impl Backend for CpuBackend {
             )),
             counters: atomics(initial_counters(setup.initial_radius)),
             path_segments: Vec::new(),
+            density: setup.density,
+            precision: setup.precision,
+            photon_order: match setup.density {
+                Density::FullHash => atomics(std::iter::repeat_n(0, params.slot_count as usize)),
+                _ => Vec::new(),
+            },
+            block_offsets: Vec::new(),
+            kd_tree: None,
         };
         Ok(())
     }
@@ -147,6 +170,7 @@ impl Backend for CpuBackend {
         let pass = self.pass_index();
         let (scene, state) = (&self.scene, &mut self.state);
         let params = state.params;
+        let (precision, origin) = (state.precision, vec3(params.storage_origin));
         state
             .visible_points
             .par_iter_mut()
@@ -154,7 +178,10 @@ impl Backend for CpuBackend {
             .enumerate()
             .for_each(|(index, (point, stats))| {
                 let step = kernels::eye_pass(scene, &params, pass, index as u32);
-                *point = step.visible_point;
+                *point = match precision {
+                    Precision::F32 => step.visible_point,
+                    Precision::F16 => round_visible_point(&step.visible_point, origin),
+                };
                 for (d, s) in stats.direct.iter_mut().zip(step.direct.to_array()) {
                     *d += s;
                 }
@@ -165,6 +192,7 @@ impl Backend for CpuBackend {
         let pass = self.pass_index();
         let (scene, state) = (&self.scene, &mut self.state);
         let params = state.params;
+        let (precision, origin) = (state.precision, vec3(params.storage_origin));
         let counters = &state.counters;
         state
             .slots
@@ -174,7 +202,10 @@ impl Backend for CpuBackend {
             .for_each(|(index, (slot, photon))| {
                 let step = kernels::photon_pass(scene, &params, pass, index as u32, *slot);
                 *slot = step.slot;
-                *photon = step.photon;
+                *photon = match precision {
+                    Precision::F32 => step.photon,
+                    Precision::F16 => round_photon(&step.photon, origin, params.storage_flux_scale),
+                };
                 if step.emitted {
                     counters[counter::EMITTED_PASS].fetch_add(1, Relaxed);
                 }
@@ -182,27 +213,66 @@ impl Backend for CpuBackend {
     }
 
     fn build_hash(&mut self) {
-        let state = &self.state;
-        state.hash.par_iter().for_each(|w| w.store(0, Relaxed));
-        let each = |kernel: fn(&SppmParams, &[AtomicU32], &[AtomicU32], u32, &Photon)| {
-            state.photons.par_iter().enumerate().for_each(|(i, p)| {
-                kernel(&state.params, &state.counters, &state.hash, i as u32, p)
-            });
-        };
-        each(kernels::hash_count);
-        each(kernels::hash_select);
+        let state = &mut self.state;
+        match state.density {
+            Density::StochasticHash => {
+                clear(&state.hash);
+                let each = |kernel: fn(&SppmParams, &[AtomicU32], &[AtomicU32], u32, &Photon)| {
+                    state.photons.par_iter().enumerate().for_each(|(i, p)| {
+                        kernel(&state.params, &state.counters, &state.hash, i as u32, p)
+                    });
+                };
+                each(kernels::hash_count);
+                each(kernels::hash_select);
+            }
+            Density::FullHash => {
+                clear(&state.hash);
+                let (params, counters, hash) = (&state.params, &state.counters, &state.hash);
+                state
+                    .photons
+                    .par_iter()
+                    .for_each(|p| density::full_count(params, counters, hash, p));
+                state.block_offsets = density::full_scan(hash);
+                let (offsets, order) = (&state.block_offsets, &state.photon_order);
+                state.photons.par_iter().enumerate().for_each(|(i, p)| {
+                    density::full_scatter(params, counters, hash, offsets, order, i as u32, p)
+                });
+            }
+            Density::KdTree => state.kd_tree = Some(PhotonKdTree::build(&state.photons)),
+        }
     }
 
     fn gather(&mut self) {
         let state = &mut self.state;
         let (params, counters, hash, photons) =
             (&state.params, &state.counters, &state.hash, &state.photons);
+        let (offsets, order, tree) = (
+            &state.block_offsets,
+            &state.photon_order,
+            state.kd_tree.as_ref(),
+        );
+        let density = state.density;
         state
             .pixels
             .par_iter_mut()
             .zip(state.visible_points.par_iter())
             .for_each(|(stats, point)| {
-                *stats = kernels::gather(params, counters, hash, photons, point, *stats);
+                *stats = kernels::gather_with(counters, params, point, *stats, |query| {
+                    match (density, tree) {
+                        (Density::FullHash, _) => {
+                            density::full_query(params, hash, offsets, order, photons, query)
+                        }
+                        // No tree: no hash was built this pass, so no photon is found.
+                        (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
+                            let (found, flux) =
+                                tree.query(query.position, query.radius, query.normal);
+                            kernels::GatherSum { found, flux }
+                        }),
+                        (Density::StochasticHash, _) => {
+                            kernels::stochastic_query(params, hash, photons, query)
+                        }
+                    }
+                });
             });
         kernels::finish_pass(&state.counters);
     }
@@ -239,7 +309,13 @@ impl Backend for CpuBackend {
                 bytes(s.slots.len(), size_of::<PathSlot>())
                     + bytes(s.photons.len(), size_of::<Photon>()),
             ),
-            ("hash", bytes(s.hash.len(), size_of::<u32>())),
+            (
+                "hash",
+                bytes(s.hash.len() + s.photon_order.len(), size_of::<u32>())
+                    + s.kd_tree
+                        .as_ref()
+                        .map_or(0, |t| size_of_val(t.nodes()) as u64),
+            ),
             (
                 "visible_points",
                 bytes(s.visible_points.len(), size_of::<VisiblePoint>()),

@@ -150,6 +150,8 @@ fn lit_plane_matches_analytic_irradiance() {
             params,
             lights,
             initial_radius,
+            density: render::Density::default(),
+            precision: Default::default(),
         })
         .unwrap();
     let out = sppm.run(Budget::Passes(1024), &mut |_| {}).unwrap();

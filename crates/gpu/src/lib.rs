@@ -15,8 +15,10 @@
 
 pub mod device;
 pub mod display;
+pub mod kdtree;
 pub mod limits;
 pub mod prelude;
+pub mod random_variants;
 pub mod readback;
 pub mod scene_upload;
 pub mod shader;

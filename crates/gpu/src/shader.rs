@@ -4,6 +4,7 @@
 use std::borrow::Cow;
 
 use crate::prelude;
+use crate::random_variants::{self, Generator};
 
 const DISPATCH: &str = include_str!("../shaders/shared/dispatch.wgsl");
 const BVH_TYPES: &str = include_str!("../shaders/shared/bvh_types.wgsl");
@@ -15,10 +16,22 @@ const TRAVERSE_COMPACT: &str = include_str!("../shaders/shared/traverse_compact.
 const TRACE: &str = include_str!("../shaders/kernels/trace.wgsl");
 const RAYGEN: &str = include_str!("../shaders/kernels/raygen.wgsl");
 const RANDOM: &str = include_str!("../shaders/shared/random.wgsl");
+/// The kernels' generator; `random_variants` swaps this part for another.
+pub(crate) const RANDOM_PCG: &str = include_str!("../shaders/shared/random_pcg.wgsl");
 const SPPM_TYPES: &str = include_str!("../shaders/shared/sppm_types.wgsl");
+const STORAGE_F32: &str = include_str!("../shaders/shared/photon_storage_f32.wgsl");
+const STORAGE_F16: &str = include_str!("../shaders/shared/photon_storage_f16.wgsl");
+/// The part of the SPPM modules that declares how photons and visible points are stored.
+const STORAGE_PART: &str = "shared/photon_storage_f32.wgsl";
+/// The files that can stand in that part ([`Module::source_with_precision`]).
+pub const STORAGE_PARTS: [&str; 2] = [STORAGE_PART, "shared/photon_storage_f16.wgsl"];
 const TEXTURES: &str = include_str!("../shaders/shared/textures.wgsl");
 const SHADING: &str = include_str!("../shaders/shared/shading.wgsl");
 const SPPM: &str = include_str!("../shaders/kernels/sppm.wgsl");
+const DENSITY_STOCHASTIC: &str = include_str!("../shaders/shared/density_stochastic.wgsl");
+const DENSITY_FULL: &str = include_str!("../shaders/shared/density_full.wgsl");
+const DENSITY_KDTREE: &str = include_str!("../shaders/shared/density_kdtree.wgsl");
+const KDTREE: &str = include_str!("../shaders/shared/kdtree.wgsl");
 const DISPLAY: &str = include_str!("../shaders/kernels/display.wgsl");
 const PHOTON_TRACE_NAIVE: &str = include_str!("../shaders/kernels/photon_trace_naive.wgsl");
 
@@ -38,15 +51,29 @@ pub enum Module {
     /// The SPPM kernels and the naive photon-tracing scheme (`photon_trace_naive.wgsl`), for
     /// `kousen bench photons` only: its extra storage buffer keeps it out of [`Module::Sppm`].
     PhotonTraceNaive,
+    /// The SPPM kernels with the full spatial hash's build kernels and gather
+    /// (`density_full.wgsl`, bind group 3), for `kousen bench density`.
+    SppmFullHash,
+    /// The SPPM kernels gathering from a kd-tree built on the CPU (`density_kdtree.wgsl`,
+    /// bind group 3), for `kousen bench density`.
+    SppmKdTree,
+    /// The SPPM kernels drawing from another random generator (`random_variants`), for
+    /// `kousen bench rng`.
+    SppmRandom(Generator),
 }
 
 impl Module {
-    pub const ALL: [Module; 5] = [
+    pub const ALL: [Module; 10] = [
         Module::Trace,
         Module::Raygen,
         Module::Sppm,
         Module::Display,
         Module::PhotonTraceNaive,
+        Module::SppmFullHash,
+        Module::SppmKdTree,
+        Module::SppmRandom(Generator::TalkFloat),
+        Module::SppmRandom(Generator::Tea),
+        Module::SppmRandom(Generator::FractSin),
     ];
 
     /// The files it is made of, as (name, text), after the prelude.
@@ -72,11 +99,24 @@ impl Module {
                 ("shared/intersect.wgsl", INTERSECT),
                 ("shared/traverse.wgsl", TRAVERSE),
                 ("shared/random.wgsl", RANDOM),
+                ("shared/random_pcg.wgsl", RANDOM_PCG),
                 ("shared/sppm_types.wgsl", SPPM_TYPES),
+                (STORAGE_PART, STORAGE_F32),
                 ("shared/textures.wgsl", TEXTURES),
                 ("shared/shading.wgsl", SHADING),
                 ("kernels/sppm.wgsl", SPPM),
+                ("shared/density_stochastic.wgsl", DENSITY_STOCHASTIC),
             ],
+            Module::SppmFullHash => {
+                return Module::Sppm.with_density(&[("shared/density_full.wgsl", DENSITY_FULL)]);
+            }
+            Module::SppmKdTree => {
+                return Module::Sppm.with_density(&[
+                    ("shared/kdtree.wgsl", KDTREE),
+                    ("shared/density_kdtree.wgsl", DENSITY_KDTREE),
+                ]);
+            }
+            Module::SppmRandom(generator) => return random_variants::sppm_parts(generator),
             Module::PhotonTraceNaive => {
                 let mut parts = Module::Sppm.parts();
                 parts.push(("kernels/photon_trace_naive.wgsl", PHOTON_TRACE_NAIVE));
@@ -93,14 +133,40 @@ impl Module {
         scene.iter().chain(own).copied().collect()
     }
 
-    /// The whole WGSL source.
-    pub fn source(self) -> String {
+    /// These parts with the stochastic hash's query replaced by `density` (files defining
+    /// `density_query`).
+    fn with_density(
+        self,
+        density: &[(&'static str, &'static str)],
+    ) -> Vec<(&'static str, &'static str)> {
+        let mut parts: Vec<_> = self
+            .parts()
+            .into_iter()
+            .filter(|&(name, _)| name != "shared/density_stochastic.wgsl")
+            .collect();
+        parts.extend_from_slice(density);
+        parts
+    }
+
+    /// The whole WGSL source with photons and visible points stored in `precision` (modules
+    /// that store none are unchanged).
+    pub fn source_with_precision(self, precision: render::half_storage::Precision) -> String {
+        let storage = match precision {
+            render::half_storage::Precision::F32 => STORAGE_F32,
+            render::half_storage::Precision::F16 => STORAGE_F16,
+        };
         let mut text = prelude::wgsl();
         for (name, part) in self.parts() {
+            let part = if name == STORAGE_PART { storage } else { part };
             text.push_str(&format!("\n// ---- {name} ----\n"));
             text.push_str(part);
         }
         text
+    }
+
+    /// The whole WGSL source.
+    pub fn source(self) -> String {
+        self.source_with_precision(render::half_storage::Precision::F32)
     }
 
     /// Compiles it on `device`.
@@ -118,6 +184,9 @@ impl Module {
             Module::Sppm => "sppm.wgsl",
             Module::Display => "display.wgsl",
             Module::PhotonTraceNaive => "photon_trace_naive.wgsl",
+            Module::SppmFullHash => "sppm.wgsl + density_full.wgsl",
+            Module::SppmKdTree => "sppm.wgsl + density_kdtree.wgsl",
+            Module::SppmRandom(generator) => generator.label(),
         }
     }
 }

@@ -3,10 +3,12 @@
 //! never reads anything back per pass, and keeps at most [`MAX_PASSES_IN_FLIGHT`] submitted
 //! ahead so that progress and `--time` stay honest.
 
+mod density;
 mod naive;
 
 use std::collections::VecDeque;
 
+pub use density::DENSITY_STORAGE_BUFFERS;
 pub use naive::NAIVE_STORAGE_BUFFERS;
 
 use render::backend::{Backend, BackendError, Setup, Statistics};
@@ -14,6 +16,7 @@ use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
     emitted_total, initial_counters,
 };
+use render::half_storage::{HalfPoint, Precision};
 use wgpu::util::DeviceExt;
 
 use crate::display::DisplaySource;
@@ -48,6 +51,7 @@ const FINISH_PASS: usize = 5;
 /// The render's state on the device.
 struct State {
     params: SppmParams,
+    precision: Precision,
     slots: wgpu::Buffer,
     photons: wgpu::Buffer,
     visible_points: wgpu::Buffer,
@@ -75,6 +79,55 @@ pub struct GpuBackend {
     error: Option<String>,
     /// The naive photon-tracing scheme, made on first use (`kousen bench photons`).
     naive: Option<naive::NaiveTracer>,
+    /// The full hash's or the kd-tree's kernels (`kousen bench density`); None: the
+    /// stochastic hash.
+    density: Option<density::DensityKernels>,
+    /// What the SPPM pipelines were compiled from.
+    kernels: Kernels,
+}
+
+/// The source of the SPPM pipelines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kernels {
+    /// `Module::Sppm`, photons stored in this precision.
+    Standard(Precision),
+    /// A source given to [`GpuBackend::with_kernels`] (f32 storage).
+    Custom,
+}
+
+/// The SPPM kernels' pipelines, in [`KERNELS`] order, compiled from `source`.
+fn compile_kernels(
+    device: &wgpu::Device,
+    state_layout: &wgpu::BindGroupLayout,
+    label: &str,
+    source: String,
+) -> Vec<wgpu::ComputePipeline> {
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("sppm"),
+        bind_group_layouts: &[
+            Some(&scene_layout(device)),
+            Some(state_layout),
+            Some(&textures_layout(device)),
+        ],
+        immediate_size: 0,
+    });
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    KERNELS
+        .iter()
+        .map(|entry| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })
+        .collect()
 }
 
 /// Group 2: the scene's texture array (`textures.wgsl`).
@@ -103,7 +156,10 @@ impl GpuBackend {
         bvh: bvh::PackedBvh,
     ) -> Result<GpuBackend, GpuError> {
         let source = Module::Sppm.source();
-        GpuBackend::with_kernels(context, scene, bvh, Module::Sppm.label(), source)
+        let mut backend =
+            GpuBackend::with_kernels(context, scene, bvh, Module::Sppm.label(), source)?;
+        backend.kernels = Kernels::Standard(Precision::F32);
+        Ok(backend)
     }
 
     /// [`GpuBackend::new`] with the SPPM kernels compiled from `source` (WGSL holding the
@@ -140,32 +196,7 @@ impl GpuBackend {
                 resource: wgpu::BindingResource::TextureView(&textures.view),
             }],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("sppm"),
-            bind_group_layouts: &[
-                Some(&scene_layout(device)),
-                Some(&layout),
-                Some(&texture_layout),
-            ],
-            immediate_size: 0,
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let pipelines = KERNELS
-            .iter()
-            .map(|entry| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            })
-            .collect();
+        let pipelines = compile_kernels(device, &layout, label, source);
         Ok(GpuBackend {
             scene_bytes: gpu_scene.bytes,
             context,
@@ -179,7 +210,29 @@ impl GpuBackend {
             in_flight: VecDeque::new(),
             error: None,
             naive: None,
+            density: None,
+            kernels: Kernels::Custom,
         })
+    }
+
+    /// Compiles the standard kernels again when the render stores photons in another
+    /// precision than they were compiled for.
+    fn compile_for(&mut self, precision: Precision) -> Result<(), BackendError> {
+        match self.kernels {
+            Kernels::Standard(compiled) if compiled == precision => Ok(()),
+            Kernels::Standard(_) => {
+                let source = Module::Sppm.source_with_precision(precision);
+                let device = &self.context.device;
+                self.pipelines =
+                    compile_kernels(device, &self.layout, Module::Sppm.label(), source);
+                self.kernels = Kernels::Standard(precision);
+                Ok(())
+            }
+            Kernels::Custom if precision == Precision::F32 => Ok(()),
+            Kernels::Custom => Err(BackendError::Device(
+                "kernels compiled from a given source store photons in f32 only".into(),
+            )),
+        }
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -192,18 +245,19 @@ impl GpuBackend {
         let limits = &self.context.limits;
         let pixels = params.pixel_count() as u64;
         let slots = params.slot_count as u64;
+        // A photon or visible point: 32 bytes of f32, or 16 of f16.
+        let point_bytes = match setup.precision {
+            Precision::F32 => size_of::<Photon>() as u64,
+            Precision::F16 => size_of::<HalfPoint>() as u64,
+        };
         let sizes: [(&'static str, &'static str, u64); 6] = [
             (
                 "photon_slots",
                 "photons",
                 slots * size_of::<PathSlot>() as u64,
             ),
-            ("photons", "photons", slots * size_of::<Photon>() as u64),
-            (
-                "visible_points",
-                "visible_points",
-                pixels * size_of::<VisiblePoint>() as u64,
-            ),
+            ("photons", "photons", slots * point_bytes),
+            ("visible_points", "visible_points", pixels * point_bytes),
             (
                 "pixel_stats",
                 "statistics",
@@ -296,6 +350,7 @@ impl GpuBackend {
         }
         Ok(State {
             params,
+            precision: setup.precision,
             slots,
             photons,
             visible_points,
@@ -366,17 +421,57 @@ impl GpuBackend {
         self.read_state(|s| (&s.counters, counter::COUNT))
     }
 
-    /// This pass's photons (for tests).
+    /// This pass's photons (for tests, and the kd-tree built on the CPU), as f32 whatever
+    /// the storage.
     pub fn read_photons(&mut self) -> Result<Vec<Photon>, BackendError> {
-        self.read_state(|s| (&s.photons, s.params.slot_count as usize))
+        let count = |s: &State| s.params.slot_count as usize;
+        if self.state()?.precision == Precision::F32 {
+            return self.read_state(|s| (&s.photons, count(s)));
+        }
+        let params = self.state()?.params;
+        let (origin, scale) = (
+            render::buffers::vec3(params.storage_origin),
+            params.storage_flux_scale,
+        );
+        let packed: Vec<HalfPoint> = self.read_state(|s| (&s.photons, count(s)))?;
+        Ok(packed
+            .iter()
+            .map(|h| {
+                let (position, normal, flux) = h.unpack(origin);
+                Photon {
+                    position: position.to_array(),
+                    normal,
+                    flux: (flux / scale).to_array(),
+                    pad: 0,
+                }
+            })
+            .collect())
     }
 
     pub fn read_slots(&mut self) -> Result<Vec<PathSlot>, BackendError> {
         self.read_state(|s| (&s.slots, s.params.slot_count as usize))
     }
 
+    /// The visible points, as f32 whatever the storage.
     pub fn read_visible_points(&mut self) -> Result<Vec<VisiblePoint>, BackendError> {
-        self.read_state(|s| (&s.visible_points, s.params.pixel_count() as usize))
+        let count = |s: &State| s.params.pixel_count() as usize;
+        if self.state()?.precision == Precision::F32 {
+            return self.read_state(|s| (&s.visible_points, count(s)));
+        }
+        let origin = render::buffers::vec3(self.state()?.params.storage_origin);
+        let packed: Vec<HalfPoint> = self.read_state(|s| (&s.visible_points, count(s)))?;
+        Ok(packed
+            .iter()
+            .map(|h| {
+                let (position, normal, weight) = h.unpack(origin);
+                VisiblePoint {
+                    position: position.to_array(),
+                    normal,
+                    weight: weight.to_array(),
+                    pad: 0,
+                }
+            })
+            .collect())
     }
 
     /// The hash table's words (entry-major: priority, count, winner).
@@ -429,7 +524,12 @@ impl Backend for GpuBackend {
     }
 
     fn start(&mut self, setup: &Setup) -> Result<(), BackendError> {
+        self.density = None;
+        self.compile_for(setup.precision)?;
         self.state = Some(self.allocate(setup).map_err(device_error)?);
+        self.density =
+            density::DensityKernels::new(self, setup.density, setup.precision, &setup.params)
+                .map_err(device_error)?;
         Ok(())
     }
 
@@ -444,6 +544,9 @@ impl Backend for GpuBackend {
     }
 
     fn build_hash(&mut self) {
+        if self.build_density() {
+            return;
+        }
         let Some(state) = &self.state else {
             return;
         };
@@ -454,8 +557,10 @@ impl Backend for GpuBackend {
     }
 
     fn gather(&mut self) {
-        let pixels = self.state.as_ref().map_or(0, |s| s.params.pixel_count());
-        self.dispatch(GATHER, pixels);
+        if !self.gather_density() {
+            let pixels = self.state.as_ref().map_or(0, |s| s.params.pixel_count());
+            self.dispatch(GATHER, pixels);
+        }
         self.dispatch(FINISH_PASS, 1);
         self.submit();
     }
@@ -488,8 +593,16 @@ impl Backend for GpuBackend {
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
-        self.state
+        let mut memory = self
+            .state
             .as_ref()
-            .map_or_else(Vec::new, |s| s.memory.clone())
+            .map_or_else(Vec::new, |s| s.memory.clone());
+        if let (Some(density), Some((_, bytes))) = (
+            &self.density,
+            memory.iter_mut().find(|(kind, _)| *kind == "hash"),
+        ) {
+            *bytes += density.bytes;
+        }
+        memory
     }
 }

@@ -10,6 +10,7 @@ use gpu::prelude;
 use gpu::shader::Module;
 use gpu::types::{BenchCameraUniform, GpuHit, GpuMaterial, GpuRay, SceneInfo};
 use naga::valid::{Capabilities, ValidationFlags, Validator};
+use render::half_storage::Precision;
 
 const BVH_TYPES: &str = include_str!("../shaders/shared/bvh_types.wgsl");
 
@@ -168,9 +169,12 @@ fn validate(module: &naga::Module, source: &str, name: &str) {
 #[test]
 fn every_shader_module_parses_and_validates() {
     for module in Module::ALL {
-        let source = module.source();
-        let parsed = parse(&source, module.label());
-        validate(&parsed, &source, module.label());
+        for precision in [Precision::F32, Precision::F16] {
+            let source = module.source_with_precision(precision);
+            let label = format!("{} ({})", module.label(), precision.name());
+            let parsed = parse(&source, &label);
+            validate(&parsed, &source, &label);
+        }
     }
 }
 
@@ -179,11 +183,13 @@ fn every_shader_file_belongs_to_a_module() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut files = Vec::new();
     wgsl_files(&root, &mut files);
-    let used: Vec<&str> = Module::ALL
+    let mut used: Vec<&str> = Module::ALL
         .iter()
         .flat_map(|m| m.parts())
         .map(|(name, _)| name)
         .collect();
+    used.extend(gpu::shader::STORAGE_PARTS);
+    used.extend(gpu::kdtree::parts().into_iter().map(|(name, _)| name));
     for path in files {
         let relative = path.strip_prefix(&root).expect("under shaders/");
         let relative = relative.to_str().expect("UTF-8 path").replace('\\', "/");
@@ -362,9 +368,9 @@ fn sppm_types_layout_matches_render_buffers() {
             ("pad1", offset_of!(Light, pad1)),
         ],
     );
-    // Rust's `pad: [u32; 3]` is WGSL's pad0..pad2 (a uniform buffer's arrays need a 16-byte
-    // stride, so WGSL spells the words out).
-    let pad = offset_of!(SppmParams, pad);
+    // Rust's `storage_origin: [f32; 3]` is WGSL's origin_x..origin_z (a vec3 would be 16-byte
+    // aligned).
+    let origin = offset_of!(SppmParams, storage_origin);
     assert_layout(
         &module,
         "SppmParams",
@@ -383,9 +389,13 @@ fn sppm_types_layout_matches_render_buffers() {
             ("light_count", offset_of!(SppmParams, light_count)),
             ("seed", offset_of!(SppmParams, seed)),
             ("epsilon", offset_of!(SppmParams, epsilon)),
-            ("pad0", pad),
-            ("pad1", pad + 4),
-            ("pad2", pad + 8),
+            ("origin_x", origin),
+            ("origin_y", origin + 4),
+            ("origin_z", origin + 8),
+            ("flux_scale", offset_of!(SppmParams, storage_flux_scale)),
+            ("pad0", offset_of!(SppmParams, pad)),
+            ("pad1", offset_of!(SppmParams, pad) + 4),
+            ("pad2", offset_of!(SppmParams, pad) + 8),
         ],
     );
 }

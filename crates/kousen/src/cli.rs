@@ -70,6 +70,127 @@ pub enum BenchCommand {
     /// Photon paths per second: one bounce per pass with asynchronous path regeneration against
     /// the naive scheme (every path traced to its end in one pass), with lane occupancy.
     Photons(PhotonsArgs),
+    /// Random generators (PCG, the talk's float-only one, TEA, fract(sin)): photon paths per
+    /// second with each, a statistical battery, and renders showing their artifacts.
+    Rng(RngArgs),
+    /// Density estimation: hash build and gather times per pass, and image error at equal
+    /// passes and equal time, for the stochastic hash at table ratios 1:64, 1:8 and 1:1, a
+    /// full spatial hash (counting sort) and a kd-tree built on the CPU.
+    Density(DensityArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StoragePrecision {
+    F32,
+    F16,
+}
+
+impl StoragePrecision {
+    pub fn precision(self) -> render::half_storage::Precision {
+        match self {
+            StoragePrecision::F32 => render::half_storage::Precision::F32,
+            StoragePrecision::F16 => render::half_storage::Precision::F16,
+        }
+    }
+}
+
+/// A density-estimation method as `kousen bench density` names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DensityMethod {
+    /// The stochastic hash with 1 table entry per 64 photon slots.
+    #[value(name = "stochastic-64")]
+    Stochastic64,
+    /// The stochastic hash with 1 table entry per 8 photon slots.
+    #[value(name = "stochastic-8")]
+    Stochastic8,
+    /// The stochastic hash with 1 table entry per photon slot (kousen's default).
+    #[value(name = "stochastic-1")]
+    Stochastic1,
+    /// Every photon in per-entry lists (1 entry per slot), built by a counting sort.
+    Full,
+    /// A kd-tree over the pass's photons, built on the CPU.
+    Kdtree,
+}
+
+impl DensityMethod {
+    /// The method and its table entries per photon slot.
+    pub fn density(self) -> (render::Density, f32) {
+        use render::Density::*;
+        match self {
+            DensityMethod::Stochastic64 => (StochasticHash, 1.0 / 64.0),
+            DensityMethod::Stochastic8 => (StochasticHash, 1.0 / 8.0),
+            DensityMethod::Stochastic1 => (StochasticHash, 1.0),
+            DensityMethod::Full => (FullHash, 1.0),
+            DensityMethod::Kdtree => (KdTree, 1.0),
+        }
+    }
+
+    /// The name on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            DensityMethod::Stochastic64 => "stochastic-64",
+            DensityMethod::Stochastic8 => "stochastic-8",
+            DensityMethod::Stochastic1 => "stochastic-1",
+            DensityMethod::Full => "full",
+            DensityMethod::Kdtree => "kdtree",
+        }
+    }
+}
+
+#[derive(Args)]
+pub struct DensityArgs {
+    /// .gltf, .glb or .obj files, each with at least one emissive surface and a camera.
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Also write the results as JSON (a contract for scripts).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Methods, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "stochastic-64,stochastic-8,stochastic-1,full,kdtree"
+    )]
+    pub methods: Vec<DensityMethod>,
+    /// How photons and visible points are stored, comma-separated: each method runs with each
+    /// (f16: 16-byte packed structs instead of 32-byte f32 ones).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "f32")]
+    pub precision: Vec<StoragePrecision>,
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub width: u32,
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub height: u32,
+    /// Photon path slots per pass.
+    #[arg(long, value_name = "N", default_value_t = 1 << 16, value_parser = clap::value_parser!(u32).range(1..=1 << 24))]
+    pub photons: u32,
+    /// SPPM passes per method (timed, and the "equal passes" of the error).
+    #[arg(long, value_name = "N", default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub passes: u32,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// A converged image of the same scene, size and camera to measure error against (EXR or
+    /// PFM). Default: one rendered first with the full hash, --reference-passes passes, another
+    /// seed.
+    #[arg(long, value_name = "FILE")]
+    pub reference: Option<PathBuf>,
+    /// Passes of the reference rendered when no --reference is given.
+    #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub reference_passes: u32,
+    /// Also write each method's image at equal passes (first device) as DIR/density-<scene>-<method>.png.
+    #[arg(long, value_name = "DIR")]
+    pub images: Option<PathBuf>,
+    /// Exposure in stops of the PNG images.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Where to run, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]
+    pub devices: Vec<BenchDevice>,
+    /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
+    #[arg(long, value_name = "SUBSTRING")]
+    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
 }
 
 /// The benchmark camera of ANCHORS.md.
@@ -160,6 +281,46 @@ pub struct PhotonsArgs {
     /// Bounces before a photon path is cut off.
     #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub max_depth: u32,
+    /// Where to run, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]
+    pub devices: Vec<BenchDevice>,
+    /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
+    #[arg(long, value_name = "SUBSTRING")]
+    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub bvh: BvhArgs,
+}
+
+#[derive(Args)]
+pub struct RngArgs {
+    /// .gltf, .glb or .obj files, each with at least one emissive surface.
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Also write the results as JSON (a contract for scripts).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Photon path slots per pass.
+    #[arg(long, value_name = "N", default_value_t = 1 << 16, value_parser = clap::value_parser!(u32).range(1..=1 << 24))]
+    pub photons: u32,
+    /// Photon passes per timed run.
+    #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub passes: u32,
+    /// Timed runs per generator (after a warm-up, the generators alternating); the median is
+    /// reported.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub runs: u32,
+    /// Draws per test of the statistical battery.
+    #[arg(long, value_name = "N", default_value_t = 1 << 20, value_parser = clap::value_parser!(u32).range(1 << 16..=1 << 28))]
+    pub battery_draws: u32,
+    /// Also render the first scene on the GPU with each generator into DIR/rng-<name>.png.
+    #[arg(long, value_name = "DIR")]
+    pub image: Option<PathBuf>,
+    /// Side of the rendered images, in pixels.
+    #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(8..=4096))]
+    pub image_size: u32,
+    /// SPPM passes per rendered image.
+    #[arg(long, value_name = "N", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub image_passes: u32,
     /// Where to run, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]
     pub devices: Vec<BenchDevice>,

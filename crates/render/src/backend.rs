@@ -4,6 +4,8 @@
 //! wait for them.
 
 use crate::buffers::{Light, PixelStats, SppmParams};
+use crate::density::Density;
+use crate::half_storage::Precision;
 
 /// Everything a backend needs to start a render, made by the integrator.
 #[derive(Clone, Debug)]
@@ -12,6 +14,10 @@ pub struct Setup {
     pub lights: Vec<Light>,
     /// Every pixel's starting gather radius.
     pub initial_radius: f32,
+    /// How photons are found around the visible points.
+    pub density: Density,
+    /// How photons and visible points are stored.
+    pub precision: Precision,
 }
 
 /// What a backend reads back: every pixel's statistics and the paths emitted so far.

@@ -117,7 +117,7 @@ pub struct Light {
     pub pad1: u32,
 }
 
-/// Render-wide constants (uniform buffer, 96 bytes).
+/// Render-wide constants (uniform buffer, 112 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct SppmParams {
@@ -140,6 +140,13 @@ pub struct SppmParams {
     pub seed: u32,
     /// Offset of a continuation ray's origin off a surface (scene-relative).
     pub epsilon: f32,
+    /// Where f16 storage measures positions from: the scene's centre
+    /// ([`crate::half_storage`]).
+    pub storage_origin: [f32; 3],
+    /// What f16 storage multiplies fluxes by: 1 / the largest light's flux, which bounds every
+    /// photon's (Russian roulette on the largest channel never raises one), so stored fluxes
+    /// lie in [0, 1] and keep f16's relative precision.
+    pub storage_flux_scale: f32,
     pub pad: [u32; 3],
 }
 

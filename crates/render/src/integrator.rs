@@ -22,6 +22,7 @@ pub enum RenderError {
     Settings(#[from] SettingsError),
     #[error("the scene has no emissive surface, so the image would be black")]
     NoLights,
+
     #[error(transparent)]
     Backend(#[from] BackendError),
 }
@@ -109,8 +110,19 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
         light_count: lights,
         seed: settings.seed,
         epsilon: 1e-5 * scene.bounds().extent().length().max(1e-3),
+        storage_origin: scene.bounds().center().to_array(),
+        storage_flux_scale: 1.0,
         pad: [0; 3],
     }
+}
+
+/// The phases of an SPPM iteration, in the order they run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    Eye,
+    Photons,
+    Hash,
+    Gather,
 }
 
 /// The integrator: a backend started on one scene, camera and settings.
@@ -134,11 +146,16 @@ impl<B: Backend> Sppm<B> {
             return Err(RenderError::NoLights);
         }
         let setup = Setup {
-            params: params(scene, camera, &settings, lights.len() as u32),
+            params: SppmParams {
+                storage_flux_scale: crate::half_storage::flux_scale(&lights),
+                ..params(scene, camera, &settings, lights.len() as u32)
+            },
             lights,
             initial_radius: settings
                 .initial_radius
                 .unwrap_or_else(|| initial_radius(scene, settings.width, settings.height)),
+            density: settings.density,
+            precision: settings.precision,
         };
         backend.start(&setup)?;
         Ok(Sppm {
@@ -168,13 +185,23 @@ impl<B: Backend> Sppm<B> {
 
     /// One SPPM iteration: the eye pass when due, a photon pass, the hash, the gather.
     pub fn pass(&mut self) {
+        self.pass_phases(|_, _| {});
+    }
+
+    /// [`Sppm::pass`], calling `after` with the backend once each phase has been asked for
+    /// (benchmarks synchronise there to time each kernel).
+    pub fn pass_phases(&mut self, mut after: impl FnMut(&mut B, Phase)) {
         if self.passes.is_multiple_of(self.settings.eye_every) {
             self.backend.eye_pass();
             self.eye_passes += 1;
+            after(&mut self.backend, Phase::Eye);
         }
         self.backend.photon_pass();
+        after(&mut self.backend, Phase::Photons);
         self.backend.build_hash();
+        after(&mut self.backend, Phase::Hash);
         self.backend.gather();
+        after(&mut self.backend, Phase::Gather);
         self.passes += 1;
     }
 

@@ -4,13 +4,17 @@
 
 pub mod backend;
 pub mod buffers;
+pub mod density;
 pub mod emission;
+pub mod half_storage;
 pub mod hash;
 pub mod image;
 pub mod integrator;
+pub mod kdtree;
 pub mod light_sampling;
 pub mod optics;
 pub mod packing;
+pub mod random;
 pub mod resolve;
 pub mod rng;
 pub mod sampling;
@@ -19,6 +23,7 @@ pub mod textures;
 pub mod tonemap;
 
 pub use backend::{Backend, BackendError, PhotonTracing, Setup, Statistics};
+pub use density::Density;
 pub use image::Image;
 pub use integrator::{Progress, RenderError, Rendered, Sppm};
 pub use settings::{Budget, Settings};

@@ -2,6 +2,9 @@
 
 use std::time::Duration;
 
+use crate::density::Density;
+use crate::half_storage::Precision;
+
 /// α of the SPPM radius update (Hachisuka & Jensen 2009 suggest 2/3 … 0.7).
 pub const DEFAULT_ALPHA: f32 = 2.0 / 3.0;
 /// Photon passes per eye pass. Measured on lavapipe with the Cornell scenes (docs/BENCHMARKS.md
@@ -23,6 +26,10 @@ pub struct Settings {
     pub eye_every: u32,
     /// Hash table entries per photon slot.
     pub hash_ratio: f32,
+    /// How photons are found around the visible points (benchmarks compare the methods).
+    pub density: Density,
+    /// How photons and visible points are stored (benchmarks compare f32 and f16).
+    pub precision: Precision,
     pub max_depth: u32,
     pub seed: u32,
     /// Every pixel's starting gather radius; `None`: from the scene's bounding box
@@ -41,6 +48,8 @@ impl Settings {
             alpha: DEFAULT_ALPHA,
             eye_every: DEFAULT_EYE_EVERY,
             hash_ratio: 1.0,
+            density: Density::StochasticHash,
+            precision: Precision::F32,
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
             initial_radius: None,

@@ -45,5 +45,5 @@ fn photon_trace_naive(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num
     }
     atomicAdd(&counters[COUNTER_EMITTED_PASS], 1u);
     path_segments[index] = segments;
-    photons[index] = photon;
+    store_photon(index, photon);
 }

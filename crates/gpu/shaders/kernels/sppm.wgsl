@@ -3,8 +3,8 @@
 @group(1) @binding(0) var<uniform> params: SppmParams;
 @group(1) @binding(1) var<storage, read> lights: array<Light>;
 @group(1) @binding(2) var<storage, read_write> slots: array<PathSlot>;
-@group(1) @binding(3) var<storage, read_write> photons: array<Photon>;
-@group(1) @binding(4) var<storage, read_write> visible_points: array<VisiblePoint>;
+// Bindings 3 and 4 (photons, visible points) are declared by photon_storage_*.wgsl, with
+// load_/store_ functions in the storage's precision.
 @group(1) @binding(5) var<storage, read_write> pixels: array<PixelStats>;
 @group(1) @binding(6) var<storage, read_write> hash: array<atomic<u32>>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>, COUNTER_COUNT>;
@@ -125,7 +125,7 @@ fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
         atomicAdd(&counters[COUNTER_EMITTED_PASS], 1u);
     }
     slots[index] = step.slot;
-    photons[index] = step.photon;
+    store_photon(index, step.photon);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -180,7 +180,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         direction = next;
         depth += 1u;
     }
-    visible_points[index] = point;
+    store_visible_point(index, point);
     pixels[index].direct += direct;
 }
 
@@ -196,7 +196,7 @@ fn photon_key(index: u32) -> PhotonKey {
     if index >= params.slot_count {
         return PhotonKey(0u, 0u, false);
     }
-    let photon = photons[index];
+    let photon = load_photon(index);
     if !any(photon.flux != vec3<f32>(0.0)) {
         return PhotonKey(0u, 0u, false);
     }
@@ -225,6 +225,24 @@ fn hash_select(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     }
 }
 
+// cpu::kernels::GatherSum: the photons a gather counts (M) and their flux.
+struct GatherSum {
+    found: u32,
+    flux: vec3<f32>,
+}
+
+// cpu::kernels::GatherSum::add_if_near: `count` photons of `photon`'s flux when it lies inside
+// the sphere and on the visible point's side of the surface.
+fn add_if_near(sum: ptr<function, GatherSum>, position: vec3<f32>, normal: vec3<f32>, radius: f32, photon: Photon, count: u32) {
+    let offset = photon.position - position;
+    if dot(offset, offset) < radius * radius && dot(unpack_normal(photon.normal), normal) > 0.0 {
+        (*sum).found += count;
+        (*sum).flux += f32(count) * photon.flux;
+    }
+}
+
+// cpu::kernels::gather_with: the update is the same for every density method; the module's
+// `density_query` (density_*.wgsl) finds the photons.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let index = invocation_index(id, groups);
@@ -232,9 +250,9 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
         return;
     }
     var stats = pixels[index];
-    let point = visible_points[index];
+    let point = load_visible_point(index);
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
-    // cpu::kernels::gather: a radius larger than the cells allow shrinks to fit.
+    // A radius larger than the cells allow shrinks to fit.
     let largest = largest_radius(cell_size);
     var changed = false;
     if stats.radius > largest {
@@ -245,50 +263,16 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     }
     let valid = any(point.weight != vec3<f32>(0.0));
     if valid {
-        let normal = unpack_normal(point.normal);
         let radius = stats.radius;
-        // render::hash::query_entries: the cells the sphere's box touches, each entry once.
-        let lo = cell_of(point.position - vec3<f32>(radius), cell_size);
-        let hi = min(cell_of(point.position + vec3<f32>(radius), cell_size), lo + vec3<i32>(1));
-        var entries: array<u32, 8>;
-        var count = 0u;
-        var found = 0u;
-        var flux = vec3<f32>(0.0);
-        for (var z = lo.z; z <= hi.z; z += 1) {
-            for (var y = lo.y; y <= hi.y; y += 1) {
-                for (var x = lo.x; x <= hi.x; x += 1) {
-                    let entry = entry_of(vec3<i32>(x, y, z), params.hash_size);
-                    var seen = false;
-                    for (var k = 0u; k < count; k += 1u) {
-                        seen = seen || entries[k] == entry;
-                    }
-                    if seen {
-                        continue;
-                    }
-                    entries[count] = entry;
-                    count += 1u;
-                    let word = entry * HASH_ENTRY_WORDS;
-                    let in_entry = atomicLoad(&hash[word + HASH_COUNT]);
-                    if in_entry == 0u {
-                        continue;
-                    }
-                    let photon = photons[atomicLoad(&hash[word + HASH_WINNER])];
-                    let offset = photon.position - point.position;
-                    if dot(offset, offset) < radius * radius && dot(unpack_normal(photon.normal), normal) > 0.0 {
-                        found += in_entry;
-                        flux += f32(in_entry) * photon.flux;
-                    }
-                }
-            }
-        }
-        if found > 0u {
+        let sum = density_query(point.position, unpack_normal(point.normal), radius, cell_size);
+        if sum.found > 0u {
             let n = stats.photon_count;
-            let m = f32(found);
+            let m = f32(sum.found);
             let n_next = n + params.alpha * m;
             let ratio = n_next / (n + m);
             stats.photon_count = n_next;
             stats.radius = radius * sqrt(ratio);
-            stats.tau = (stats.tau + point.weight * flux) * ratio;
+            stats.tau = (stats.tau + point.weight * sum.flux) * ratio;
             changed = true;
         }
     }

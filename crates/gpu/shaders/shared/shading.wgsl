@@ -208,3 +208,33 @@ fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {
     let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z))));
     return h % table_size;
 }
+
+// render::hash::query_entries: the distinct table entries a gather sphere's box touches (at
+// most 8; entries reached twice by collisions listed once).
+struct QueryEntries {
+    entries: array<u32, 8>,
+    count: u32,
+}
+
+fn query_entries(position: vec3<f32>, radius: f32, cell_size: f32) -> QueryEntries {
+    var found: QueryEntries;
+    found.count = 0u;
+    let lo = cell_of(position - vec3<f32>(radius), cell_size);
+    let hi = min(cell_of(position + vec3<f32>(radius), cell_size), lo + vec3<i32>(1));
+    for (var z = lo.z; z <= hi.z; z += 1) {
+        for (var y = lo.y; y <= hi.y; y += 1) {
+            for (var x = lo.x; x <= hi.x; x += 1) {
+                let entry = entry_of(vec3<i32>(x, y, z), params.hash_size);
+                var seen = false;
+                for (var k = 0u; k < found.count; k += 1u) {
+                    seen = seen || found.entries[k] == entry;
+                }
+                if !seen {
+                    found.entries[found.count] = entry;
+                    found.count += 1u;
+                }
+            }
+        }
+    }
+    return found;
+}

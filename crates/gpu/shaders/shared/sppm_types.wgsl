@@ -55,7 +55,20 @@ struct SppmParams {
     light_count: u32,
     seed: u32,
     epsilon: f32,
+    // render::buffers::SppmParams::storage_origin (scalars: a vec3 would be 16-byte aligned).
+    origin_x: f32,
+    origin_y: f32,
+    origin_z: f32,
+    flux_scale: f32,
     pad0: u32,
     pad1: u32,
     pad2: u32,
+}
+
+// render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).
+struct HalfPoint {
+    xy: u32,
+    z_r: u32,
+    g_b: u32,
+    normal: u32,
 }

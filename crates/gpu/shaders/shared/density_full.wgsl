@@ -1,0 +1,121 @@
+// The full spatial hash (cpu::density): every photon listed under the table entry it hashes
+// to, the lists built by a counting sort — count per entry (full_count), an exclusive prefix
+// sum over the counts (full_scan_blocks, then full_scan_totals over the blocks' totals), and a
+// scatter (full_scatter). Table words per entry: FULL_START (list start within its scan
+// block), FULL_COUNT, FULL_FILL (the scatter's cursor). Only `kousen bench density` runs it.
+
+// The photon indices, entry by entry.
+@group(3) @binding(0) var<storage, read_write> photon_order: array<u32>;
+// Per scan block: its total, then (after full_scan_totals) the offset of its first list.
+@group(3) @binding(1) var<storage, read_write> block_sums: array<u32>;
+
+var<workgroup> scan_lanes: array<u32, SCAN_BLOCK>;
+
+// cpu::density::photon_entry: the stored photon's first table word, or NO_ENTRY.
+const NO_ENTRY: u32 = 0xffffffffu;
+
+fn photon_entry(index: u32) -> u32 {
+    if index >= params.slot_count {
+        return NO_ENTRY;
+    }
+    let photon = load_photon(index);
+    if !any(photon.flux != vec3<f32>(0.0)) {
+        return NO_ENTRY;
+    }
+    let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
+    return entry_of(cell_of(photon.position, cell_size), params.hash_size) * HASH_ENTRY_WORDS;
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn full_count(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let word = photon_entry(invocation_index(id, groups));
+    if word != NO_ENTRY {
+        atomicAdd(&hash[word + FULL_COUNT], 1u);
+    }
+}
+
+// Inclusive scan of `value` across the workgroup's SCAN_BLOCK lanes (Hillis–Steele).
+fn workgroup_inclusive_scan(lane: u32, value: u32) -> u32 {
+    scan_lanes[lane] = value;
+    workgroupBarrier();
+    for (var step = 1u; step < SCAN_BLOCK; step *= 2u) {
+        var add = 0u;
+        if lane >= step {
+            add = scan_lanes[lane - step];
+        }
+        workgroupBarrier();
+        scan_lanes[lane] += add;
+        workgroupBarrier();
+    }
+    return scan_lanes[lane];
+}
+
+// render::density::scan_counts, first half: each block's counts scanned into the entries'
+// FULL_START (block-local), the block's total into block_sums.
+@compute @workgroup_size(SCAN_BLOCK)
+fn full_scan_blocks(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let block = group.x + group.y * groups.x;
+    let entry = block * SCAN_BLOCK + lane;
+    var count = 0u;
+    if entry < params.hash_size {
+        count = atomicLoad(&hash[entry * HASH_ENTRY_WORDS + FULL_COUNT]);
+    }
+    let inclusive = workgroup_inclusive_scan(lane, count);
+    if entry < params.hash_size {
+        atomicStore(&hash[entry * HASH_ENTRY_WORDS + FULL_START], inclusive - count);
+    }
+    if lane == SCAN_BLOCK - 1u && block < arrayLength(&block_sums) {
+        block_sums[block] = inclusive;
+    }
+}
+
+// render::density::scan_counts, second half (one workgroup): the blocks' totals scanned into
+// their offsets, each lane taking a run of blocks.
+@compute @workgroup_size(SCAN_BLOCK)
+fn full_scan_totals(@builtin(local_invocation_index) lane: u32) {
+    let blocks = (params.hash_size + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let run = (blocks + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let first = min(lane * run, blocks);
+    let last = min(first + run, blocks);
+    var total = 0u;
+    for (var b = first; b < last; b += 1u) {
+        total += block_sums[b];
+    }
+    var offset = workgroup_inclusive_scan(lane, total) - total;
+    for (var b = first; b < last; b += 1u) {
+        let sum = block_sums[b];
+        block_sums[b] = offset;
+        offset += sum;
+    }
+}
+
+// Where an entry's list begins in photon_order.
+fn list_start(word: u32) -> u32 {
+    let entry = word / HASH_ENTRY_WORDS;
+    return block_sums[entry / SCAN_BLOCK] + atomicLoad(&hash[word + FULL_START]);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn full_scatter(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = invocation_index(id, groups);
+    let word = photon_entry(index);
+    if word != NO_ENTRY {
+        let place = atomicAdd(&hash[word + FULL_FILL], 1u);
+        photon_order[list_start(word) + place] = index;
+    }
+}
+
+// cpu::density::full_query: every photon listed in each distinct entry the sphere touches.
+fn density_query(position: vec3<f32>, normal: vec3<f32>, radius: f32, cell_size: f32) -> GatherSum {
+    var sum = GatherSum(0u, vec3<f32>(0.0));
+    let touched = query_entries(position, radius, cell_size);
+    for (var k = 0u; k < touched.count; k += 1u) {
+        let word = touched.entries[k] * HASH_ENTRY_WORDS;
+        let start = list_start(word);
+        let listed = atomicLoad(&hash[word + FULL_COUNT]);
+        for (var place = start; place < start + listed; place += 1u) {
+            add_if_near(&sum, position, normal, radius, load_photon(photon_order[place]), 1u);
+        }
+    }
+    return sum;
+}

@@ -1,0 +1,230 @@
+//! The density-estimation variants `kousen bench density` measures (issue 6, table 4) against
+//! their CPU twins, each on the GPU's own input, pass after pass, on the caustics scene:
+//!
+//! - full spatial hash: the prefix sum over the GPU's counts equals `render::density::
+//!   scan_counts` word for word; the scatter lists every stored photon exactly once, under the
+//!   entry the CPU hashes it to; the gather over the GPU's lists equals `cpu::density::
+//!   full_query`'s;
+//! - kd-tree: the gather over the tree uploaded from the GPU's photons equals the CPU's query
+//!   of the same tree.
+//!
+//! Runs on whatever adapter wgpu finds (lavapipe in CI), so the sizes are small.
+
+use std::sync::atomic::AtomicU32;
+
+use bvh::{BuildOptions, PackedBvh};
+use cpu::density::{full_query, photon_entry};
+use cpu::kernels::{GatherSum, gather_with};
+use gpu::GpuContext;
+use gpu::sppm::GpuBackend;
+use render::buffers::{HASH_ENTRY_WORDS, Photon, PixelStats, VisiblePoint};
+use render::density::{SCAN_BLOCK, full_word, scan_counts};
+use render::integrator::Phase;
+use render::kdtree::PhotonKdTree;
+use render::{Backend, Density, Settings, Sppm};
+
+/// Share of pixels whose statistics may differ beyond the tolerance (a photon a rounding from
+/// the sphere's edge or a cell boundary).
+const MAX_DIVERGED: f64 = 0.005;
+/// Share of stored photons the GPU may list under another entry than the CPU hashes them to
+/// (a position a rounding from a cell boundary).
+const MAX_MOVED: f64 = 0.001;
+const RELATIVE_TOLERANCE: f32 = 1e-4;
+
+fn context() -> GpuContext {
+    GpuContext::new(None).unwrap_or_else(|e| {
+        panic!("no usable GPU adapter in the test environment (CI installs Mesa lavapipe): {e}")
+    })
+}
+
+fn atomics(words: &[u32]) -> Vec<AtomicU32> {
+    words.iter().map(|&w| AtomicU32::new(w)).collect()
+}
+
+/// What the GPU held when its hash (lists or tree) was built, before the gather.
+#[derive(Default)]
+struct BeforeGather {
+    photons: Vec<Photon>,
+    points: Vec<VisiblePoint>,
+    stats: Vec<PixelStats>,
+    counters: Vec<u32>,
+    hash: Vec<u32>,
+    lists: Option<(Vec<u32>, Vec<u32>)>,
+}
+
+fn render(density: Density) -> (Sppm<GpuBackend>, Settings) {
+    let scene = scene::testing::cornell_caustics();
+    let bvh = PackedBvh::build(&scene.triangles, &BuildOptions::default());
+    let camera = scene.camera(None).expect("a camera");
+    let settings = Settings {
+        seed: 3,
+        eye_every: 2,
+        density,
+        // 1,000 entries: four scan blocks, the last one partial.
+        hash_ratio: 1000.0 / 4096.0,
+        ..Settings::new(24, 24, 4096)
+    };
+    let backend = GpuBackend::new(context(), &scene, bvh).expect("gpu backend");
+    let sppm = Sppm::new(backend, &scene, &camera, settings.clone()).expect("render started");
+    (sppm, settings)
+}
+
+/// One pass on the GPU, keeping its state at the end of the hash phase; then the statistics.
+fn pass(sppm: &mut Sppm<GpuBackend>, density: Density) -> (BeforeGather, Vec<PixelStats>) {
+    let mut before = BeforeGather::default();
+    sppm.pass_phases(|gpu, phase| {
+        if phase == Phase::Hash {
+            before = BeforeGather {
+                photons: gpu.read_photons().expect("photons"),
+                points: gpu.read_visible_points().expect("visible points"),
+                stats: gpu.read_statistics().expect("statistics").pixels,
+                counters: gpu.counters().expect("counters"),
+                hash: gpu.read_hash().expect("hash"),
+                lists: (density == Density::FullHash)
+                    .then(|| gpu.read_full_hash_lists().expect("lists")),
+            };
+        }
+    });
+    let after = sppm.backend().read_statistics().expect("statistics").pixels;
+    (before, after)
+}
+
+fn relative(a: f32, b: f32) -> f32 {
+    (a - b).abs() / a.abs().max(b.abs()).max(1e-30)
+}
+
+/// Asserts that at most [`MAX_DIVERGED`] of the pixels differ beyond the tolerance, and that
+/// the pass met photons at all.
+fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) {
+    let differing = gpu
+        .iter()
+        .zip(twin)
+        .filter(|(g, c)| {
+            let mut errors = vec![
+                relative(g.photon_count, c.photon_count),
+                relative(g.radius, c.radius),
+            ];
+            errors.extend((0..3).map(|k| relative(g.tau[k], c.tau[k])));
+            errors.iter().any(|&e| e > RELATIVE_TOLERANCE)
+        })
+        .count();
+    let lit = twin.iter().filter(|s| s.photon_count > 0.0).count();
+    println!(
+        "{label}: {differing} of {} pixels differ; {lit} lit",
+        gpu.len()
+    );
+    assert!(
+        lit > gpu.len() / 4,
+        "{label}: only {lit} pixels met photons"
+    );
+    assert!(
+        differing as f64 <= MAX_DIVERGED * gpu.len() as f64,
+        "{label}: {differing} pixels differ"
+    );
+}
+
+#[test]
+fn full_hash_matches_its_cpu_twin_on_the_gpu_state() {
+    let (mut sppm, _) = render(Density::FullHash);
+    let params = {
+        let scene = scene::testing::cornell_caustics();
+        let camera = scene.camera(None).unwrap();
+        let lights = render::emission::light_table(&scene).len() as u32;
+        render::integrator::params(&scene, &camera, sppm.settings(), lights)
+    };
+    for p in 0..3 {
+        let (before, after) = pass(&mut sppm, Density::FullHash);
+        let (order, offsets) = before.lists.expect("full hash lists");
+        let words = &before.hash;
+        // The prefix sum, word for word, over the GPU's own counts.
+        let counts: Vec<u32> = words
+            .chunks(HASH_ENTRY_WORDS)
+            .map(|e| e[full_word::COUNT])
+            .collect();
+        let mut starts = vec![0; counts.len()];
+        assert_eq!(
+            scan_counts(&counts, &mut starts),
+            offsets,
+            "pass {p}: block offsets"
+        );
+        for (entry, start) in words.chunks(HASH_ENTRY_WORDS).zip(&starts) {
+            assert_eq!(entry[full_word::START], *start, "pass {p}: list start");
+            assert_eq!(
+                entry[full_word::FILL],
+                entry[full_word::COUNT],
+                "pass {p}: fill"
+            );
+        }
+        // The scatter: every stored photon listed once, under the entry the CPU hashes it to.
+        let counters = atomics(&before.counters);
+        let mut listed = vec![false; before.photons.len()];
+        let mut moved = 0;
+        for (entry, words) in words.chunks(HASH_ENTRY_WORDS).enumerate() {
+            let start = offsets[entry / SCAN_BLOCK as usize] + words[full_word::START];
+            for &index in &order[start as usize..(start + words[full_word::COUNT]) as usize] {
+                assert!(
+                    !listed[index as usize],
+                    "pass {p}: photon {index} listed twice"
+                );
+                listed[index as usize] = true;
+                let home = photon_entry(&params, &counters, &before.photons[index as usize]);
+                moved += usize::from(home != Some(entry * HASH_ENTRY_WORDS));
+            }
+        }
+        let stored = before.photons.iter().filter(|ph| ph.is_stored()).count();
+        for (photon, listed) in before.photons.iter().zip(&listed) {
+            assert_eq!(
+                photon.is_stored(),
+                *listed,
+                "pass {p}: stored photons listed"
+            );
+        }
+        assert!(stored > 1000, "pass {p}: {stored} photons stored");
+        assert!(
+            moved as f64 <= MAX_MOVED * stored as f64,
+            "pass {p}: {moved} moved"
+        );
+        // The gather over the GPU's lists.
+        let hash = atomics(words);
+        let order = atomics(&order);
+        let twin: Vec<PixelStats> = before
+            .stats
+            .iter()
+            .zip(&before.points)
+            .map(|(s, point)| {
+                gather_with(&counters, &params, point, *s, |q| {
+                    full_query(&params, &hash, &offsets, &order, &before.photons, q)
+                })
+            })
+            .collect();
+        assert_gather_matches(&format!("full hash pass {p}"), &after, &twin);
+    }
+}
+
+#[test]
+fn kd_tree_gather_matches_its_cpu_twin_on_the_gpu_state() {
+    let (mut sppm, settings) = render(Density::KdTree);
+    let params = {
+        let scene = scene::testing::cornell_caustics();
+        let camera = scene.camera(None).unwrap();
+        let lights = render::emission::light_table(&scene).len() as u32;
+        render::integrator::params(&scene, &camera, &settings, lights)
+    };
+    for p in 0..3 {
+        let (before, after) = pass(&mut sppm, Density::KdTree);
+        let tree = PhotonKdTree::build(&before.photons);
+        let counters = atomics(&before.counters);
+        let twin: Vec<PixelStats> = before
+            .stats
+            .iter()
+            .zip(&before.points)
+            .map(|(s, point)| {
+                gather_with(&counters, &params, point, *s, |q| {
+                    let (found, flux) = tree.query(q.position, q.radius, q.normal);
+                    GatherSum { found, flux }
+                })
+            })
+            .collect();
+        assert_gather_matches(&format!("kd-tree pass {p}"), &after, &twin);
+    }
+}

@@ -1,0 +1,605 @@
+//! `kousen bench rng SCENE...`: the kernels' random generators side by side (issue 6, table
+//! 6), after the talk's slides on random numbers:
+//!
+//! - **speed**: photon paths per second of the photon pass (one bounce per pass with
+//!   asynchronous regeneration, as renders run it) compiled with each generator
+//!   (`gpu::random_variants`), and of its CPU twin (`cpu::kernels::photon_pass_with` over
+//!   the same slots on all cores, photons not kept). Two warm-up runs of each, then `--runs`
+//!   runs of each, the generators alternating; medians. GPU time is wall time from the first
+//!   submission to the device idle.
+//! - **quality**: `render::random::battery` on each generator's CPU twin.
+//! - **images** (`--image DIR`): the first scene rendered with SPPM on the GPU with each
+//!   generator, equal passes, `DIR/rng-<name>.png`.
+//!
+//! Before it reports a GPU figure, one more pass is checked against the CPU twin slot by slot
+//! (path depth and stored photon); the noise function is exempt (GPU `sin` is approximate).
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use bvh::PackedBvh;
+use cpu::{SceneData, kernels};
+use gpu::random_variants::{Generator, sppm_source_with};
+use gpu::sppm::GpuBackend;
+use gpu::{GpuContext, GpuError};
+use render::buffers::{PathSlot, SppmParams, counter};
+use render::random::{FractSin, Pcg, StreamRng, TalkFloat, Tea, battery};
+use render::{Backend, BackendError, PhotonTracing, Settings, Sppm};
+
+use super::host::{cpu_model, median};
+use crate::cli::{BenchDevice, RngArgs};
+
+/// Image side of the (unused) pixel buffers the speed runs allocate.
+const PIXELS_SIDE: u32 = 16;
+/// Share of slots whose GPU step may differ from the CPU twin's (a rounding that flips a
+/// branch) before the bench refuses to report.
+const MAX_DIVERGED: f64 = 0.01;
+
+/// The JSON report (a contract for scripts: adapter, cpu_model, command, battery[...] with
+/// generator, test, statistic, limit, passed; results[...] with scene, device, generator,
+/// photon_paths, seconds, photon_paths_per_s; images[...]).
+#[derive(Serialize)]
+struct Report {
+    adapter: Option<AdapterReport>,
+    cpu_model: String,
+    cpu_threads: usize,
+    /// "wall" (submit to idle), null without a GPU.
+    gpu_timing: Option<&'static str>,
+    photon_slots: u32,
+    passes: u32,
+    runs: u32,
+    battery_draws: u32,
+    significance: f64,
+    command: String,
+    battery: Vec<BatteryRow>,
+    results: Vec<Row>,
+    images: Vec<ImageRow>,
+}
+
+#[derive(Serialize)]
+struct AdapterReport {
+    name: String,
+    backend: String,
+    driver: String,
+    device_type: String,
+}
+
+#[derive(Serialize)]
+struct BatteryRow {
+    generator: &'static str,
+    test: &'static str,
+    /// "chi2" or "max_abs_z".
+    kind: &'static str,
+    statistic: f64,
+    /// Critical value at `significance`; the test passes below it.
+    limit: f64,
+    passed: bool,
+}
+
+#[derive(Serialize)]
+struct Row {
+    scene: String,
+    path: String,
+    device: &'static str,
+    generator: &'static str,
+    photon_slots: u32,
+    passes: u32,
+    /// Paths emitted per run (median).
+    photon_paths: u64,
+    /// Seconds per run (median).
+    seconds: f64,
+    /// Median over the runs of paths / seconds.
+    photon_paths_per_s: f64,
+    photon_paths_per_min: f64,
+    /// This row's paths/s over PCG's on the same device and scene.
+    over_pcg: f64,
+    /// GPU rows: slots of the checked pass that differ from the CPU twin (null: not checked).
+    diverged: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct ImageRow {
+    generator: &'static str,
+    path: String,
+    width: u32,
+    height: u32,
+    passes: u32,
+    seconds: f64,
+}
+
+/// One timed run: paths emitted and the seconds taken.
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    paths: u64,
+    seconds: f64,
+}
+
+type Step = fn(&SceneData, &SppmParams, u32, u32, PathSlot) -> kernels::PhotonStep;
+
+/// The CPU twin of the photon pass with `generator`.
+fn cpu_step(generator: Generator) -> Step {
+    match generator {
+        Generator::Pcg => kernels::photon_pass_with::<Pcg>,
+        Generator::TalkFloat => kernels::photon_pass_with::<TalkFloat>,
+        Generator::Tea => kernels::photon_pass_with::<Tea>,
+        Generator::FractSin => kernels::photon_pass_with::<FractSin>,
+    }
+}
+
+fn battery_rows<G: StreamRng>(draws: u32) -> Vec<BatteryRow> {
+    battery::run::<G>(draws)
+        .into_iter()
+        .map(|o| BatteryRow {
+            generator: G::NAME,
+            test: o.test,
+            kind: o.kind,
+            statistic: o.statistic,
+            limit: o.limit,
+            passed: o.passed,
+        })
+        .collect()
+}
+
+pub fn run(args: &RngArgs) -> anyhow::Result<()> {
+    let json_file = args
+        .json
+        .as_deref()
+        .map(crate::output_file::PendingFile::create)
+        .transpose()?;
+    if let Some(dir) = &args.image {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the image directory", dir.display()))?;
+    }
+    let gpu = open_gpu(args)?;
+    if args.image.is_some() && gpu.is_none() {
+        bail!("--image renders on the GPU, and no GPU adapter is in use (see --devices)");
+    }
+    let mut report = Report {
+        adapter: gpu.as_ref().map(adapter_report),
+        cpu_model: cpu_model(),
+        cpu_threads: rayon::current_num_threads(),
+        gpu_timing: gpu.as_ref().map(|_| "wall"),
+        photon_slots: args.photons,
+        passes: args.passes,
+        runs: args.runs,
+        battery_draws: args.battery_draws,
+        significance: battery::SIGNIFICANCE,
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        battery: Vec::new(),
+        results: Vec::new(),
+        images: Vec::new(),
+    };
+    match &gpu {
+        Some(context) => println!("gpu: {}", context.description()),
+        None => println!("gpu: none"),
+    }
+    println!(
+        "cpu: {} ({} threads); {} slots, runs of {} photon passes; warm-up, then median of {} \
+         runs, generators alternating",
+        report.cpu_model, report.cpu_threads, args.photons, args.passes, args.runs
+    );
+    print_speed_header();
+    for path in &args.scenes {
+        let rows =
+            bench_scene(args, gpu.as_ref(), path).with_context(|| format!("{}", path.display()))?;
+        report.results.extend(rows);
+    }
+    let n = args.battery_draws;
+    report.battery = [
+        battery_rows::<Pcg>(n),
+        battery_rows::<TalkFloat>(n),
+        battery_rows::<Tea>(n),
+        battery_rows::<FractSin>(n),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    print_battery(&report.battery, n);
+    if let (Some(dir), Some(context)) = (&args.image, &gpu) {
+        report.images = render_images(args, context, &args.scenes[0], dir)
+            .with_context(|| format!("{}", args.scenes[0].display()))?;
+    }
+    if let Some(mut file) = json_file {
+        serde_json::to_writer_pretty(file.file(), &report)?;
+        file.commit()?;
+    }
+    for row in &report.results {
+        if let Some(d) = row.diverged
+            && d as f64 > MAX_DIVERGED * f64::from(row.photon_slots)
+        {
+            bail!(
+                "{} ({}): {d} of {} slots differ between the GPU and the CPU twin: a bug",
+                row.scene,
+                row.generator,
+                row.photon_slots
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The GPU when `--devices` includes it; with no adapter at all and no `--adapter`, the CPU
+/// twins run alone (said on stderr).
+fn open_gpu(args: &RngArgs) -> anyhow::Result<Option<GpuContext>> {
+    if !args.devices.contains(&BenchDevice::Gpu) {
+        return Ok(None);
+    }
+    match GpuContext::new(args.adapter.as_deref()) {
+        Ok(context) => Ok(Some(context)),
+        Err(error @ GpuError::NoAdapter { .. }) if args.adapter.is_none() => {
+            eprintln!("kousen: {error}; measuring the CPU twins only");
+            Ok(None)
+        }
+        Err(error) => Err(error.into()),
+    }
+}
+
+fn adapter_report(context: &GpuContext) -> AdapterReport {
+    let info = &context.info;
+    AdapterReport {
+        name: info.name.clone(),
+        backend: info.backend.to_string(),
+        driver: gpu::device::driver(info),
+        device_type: format!("{:?}", info.device_type),
+    }
+}
+
+fn print_battery(rows: &[BatteryRow], draws: u32) {
+    println!(
+        "battery: {draws} draws per test, significance {}; statistic (limit) pass/FAIL",
+        battery::SIGNIFICANCE
+    );
+    for generator in Generator::ALL {
+        let cells: Vec<String> = rows
+            .iter()
+            .filter(|r| r.generator == generator.name())
+            .map(|r| {
+                let verdict = if r.passed { "pass" } else { "FAIL" };
+                format!("{} {:.1} ({:.1}) {verdict}", r.test, r.statistic, r.limit)
+            })
+            .collect();
+        println!("  {:<10} {}", generator.name(), cells.join(" | "));
+    }
+}
+
+fn print_speed_header() {
+    println!(
+        "{:<18} {:<4} {:<10} {:>6} {:>10} {:>8} {:>9} {:>10} {:>6} {:>8}",
+        "scene",
+        "dev",
+        "generator",
+        "passes",
+        "paths/run",
+        "seconds",
+        "Mpaths/s",
+        "Mpaths/min",
+        "×pcg",
+        "diverged"
+    );
+}
+
+fn print_row(row: &Row) {
+    println!(
+        "{:<18} {:<4} {:<10} {:>6} {:>10} {:>8.3} {:>9.3} {:>10.1} {:>6.2} {:>8}",
+        row.scene,
+        row.device,
+        row.generator,
+        row.passes,
+        row.photon_paths,
+        row.seconds,
+        row.photon_paths_per_s / 1e6,
+        row.photon_paths_per_min / 1e6,
+        row.over_pcg,
+        row.diverged
+            .map_or_else(|| "-".to_owned(), |d| d.to_string()),
+    );
+}
+
+/// The scene, its BVH and the speed runs' settings.
+struct Loaded {
+    scene: scene::Scene,
+    bvh: PackedBvh,
+    camera: scene::Camera,
+}
+
+fn load(args: &RngArgs, path: &Path) -> anyhow::Result<Loaded> {
+    let scene = scene::load(path)?;
+    crate::cmd::info::check_bvh_limits(&scene)?;
+    let bvh = PackedBvh::build(&scene.triangles, &crate::cmd::info::build_options(args.bvh));
+    let camera = scene.camera(None).context("the scene has no camera")?;
+    Ok(Loaded { scene, bvh, camera })
+}
+
+fn bench_scene(args: &RngArgs, gpu: Option<&GpuContext>, path: &Path) -> anyhow::Result<Vec<Row>> {
+    let loaded = load(args, path)?;
+    let settings = Settings::new(PIXELS_SIDE, PIXELS_SIDE, args.photons);
+    let data = SceneData::new(&loaded.scene, loaded.bvh.clone());
+    let lights = data.lights.len() as u32;
+    let params = render::integrator::params(&loaded.scene, &loaded.camera, &settings, lights);
+    let label = |device, generator: Generator, runs: &[Run], diverged| {
+        let mut row = row(args, device, generator, runs, diverged);
+        row.path = path.display().to_string();
+        row.scene = path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        row
+    };
+    let mut rows = Vec::new();
+    if let Some(context) = gpu {
+        let mut renders = Generator::ALL
+            .iter()
+            .map(|&g| {
+                let backend = GpuBackend::with_kernels(
+                    context.clone(),
+                    &loaded.scene,
+                    loaded.bvh.clone(),
+                    g.part().0,
+                    sppm_source_with(g),
+                )?;
+                Ok(Sppm::new(
+                    backend,
+                    &loaded.scene,
+                    &loaded.camera,
+                    settings.clone(),
+                )?)
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let runs = measure(&mut renders, args, |sppm, passes| {
+            timed_gpu(sppm.backend(), passes)
+        })?;
+        for ((g, sppm), runs) in Generator::ALL.into_iter().zip(&mut renders).zip(&runs) {
+            let diverged = if g == Generator::FractSin {
+                None
+            } else {
+                Some(check_pass(sppm.backend(), &data, &params, cpu_step(g))?)
+            };
+            rows.push(label("gpu", g, runs, diverged));
+        }
+    }
+    if args.devices.contains(&BenchDevice::Cpu) {
+        let mut twins: Vec<CpuSlots> = Generator::ALL
+            .iter()
+            .map(|&g| CpuSlots {
+                step: cpu_step(g),
+                slots: vec![PathSlot::IDLE; args.photons as usize],
+                pass: 0,
+            })
+            .collect();
+        let runs = measure(&mut twins, args, |twin, passes| {
+            Ok(twin.advance(&data, &params, passes))
+        })?;
+        for (g, runs) in Generator::ALL.into_iter().zip(&runs) {
+            rows.push(label("cpu", g, runs, None));
+        }
+    }
+    // ×pcg within each device: PCG is the first generator of each device's rows.
+    for chunk in rows.chunks_mut(Generator::ALL.len()) {
+        let pcg = chunk[0].photon_paths_per_s;
+        for row in chunk.iter_mut() {
+            row.over_pcg = row.photon_paths_per_s / pcg;
+            print_row(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// Two warm-up runs of every variant (the first fills every slot with a path in flight), then
+/// `--runs` runs of each, alternating.
+fn measure<V>(
+    variants: &mut [V],
+    args: &RngArgs,
+    mut timed: impl FnMut(&mut V, u32) -> Result<Run, BackendError>,
+) -> Result<Vec<Vec<Run>>, BackendError> {
+    for _ in 0..2 {
+        for variant in variants.iter_mut() {
+            timed(variant, args.passes)?;
+        }
+    }
+    let mut runs = vec![Vec::new(); variants.len()];
+    for _ in 0..args.runs {
+        for (variant, runs) in variants.iter_mut().zip(&mut runs) {
+            runs.push(timed(variant, args.passes)?);
+        }
+    }
+    Ok(runs)
+}
+
+fn timed_gpu(backend: &mut GpuBackend, passes: u32) -> Result<Run, BackendError> {
+    let before = backend.emitted_paths()?;
+    let started = Instant::now();
+    for _ in 0..passes {
+        backend.photon_pass();
+        backend.finish_pass();
+    }
+    backend.synchronize()?;
+    let seconds = started.elapsed().as_secs_f64();
+    let paths = backend.emitted_paths()? - before;
+    Ok(Run { paths, seconds })
+}
+
+/// The CPU twin's slots, advanced pass by pass on all cores.
+struct CpuSlots {
+    step: Step,
+    slots: Vec<PathSlot>,
+    pass: u32,
+}
+
+impl CpuSlots {
+    fn advance(&mut self, data: &SceneData, params: &SppmParams, passes: u32) -> Run {
+        let started = Instant::now();
+        let mut paths = 0u64;
+        for _ in 0..passes {
+            let (step, pass) = (self.step, self.pass);
+            paths += self
+                .slots
+                .par_iter_mut()
+                .enumerate()
+                .map(|(i, slot)| {
+                    let next = step(data, params, pass, i as u32, *slot);
+                    *slot = next.slot;
+                    u64::from(next.emitted)
+                })
+                .sum::<u64>();
+            self.pass += 1;
+        }
+        let seconds = started.elapsed().as_secs_f64();
+        Run { paths, seconds }
+    }
+}
+
+/// One more GPU pass against the CPU twin on the GPU's slots: slots whose depth or stored
+/// photon differ.
+fn check_pass(
+    backend: &mut GpuBackend,
+    data: &SceneData,
+    params: &SppmParams,
+    step: Step,
+) -> Result<usize, BackendError> {
+    let pass = backend.counters()?[counter::PASS];
+    let before = backend.read_slots()?;
+    backend.photon_pass();
+    backend.finish_pass();
+    let slots = backend.read_slots()?;
+    let photons = backend.read_photons()?;
+    Ok((0..before.len())
+        .into_par_iter()
+        .filter(|&i| {
+            let twin = step(data, params, pass, i as u32, before[i]);
+            twin.slot.depth != slots[i].depth || twin.photon.is_stored() != photons[i].is_stored()
+        })
+        .count())
+}
+
+fn row(
+    args: &RngArgs,
+    device: &'static str,
+    generator: Generator,
+    runs: &[Run],
+    diverged: Option<usize>,
+) -> Row {
+    let rates: Vec<f64> = runs
+        .iter()
+        .map(|r| r.paths as f64 / r.seconds.max(1e-9))
+        .collect();
+    let per_s = median(&rates);
+    let paths: Vec<f64> = runs.iter().map(|r| r.paths as f64).collect();
+    let seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
+    Row {
+        scene: String::new(),
+        path: String::new(),
+        device,
+        generator: generator.name(),
+        photon_slots: args.photons,
+        passes: args.passes,
+        photon_paths: median(&paths) as u64,
+        seconds: median(&seconds),
+        photon_paths_per_s: per_s,
+        photon_paths_per_min: 60.0 * per_s,
+        over_pcg: 1.0,
+        diverged,
+    }
+}
+
+/// Side of the pair plots, in pixels.
+const PAIRS_SIDE: u32 = 256;
+/// The pair plots show [0, 1/16)²: zoomed so that a coarse output's lattice is plain.
+const PAIRS_ZOOM: f32 = 16.0;
+/// Streams drawn for the pair plots (4 pairs each): about 16 k pairs land in the plot.
+const PAIRS_STREAMS: u32 = 1 << 20;
+
+/// Successive draws (2k, 2k + 1) of `G`'s CPU twin, plotted where both fall in [0, 1/16):
+/// white where at least one pair landed.
+fn pairs_image<G: StreamRng>() -> render::Image {
+    let side = PAIRS_SIDE as usize;
+    let mut lit = vec![false; side * side];
+    for index in 0..PAIRS_STREAMS {
+        let mut rng = G::start(1, render::rng::PHOTON_STREAM, 0, index);
+        for _ in 0..4 {
+            let (x, y) = (rng.next_f32() * PAIRS_ZOOM, rng.next_f32() * PAIRS_ZOOM);
+            if x < 1.0 && y < 1.0 {
+                let (i, j) = ((x * side as f32) as usize, (y * side as f32) as usize);
+                lit[(side - 1 - j.min(side - 1)) * side + i.min(side - 1)] = true;
+            }
+        }
+    }
+    let pixels = lit
+        .into_iter()
+        .map(|l| glam::Vec3::splat(if l { 1.0 } else { 0.0 }))
+        .collect();
+    render::Image::new(PAIRS_SIDE, PAIRS_SIDE, pixels)
+}
+
+fn write_pairs_images(dir: &Path) -> anyhow::Result<()> {
+    let images = [
+        (Pcg::NAME, pairs_image::<Pcg>()),
+        (TalkFloat::NAME, pairs_image::<TalkFloat>()),
+        (Tea::NAME, pairs_image::<Tea>()),
+        (FractSin::NAME, pairs_image::<FractSin>()),
+    ];
+    for (name, image) in images {
+        let file = dir.join(format!("rng-pairs-{name}.png"));
+        crate::image_io::Output::create_with(&file, Default::default())?.commit(&image, 0.0)?;
+        println!("image {}: successive pairs in [0, 1/16)²", file.display());
+    }
+    Ok(())
+}
+
+/// SPPM on the GPU with each generator: `--image-size`², `--image-passes` passes, one photon
+/// slot per pixel, the same seed; PNGs at exposure 0.
+fn render_images(
+    args: &RngArgs,
+    context: &GpuContext,
+    path: &Path,
+    dir: &Path,
+) -> anyhow::Result<Vec<ImageRow>> {
+    let loaded = load(args, path)?;
+    let side = args.image_size;
+    let settings = Settings {
+        initial_radius: render::integrator::initial_radius_from_view(
+            &loaded.bvh,
+            &loaded.camera,
+            side,
+            side,
+        ),
+        ..Settings::new(side, side, side * side)
+    };
+    write_pairs_images(dir)?;
+    let mut rows = Vec::new();
+    for g in Generator::ALL {
+        let file = dir.join(format!("rng-{}.png", g.name()));
+        let output = crate::image_io::Output::create_with(&file, Default::default())?;
+        let backend = GpuBackend::with_kernels(
+            context.clone(),
+            &loaded.scene,
+            loaded.bvh.clone(),
+            g.part().0,
+            sppm_source_with(g),
+        )?;
+        let mut sppm = Sppm::new(backend, &loaded.scene, &loaded.camera, settings.clone())?;
+        let started = Instant::now();
+        for _ in 0..args.image_passes {
+            sppm.pass();
+        }
+        let image = sppm.image()?;
+        let seconds = started.elapsed().as_secs_f64();
+        output.commit(&image, 0.0)?;
+        println!(
+            "image {}: {} passes in {seconds:.1} s on the GPU",
+            file.display(),
+            args.image_passes
+        );
+        rows.push(ImageRow {
+            generator: g.name(),
+            path: file.display().to_string(),
+            width: side,
+            height: side,
+            passes: args.image_passes,
+            seconds,
+        });
+    }
+    Ok(rows)
+}

@@ -1,0 +1,546 @@
+//! A kd-tree over one photon pass's photons, for fixed-radius density estimation: the
+//! benchmark's alternative to the stochastic spatial hash (issue 6, variant c).
+//!
+//! The tree is Jensen's left-balanced kd-tree (H. W. Jensen, *Realistic Image Synthesis Using
+//! Photon Mapping*, 2001, §6.3): complete, stored in heap order (the children of node `i` are
+//! `2i + 1` and `2i + 2`), so it needs no links and its depth is the least possible,
+//! ⌊log₂ n⌋ + 1. Each node is one photon, split at its own coordinate along the widest axis of
+//! its subtree's bounding box. A node is the photon itself in tree order, 32 bytes
+//! ([`KdNode`]), its spare word holding its index and the split axis: measured against 16-byte
+//! nodes (position and index) that fetch the photon from the pass's buffer for positions
+//! inside the radius, it queries 1.3× (queries in image order) to 2× (random order) faster on
+//! the CPU, as it saves a dependent load per photon found.
+//!
+//! The build selects medians in place ([`slice::select_nth_unstable_by`]) over 16-byte
+//! (position, index) entries, subtrees split over rayon, then scatters the photons into heap
+//! order. The query ([`PhotonKdTree::query`]) is the twin of `kd_gather` in
+//! `gpu/shaders/shared/kdtree.wgsl`:
+//! the same stack, the same order (node, near side, far side), so both sum flux in one order.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::buffers::Photon;
+use crate::packing::unpack_normal;
+
+/// Most photons a tree holds, 2²⁷ − 1: 4 GiB of [`Photon`]s, past any storage binding, so
+/// that [`MAX_DEPTH`] and [`STACK_SIZE`] bound every tree that can reach a GPU.
+pub const MAX_PHOTONS: usize = (1 << 27) - 1;
+
+/// Levels of the deepest tree, one of [`MAX_PHOTONS`] nodes.
+pub const MAX_DEPTH: u32 = 27;
+
+/// Entries of the query's stack. The far child pushed at a node is one level below it, and the
+/// entries on the stack belong to distinct levels below the root: at most depth − 1.
+pub const STACK_SIZE: usize = MAX_DEPTH as usize - 1;
+
+/// Where the split axis sits in [`KdNode::photon_axis`] (and in the build's entries).
+pub const AXIS_SHIFT: u32 = 30;
+
+/// The photon index's bits in [`KdNode::photon_axis`].
+pub const PHOTON_MASK: u32 = (1 << AXIS_SHIFT) - 1;
+
+/// Subtrees of at least this many photons are built in parallel (smaller ones are not worth a
+/// rayon task).
+const PARALLEL_MIN: usize = 4096;
+
+/// One node of the tree: a stored photon (32 bytes, [`Photon`]'s layout with its padding put
+/// to use), as uploaded to the GPU (`struct KdNode` in kdtree.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct KdNode {
+    /// The photon's position; the split plane's point.
+    pub position: [f32; 3],
+    /// The photon's normal, octahedral-packed ([`Photon::normal`]).
+    pub normal: u32,
+    /// The photon's flux (RGB), non-zero.
+    pub flux: [f32; 3],
+    /// Bits 0–29: the photon's index in the pass's photon buffer; bits 30–31: the axis (0 x,
+    /// 1 y, 2 z) of the plane through `position` that splits the subtree (0 in leaves). Left
+    /// descendants have coordinates ≤ the node's on that axis, right ones ≥.
+    pub photon_axis: u32,
+}
+
+const _: () = assert!(size_of::<KdNode>() == 32);
+
+impl KdNode {
+    /// The photon's index in the photon buffer.
+    pub fn photon(&self) -> u32 {
+        self.photon_axis & PHOTON_MASK
+    }
+
+    /// The split axis, 0 to 2.
+    pub fn axis(&self) -> usize {
+        (self.photon_axis >> AXIS_SHIFT) as usize
+    }
+}
+
+/// What the build moves around: a photon's position and its `photon_axis` word (16 bytes, half
+/// a node, so the median selections move half the bytes).
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    position: [f32; 3],
+    photon_axis: u32,
+}
+
+/// A left-balanced kd-tree over the stored photons of one pass, in heap order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PhotonKdTree {
+    nodes: Vec<KdNode>,
+}
+
+impl PhotonKdTree {
+    /// Builds the tree over the photons of `photons` that are stored (non-zero flux); the
+    /// nodes refer to them by their index in `photons`. The same input gives the same nodes
+    /// whatever the number of threads.
+    ///
+    /// # Panics
+    /// With more than [`MAX_PHOTONS`] photons (more than a storage binding can hold).
+    pub fn build(photons: &[Photon]) -> PhotonKdTree {
+        assert!(
+            photons.len() <= MAX_PHOTONS,
+            "a photon kd-tree holds at most {MAX_PHOTONS} photons, not {}",
+            photons.len()
+        );
+        let mut items: Vec<Entry> = photons
+            .par_iter()
+            .enumerate()
+            .filter(|(_, photon)| photon.is_stored())
+            .map(|(index, photon)| Entry {
+                position: photon.position,
+                photon_axis: index as u32,
+            })
+            .collect();
+        let mut heap_of = vec![0u32; items.len()];
+        split(&mut items, &mut heap_of, 0);
+        // Gathering the photons is random access: invert the permutation (a small array) so
+        // that the nodes can be filled in parallel, in order.
+        let mut entry_of = vec![0u32; items.len()];
+        for (entry, &heap) in heap_of.iter().enumerate() {
+            entry_of[heap as usize] = entry as u32;
+        }
+        let nodes = entry_of
+            .par_iter()
+            .map(|&entry| {
+                let item = &items[entry as usize];
+                let photon = &photons[(item.photon_axis & PHOTON_MASK) as usize];
+                KdNode {
+                    position: photon.position,
+                    normal: photon.normal,
+                    flux: photon.flux,
+                    photon_axis: item.photon_axis,
+                }
+            })
+            .collect();
+        PhotonKdTree { nodes }
+    }
+
+    /// The nodes in heap order, ready for a storage buffer.
+    pub fn nodes(&self) -> &[KdNode] {
+        &self.nodes
+    }
+
+    /// Number of nodes (stored photons).
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Levels of the tree: ⌊log₂ n⌋ + 1, 0 when empty; at most [`MAX_DEPTH`].
+    pub fn depth(&self) -> u32 {
+        depth_of(self.nodes.len())
+    }
+
+    /// The photons within `radius` of `position` (squared distance < radius²) whose normal
+    /// faces `normal` (dot > 0): how many, and the sum of their flux. Visits nodes in
+    /// `kd_gather`'s order.
+    pub fn query(&self, position: Vec3, radius: f32, normal: Vec3) -> (u32, Vec3) {
+        let count = self.nodes.len();
+        let radius_sq = radius * radius;
+        let mut found = 0u32;
+        let mut flux = Vec3::ZERO;
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = 0;
+        let mut node = 0;
+        loop {
+            while node < count {
+                let kd = self.nodes[node];
+                let offset = Vec3::from(kd.position) - position;
+                if offset.length_squared() < radius_sq && unpack_normal(kd.normal).dot(normal) > 0.0
+                {
+                    found += 1;
+                    flux += Vec3::from(kd.flux);
+                }
+                // The split plane is `offset[axis]` away: the query lies on the left (lower)
+                // side when the plane is ahead of it.
+                let to_plane = offset[kd.axis()];
+                let left = 2 * node + 1;
+                let (near, far) = if to_plane > 0.0 {
+                    (left, left + 1)
+                } else {
+                    (left + 1, left)
+                };
+                if far < count && to_plane * to_plane < radius_sq {
+                    stack[top] = far as u32;
+                    top += 1;
+                }
+                node = near;
+            }
+            if top == 0 {
+                return (found, flux);
+            }
+            top -= 1;
+            node = stack[top] as usize;
+        }
+    }
+}
+
+/// What [`PhotonKdTree::query`] finds, by testing every stored photon (for tests).
+pub fn gather_brute_force(
+    photons: &[Photon],
+    position: Vec3,
+    radius: f32,
+    normal: Vec3,
+) -> (u32, Vec3) {
+    let radius_sq = radius * radius;
+    photons
+        .iter()
+        .filter(|photon| photon.is_stored())
+        .filter(|photon| (Vec3::from(photon.position) - position).length_squared() < radius_sq)
+        .filter(|photon| unpack_normal(photon.normal).dot(normal) > 0.0)
+        .fold((0, Vec3::ZERO), |(found, flux), photon| {
+            (found + 1, flux + Vec3::from(photon.flux))
+        })
+}
+
+/// Levels of a complete binary tree of `count` nodes.
+pub fn depth_of(count: usize) -> u32 {
+    usize::BITS - count.leading_zeros()
+}
+
+/// Nodes in the left subtree of a left-balanced tree of `count` nodes: the full levels' share
+/// and as much of the last level as fills the left half first.
+fn left_subtree_size(count: usize) -> usize {
+    let levels = depth_of(count);
+    if levels <= 1 {
+        return 0;
+    }
+    let full = (1usize << (levels - 1)) - 1;
+    let half_of_last = 1usize << (levels - 2);
+    (half_of_last - 1) + (count - full).min(half_of_last)
+}
+
+/// Builds the subtree of `items` rooted at heap index `heap`: the median along the widest
+/// axis goes to its left-balanced position, `heap_of` records each item's heap index.
+fn split(items: &mut [Entry], heap_of: &mut [u32], heap: u32) {
+    if items.is_empty() {
+        return;
+    }
+    let count = items.len();
+    let left = left_subtree_size(count);
+    let axis = if count == 1 { 0 } else { widest_axis(items) };
+    items.select_nth_unstable_by(left, |a, b| a.position[axis].total_cmp(&b.position[axis]));
+    items[left].photon_axis |= (axis as u32) << AXIS_SHIFT;
+    heap_of[left] = heap;
+    let (left_items, rest) = items.split_at_mut(left);
+    let (left_heap, rest_heap) = heap_of.split_at_mut(left);
+    let right_items = &mut rest[1..];
+    let right_heap = &mut rest_heap[1..];
+    let (left_root, right_root) = (2 * heap + 1, 2 * heap + 2);
+    if count >= PARALLEL_MIN {
+        rayon::join(
+            || split(left_items, left_heap, left_root),
+            || split(right_items, right_heap, right_root),
+        );
+    } else {
+        split(left_items, left_heap, left_root);
+        split(right_items, right_heap, right_root);
+    }
+}
+
+/// The axis along which `items`' bounding box is widest (the lowest on ties).
+fn widest_axis(items: &[Entry]) -> usize {
+    let bounds = |(lo, hi): (Vec3, Vec3), item: &Entry| {
+        let p = Vec3::from(item.position);
+        (lo.min(p), hi.max(p))
+    };
+    let empty = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let (lo, hi) = if items.len() >= PARALLEL_MIN {
+        items
+            .par_iter()
+            .fold(|| empty, bounds)
+            .reduce(|| empty, |a, b| (a.0.min(b.0), a.1.max(b.1)))
+    } else {
+        items.iter().fold(empty, bounds)
+    };
+    let extent = hi - lo;
+    if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::packing::pack_normal;
+
+    /// SplitMix64: a small seeded generator for test photons.
+    struct Random(u64);
+
+    impl Random {
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        }
+
+        fn unit(&mut self) -> f32 {
+            (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+        }
+
+        fn vec3(&mut self, lo: f32, hi: f32) -> Vec3 {
+            Vec3::new(self.unit(), self.unit(), self.unit()) * (hi - lo) + Vec3::splat(lo)
+        }
+
+        fn direction(&mut self) -> Vec3 {
+            loop {
+                let v = self.vec3(-1.0, 1.0);
+                if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                    return v.normalize();
+                }
+            }
+        }
+
+        fn photon(&mut self, position: Vec3) -> Photon {
+            Photon {
+                position: position.to_array(),
+                normal: pack_normal(self.direction()),
+                flux: self.vec3(0.01, 1.0).to_array(),
+                pad: 0,
+            }
+        }
+    }
+
+    fn uniform(random: &mut Random, count: usize) -> Vec<Photon> {
+        (0..count)
+            .map(|_| {
+                let p = random.vec3(-1.0, 1.0);
+                random.photon(p)
+            })
+            .collect()
+    }
+
+    /// Tight clumps of very different sizes, as caustics make.
+    fn clustered(random: &mut Random, count: usize) -> Vec<Photon> {
+        let centres: Vec<(Vec3, f32)> = (0..12)
+            .map(|i| (random.vec3(-1.0, 1.0), 0.3 / 4f32.powi(i % 5)))
+            .collect();
+        (0..count)
+            .map(|i| {
+                let (centre, size) = centres[i % centres.len()];
+                let p = centre + random.vec3(-size, size) * random.unit();
+                random.photon(p)
+            })
+            .collect()
+    }
+
+    /// Asserts the tree's gather equals brute force for `queries` random queries around the
+    /// photons (found exactly; flux to summation-order rounding).
+    fn assert_matches_brute_force(photons: &[Photon], queries: usize, seed: u64) {
+        let tree = PhotonKdTree::build(photons);
+        let mut random = Random(seed);
+        let mut hits = 0;
+        for q in 0..queries {
+            let position = match q % 3 {
+                // On a photon: distance 0, the boundary cases of the split planes.
+                0 if !photons.is_empty() => {
+                    Vec3::from(photons[random.next_u64() as usize % photons.len()].position)
+                }
+                _ => random.vec3(-1.2, 1.2),
+            };
+            let radius = 0.5 * random.unit().powi(3);
+            let normal = random.direction();
+            let (found, flux) = tree.query(position, radius, normal);
+            let (want_found, want_flux) = gather_brute_force(photons, position, radius, normal);
+            assert_eq!(found, want_found, "query {q} at {position} r {radius}");
+            assert!(
+                (flux - want_flux).abs().max_element() <= 1e-5 * want_flux.max_element().max(1.0),
+                "query {q}: flux {flux} vs {want_flux}"
+            );
+            hits += found;
+        }
+        if photons.len() > 100 {
+            assert!(hits > 0, "the queries should find photons");
+        }
+    }
+
+    #[test]
+    fn gather_matches_brute_force_on_uniform_photons() {
+        let photons = uniform(&mut Random(1), 20_000);
+        assert_matches_brute_force(&photons, 3000, 11);
+    }
+
+    #[test]
+    fn gather_matches_brute_force_on_clustered_photons() {
+        let photons = clustered(&mut Random(2), 20_000);
+        assert_matches_brute_force(&photons, 3000, 12);
+    }
+
+    #[test]
+    fn gather_matches_brute_force_with_duplicate_positions() {
+        let mut random = Random(3);
+        let spots: Vec<Vec3> = (0..40).map(|_| random.vec3(-1.0, 1.0)).collect();
+        let photons: Vec<Photon> = (0..10_000)
+            .map(|i| random.photon(spots[i % spots.len()]))
+            .collect();
+        assert_matches_brute_force(&photons, 2000, 13);
+        // Every photon at one point: one axis has all the ties.
+        let same: Vec<Photon> = (0..5000).map(|_| random.photon(Vec3::ONE)).collect();
+        assert_matches_brute_force(&same, 200, 14);
+    }
+
+    #[test]
+    fn gather_matches_brute_force_on_a_plane() {
+        let mut random = Random(4);
+        let photons: Vec<Photon> = (0..10_000)
+            .map(|_| {
+                let p = random.vec3(-1.0, 1.0);
+                random.photon(Vec3::new(p.x, 0.25, p.z))
+            })
+            .collect();
+        assert_matches_brute_force(&photons, 2000, 15);
+    }
+
+    #[test]
+    fn gather_handles_no_and_one_photon() {
+        let normal = Vec3::Z;
+        let empty = PhotonKdTree::build(&[]);
+        assert!(empty.is_empty());
+        assert_eq!(empty.depth(), 0);
+        assert_eq!(empty.query(Vec3::ZERO, 1.0, normal), (0, Vec3::ZERO));
+        let photon = Photon {
+            position: [0.5, 0.0, 0.0],
+            normal: pack_normal(Vec3::Z),
+            flux: [1.0, 2.0, 3.0],
+            pad: 0,
+        };
+        let one = PhotonKdTree::build(&[photon]);
+        assert_eq!(one.depth(), 1);
+        let at = |radius| one.query(Vec3::ZERO, radius, normal);
+        assert_eq!(at(0.6), (1, Vec3::new(1.0, 2.0, 3.0)));
+        assert_eq!(at(0.5), (0, Vec3::ZERO), "the radius is exclusive");
+        assert_eq!(one.query(Vec3::ZERO, 0.6, -normal), (0, Vec3::ZERO));
+    }
+
+    #[test]
+    fn build_leaves_out_photons_without_flux() {
+        let mut photons = uniform(&mut Random(5), 3000);
+        for photon in photons.iter_mut().step_by(3) {
+            photon.flux = [0.0; 3];
+        }
+        let tree = PhotonKdTree::build(&photons);
+        assert_eq!(tree.len(), 2000);
+        let mut indices: Vec<u32> = tree.nodes().iter().map(KdNode::photon).collect();
+        indices.sort_unstable();
+        let stored: Vec<u32> = (0..3000).filter(|i| i % 3 != 0).collect();
+        assert_eq!(indices, stored, "each stored photon once, no other");
+        for node in tree.nodes() {
+            let photon = &photons[node.photon() as usize];
+            assert_eq!(
+                (node.position, node.normal, node.flux),
+                (photon.position, photon.normal, photon.flux),
+                "a node holds its photon"
+            );
+        }
+        // A radius covering everything: every facing stored photon, none of the empty slots.
+        let (found, _) = tree.query(Vec3::ZERO, 10.0, Vec3::Y);
+        assert_eq!(
+            found,
+            gather_brute_force(&photons, Vec3::ZERO, 10.0, Vec3::Y).0
+        );
+        assert!(found > 500 && found < 1500, "{found}");
+        assert_matches_brute_force(&photons, 1000, 16);
+    }
+
+    #[test]
+    fn build_orders_every_subtree_by_its_split_plane() {
+        let photons = clustered(&mut Random(6), 5000);
+        let tree = PhotonKdTree::build(&photons);
+        let nodes = tree.nodes();
+        // Each node's coordinate on every ancestor's axis lies on that ancestor's side.
+        for i in 1..nodes.len() {
+            let mut child = i;
+            while child > 0 {
+                let parent = (child - 1) / 2;
+                let axis = nodes[parent].axis();
+                let (c, p) = (nodes[i].position[axis], nodes[parent].position[axis]);
+                if child % 2 == 1 {
+                    assert!(c <= p, "node {i} left of ancestor {parent}");
+                } else {
+                    assert!(c >= p, "node {i} right of ancestor {parent}");
+                }
+                child = parent;
+            }
+        }
+        assert_eq!(tree.depth(), 13, "⌊log₂ 5000⌋ + 1 levels");
+    }
+
+    #[test]
+    fn build_is_deterministic_whatever_the_thread_count() {
+        let photons = clustered(&mut Random(7), 50_000);
+        let on = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("thread pool")
+                .install(|| PhotonKdTree::build(&photons))
+        };
+        let one = on(1);
+        assert_eq!(one, on(4));
+        assert_eq!(one, PhotonKdTree::build(&photons));
+    }
+
+    #[test]
+    fn left_subtree_sizes_make_a_complete_tree() {
+        // Heap order has no holes exactly when every subtree is left-balanced: check the
+        // sizes against a complete tree's, counted node by node.
+        for count in 1..600usize {
+            let in_left = |root: usize| {
+                let mut size = 0;
+                let mut level = vec![root];
+                while !level.is_empty() {
+                    level.retain(|&i| i < count);
+                    size += level.len();
+                    level = level.iter().flat_map(|&i| [2 * i + 1, 2 * i + 2]).collect();
+                }
+                size
+            };
+            assert_eq!(left_subtree_size(count), in_left(1), "{count} nodes");
+        }
+    }
+
+    #[test]
+    fn stack_holds_the_deepest_tree() {
+        assert_eq!(depth_of(MAX_PHOTONS), MAX_DEPTH);
+        assert_eq!(STACK_SIZE, MAX_DEPTH as usize - 1);
+        assert!(MAX_PHOTONS <= PHOTON_MASK as usize + 1);
+        // A query whose radius spans the whole tree pushes at every level: it must fit.
+        let photons = uniform(&mut Random(8), (1 << 14) - 1);
+        let tree = PhotonKdTree::build(&photons);
+        let (found, _) = tree.query(Vec3::ZERO, 10.0, Vec3::X);
+        assert_eq!(
+            found,
+            gather_brute_force(&photons, Vec3::ZERO, 10.0, Vec3::X).0
+        );
+    }
+}

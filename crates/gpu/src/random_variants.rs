@@ -7,8 +7,8 @@ use std::sync::LazyLock;
 
 use render::random::{self, FractSin, Pcg, StreamRng, TalkFloat, Tea};
 
-use crate::prelude;
 use crate::shader::{Module, RANDOM_PCG};
+use crate::{GpuContext, GpuError, prelude, readback};
 
 const RANDOM_TALK: &str = include_str!("../shaders/shared/random_talk.wgsl");
 const RANDOM_TEA: &str = include_str!("../shaders/shared/random_tea.wgsl");
@@ -150,6 +150,111 @@ pub fn generator_source(generator: Generator) -> String {
         }
     }
     text
+}
+
+/// Draws per invocation of the draw-rate kernel ([`DrawRate`]).
+pub const DRAWS_PER_INVOCATION: u32 = 256;
+
+/// The generator alone: each invocation sums the first draws of its stream (stream `i` of
+/// pass 0), so the rate counts drawing, not memory traffic. Not part of a renderer.
+const SUM_DRAWS: &str = r#"
+@group(0) @binding(0) var<storage, read_write> sums: array<f32>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn sum_draws(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&sums) {
+        return;
+    }
+    var rng = rng_start(1u, PHOTON_STREAM, 0u, i);
+    var sum = 0.0;
+    for (var k = 0u; k < DRAWS_PER_INVOCATION; k++) {
+        sum += next_f32(&rng);
+    }
+    sums[i] = sum;
+}
+"#;
+
+/// The CPU twin of `sum_draws`: the same draws added in the same order.
+pub fn sum_draws<G: StreamRng>(index: u32) -> f32 {
+    let mut rng = G::start(1, render::rng::PHOTON_STREAM, 0, index);
+    (0..DRAWS_PER_INVOCATION).fold(0.0, |sum, _| sum + rng.next_f32())
+}
+
+/// `sum_draws` compiled with one generator over `invocations` streams.
+pub struct DrawRate {
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    sums: wgpu::Buffer,
+    invocations: u32,
+}
+
+impl DrawRate {
+    /// `invocations` ≤ 65,535 workgroups of [`prelude::WORKGROUP_SIZE`].
+    pub fn new(context: &GpuContext, generator: Generator, invocations: u32) -> DrawRate {
+        let source = format!(
+            "{}\nconst DRAWS_PER_INVOCATION: u32 = {DRAWS_PER_INVOCATION}u;\n{SUM_DRAWS}",
+            generator_source(generator)
+        );
+        let device = &context.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("sum_draws"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("sum_draws"),
+            layout: None,
+            module: &module,
+            entry_point: Some("sum_draws"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let sums = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sum_draws"),
+            size: u64::from(invocations) * size_of::<f32>() as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sum_draws"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: sums.as_entire_binding(),
+            }],
+        });
+        DrawRate {
+            pipeline,
+            bind_group,
+            sums,
+            invocations,
+        }
+    }
+
+    /// One dispatch, submitted and waited for: its wall-clock seconds.
+    pub fn run(&self, context: &GpuContext) -> Result<f64, GpuError> {
+        let mut encoder = context
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sum_draws"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(self.invocations.div_ceil(prelude::WORKGROUP_SIZE), 1, 1);
+        }
+        let started = std::time::Instant::now();
+        context.queue.submit([encoder.finish()]);
+        readback::wait_idle(context)?;
+        Ok(started.elapsed().as_secs_f64())
+    }
+
+    /// The sums of the last run.
+    pub fn sums(&self, context: &GpuContext) -> Result<Vec<f32>, GpuError> {
+        readback::read_buffer(context, &self.sums, self.invocations as usize)
+    }
 }
 
 #[cfg(test)]

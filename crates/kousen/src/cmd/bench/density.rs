@@ -10,8 +10,9 @@
 //!
 //! Per pass, the bench waits for the device after each phase, so it can give the hash build's
 //! and the gather's time alone (median over the passes). Each method first runs a short
-//! warm-up render. Image error (relMSE) is measured against a reference at checkpoints (passes
-//! 1, 2, 4, ... and the last), outside the timing: at equal passes, and at equal time — the
+//! warm-up render. Image error (relMSE, both images scaled so the reference's mean is 0.18) is
+//! measured against a reference at checkpoints (passes 1, 2, 4, ... and the last), outside the
+//! timing: at equal passes, and at equal time — the
 //! time the fastest method took for all its passes, each method's error there interpolated
 //! (log–log) between its checkpoints.
 
@@ -24,12 +25,12 @@ use serde::Serialize;
 use bvh::PackedBvh;
 use cpu::{CpuBackend, SceneData};
 use gpu::sppm::GpuBackend;
-use gpu::{GpuContext, GpuError};
+use gpu::GpuContext;
 use render::half_storage::Precision;
 use render::integrator::Phase;
 use render::{Backend, Density, Image, Settings, Sppm};
 
-use super::host::{cpu_model, median};
+use super::host::{cpu_model, median, open_gpu};
 use crate::cli::{BenchDevice, DensityArgs, DensityMethod};
 use crate::image_io::{ExrPrecision, Output, read_image};
 use crate::image_metrics::{mean_ratio, rel_mse};
@@ -98,6 +99,9 @@ struct Row {
     seconds: f64,
     /// Bytes of the hash, lists or tree on the device.
     density_bytes: u64,
+    /// Bytes of the photon slots, photons and visible points on the device (the CPU backend
+    /// keeps f32 structs and rounds them for f16).
+    point_bytes: u64,
     rel_mse_equal_passes: f64,
     /// Mean brightness over the reference's at equal passes (1: unbiased).
     mean_ratio: f64,
@@ -143,7 +147,7 @@ pub fn run(args: &DensityArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the image folder {}", dir.display()))?;
     }
-    let gpu = open_gpu(args)?;
+    let gpu = open_gpu(&args.devices, args.adapter.as_deref())?;
     let mut report = Report {
         adapter: gpu.as_ref().map(|c| AdapterReport {
             name: c.info.name.clone(),
@@ -192,22 +196,6 @@ pub fn run(args: &DensityArgs) -> anyhow::Result<()> {
         file.commit()?;
     }
     Ok(())
-}
-
-/// The GPU when `--devices` includes it; with no adapter at all and no `--adapter`, the CPU
-/// backend runs alone (said on stderr).
-fn open_gpu(args: &DensityArgs) -> anyhow::Result<Option<GpuContext>> {
-    if !args.devices.contains(&BenchDevice::Gpu) {
-        return Ok(None);
-    }
-    match GpuContext::new(args.adapter.as_deref()) {
-        Ok(context) => Ok(Some(context)),
-        Err(error @ GpuError::NoAdapter { .. }) if args.adapter.is_none() => {
-            eprintln!("kousen: {error}; measuring the CPU backend only");
-            Ok(None)
-        }
-        Err(error) => Err(error.into()),
-    }
 }
 
 /// What every render of a scene shares.
@@ -441,17 +429,21 @@ fn measure<B: Backend>(
             checkpoints.push(Checkpoint {
                 passes: pass,
                 seconds,
-                rel_mse: rel_mse(&image, reference),
+                rel_mse: scaled_rel_mse(&image, reference),
             });
         }
     }
     let image = sppm.image()?;
     let memory = sppm.backend_ref().memory();
-    let density_bytes = memory
-        .iter()
-        .filter(|(kind, _)| *kind == "hash")
-        .map(|(_, bytes)| bytes)
-        .sum();
+    let bytes_of = |kinds: &[&str]| {
+        memory
+            .iter()
+            .filter(|(kind, _)| kinds.contains(kind))
+            .map(|(_, bytes)| bytes)
+            .sum()
+    };
+    let density_bytes = bytes_of(&["hash"]);
+    let point_bytes = bytes_of(&["photons", "visible_points"]);
     let (density, ratio) = method.density();
     let row = Row {
         scene: bench.stem.clone(),
@@ -467,6 +459,7 @@ fn measure<B: Backend>(
         iteration_ms: seconds * 1e3 / f64::from(passes),
         seconds,
         density_bytes,
+        point_bytes,
         rel_mse_equal_passes: checkpoints.last().map_or(f64::NAN, |c| c.rel_mse),
         mean_ratio: mean_ratio(&image, reference).overall,
         rel_mse_equal_time: None,
@@ -474,6 +467,22 @@ fn measure<B: Backend>(
         checkpoints,
     };
     Ok(Measured { row, image })
+}
+
+/// Mean grey the images are scaled to before the relMSE, so that its 0.01 in the denominator
+/// means the same on dark and bright scenes.
+const ERROR_MEAN: f32 = 0.18;
+
+/// relMSE after scaling `image` and `reference` by one factor that brings the reference's mean
+/// to [`ERROR_MEAN`].
+fn scaled_rel_mse(image: &Image, reference: &Image) -> f64 {
+    let mean = reference.mean().element_sum() / 3.0;
+    let k = if mean > 0.0 { ERROR_MEAN / mean } else { 1.0 };
+    let scaled = |i: &Image| Image {
+        pixels: i.pixels.iter().map(|p| *p * k).collect(),
+        ..*i
+    };
+    rel_mse(&scaled(image), &scaled(reference))
 }
 
 /// Each row's error at the time the fastest method on its device took.
@@ -591,6 +600,21 @@ mod tests {
             seconds,
             rel_mse,
         }
+    }
+
+    #[test]
+    fn scaled_error_does_not_depend_on_brightness() {
+        let image = |scale: f32, shift: f32| Image {
+            width: 2,
+            height: 2,
+            pixels: (0..4)
+                .map(|i| glam::Vec3::splat(scale * (i as f32 + shift)))
+                .collect(),
+        };
+        let bright = scaled_rel_mse(&image(1.0, 0.5), &image(1.0, 1.0));
+        let dark = scaled_rel_mse(&image(1e-4, 0.5), &image(1e-4, 1.0));
+        assert!(bright > 0.01);
+        assert!((bright - dark).abs() < 1e-6 * bright, "{bright} against {dark}");
     }
 
     #[test]

@@ -1,6 +1,28 @@
 //! What a benchmark records about the machine it ran on, and its statistics.
 
 pub use cpu::cpu_model;
+use gpu::{GpuContext, GpuError};
+
+use crate::cli::BenchDevice;
+
+/// The GPU when `devices` includes it; with no adapter at all and no `adapter` asked for, the
+/// CPU backend runs alone (said on stderr).
+pub fn open_gpu(
+    devices: &[BenchDevice],
+    adapter: Option<&str>,
+) -> anyhow::Result<Option<GpuContext>> {
+    if !devices.contains(&BenchDevice::Gpu) {
+        return Ok(None);
+    }
+    match GpuContext::new(adapter) {
+        Ok(context) => Ok(Some(context)),
+        Err(error @ GpuError::NoAdapter { .. }) if adapter.is_none() => {
+            eprintln!("kousen: {error}; measuring the CPU side only");
+            Ok(None)
+        }
+        Err(error) => Err(error.into()),
+    }
+}
 
 /// The median of `samples` (which must not be empty); the mean of the middle two when even.
 pub fn median(samples: &[f64]) -> f64 {

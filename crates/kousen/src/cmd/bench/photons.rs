@@ -25,10 +25,10 @@ use serde::Serialize;
 use bvh::PackedBvh;
 use cpu::{CpuBackend, SceneData, kernels};
 use gpu::sppm::GpuBackend;
-use gpu::{GpuContext, GpuError};
+use gpu::GpuContext;
 use render::{BackendError, PhotonTracing, Settings, Sppm};
 
-use super::host::{cpu_model, median};
+use super::host::{cpu_model, median, open_gpu};
 use super::occupancy;
 use crate::cli::{BenchDevice, PhotonsArgs};
 
@@ -137,7 +137,7 @@ pub fn run(args: &PhotonsArgs) -> anyhow::Result<()> {
         .as_deref()
         .map(crate::output_file::PendingFile::create)
         .transpose()?;
-    let gpu = open_gpu(args)?;
+    let gpu = open_gpu(&args.devices, args.adapter.as_deref())?;
     let mut report = Report {
         adapter: gpu.as_ref().map(adapter_report),
         cpu_model: cpu_model(),
@@ -173,22 +173,6 @@ pub fn run(args: &PhotonsArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// The GPU when `--devices` includes it; with no adapter at all and no `--adapter`, the CPU
-/// backend runs alone (said on stderr).
-fn open_gpu(args: &PhotonsArgs) -> anyhow::Result<Option<GpuContext>> {
-    if !args.devices.contains(&BenchDevice::Gpu) {
-        return Ok(None);
-    }
-    match GpuContext::new(args.adapter.as_deref()) {
-        Ok(context) => Ok(Some(context)),
-        Err(error @ GpuError::NoAdapter { .. }) if args.adapter.is_none() => {
-            eprintln!("kousen: {error}; measuring the CPU backend only");
-            Ok(None)
-        }
-        Err(error) => Err(error.into()),
-    }
 }
 
 fn adapter_report(context: &GpuContext) -> AdapterReport {

@@ -8,8 +8,12 @@
 //!   runs of each, the generators alternating; medians. GPU time is wall time from the first
 //!   submission to the device idle.
 //! - **quality**: `render::random::battery` on each generator's CPU twin.
+//! - **generators alone**: draws per second of `gpu::random_variants::DrawRate` (each
+//!   invocation sums 256 draws of its stream) and its CPU twin, the sums checked against each
+//!   other first.
 //! - **images** (`--image DIR`): the first scene rendered with SPPM on the GPU with each
-//!   generator, equal passes, `DIR/rng-<name>.png`.
+//!   generator, equal passes, `DIR/rng-<name>.png`; and plots of successive pairs of each
+//!   generator's draws, `DIR/rng-pairs-<name>.png`.
 //!
 //! Before it reports a GPU figure, one more pass is checked against the CPU twin slot by slot
 //! (path depth and stored photon); the noise function is exempt (GPU `sin` is approximate).
@@ -25,13 +29,19 @@ use bvh::PackedBvh;
 use cpu::{SceneData, kernels};
 use gpu::random_variants::{Generator, sppm_source_with};
 use gpu::sppm::GpuBackend;
-use gpu::{GpuContext, GpuError};
+use gpu::GpuContext;
 use render::buffers::{PathSlot, SppmParams, counter};
 use render::random::{FractSin, Pcg, StreamRng, TalkFloat, Tea, battery};
 use render::{Backend, BackendError, PhotonTracing, Settings, Sppm};
 
-use super::host::{cpu_model, median};
+use super::host::{cpu_model, median, open_gpu};
 use crate::cli::{BenchDevice, RngArgs};
+
+mod draws;
+mod images;
+
+use draws::DrawRow;
+use images::ImageRow;
 
 /// Image side of the (unused) pixel buffers the speed runs allocate.
 const PIXELS_SIDE: u32 = 16;
@@ -56,6 +66,8 @@ struct Report {
     significance: f64,
     command: String,
     battery: Vec<BatteryRow>,
+    /// The generators alone: draws per second (`sum_draws`).
+    draw_rates: Vec<DrawRow>,
     results: Vec<Row>,
     images: Vec<ImageRow>,
 }
@@ -101,16 +113,6 @@ struct Row {
     diverged: Option<usize>,
 }
 
-#[derive(Serialize)]
-struct ImageRow {
-    generator: &'static str,
-    path: String,
-    width: u32,
-    height: u32,
-    passes: u32,
-    seconds: f64,
-}
-
 /// One timed run: paths emitted and the seconds taken.
 #[derive(Clone, Copy, Debug)]
 struct Run {
@@ -154,7 +156,7 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create the image directory", dir.display()))?;
     }
-    let gpu = open_gpu(args)?;
+    let gpu = open_gpu(&args.devices, args.adapter.as_deref())?;
     if args.image.is_some() && gpu.is_none() {
         bail!("--image renders on the GPU, and no GPU adapter is in use (see --devices)");
     }
@@ -170,6 +172,7 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         significance: battery::SIGNIFICANCE,
         command: std::env::args().collect::<Vec<_>>().join(" "),
         battery: Vec::new(),
+        draw_rates: Vec::new(),
         results: Vec::new(),
         images: Vec::new(),
     };
@@ -199,8 +202,9 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
     .flatten()
     .collect();
     print_battery(&report.battery, n);
+    report.draw_rates = draws::draw_rates(args, gpu.as_ref())?;
     if let (Some(dir), Some(context)) = (&args.image, &gpu) {
-        report.images = render_images(args, context, &args.scenes[0], dir)
+        report.images = images::render_images(args, context, &args.scenes[0], dir)
             .with_context(|| format!("{}", args.scenes[0].display()))?;
     }
     if let Some(mut file) = json_file {
@@ -220,22 +224,6 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// The GPU when `--devices` includes it; with no adapter at all and no `--adapter`, the CPU
-/// twins run alone (said on stderr).
-fn open_gpu(args: &RngArgs) -> anyhow::Result<Option<GpuContext>> {
-    if !args.devices.contains(&BenchDevice::Gpu) {
-        return Ok(None);
-    }
-    match GpuContext::new(args.adapter.as_deref()) {
-        Ok(context) => Ok(Some(context)),
-        Err(error @ GpuError::NoAdapter { .. }) if args.adapter.is_none() => {
-            eprintln!("kousen: {error}; measuring the CPU twins only");
-            Ok(None)
-        }
-        Err(error) => Err(error.into()),
-    }
 }
 
 fn adapter_report(context: &GpuContext) -> AdapterReport {
@@ -389,11 +377,11 @@ fn bench_scene(args: &RngArgs, gpu: Option<&GpuContext>, path: &Path) -> anyhow:
 
 /// Two warm-up runs of every variant (the first fills every slot with a path in flight), then
 /// `--runs` runs of each, alternating.
-fn measure<V>(
+fn measure<V, R: Clone>(
     variants: &mut [V],
     args: &RngArgs,
-    mut timed: impl FnMut(&mut V, u32) -> Result<Run, BackendError>,
-) -> Result<Vec<Vec<Run>>, BackendError> {
+    mut timed: impl FnMut(&mut V, u32) -> Result<R, BackendError>,
+) -> Result<Vec<Vec<R>>, BackendError> {
     for _ in 0..2 {
         for variant in variants.iter_mut() {
             timed(variant, args.passes)?;
@@ -502,104 +490,4 @@ fn row(
         over_pcg: 1.0,
         diverged,
     }
-}
-
-/// Side of the pair plots, in pixels.
-const PAIRS_SIDE: u32 = 256;
-/// The pair plots show [0, 1/16)²: zoomed so that a coarse output's lattice is plain.
-const PAIRS_ZOOM: f32 = 16.0;
-/// Streams drawn for the pair plots (4 pairs each): about 16 k pairs land in the plot.
-const PAIRS_STREAMS: u32 = 1 << 20;
-
-/// Successive draws (2k, 2k + 1) of `G`'s CPU twin, plotted where both fall in [0, 1/16):
-/// white where at least one pair landed.
-fn pairs_image<G: StreamRng>() -> render::Image {
-    let side = PAIRS_SIDE as usize;
-    let mut lit = vec![false; side * side];
-    for index in 0..PAIRS_STREAMS {
-        let mut rng = G::start(1, render::rng::PHOTON_STREAM, 0, index);
-        for _ in 0..4 {
-            let (x, y) = (rng.next_f32() * PAIRS_ZOOM, rng.next_f32() * PAIRS_ZOOM);
-            if x < 1.0 && y < 1.0 {
-                let (i, j) = ((x * side as f32) as usize, (y * side as f32) as usize);
-                lit[(side - 1 - j.min(side - 1)) * side + i.min(side - 1)] = true;
-            }
-        }
-    }
-    let pixels = lit
-        .into_iter()
-        .map(|l| glam::Vec3::splat(if l { 1.0 } else { 0.0 }))
-        .collect();
-    render::Image::new(PAIRS_SIDE, PAIRS_SIDE, pixels)
-}
-
-fn write_pairs_images(dir: &Path) -> anyhow::Result<()> {
-    let images = [
-        (Pcg::NAME, pairs_image::<Pcg>()),
-        (TalkFloat::NAME, pairs_image::<TalkFloat>()),
-        (Tea::NAME, pairs_image::<Tea>()),
-        (FractSin::NAME, pairs_image::<FractSin>()),
-    ];
-    for (name, image) in images {
-        let file = dir.join(format!("rng-pairs-{name}.png"));
-        crate::image_io::Output::create_with(&file, Default::default())?.commit(&image, 0.0)?;
-        println!("image {}: successive pairs in [0, 1/16)²", file.display());
-    }
-    Ok(())
-}
-
-/// SPPM on the GPU with each generator: `--image-size`², `--image-passes` passes, one photon
-/// slot per pixel, the same seed; PNGs at exposure 0.
-fn render_images(
-    args: &RngArgs,
-    context: &GpuContext,
-    path: &Path,
-    dir: &Path,
-) -> anyhow::Result<Vec<ImageRow>> {
-    let loaded = load(args, path)?;
-    let side = args.image_size;
-    let settings = Settings {
-        initial_radius: render::integrator::initial_radius_from_view(
-            &loaded.bvh,
-            &loaded.camera,
-            side,
-            side,
-        ),
-        ..Settings::new(side, side, side * side)
-    };
-    write_pairs_images(dir)?;
-    let mut rows = Vec::new();
-    for g in Generator::ALL {
-        let file = dir.join(format!("rng-{}.png", g.name()));
-        let output = crate::image_io::Output::create_with(&file, Default::default())?;
-        let backend = GpuBackend::with_kernels(
-            context.clone(),
-            &loaded.scene,
-            loaded.bvh.clone(),
-            g.part().0,
-            sppm_source_with(g),
-        )?;
-        let mut sppm = Sppm::new(backend, &loaded.scene, &loaded.camera, settings.clone())?;
-        let started = Instant::now();
-        for _ in 0..args.image_passes {
-            sppm.pass();
-        }
-        let image = sppm.image()?;
-        let seconds = started.elapsed().as_secs_f64();
-        output.commit(&image, 0.0)?;
-        println!(
-            "image {}: {} passes in {seconds:.1} s on the GPU",
-            file.display(),
-            args.image_passes
-        );
-        rows.push(ImageRow {
-            generator: g.name(),
-            path: file.display().to_string(),
-            width: side,
-            height: side,
-            passes: args.image_passes,
-            seconds,
-        });
-    }
-    Ok(rows)
 }

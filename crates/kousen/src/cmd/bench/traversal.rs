@@ -16,10 +16,10 @@ use bvh::traverse::{Query, TraversalCounters, hits_agree};
 use bvh::{CompactMtbvh, Hit, PackedBvh, Ray};
 use gpu::traversal::RayKind;
 use gpu::types::GpuRay;
-use gpu::{GpuContext, GpuError, GpuScene, RayBatch, TraversalKernels, Variant};
+use gpu::{GpuContext, GpuScene, RayBatch, TraversalKernels, Variant};
 
 use super::host::{cpu_model, median};
-use crate::cli::{BenchDevice, BenchView, TraversalArgs};
+use crate::cli::{BenchView, TraversalArgs};
 
 /// The JSON report (a contract for scripts: adapter, cpu_model, results[...] with scene, rays,
 /// variant, device, rays_traced, mrays_per_s, mismatches; the other keys are extras).
@@ -129,23 +129,13 @@ pub fn run(args: &TraversalArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The GPU when `--devices` includes it: the adapter named by `--adapter`, else the best one.
-/// With no adapter at all and no `--adapter`, the CPU twins run alone (said on stderr).
+/// The GPU when `--devices` includes it, with the traversal kernels compiled.
 fn open_gpu(args: &TraversalArgs) -> anyhow::Result<Option<Gpu>> {
-    if !args.devices.contains(&BenchDevice::Gpu) {
-        return Ok(None);
-    }
-    match GpuContext::new(args.adapter.as_deref()) {
-        Ok(context) => {
-            let kernels = TraversalKernels::new(&context);
-            Ok(Some(Gpu { context, kernels }))
-        }
-        Err(error @ GpuError::NoAdapter { .. }) if args.adapter.is_none() => {
-            eprintln!("kousen: {error}; measuring the CPU twins only");
-            Ok(None)
-        }
-        Err(error) => Err(error.into()),
-    }
+    let context = super::host::open_gpu(&args.devices, args.adapter.as_deref())?;
+    Ok(context.map(|context| {
+        let kernels = TraversalKernels::new(&context);
+        Gpu { context, kernels }
+    }))
 }
 
 fn print_header(report: &Report, gpu: Option<&Gpu>) {

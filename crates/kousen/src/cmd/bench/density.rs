@@ -24,8 +24,8 @@ use serde::Serialize;
 
 use bvh::PackedBvh;
 use cpu::{CpuBackend, SceneData};
-use gpu::sppm::GpuBackend;
 use gpu::GpuContext;
+use gpu::sppm::GpuBackend;
 use render::half_storage::Precision;
 use render::integrator::Phase;
 use render::{Backend, Density, Image, Settings, Sppm};
@@ -614,7 +614,10 @@ mod tests {
         let bright = scaled_rel_mse(&image(1.0, 0.5), &image(1.0, 1.0));
         let dark = scaled_rel_mse(&image(1e-4, 0.5), &image(1e-4, 1.0));
         assert!(bright > 0.01);
-        assert!((bright - dark).abs() < 1e-6 * bright, "{bright} against {dark}");
+        assert!(
+            (bright - dark).abs() < 1e-6 * bright,
+            "{bright} against {dark}"
+        );
     }
 
     #[test]

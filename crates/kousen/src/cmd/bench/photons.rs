@@ -24,8 +24,8 @@ use serde::Serialize;
 
 use bvh::PackedBvh;
 use cpu::{CpuBackend, SceneData, kernels};
-use gpu::sppm::GpuBackend;
 use gpu::GpuContext;
+use gpu::sppm::GpuBackend;
 use render::{BackendError, PhotonTracing, Settings, Sppm};
 
 use super::host::{cpu_model, median, open_gpu};

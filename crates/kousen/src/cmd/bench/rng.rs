@@ -27,9 +27,9 @@ use serde::Serialize;
 
 use bvh::PackedBvh;
 use cpu::{SceneData, kernels};
+use gpu::GpuContext;
 use gpu::random_variants::{Generator, sppm_source_with};
 use gpu::sppm::GpuBackend;
-use gpu::GpuContext;
 use render::buffers::{PathSlot, SppmParams, counter};
 use render::random::{FractSin, Pcg, StreamRng, TalkFloat, Tea, battery};
 use render::{Backend, BackendError, PhotonTracing, Settings, Sppm};

@@ -16,11 +16,12 @@
 //! time the fastest method took for all its passes, each method's error there interpolated
 //! (log–log) between its checkpoints.
 
+mod report;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, bail, ensure};
-use serde::Serialize;
 
 use bvh::PackedBvh;
 use cpu::{CpuBackend, SceneData};
@@ -33,102 +34,16 @@ use render::{Backend, Density, Image, Settings, Sppm};
 use super::host::{cpu_model, median, open_gpu};
 use crate::cli::{BenchDevice, DensityArgs, DensityMethod};
 use crate::image_io::{ExrPrecision, Output, read_image};
-use crate::image_metrics::{mean_ratio, rel_mse};
+use crate::image_metrics::mean_ratio;
+use report::{
+    AdapterReport, Checkpoint, ReferenceReport, Report, Row, equal_time, print_header, print_row,
+    print_speedups, scaled_rel_mse, speedups,
+};
 
 /// Passes of each method's warm-up render.
 const WARM_UP_PASSES: u32 = 2;
 /// Seed offset of the rendered reference, so its noise is independent of the methods'.
 const REFERENCE_SEED_OFFSET: u32 = 7919;
-
-/// The JSON report (a contract for scripts: adapter, cpu_model, command, results[...] with
-/// scene, device, method, passes, hash_build_ms, gather_ms, iteration_ms, rel_mse_equal_passes,
-/// rel_mse_equal_time; the other keys are extras).
-#[derive(Serialize)]
-struct Report {
-    adapter: Option<AdapterReport>,
-    cpu_model: String,
-    cpu_threads: usize,
-    /// How GPU phases are timed.
-    gpu_timing: Option<&'static str>,
-    width: u32,
-    height: u32,
-    photon_slots: u32,
-    passes: u32,
-    eye_every: u32,
-    seed: u32,
-    command: String,
-    references: Vec<ReferenceReport>,
-    results: Vec<Row>,
-    /// Table 5: the CPU backend's times over the GPU's, per scene and method.
-    gpu_over_cpu: Vec<Speedup>,
-}
-
-#[derive(Serialize)]
-struct AdapterReport {
-    name: String,
-    backend: String,
-    driver: String,
-    device_type: String,
-}
-
-#[derive(Serialize)]
-struct ReferenceReport {
-    scene: String,
-    /// The file given, or how it was rendered.
-    source: String,
-}
-
-#[derive(Serialize)]
-struct Row {
-    scene: String,
-    device: &'static str,
-    method: &'static str,
-    /// How photons and visible points were stored: "f32" or "f16".
-    precision: &'static str,
-    /// Table entries per photon slot (hash methods).
-    table_ratio: Option<f32>,
-    passes: u32,
-    /// Medians over the passes (ms).
-    hash_build_ms: f64,
-    gather_ms: f64,
-    photon_pass_ms: f64,
-    /// Median of the eye passes (one every `eye_every` passes).
-    eye_pass_ms: f64,
-    /// Mean time of a whole iteration (eye passes spread over their passes) and total.
-    iteration_ms: f64,
-    seconds: f64,
-    /// Bytes of the hash, lists or tree on the device.
-    density_bytes: u64,
-    /// Bytes of the photon slots, photons and visible points on the device (the CPU backend
-    /// keeps f32 structs and rounds them for f16).
-    point_bytes: u64,
-    rel_mse_equal_passes: f64,
-    /// Mean brightness over the reference's at equal passes (1: unbiased).
-    mean_ratio: f64,
-    /// At the fastest method's total time on this device; None when this method's first
-    /// checkpoint came later.
-    rel_mse_equal_time: Option<f64>,
-    equal_time_seconds: f64,
-    checkpoints: Vec<Checkpoint>,
-}
-
-#[derive(Clone, Copy, Serialize)]
-struct Checkpoint {
-    passes: u32,
-    /// Timed seconds up to this pass.
-    seconds: f64,
-    rel_mse: f64,
-}
-
-#[derive(Serialize)]
-struct Speedup {
-    scene: String,
-    /// The method, with "-f16" for f16 storage.
-    method: String,
-    /// CPU backend time over GPU time: the hash build alone and a whole iteration.
-    hash_build: f64,
-    iteration: f64,
-}
 
 /// One method's measured render before its equal-time error is known.
 struct Measured {
@@ -297,16 +212,6 @@ fn image_path(dir: &Path, stem: &str, label: &str) -> PathBuf {
     dir.join(format!("density-{stem}-{label}.png"))
 }
 
-impl Row {
-    /// The method, with the storage precision when it is not f32 ("stochastic-1-f16").
-    fn label(&self) -> String {
-        match self.precision {
-            "f32" => self.method.to_owned(),
-            precision => format!("{}-{precision}", self.method),
-        }
-    }
-}
-
 /// The reference image: the file given, or a render with the full hash, another seed and
 /// `--reference-passes` passes on the GPU if there is one.
 fn reference(bench: &Bench, gpu: Option<&GpuContext>) -> anyhow::Result<(Image, String)> {
@@ -467,169 +372,4 @@ fn measure<B: Backend>(
         checkpoints,
     };
     Ok(Measured { row, image })
-}
-
-/// Mean grey the images are scaled to before the relMSE, so that its 0.01 in the denominator
-/// means the same on dark and bright scenes.
-const ERROR_MEAN: f32 = 0.18;
-
-/// relMSE after scaling `image` and `reference` by one factor that brings the reference's mean
-/// to [`ERROR_MEAN`].
-fn scaled_rel_mse(image: &Image, reference: &Image) -> f64 {
-    let mean = reference.mean().element_sum() / 3.0;
-    let k = if mean > 0.0 { ERROR_MEAN / mean } else { 1.0 };
-    let scaled = |i: &Image| Image {
-        pixels: i.pixels.iter().map(|p| *p * k).collect(),
-        ..*i
-    };
-    rel_mse(&scaled(image), &scaled(reference))
-}
-
-/// Each row's error at the time the fastest method on its device took.
-fn equal_time(mut rows: Vec<Row>) -> Vec<Row> {
-    let budget = rows.iter().map(|r| r.seconds).fold(f64::INFINITY, f64::min);
-    for row in &mut rows {
-        row.equal_time_seconds = budget;
-        row.rel_mse_equal_time = error_at(&row.checkpoints, budget);
-    }
-    println!("at equal time ({budget:.3} s each):");
-    for row in &rows {
-        println!(
-            "  {:<18} {:<4} relMSE {}",
-            row.label(),
-            row.device,
-            row.rel_mse_equal_time.map_or_else(
-                || "- (first checkpoint later)".to_owned(),
-                |e| format!("{e:.5}")
-            )
-        );
-    }
-    rows
-}
-
-/// The error at `seconds`, interpolated log–log between the checkpoints around it; the last
-/// checkpoint's when `seconds` is at or past it; None before the first.
-fn error_at(checkpoints: &[Checkpoint], seconds: f64) -> Option<f64> {
-    let last = checkpoints.last()?;
-    if seconds >= last.seconds {
-        return Some(last.rel_mse);
-    }
-    let after = checkpoints.iter().position(|c| c.seconds >= seconds)?;
-    if after == 0 {
-        return (checkpoints[0].seconds == seconds).then_some(checkpoints[0].rel_mse);
-    }
-    let (a, b) = (checkpoints[after - 1], checkpoints[after]);
-    let t = (seconds.ln() - a.seconds.ln()) / (b.seconds.ln() - a.seconds.ln());
-    Some((a.rel_mse.ln() + t * (b.rel_mse.ln() - a.rel_mse.ln())).exp())
-}
-
-/// Table 5: for each method measured on both devices, the CPU's times over the GPU's.
-fn speedups(rows: &[Row]) -> Vec<Speedup> {
-    rows.iter()
-        .filter(|r| r.device == "gpu")
-        .filter_map(|g| {
-            let c = rows
-                .iter()
-                .find(|c| c.device == "cpu" && c.label() == g.label())?;
-            Some(Speedup {
-                scene: g.scene.clone(),
-                method: g.label(),
-                hash_build: c.hash_build_ms / g.hash_build_ms,
-                iteration: c.iteration_ms / g.iteration_ms,
-            })
-        })
-        .collect()
-}
-
-fn print_speedups(speedups: &[Speedup]) {
-    if speedups.is_empty() {
-        return;
-    }
-    println!("CPU backend time / GPU time:");
-    for s in speedups {
-        println!(
-            "  {:<18} {:<18} hash build ×{:.2}, whole iteration ×{:.2}",
-            s.scene, s.method, s.hash_build, s.iteration
-        );
-    }
-}
-
-fn print_header() {
-    println!(
-        "{:<18} {:<4} {:<18} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>11} {:>7}",
-        "scene",
-        "dev",
-        "method",
-        "passes",
-        "build ms",
-        "gather ms",
-        "photon ms",
-        "eye ms",
-        "iter ms",
-        "MiB",
-        "relMSE(=P)",
-        "mean"
-    );
-}
-
-fn print_row(row: &Row) {
-    println!(
-        "{:<18} {:<4} {:<18} {:>6} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11.5} {:>7.3}",
-        row.scene,
-        row.device,
-        row.label(),
-        row.passes,
-        row.hash_build_ms,
-        row.gather_ms,
-        row.photon_pass_ms,
-        row.eye_pass_ms,
-        row.iteration_ms,
-        row.density_bytes as f64 / (1 << 20) as f64,
-        row.rel_mse_equal_passes,
-        row.mean_ratio
-    );
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn at(passes: u32, seconds: f64, rel_mse: f64) -> Checkpoint {
-        Checkpoint {
-            passes,
-            seconds,
-            rel_mse,
-        }
-    }
-
-    #[test]
-    fn scaled_error_does_not_depend_on_brightness() {
-        let image = |scale: f32, shift: f32| Image {
-            width: 2,
-            height: 2,
-            pixels: (0..4)
-                .map(|i| glam::Vec3::splat(scale * (i as f32 + shift)))
-                .collect(),
-        };
-        let bright = scaled_rel_mse(&image(1.0, 0.5), &image(1.0, 1.0));
-        let dark = scaled_rel_mse(&image(1e-4, 0.5), &image(1e-4, 1.0));
-        assert!(bright > 0.01);
-        assert!(
-            (bright - dark).abs() < 1e-6 * bright,
-            "{bright} against {dark}"
-        );
-    }
-
-    #[test]
-    fn error_at_interpolates_log_log_between_checkpoints() {
-        let checkpoints = [at(1, 1.0, 1.0), at(2, 4.0, 0.25), at(4, 16.0, 0.0625)];
-        // Error ∝ 1/t here, so log–log interpolation is exact.
-        assert!((error_at(&checkpoints, 2.0).unwrap() - 0.5).abs() < 1e-12);
-        assert!((error_at(&checkpoints, 8.0).unwrap() - 0.125).abs() < 1e-12);
-        assert_eq!(error_at(&checkpoints, 16.0), Some(0.0625));
-        assert_eq!(error_at(&checkpoints, 40.0), Some(0.0625));
-        assert_eq!(error_at(&checkpoints, 1.0), Some(1.0));
-        assert_eq!(error_at(&checkpoints, 0.5), None);
-        assert_eq!(error_at(&[], 1.0), None);
-    }
 }

@@ -175,18 +175,32 @@ fn full_hash_and_kd_tree_find_exactly_the_photons_in_the_sphere() {
 }
 
 fn render(density: Density, seed: u32) -> Image {
+    render_with(
+        Settings {
+            seed,
+            density,
+            ..render_settings()
+        },
+        24,
+    )
+}
+
+/// The renders' settings: 32², 8,192 photon slots, an eye pass every 2 passes.
+fn render_settings() -> Settings {
+    Settings {
+        eye_every: 2,
+        ..Settings::new(32, 32, 8192)
+    }
+}
+
+/// cornell-caustics on the CPU backend for `passes` passes.
+fn render_with(settings: Settings, passes: u32) -> Image {
     let scene = scene::testing::cornell_caustics();
     let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
     let camera = scene.camera(None).unwrap();
     let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
-    let settings = Settings {
-        seed,
-        density,
-        eye_every: 2,
-        ..Settings::new(32, 32, 8192)
-    };
     let mut sppm = Sppm::new(backend, &scene, &camera, settings).unwrap();
-    sppm.run(Budget::Passes(24), &mut |_| {}).unwrap().image
+    sppm.run(Budget::Passes(passes), &mut |_| {}).unwrap().image
 }
 
 fn rel_mse(a: &Image, b: &Image) -> f64 {
@@ -232,18 +246,12 @@ fn the_methods_render_the_same_picture() {
 #[test]
 fn f16_storage_renders_the_f32_picture() {
     let render = |precision, seed| {
-        let scene = scene::testing::cornell_caustics();
-        let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
-        let camera = scene.camera(None).unwrap();
-        let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
         let settings = Settings {
             seed,
             precision,
-            eye_every: 2,
-            ..Settings::new(32, 32, 8192)
+            ..render_settings()
         };
-        let mut sppm = Sppm::new(backend, &scene, &camera, settings).unwrap();
-        sppm.run(Budget::Passes(8), &mut |_| {}).unwrap().image
+        render_with(settings, 8)
     };
     use render::half_storage::Precision;
     let full = render(Precision::F32, 4);

@@ -434,18 +434,7 @@ impl GpuBackend {
             params.storage_flux_scale,
         );
         let packed: Vec<HalfPoint> = self.read_state(|s| (&s.photons, count(s)))?;
-        Ok(packed
-            .iter()
-            .map(|h| {
-                let (position, normal, flux) = h.unpack(origin);
-                Photon {
-                    position: position.to_array(),
-                    normal,
-                    flux: (flux / scale).to_array(),
-                    pad: 0,
-                }
-            })
-            .collect())
+        Ok(packed.iter().map(|h| h.to_photon(origin, scale)).collect())
     }
 
     pub fn read_slots(&mut self) -> Result<Vec<PathSlot>, BackendError> {
@@ -460,18 +449,7 @@ impl GpuBackend {
         }
         let origin = render::buffers::vec3(self.state()?.params.storage_origin);
         let packed: Vec<HalfPoint> = self.read_state(|s| (&s.visible_points, count(s)))?;
-        Ok(packed
-            .iter()
-            .map(|h| {
-                let (position, normal, weight) = h.unpack(origin);
-                VisiblePoint {
-                    position: position.to_array(),
-                    normal,
-                    weight: weight.to_array(),
-                    pad: 0,
-                }
-            })
-            .collect())
+        Ok(packed.iter().map(|h| h.to_visible_point(origin)).collect())
     }
 
     /// The hash table's words (entry-major: priority, count, winner).

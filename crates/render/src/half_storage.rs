@@ -80,6 +80,28 @@ impl HalfPoint {
         let (g, b) = unpack2(self.g_b);
         (Vec3::new(x, y, z) + origin, self.normal, Vec3::new(r, g, b))
     }
+
+    /// The photon it stores, its flux stored × `flux_scale`.
+    pub fn to_photon(&self, origin: Vec3, flux_scale: f32) -> Photon {
+        let (position, normal, flux) = self.unpack(origin);
+        Photon {
+            position: position.to_array(),
+            normal,
+            flux: (flux / flux_scale).to_array(),
+            pad: 0,
+        }
+    }
+
+    /// The visible point it stores.
+    pub fn to_visible_point(&self, origin: Vec3) -> VisiblePoint {
+        let (position, normal, weight) = self.unpack(origin);
+        VisiblePoint {
+            position: position.to_array(),
+            normal,
+            weight: weight.to_array(),
+            pad: 0,
+        }
+    }
 }
 
 /// A photon as the f16 storage gives it back, its flux stored × `flux_scale` (an unstored
@@ -89,14 +111,8 @@ pub fn round_photon(photon: &Photon, origin: Vec3, flux_scale: f32) -> Photon {
         return Photon::default();
     }
     let flux = vec3(photon.flux) * flux_scale;
-    let packed = HalfPoint::pack(vec3(photon.position), photon.normal, flux, origin);
-    let (position, normal, flux) = packed.unpack(origin);
-    Photon {
-        position: position.to_array(),
-        normal,
-        flux: (flux / flux_scale).to_array(),
-        pad: 0,
-    }
+    HalfPoint::pack(vec3(photon.position), photon.normal, flux, origin)
+        .to_photon(origin, flux_scale)
 }
 
 /// A visible point as the f16 storage gives it back.
@@ -110,13 +126,7 @@ pub fn round_visible_point(point: &VisiblePoint, origin: Vec3) -> VisiblePoint {
         vec3(point.weight),
         origin,
     );
-    let (position, normal, weight) = packed.unpack(origin);
-    VisiblePoint {
-        position: position.to_array(),
-        normal,
-        weight: weight.to_array(),
-        pad: 0,
-    }
+    packed.to_visible_point(origin)
 }
 
 #[cfg(test)]

@@ -31,13 +31,13 @@ use render::half_storage::Precision;
 use render::integrator::Phase;
 use render::{Backend, Density, Image, Settings, Sppm};
 
-use super::host::{cpu_model, median, open_gpu};
+use super::host::{AdapterReport, cpu_model, median, open_gpu};
 use crate::cli::{BenchDevice, DensityArgs, DensityMethod};
 use crate::image_io::{ExrPrecision, Output, read_image};
 use crate::image_metrics::mean_ratio;
 use report::{
-    AdapterReport, Checkpoint, ReferenceReport, Report, Row, equal_time, print_header, print_row,
-    print_speedups, scaled_rel_mse, speedups,
+    Checkpoint, ReferenceReport, Report, Row, equal_time, print_header, print_row, print_speedups,
+    scaled_rel_mse, speedups,
 };
 
 /// Passes of each method's warm-up render.
@@ -64,12 +64,7 @@ pub fn run(args: &DensityArgs) -> anyhow::Result<()> {
     }
     let gpu = open_gpu(&args.devices, args.adapter.as_deref())?;
     let mut report = Report {
-        adapter: gpu.as_ref().map(|c| AdapterReport {
-            name: c.info.name.clone(),
-            backend: c.info.backend.to_string(),
-            driver: gpu::device::driver(&c.info),
-            device_type: format!("{:?}", c.info.device_type),
-        }),
+        adapter: gpu.as_ref().map(AdapterReport::of),
         cpu_model: cpu_model(),
         cpu_threads: rayon::current_num_threads(),
         gpu_timing: gpu

@@ -2,8 +2,30 @@
 
 pub use cpu::cpu_model;
 use gpu::{GpuContext, GpuError};
+use serde::Serialize;
 
 use crate::cli::BenchDevice;
+
+/// The adapter a report names (JSON: name, backend, driver, device_type).
+#[derive(Serialize)]
+pub struct AdapterReport {
+    name: String,
+    backend: String,
+    driver: String,
+    device_type: String,
+}
+
+impl AdapterReport {
+    pub fn of(context: &GpuContext) -> AdapterReport {
+        let info = &context.info;
+        AdapterReport {
+            name: info.name.clone(),
+            backend: info.backend.to_string(),
+            driver: gpu::device::driver(info),
+            device_type: format!("{:?}", info.device_type),
+        }
+    }
+}
 
 /// The GPU when `devices` includes it; with no adapter at all and no `adapter` asked for, the
 /// CPU backend runs alone (said on stderr).

@@ -28,7 +28,7 @@ use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::{BackendError, PhotonTracing, Settings, Sppm};
 
-use super::host::{cpu_model, median, open_gpu};
+use super::host::{self, cpu_model, median, open_gpu};
 use super::occupancy;
 use crate::cli::{BenchDevice, PhotonsArgs};
 
@@ -66,10 +66,8 @@ struct Report {
 
 #[derive(Serialize)]
 struct AdapterReport {
-    name: String,
-    backend: String,
-    driver: String,
-    device_type: String,
+    #[serde(flatten)]
+    adapter: host::AdapterReport,
     /// The adapter's largest subgroup (SIMD) size: the lockstep width of the GPU rows.
     subgroup_size: u32,
 }
@@ -176,12 +174,8 @@ pub fn run(args: &PhotonsArgs) -> anyhow::Result<()> {
 }
 
 fn adapter_report(context: &GpuContext) -> AdapterReport {
-    let info = &context.info;
     AdapterReport {
-        name: info.name.clone(),
-        backend: info.backend.to_string(),
-        driver: gpu::device::driver(info),
-        device_type: format!("{:?}", info.device_type),
+        adapter: host::AdapterReport::of(context),
         subgroup_size: lockstep_width(context),
     }
 }

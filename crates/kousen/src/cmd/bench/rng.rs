@@ -34,7 +34,7 @@ use render::buffers::{PathSlot, SppmParams, counter};
 use render::random::{FractSin, Pcg, StreamRng, TalkFloat, Tea, battery};
 use render::{Backend, BackendError, PhotonTracing, Settings, Sppm};
 
-use super::host::{cpu_model, median, open_gpu};
+use super::host::{AdapterReport, cpu_model, median, open_gpu};
 use crate::cli::{BenchDevice, RngArgs};
 
 mod draws;
@@ -70,14 +70,6 @@ struct Report {
     draw_rates: Vec<DrawRow>,
     results: Vec<Row>,
     images: Vec<ImageRow>,
-}
-
-#[derive(Serialize)]
-struct AdapterReport {
-    name: String,
-    backend: String,
-    driver: String,
-    device_type: String,
 }
 
 #[derive(Serialize)]
@@ -161,7 +153,7 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         bail!("--image renders on the GPU, and no GPU adapter is in use (see --devices)");
     }
     let mut report = Report {
-        adapter: gpu.as_ref().map(adapter_report),
+        adapter: gpu.as_ref().map(AdapterReport::of),
         cpu_model: cpu_model(),
         cpu_threads: rayon::current_num_threads(),
         gpu_timing: gpu.as_ref().map(|_| "wall"),
@@ -224,16 +216,6 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-fn adapter_report(context: &GpuContext) -> AdapterReport {
-    let info = &context.info;
-    AdapterReport {
-        name: info.name.clone(),
-        backend: info.backend.to_string(),
-        driver: gpu::device::driver(info),
-        device_type: format!("{:?}", info.device_type),
-    }
 }
 
 fn print_battery(rows: &[BatteryRow], draws: u32) {

@@ -5,6 +5,8 @@ use serde::Serialize;
 
 use render::Image;
 
+use crate::cmd::bench::host::AdapterReport;
+
 use crate::image_metrics::rel_mse;
 
 /// The JSON report (a contract for scripts: adapter, cpu_model, command, results[...] with
@@ -28,14 +30,6 @@ pub(super) struct Report {
     pub(super) results: Vec<Row>,
     /// Table 5: the CPU backend's times over the GPU's, per scene and method.
     pub(super) gpu_over_cpu: Vec<Speedup>,
-}
-
-#[derive(Serialize)]
-pub(super) struct AdapterReport {
-    pub(super) name: String,
-    pub(super) backend: String,
-    pub(super) driver: String,
-    pub(super) device_type: String,
 }
 
 #[derive(Serialize)]

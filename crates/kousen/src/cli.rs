@@ -54,6 +54,20 @@ pub struct DiffArgs {
     /// Also write the figures as JSON (a contract for scripts).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Compare only this rectangle of both images: left column, top row, width, height in
+    /// pixels (e.g. a caustic).
+    #[arg(long, value_name = "X,Y,W,H", value_parser = parse_window)]
+    pub window: Option<[u32; 4]>,
+}
+
+fn parse_window(text: &str) -> Result<[u32; 4], String> {
+    let values: Result<Vec<u32>, _> = text.split(',').map(|p| p.trim().parse::<u32>()).collect();
+    match values {
+        Ok(v) if v.len() == 4 && v[2] > 0 && v[3] > 0 => Ok([v[0], v[1], v[2], v[3]]),
+        _ => Err(format!(
+            "expected four whole numbers \"x,y,width,height\" with width and height above 0, got {text:?}"
+        )),
+    }
 }
 
 #[derive(Args)]
@@ -92,6 +106,40 @@ impl StoragePrecision {
             StoragePrecision::F16 => render::half_storage::Precision::F16,
         }
     }
+}
+
+/// How `kousen render` and `kousen view` find the photons around each visible point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DensityChoice {
+    /// The stochastic spatial hash: one photon kept per table entry, weighted by the entry's
+    /// count (the talk's; cheapest per pass).
+    Stochastic,
+    /// Every photon, in per-entry lists sorted each pass (less noise per pass; on the CPU
+    /// backend the better choice, docs/BENCHMARKS.md §3 and §7).
+    Full,
+    /// A kd-tree over each pass's photons, built on the CPU.
+    Kdtree,
+}
+
+impl DensityChoice {
+    pub fn density(self) -> render::Density {
+        match self {
+            DensityChoice::Stochastic => render::Density::StochasticHash,
+            DensityChoice::Full => render::Density::FullHash,
+            DensityChoice::Kdtree => render::Density::KdTree,
+        }
+    }
+}
+
+/// Density estimation and storage, shared by `kousen render` and `kousen view`.
+#[derive(Args, Clone, Copy)]
+pub struct EstimatorArgs {
+    /// How photons are found around each visible point.
+    #[arg(long, value_enum, default_value_t = DensityChoice::Stochastic)]
+    pub density: DensityChoice,
+    /// How photons and visible points are stored on the device (f16: half the memory).
+    #[arg(long, value_enum, default_value_t = StoragePrecision::F32)]
+    pub precision: StoragePrecision,
 }
 
 /// A density-estimation method as `kousen bench density` names it.
@@ -402,6 +450,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Integrator::Sppm)]
     pub integrator: Integrator,
     #[command(flatten)]
+    pub estimator: EstimatorArgs,
+    #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
@@ -433,6 +483,8 @@ pub struct ViewArgs {
     /// An eye pass every this many photon passes.
     #[arg(long, value_name = "K", default_value_t = render::settings::DEFAULT_EYE_EVERY)]
     pub eye_every: u32,
+    #[command(flatten)]
+    pub estimator: EstimatorArgs,
     /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
     #[arg(long, value_name = "SUBSTRING")]
     pub adapter: Option<String>,

@@ -28,6 +28,17 @@ pub fn rmse(a: &Image, b: &Image) -> f64 {
     mean_over_channels(a, b, |a, b| (a - b).powi(2)).sqrt()
 }
 
+/// The rectangle `[x, y, width, height]` of `image`, which must lie inside it.
+pub fn crop(image: &Image, [x, y, width, height]: [u32; 4]) -> Image {
+    let pixels = (y..y + height)
+        .flat_map(|row| {
+            let start = (row * image.width + x) as usize;
+            image.pixels[start..start + width as usize].iter().copied()
+        })
+        .collect();
+    Image::new(width, height, pixels)
+}
+
 /// mean(A) / mean(B).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeanRatio {
@@ -94,6 +105,16 @@ mod tests {
         let ratio = mean_ratio(&image, &image);
         assert_eq!(ratio.rgb, [1.0; 3]);
         assert_eq!(ratio.overall, 1.0);
+    }
+
+    #[test]
+    fn crop_takes_the_rectangle_row_by_row() {
+        let image = Image::new(4, 3, (0..12).map(|i| Vec3::splat(i as f32)).collect());
+        let window = crop(&image, [1, 1, 2, 2]);
+        assert_eq!((window.width, window.height), (2, 2));
+        let values: Vec<f32> = window.pixels.iter().map(|p| p.x).collect();
+        assert_eq!(values, [5.0, 6.0, 9.0, 10.0]);
+        assert_eq!(crop(&image, [0, 0, 4, 3]), image);
     }
 
     #[test]

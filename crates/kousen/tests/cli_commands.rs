@@ -75,6 +75,8 @@ fn render_writes_a_readable_png_of_the_requested_size() {
         "4096",
         "--backend",
         "cpu",
+        "--density",
+        "kdtree",
         "--stats",
         stats.to_str().unwrap(),
     ]);
@@ -103,6 +105,8 @@ fn render_writes_a_readable_png_of_the_requested_size() {
     assert_eq!(stats["passes"], 2);
     assert_eq!(stats["eye_passes"], 1);
     assert_eq!(stats["backend"], "cpu");
+    assert_eq!(stats["density"], "kdtree");
+    assert_eq!(stats["precision"], "f32");
     assert!(stats["photon_paths"].as_u64().unwrap() >= 4096);
 }
 
@@ -131,6 +135,10 @@ fn render_on_the_gpu_writes_exr_and_stats() {
         "2048",
         "--backend",
         "gpu",
+        "--density",
+        "full",
+        "--precision",
+        "f16",
         "--stats",
         stats.to_str().unwrap(),
     ]);
@@ -144,6 +152,8 @@ fn render_on_the_gpu_writes_exr_and_stats() {
     assert_eq!(stats["passes"], 3);
     assert_eq!(stats["eye_passes"], 2);
     assert_eq!(stats["backend"], "gpu");
+    assert_eq!(stats["density"], "full");
+    assert_eq!(stats["precision"], "f16");
     assert!(stats["photon_paths"].as_u64().unwrap() >= 2048);
     assert!(stats["seconds"].as_f64().unwrap() > 0.0);
     assert!(stats["host_cpu_seconds"].as_f64().unwrap() >= 0.0);

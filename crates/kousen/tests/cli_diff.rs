@@ -17,6 +17,23 @@ fn pfm(dir: &Path, name: &str, width: u32, height: u32, pixel: [f32; 3]) -> Path
     write(dir, name, &bytes)
 }
 
+/// A colour PFM whose pixel at column x, row y (row 0 at the top, as images are shown) is
+/// `pixel(x, y)`.
+fn pfm_with(
+    dir: &Path,
+    name: &str,
+    (width, height): (u32, u32),
+    pixel: impl Fn(u32, u32) -> [f32; 3],
+) -> PathBuf {
+    let mut bytes = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    for y in (0..height).rev() {
+        for x in 0..width {
+            bytes.extend(pixel(x, y).iter().flat_map(|c| c.to_le_bytes()));
+        }
+    }
+    write(dir, name, &bytes)
+}
+
 fn diff(a: &Path, b: &Path, extra: &[&str]) -> std::process::Output {
     let mut args = vec!["diff", a.to_str().unwrap(), b.to_str().unwrap()];
     args.extend(extra);
@@ -81,6 +98,55 @@ fn diff_prints_the_closed_form_figures() {
         (written["width"].as_u64(), written["height"].as_u64()),
         (Some(3), Some(2))
     );
+}
+
+#[test]
+fn diff_in_a_window_measures_only_its_pixels() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = pfm(dir.path(), "b.pfm", 4, 3, [1.0; 3]);
+    // Twice the reference in the top row's two middle pixels, equal elsewhere.
+    let image = pfm_with(dir.path(), "a.pfm", (4, 3), |x, y| {
+        if y == 0 && (1..3).contains(&x) {
+            [2.0; 3]
+        } else {
+            [1.0; 3]
+        }
+    });
+    let json = dir.path().join("window.json");
+    let inside = figures(&diff(
+        &image,
+        &reference,
+        &["--window", "1,0,2,1", "--json", json.to_str().unwrap()],
+    ));
+    assert_close(&inside, "rmse", 1.0);
+    assert_close(&inside, "mean_ratio", 2.0);
+    assert_close(&inside, "rel_mse", 1.0 / 1.01);
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(written["window"], serde_json::json!([1, 0, 2, 1]));
+    assert_eq!(
+        (written["width"].as_u64(), written["height"].as_u64()),
+        (Some(2), Some(1))
+    );
+    let below = figures(&diff(&image, &reference, &["--window", "0,1,4,2"]));
+    assert_eq!(below["rmse"], 0.0);
+    let whole = figures(&diff(&image, &reference, &[]));
+    assert_close(&whole, "rmse", (2.0f64 / 12.0).sqrt());
+}
+
+#[test]
+fn diff_window_outside_the_images_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = pfm(dir.path(), "a.pfm", 4, 3, [1.0; 3]);
+    let outside = diff(&image, &image, &["--window", "3,0,2,1"]);
+    assert_clean_error(&outside, "outside the 4x3 images");
+    // Malformed rectangles are usage errors from the argument parser (exit 2).
+    for bad in ["0,0,0,1", "1,2", "a,b,c,d"] {
+        let output = diff(&image, &image, &["--window", bad]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{bad}: {stderr}");
+        assert!(stderr.contains("x,y,width,height"), "{bad}: {stderr}");
+    }
 }
 
 #[test]

@@ -6,11 +6,11 @@ use serde_json::{Value, json};
 
 use crate::cli::DiffArgs;
 use crate::image_io::read_image;
-use crate::image_metrics::{mean_ratio, rel_mse, rmse};
+use crate::image_metrics::{crop, mean_ratio, rel_mse, rmse};
 
 pub fn run(args: &DiffArgs) -> anyhow::Result<()> {
-    let image = read_image(&args.image)?;
-    let reference = read_image(&args.reference)?;
+    let mut image = read_image(&args.image)?;
+    let mut reference = read_image(&args.reference)?;
     if (image.width, image.height) != (reference.width, reference.height) {
         bail!(
             "{} is {}x{} but {} is {}x{}: the images must be the same size",
@@ -21,6 +21,20 @@ pub fn run(args: &DiffArgs) -> anyhow::Result<()> {
             reference.width,
             reference.height
         );
+    }
+    if let Some(window) = args.window {
+        let [x, y, w, h] = window;
+        if u64::from(x) + u64::from(w) > u64::from(image.width)
+            || u64::from(y) + u64::from(h) > u64::from(image.height)
+        {
+            bail!(
+                "--window {x},{y},{w},{h} reaches outside the {}x{} images",
+                image.width,
+                image.height
+            );
+        }
+        image = crop(&image, window);
+        reference = crop(&reference, window);
     }
     let ratio = mean_ratio(&image, &reference);
     // The names are a contract for scripts: printed as "name value", the same keys in JSON.
@@ -42,6 +56,9 @@ pub fn run(args: &DiffArgs) -> anyhow::Result<()> {
             "width": image.width,
             "height": image.height,
         });
+        if let Some(window) = args.window {
+            report["window"] = json!(window);
+        }
         for (name, value) in figures {
             // Non-finite figures (the mean ratio against a black reference) become null.
             report[name] = Value::from(value);

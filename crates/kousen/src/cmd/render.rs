@@ -44,6 +44,8 @@ struct Stats {
     hash_entries: u32,
     alpha: f32,
     eye_every: u32,
+    density: &'static str,
+    precision: &'static str,
     seed: u64,
     mean_radiance: [f32; 3],
     /// Bytes allocated by the backend, by kind.
@@ -89,6 +91,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         eye_every: args.eye_every,
         hash_ratio: args.hash_ratio,
         max_depth: args.max_depth,
+        density: args.estimator.density.density(),
+        precision: args.estimator.precision.precision(),
         seed: fold_seed(args.seed),
         ..Settings::new(
             width,
@@ -193,6 +197,8 @@ fn finish<B: Backend>(
             hash_entries: settings.hash_size(),
             alpha: settings.alpha,
             eye_every: settings.eye_every,
+            density: settings.density.name(),
+            precision: settings.precision.name(),
             seed: args.seed,
             mean_radiance: rendered.image.mean().to_array(),
             memory_bytes: sppm.backend().memory().into_iter().collect(),

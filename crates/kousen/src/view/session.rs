@@ -43,6 +43,9 @@ pub struct RenderControls {
     pub photons: u32,
     pub alpha: f32,
     pub eye_every: u32,
+    /// Fixed for the window's life (`--density`, `--precision`).
+    pub density: render::Density,
+    pub precision: render::half_storage::Precision,
 }
 
 /// Figures for the overlay.
@@ -103,6 +106,8 @@ impl Session {
         let settings = Settings {
             alpha: controls.alpha,
             eye_every: controls.eye_every,
+            density: controls.density,
+            precision: controls.precision,
             initial_radius: render::integrator::initial_radius_from_view(
                 &self.bvh, camera, width, height,
             ),

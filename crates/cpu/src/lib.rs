@@ -234,9 +234,13 @@ impl Backend for CpuBackend {
                     .for_each(|p| density::full_count(params, counters, hash, p));
                 state.block_offsets = density::full_scan(hash);
                 let (offsets, order) = (&state.block_offsets, &state.photon_order);
-                state.photons.par_iter().enumerate().for_each(|(i, p)| {
-                    density::full_scatter(params, counters, hash, offsets, order, i as u32, p)
-                });
+                // In photon order, on one thread: each list then holds its photons in index
+                // order, so the gather sums them in the same order every run and the image
+                // is reproducible (the GPU's atomics list them in arrival order). It costs
+                // about a millisecond per 65k photons.
+                for (i, p) in state.photons.iter().enumerate() {
+                    density::full_scatter(params, counters, hash, offsets, order, i as u32, p);
+                }
             }
             Density::KdTree => state.kd_tree = Some(PhotonKdTree::build(&state.photons)),
         }

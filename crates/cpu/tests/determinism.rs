@@ -1,9 +1,10 @@
-//! Same seed, same backend → the same image, bit for bit (the CPU backend's atomics only count
-//! and take maxima, so thread timing cannot change a result); another seed → another image.
+//! Same seed, same backend → the same image, bit for bit, with every density estimator (the
+//! CPU backend's atomics only count and take maxima, and the full hash's lists are filled in
+//! photon order, so thread timing cannot change a result); another seed → another image.
 
-use render::{Budget, Image, Settings, Sppm};
+use render::{Budget, Density, Image, Settings, Sppm};
 
-fn render(seed: u32) -> Image {
+fn render(seed: u32, density: Density) -> Image {
     let scene = scene::testing::cornell_caustics();
     let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
     let camera = scene.camera(None).unwrap();
@@ -11,6 +12,7 @@ fn render(seed: u32) -> Image {
     let settings = Settings {
         seed,
         eye_every: 2,
+        density,
         ..Settings::new(24, 24, 4096)
     };
     let mut sppm = Sppm::new(backend, &scene, &camera, settings).unwrap();
@@ -19,8 +21,13 @@ fn render(seed: u32) -> Image {
 
 #[test]
 fn same_seed_gives_the_same_image() {
-    let (a, b) = (render(5), render(5));
-    assert!(a.pixels.iter().any(|p| p.max_element() > 0.0));
-    assert_eq!(a, b);
-    assert_ne!(a, render(6));
+    for density in Density::ALL {
+        let (a, b) = (render(5, density), render(5, density));
+        assert!(
+            a.pixels.iter().any(|p| p.max_element() > 0.0),
+            "{density:?}"
+        );
+        assert_eq!(a, b, "{density:?}");
+        assert_ne!(a, render(6, density), "{density:?}");
+    }
 }

@@ -111,20 +111,25 @@ impl StoragePrecision {
 /// How `kousen render` and `kousen view` find the photons around each visible point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum DensityChoice {
+    /// Full lists on the CPU backend, the stochastic hash on a GPU adapter: each backend's
+    /// faster way to a given error (docs/BENCHMARKS.md §3 and §7).
+    Auto,
     /// The stochastic spatial hash: one photon kept per table entry, weighted by the entry's
     /// count (the talk's; cheapest per pass).
     Stochastic,
-    /// Every photon, in per-entry lists sorted each pass (less noise per pass; on the CPU
-    /// backend the better choice, docs/BENCHMARKS.md §3 and §7).
+    /// Every photon, in per-entry lists sorted each pass (less noise per pass; on a GPU the
+    /// lists fill in arrival order, so images vary in the last bits run to run).
     Full,
     /// A kd-tree over each pass's photons, built on the CPU.
     Kdtree,
 }
 
 impl DensityChoice {
-    pub fn density(self) -> render::Density {
+    /// The estimator for a render on the CPU backend (`on_cpu`) or a GPU adapter.
+    pub fn density(self, on_cpu: bool) -> render::Density {
         match self {
-            DensityChoice::Stochastic => render::Density::StochasticHash,
+            DensityChoice::Auto if on_cpu => render::Density::FullHash,
+            DensityChoice::Auto | DensityChoice::Stochastic => render::Density::StochasticHash,
             DensityChoice::Full => render::Density::FullHash,
             DensityChoice::Kdtree => render::Density::KdTree,
         }
@@ -135,7 +140,7 @@ impl DensityChoice {
 #[derive(Args, Clone, Copy)]
 pub struct EstimatorArgs {
     /// How photons are found around each visible point.
-    #[arg(long, value_enum, default_value_t = DensityChoice::Stochastic)]
+    #[arg(long, value_enum, default_value_t = DensityChoice::Auto)]
     pub density: DensityChoice,
     /// How photons and visible points are stored on the device (f16: half the memory).
     #[arg(long, value_enum, default_value_t = StoragePrecision::F32)]
@@ -430,8 +435,8 @@ pub struct RenderArgs {
     /// Write statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
-    /// Photon path slots per pass (default: one per pixel, capped at 2¹⁸ on CPUs and CPU-type
-    /// adapters, 2²⁰ on GPUs).
+    /// Photon path slots per pass (default: one per pixel with the stochastic hash, four with
+    /// full lists or the kd-tree; at most 2¹⁸ on CPUs and CPU-type adapters, 2²⁰ on GPUs).
     #[arg(long, value_name = "N")]
     pub photons: Option<u32>,
     /// SPPM's radius reduction α, in (0, 1).
@@ -443,6 +448,10 @@ pub struct RenderArgs {
     /// Hash table entries per photon slot (1 = 1:1, 0.125 = 1:8).
     #[arg(long, value_name = "RATIO", default_value_t = 1.0)]
     pub hash_ratio: f32,
+    /// Every pixel's first gather radius, in pixel footprints on the surfaces the camera sees
+    /// (smaller: sharper caustics sooner, more noise).
+    #[arg(long, value_name = "FOOTPRINTS", default_value_t = render::settings::INITIAL_RADIUS_FOOTPRINTS)]
+    pub radius: f32,
     /// Bounces before a photon or eye path is cut off.
     #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH)]
     pub max_depth: u32,

@@ -110,6 +110,40 @@ fn render_writes_a_readable_png_of_the_requested_size() {
     assert!(stats["photon_paths"].as_u64().unwrap() >= 4096);
 }
 
+/// Left to choose, the CPU backend gathers from full lists with four photon slots per pixel,
+/// and says so in --stats.
+#[test]
+fn render_on_the_cpu_defaults_to_full_lists() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box.pfm");
+    let stats = dir.path().join("stats.json");
+    let scene = shipped("cornell-box.gltf");
+    let output = kousen(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--passes",
+        "2",
+        "--backend",
+        "cpu",
+        "--stats",
+        stats.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(stats["density"], "full");
+    assert_eq!(stats["photon_slots"], 4 * 64 * 64);
+}
+
 /// The GPU backend (lavapipe in CI) renders to EXR, and --stats keeps its contract: passes,
 /// eye passes, paths, time, backend, adapter, host CPU time and memory by buffer kind.
 #[test]

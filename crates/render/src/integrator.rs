@@ -68,6 +68,17 @@ pub fn initial_radius_from_view(
     width: u32,
     height: u32,
 ) -> Option<f32> {
+    initial_radius_in_footprints(bvh, camera, width, height, INITIAL_RADIUS_FOOTPRINTS)
+}
+
+/// [`initial_radius_from_view`] with `footprints` pixel footprints instead of glslppm's 2.5.
+pub fn initial_radius_in_footprints(
+    bvh: &bvh::PackedBvh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    footprints: f32,
+) -> Option<f32> {
     let aspect = width as f32 / height as f32;
     let mut bounds = scene::Bounds::EMPTY;
     for j in 0..RADIUS_PROBES {
@@ -88,8 +99,8 @@ pub fn initial_radius_from_view(
         return None;
     }
     let mean_side = bounds.extent().element_sum() / 3.0;
-    let radius = INITIAL_RADIUS_FOOTPRINTS * mean_side / width.max(height) as f32;
-    (radius > 0.0).then_some(radius)
+    let radius = footprints * mean_side / width.max(height) as f32;
+    (radius > 0.0 && radius.is_finite()).then_some(radius)
 }
 
 /// The render-wide constants for a scene, camera and settings.

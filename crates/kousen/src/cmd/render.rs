@@ -14,17 +14,22 @@ use crate::progress::ProgressBar;
 
 /// Photon passes when neither --passes nor --time is given.
 const DEFAULT_PASSES: u32 = 256;
-/// Photon slots per pass: one per pixel (glslppm's choice; the stochastic hash keeps one
-/// photon per cell, so many more slots than pixels mostly trace photons it drops: at 128²,
-/// 2¹⁴ slots reached half the error of 2¹⁸ in the same time, docs/BENCHMARKS.md §3), at
-/// least [`MIN_SLOTS`] and at most the device's cap: 2¹⁸ on CPU-type devices (glslppm's 512²)
-/// and the CPU backend, 2²⁰ on GPUs.
+/// Photon slots per pass: with the stochastic hash one per pixel (glslppm's choice; it keeps
+/// one photon per cell, so many more slots than pixels mostly trace photons it drops: at
+/// 128², 2¹⁴ slots reached half the error of 2¹⁸ in the same time, docs/BENCHMARKS.md §3);
+/// with full lists or a kd-tree, which use every photon, four per pixel (measured there to
+/// reach a given error sooner than one). At least [`MIN_SLOTS`] and at most the device's cap:
+/// 2¹⁸ on CPU-type devices (glslppm's 512²) and the CPU backend, 2²⁰ on GPUs.
 const MIN_SLOTS: u32 = 1 << 12;
 const DEFAULT_SLOTS_CPU: u32 = 1 << 18;
 const DEFAULT_SLOTS_GPU: u32 = 1 << 20;
 
-fn default_slots(width: u32, height: u32, cap: u32) -> u32 {
-    (width as u64 * height as u64).clamp(MIN_SLOTS as u64, cap as u64) as u32
+fn default_slots(width: u32, height: u32, density: render::Density, cap: u32) -> u32 {
+    let per_pixel = match density {
+        render::Density::StochasticHash => 1,
+        render::Density::FullHash | render::Density::KdTree => 4,
+    };
+    (width as u64 * height as u64 * per_pixel).clamp(MIN_SLOTS as u64, cap as u64) as u32
 }
 
 #[derive(Serialize)]
@@ -84,21 +89,32 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         return super::path_render::run(args, &scene, &bvh, camera, width, height, budget, output);
     }
 
-    let initial_radius = render::integrator::initial_radius_from_view(&bvh, &camera, width, height);
-    let settings = |slots: u32| Settings {
-        initial_radius,
-        alpha: args.alpha,
-        eye_every: args.eye_every,
-        hash_ratio: args.hash_ratio,
-        max_depth: args.max_depth,
-        density: args.estimator.density.density(),
-        precision: args.estimator.precision.precision(),
-        seed: fold_seed(args.seed),
-        ..Settings::new(
-            width,
-            height,
-            args.photons.unwrap_or(default_slots(width, height, slots)),
-        )
+    if !(args.radius.is_finite() && args.radius > 0.0 && args.radius <= 1e6) {
+        bail!(
+            "--radius must be a positive number of pixel footprints, got {}",
+            args.radius
+        );
+    }
+    let initial_radius =
+        render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, args.radius);
+    let settings = |on_cpu: bool, cap: u32| {
+        let density = args.estimator.density.density(on_cpu);
+        Settings {
+            initial_radius,
+            alpha: args.alpha,
+            eye_every: args.eye_every,
+            hash_ratio: args.hash_ratio,
+            max_depth: args.max_depth,
+            density,
+            precision: args.estimator.precision.precision(),
+            seed: fold_seed(args.seed),
+            ..Settings::new(
+                width,
+                height,
+                args.photons
+                    .unwrap_or(default_slots(width, height, density, cap)),
+            )
+        }
     };
     let gpu_context = match args.backend {
         BackendChoice::Cpu => None,
@@ -131,7 +147,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             args,
             &scene,
             &camera,
-            settings(slots),
+            settings(false, slots),
             backend,
             budget,
             output,
@@ -142,7 +158,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             args,
             &scene,
             &camera,
-            settings(DEFAULT_SLOTS_CPU),
+            settings(true, DEFAULT_SLOTS_CPU),
             backend,
             budget,
             output,

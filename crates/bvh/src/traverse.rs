@@ -149,22 +149,25 @@ fn trace_threaded(
 ) -> Option<Hit> {
     let slab_ray = SlabRay::new(ray);
     let mut best: Option<Hit> = None;
+    let mut t_best = ray.t_max;
     let mut node = root;
     while node != LINK_END {
         let current = &bvh.nodes[node as usize];
-        let t_best = best.map_or(ray.t_max, |h| h.t);
+        let link = links[node as usize];
         counters.boxes += 1;
-        if intersect_box(current, &slab_ray, t_best) < f32::INFINITY {
-            if current.triangle_count > 0
-                && test_leaf(bvh, current, ray, query, &mut best, counters)
-                && query == Query::Any
-            {
+        let entered = intersect_box(current, &slab_ray, t_best) < f32::INFINITY;
+        if entered
+            && current.triangle_count > 0
+            && test_leaf(bvh, current, ray, query, &mut best, counters)
+        {
+            if query == Query::Any {
                 return best;
             }
-            node = links[node as usize].hit;
-        } else {
-            node = links[node as usize].miss;
+            t_best = best.map_or(t_best, |h| h.t);
         }
+        // A select rather than a branch: whether a box is entered is close to a coin toss,
+        // which a branch predictor cannot learn.
+        node = if entered { link.hit } else { link.miss };
     }
     best
 }

@@ -91,14 +91,11 @@ fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -
         }
         let current = bvh_nodes[node];
         let links = bvh_links[link_base + node];
-        if intersect_box(current, slab, best.t) < NO_DISTANCE {
-            if current.triangle_count > 0u && test_leaf(current, ray, &best, stop_at_first) && stop_at_first {
-                break;
-            }
-            node = links.hit;
-        } else {
-            node = links.miss;
+        let entered = intersect_box(current, slab, best.t) < NO_DISTANCE;
+        if entered && current.triangle_count > 0u && test_leaf(current, ray, &best, stop_at_first) && stop_at_first {
+            break;
         }
+        node = select(links.miss, links.hit, entered);
     }
     return best;
 }

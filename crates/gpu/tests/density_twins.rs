@@ -3,8 +3,9 @@
 //!
 //! - full spatial hash: the prefix sum over the GPU's counts equals `render::density::
 //!   scan_counts` word for word; the scatter lists every stored photon exactly once, under the
-//!   entry the CPU hashes it to; the gather over the GPU's lists equals `cpu::density::
-//!   full_query`'s;
+//!   entry the CPU hashes it to, each list sorted by photon index; the gather over the GPU's
+//!   lists equals `cpu::density::full_query`'s; two renders with the same seed give the same
+//!   image, bit for bit;
 //! - kd-tree: the gather over the tree uploaded from the GPU's photons equals the CPU's query
 //!   of the same tree.
 //!
@@ -161,7 +162,12 @@ fn full_hash_matches_its_cpu_twin_on_the_gpu_state() {
         let mut moved = 0;
         for (entry, words) in words.chunks(HASH_ENTRY_WORDS).enumerate() {
             let start = offsets[entry / SCAN_BLOCK as usize] + words[full_word::START];
-            for &index in &order[start as usize..(start + words[full_word::COUNT]) as usize] {
+            let list = &order[start as usize..(start + words[full_word::COUNT]) as usize];
+            assert!(
+                list.windows(2).all(|w| w[0] < w[1]),
+                "pass {p}: entry {entry}'s list is not in photon order: {list:?}"
+            );
+            for &index in list {
                 assert!(
                     !listed[index as usize],
                     "pass {p}: photon {index} listed twice"
@@ -199,6 +205,19 @@ fn full_hash_matches_its_cpu_twin_on_the_gpu_state() {
             .collect();
         assert_gather_matches(&format!("full hash pass {p}"), &after, &twin);
     }
+}
+
+#[test]
+fn full_hash_renders_are_reproducible() {
+    let image = || {
+        let (mut sppm, _) = render(Density::FullHash);
+        sppm.run(render::Budget::Passes(4), &mut |_| {})
+            .expect("render")
+            .image
+    };
+    let first = image();
+    assert!(first.pixels.iter().any(|p| p.max_element() > 0.0));
+    assert_eq!(first, image());
 }
 
 #[test]

@@ -111,24 +111,25 @@ impl StoragePrecision {
 /// How `kousen render` and `kousen view` find the photons around each visible point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum DensityChoice {
-    /// Full lists on the CPU backend, the stochastic hash on a GPU adapter: each backend's
-    /// faster way to a given error (docs/BENCHMARKS.md §3 and §7).
+    /// Full lists where the render runs on CPU cores (the CPU backend, or a CPU-type adapter
+    /// such as lavapipe), the stochastic hash on a GPU: on CPU cores the lists reach a given
+    /// error sooner (docs/BENCHMARKS.md §3 and §7); on GPUs the talk's hash is the design.
     Auto,
     /// The stochastic spatial hash: one photon kept per table entry, weighted by the entry's
     /// count (the talk's; cheapest per pass).
     Stochastic,
-    /// Every photon, in per-entry lists sorted each pass (less noise per pass; on a GPU the
-    /// lists fill in arrival order, so images vary in the last bits run to run).
+    /// Every photon, in per-entry lists sorted each pass (less noise per pass).
     Full,
     /// A kd-tree over each pass's photons, built on the CPU.
     Kdtree,
 }
 
 impl DensityChoice {
-    /// The estimator for a render on the CPU backend (`on_cpu`) or a GPU adapter.
-    pub fn density(self, on_cpu: bool) -> render::Density {
+    /// The estimator for a render on CPU cores (`on_cpu_cores`: the CPU backend or a CPU-type
+    /// adapter) or on a GPU.
+    pub fn density(self, on_cpu_cores: bool) -> render::Density {
         match self {
-            DensityChoice::Auto if on_cpu => render::Density::FullHash,
+            DensityChoice::Auto if on_cpu_cores => render::Density::FullHash,
             DensityChoice::Auto | DensityChoice::Stochastic => render::Density::StochasticHash,
             DensityChoice::Full => render::Density::FullHash,
             DensityChoice::Kdtree => render::Density::KdTree,
@@ -564,4 +565,24 @@ pub struct BvhArgs {
     /// Most triangles per BVH leaf (the talk uses 1).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
     pub leaf_size: Option<u32>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_density_is_full_lists_on_cpu_cores_and_the_hash_on_gpus() {
+        use render::Density::*;
+        assert_eq!(DensityChoice::Auto.density(true), FullHash);
+        assert_eq!(DensityChoice::Auto.density(false), StochasticHash);
+        for on_cpu_cores in [false, true] {
+            assert_eq!(
+                DensityChoice::Stochastic.density(on_cpu_cores),
+                StochasticHash
+            );
+            assert_eq!(DensityChoice::Full.density(on_cpu_cores), FullHash);
+            assert_eq!(DensityChoice::Kdtree.density(on_cpu_cores), KdTree);
+        }
+    }
 }

@@ -1,8 +1,9 @@
 // The full spatial hash (cpu::density): every photon listed under the table entry it hashes
 // to, the lists built by a counting sort — count per entry (full_count), an exclusive prefix
-// sum over the counts (full_scan_blocks, then full_scan_totals over the blocks' totals), and a
-// scatter (full_scatter). Table words per entry: FULL_START (list start within its scan
-// block), FULL_COUNT, FULL_FILL (the scatter's cursor). Only `kousen bench density` runs it.
+// sum over the counts (full_scan_blocks, then full_scan_totals over the blocks' totals), a
+// scatter (full_scatter), and a sort of each list by photon index (full_sort_lists). Table
+// words per entry: FULL_START (list start within its scan block), FULL_COUNT, FULL_FILL (the
+// scatter's cursor). `kousen render --density full` and `kousen bench density` run it.
 
 // The photon indices, entry by entry.
 @group(3) @binding(0) var<storage, read_write> photon_order: array<u32>;
@@ -102,6 +103,41 @@ fn full_scatter(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     if word != NO_ENTRY {
         let place = atomicAdd(&hash[word + FULL_FILL], 1u);
         photon_order[list_start(word) + place] = index;
+    }
+}
+
+// The scatter lists each entry's photons in arrival order, which differs run to run; sorted by
+// photon index the lists are the same every run, so the gather adds the same numbers in the
+// same order and the image is reproducible; they then also equal the CPU twin's lists (filled
+// in photon order). Shell sort with Ciura's gaps, one invocation per entry: most lists hold
+// a photon or two, a focused caustic's can hold thousands.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let entry = invocation_index(id, groups);
+    if entry >= params.hash_size {
+        return;
+    }
+    let word = entry * HASH_ENTRY_WORDS;
+    let count = atomicLoad(&hash[word + FULL_COUNT]);
+    if count < 2u {
+        return;
+    }
+    let start = list_start(word);
+    var gaps = array<u32, 8>(701u, 301u, 132u, 57u, 23u, 10u, 4u, 1u);
+    for (var g = 0u; g < 8u; g += 1u) {
+        let gap = gaps[g];
+        for (var i = gap; i < count; i += 1u) {
+            let value = photon_order[start + i];
+            var j = i;
+            loop {
+                if j < gap || photon_order[start + j - gap] <= value {
+                    break;
+                }
+                photon_order[start + j] = photon_order[start + j - gap];
+                j -= gap;
+            }
+            photon_order[start + j] = value;
+        }
     }
 }
 

@@ -1,8 +1,9 @@
-//! The density-estimation methods `kousen bench density` measures against the stochastic hash
-//! (issue 6, table 4), on the GPU backend's state: the full spatial hash built by a counting
-//! sort on the GPU (`shaders/shared/density_full.wgsl`), and a kd-tree built on the CPU from
-//! the pass's photons read back, queried on the GPU (`density_kdtree.wgsl`). Their extra
-//! buffers are bind group 3; renders with the stochastic hash never make any of this.
+//! The density-estimation methods besides the stochastic hash (`kousen render --density`,
+//! `kousen bench density`), on the GPU backend's state: the full spatial hash built by a
+//! counting sort on the GPU, its lists then sorted by photon index so images are reproducible
+//! (`shaders/shared/density_full.wgsl`), and a kd-tree built on the CPU from the pass's photons
+//! read back, queried on the GPU (`density_kdtree.wgsl`). Their extra buffers are bind group 3;
+//! renders with the stochastic hash never make any of this.
 
 use render::Density;
 use render::buffers::{Photon, SppmParams};
@@ -21,18 +22,19 @@ use crate::{GpuError, check_buffer_fits};
 pub const DENSITY_STORAGE_BUFFERS: u32 = SPPM_STORAGE_BUFFERS + 2;
 
 /// The full hash's entry points, in the order a pass runs them.
-const FULL_KERNELS: [&str; 5] = [
+const FULL_KERNELS: [&str; 6] = [
     "full_count",
     "full_scan_blocks",
     "full_scan_totals",
     "full_scatter",
+    "full_sort_lists",
     "gather",
 ];
 
 /// A density method's kernels and its bind group 3.
 pub(super) struct DensityKernels {
     method: Density,
-    /// The method's pipelines by entry point (the full hash's five, or the kd-tree's gather).
+    /// The method's pipelines by entry point (the full hash's six, or the kd-tree's gather).
     pipelines: Vec<wgpu::ComputePipeline>,
     bind_group: wgpu::BindGroup,
     /// Group 3's two buffers: the full hash's photon order and scan-block sums, or the
@@ -181,6 +183,7 @@ impl GpuBackend {
                 self.dispatch_density(1, (x, blocks.div_ceil(x)));
                 self.dispatch_density(2, (1, 1));
                 self.dispatch_density(3, per_photon);
+                self.dispatch_density(4, workgroups(params.hash_size, max));
             }
             Density::KdTree => {
                 if let Err(e) = self.upload_kd_tree() {

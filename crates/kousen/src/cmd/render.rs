@@ -97,8 +97,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let initial_radius =
         render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, args.radius);
-    let settings = |on_cpu: bool, cap: u32| {
-        let density = args.estimator.density.density(on_cpu);
+    let settings = |on_cpu_cores: bool, cap: u32| {
+        let density = args.estimator.density.density(on_cpu_cores);
         Settings {
             initial_radius,
             alpha: args.alpha,
@@ -137,7 +137,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         },
     };
     if let Some(context) = gpu_context {
-        let slots = if context.is_cpu_device() {
+        let cpu_device = context.is_cpu_device();
+        let slots = if cpu_device {
             DEFAULT_SLOTS_CPU
         } else {
             DEFAULT_SLOTS_GPU
@@ -147,7 +148,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             args,
             &scene,
             &camera,
-            settings(false, slots),
+            settings(cpu_device, slots),
             backend,
             budget,
             output,

@@ -756,8 +756,7 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         photons: args.photons.unwrap_or(1 << 16),
         alpha: args.alpha,
         eye_every: args.eye_every,
-        // The view always renders on a GPU adapter (lavapipe included).
-        density: args.estimator.density.density(false),
+        density: args.estimator.density,
         precision: args.estimator.precision.precision(),
     };
     render::Settings {

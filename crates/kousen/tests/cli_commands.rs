@@ -4,12 +4,35 @@
 mod common;
 
 use common::kousen;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn shipped(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes")
         .join(name)
+}
+
+/// `kousen render` of the shipped Cornell box to `out` with `extra` (whitespace-separated
+/// arguments) and --stats; asserts success and returns the stats.
+fn render_box(out: &Path, extra: &str) -> serde_json::Value {
+    let scene = shipped("cornell-box.gltf");
+    let stats = out.with_extension("json");
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--stats",
+        stats.to_str().unwrap(),
+    ];
+    args.extend(extra.split_whitespace());
+    let output = kousen(&args);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap()
 }
 
 #[test]
@@ -58,32 +81,9 @@ fn info_json_keeps_the_contract_for_scripts() {
 fn render_writes_a_readable_png_of_the_requested_size() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("box.png");
-    let stats = dir.path().join("stats.json");
-    let scene = shipped("cornell-box.gltf");
-    let output = kousen(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "24",
-        "--height",
-        "16",
-        "--passes",
-        "2",
-        "--photons",
-        "4096",
-        "--backend",
-        "cpu",
-        "--density",
-        "kdtree",
-        "--stats",
-        stats.to_str().unwrap(),
-    ]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    let stats = render_box(
+        &out,
+        "--width 24 --height 16 --passes 2 --photons 4096 --backend cpu --density kdtree",
     );
     let image = image::open(&out).expect("a PNG").to_rgb8();
     assert_eq!(image.dimensions(), (24, 16));
@@ -101,7 +101,6 @@ fn render_writes_a_readable_png_of_the_requested_size() {
             "others cannot read the image: {mode:o}"
         );
     }
-    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
     assert_eq!(stats["passes"], 2);
     assert_eq!(stats["eye_passes"], 1);
     assert_eq!(stats["backend"], "cpu");
@@ -115,31 +114,10 @@ fn render_writes_a_readable_png_of_the_requested_size() {
 #[test]
 fn render_on_the_cpu_defaults_to_full_lists() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("box.pfm");
-    let stats = dir.path().join("stats.json");
-    let scene = shipped("cornell-box.gltf");
-    let output = kousen(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "64",
-        "--height",
-        "64",
-        "--passes",
-        "2",
-        "--backend",
-        "cpu",
-        "--stats",
-        stats.to_str().unwrap(),
-    ]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    let stats = render_box(
+        &dir.path().join("box.pfm"),
+        "--width 64 --height 64 --passes 2 --backend cpu",
     );
-    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
     assert_eq!(stats["density"], "full");
     assert_eq!(stats["photon_slots"], 4 * 64 * 64);
 }
@@ -150,39 +128,11 @@ fn render_on_the_cpu_defaults_to_full_lists() {
 fn render_on_the_gpu_writes_exr_and_stats() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("box.exr");
-    let stats = dir.path().join("stats.json");
-    let scene = shipped("cornell-box.gltf");
-    let output = kousen(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "16",
-        "--height",
-        "16",
-        "--passes",
-        "3",
-        "--eye-every",
-        "2",
-        "--photons",
-        "2048",
-        "--backend",
-        "gpu",
-        "--density",
-        "full",
-        "--precision",
-        "f16",
-        "--stats",
-        stats.to_str().unwrap(),
-    ]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    let stats = render_box(
+        &out,
+        "--width 16 --height 16 --passes 3 --eye-every 2 --photons 2048 --backend gpu --density full --precision f16",
     );
     assert!(std::fs::metadata(&out).unwrap().len() > 16 * 16 * 12);
-    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
     assert_eq!(stats["passes"], 3);
     assert_eq!(stats["eye_passes"], 2);
     assert_eq!(stats["backend"], "gpu");

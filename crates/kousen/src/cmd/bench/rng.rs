@@ -23,7 +23,6 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use rayon::prelude::*;
-use serde::Serialize;
 
 use bvh::PackedBvh;
 use cpu::{SceneData, kernels};
@@ -31,7 +30,7 @@ use gpu::GpuContext;
 use gpu::random_variants::{Generator, sppm_source_with};
 use gpu::sppm::GpuBackend;
 use render::buffers::{PathSlot, SppmParams, counter};
-use render::random::{FractSin, Pcg, StreamRng, TalkFloat, Tea, battery};
+use render::random::{FractSin, Pcg, TalkFloat, Tea, battery};
 use render::{Backend, BackendError, PhotonTracing, Settings, Sppm};
 
 use super::host::{AdapterReport, cpu_model, median, open_gpu};
@@ -39,9 +38,9 @@ use crate::cli::{BenchDevice, RngArgs};
 
 mod draws;
 mod images;
+mod report;
 
-use draws::DrawRow;
-use images::ImageRow;
+use report::{Report, Row, battery_rows, print_battery, print_row, print_speed_header, row};
 
 /// Image side of the (unused) pixel buffers the speed runs allocate.
 const PIXELS_SIDE: u32 = 16;
@@ -49,65 +48,9 @@ const PIXELS_SIDE: u32 = 16;
 /// branch) before the bench refuses to report.
 const MAX_DIVERGED: f64 = 0.01;
 
-/// The JSON report (a contract for scripts: adapter, cpu_model, command, battery[...] with
-/// generator, test, statistic, limit, passed; results[...] with scene, device, generator,
-/// photon_paths, seconds, photon_paths_per_s; images[...]).
-#[derive(Serialize)]
-struct Report {
-    adapter: Option<AdapterReport>,
-    cpu_model: String,
-    cpu_threads: usize,
-    /// "wall" (submit to idle), null without a GPU.
-    gpu_timing: Option<&'static str>,
-    photon_slots: u32,
-    passes: u32,
-    runs: u32,
-    battery_draws: u32,
-    significance: f64,
-    command: String,
-    battery: Vec<BatteryRow>,
-    /// The generators alone: draws per second (`sum_draws`).
-    draw_rates: Vec<DrawRow>,
-    results: Vec<Row>,
-    images: Vec<ImageRow>,
-}
-
-#[derive(Serialize)]
-struct BatteryRow {
-    generator: &'static str,
-    test: &'static str,
-    /// "chi2" or "max_abs_z".
-    kind: &'static str,
-    statistic: f64,
-    /// Critical value at `significance`; the test passes below it.
-    limit: f64,
-    passed: bool,
-}
-
-#[derive(Serialize)]
-struct Row {
-    scene: String,
-    path: String,
-    device: &'static str,
-    generator: &'static str,
-    photon_slots: u32,
-    passes: u32,
-    /// Paths emitted per run (median).
-    photon_paths: u64,
-    /// Seconds per run (median).
-    seconds: f64,
-    /// Median over the runs of paths / seconds.
-    photon_paths_per_s: f64,
-    photon_paths_per_min: f64,
-    /// This row's paths/s over PCG's on the same device and scene.
-    over_pcg: f64,
-    /// GPU rows: slots of the checked pass that differ from the CPU twin (null: not checked).
-    diverged: Option<usize>,
-}
-
 /// One timed run: paths emitted and the seconds taken.
 #[derive(Clone, Copy, Debug)]
-struct Run {
+pub(super) struct Run {
     paths: u64,
     seconds: f64,
 }
@@ -122,20 +65,6 @@ fn cpu_step(generator: Generator) -> Step {
         Generator::Tea => kernels::photon_pass_with::<Tea>,
         Generator::FractSin => kernels::photon_pass_with::<FractSin>,
     }
-}
-
-fn battery_rows<G: StreamRng>(draws: u32) -> Vec<BatteryRow> {
-    battery::run::<G>(draws)
-        .into_iter()
-        .map(|o| BatteryRow {
-            generator: G::NAME,
-            test: o.test,
-            kind: o.kind,
-            statistic: o.statistic,
-            limit: o.limit,
-            passed: o.passed,
-        })
-        .collect()
 }
 
 pub fn run(args: &RngArgs) -> anyhow::Result<()> {
@@ -216,57 +145,6 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-fn print_battery(rows: &[BatteryRow], draws: u32) {
-    println!(
-        "battery: {draws} draws per test, significance {}; statistic (limit) pass/FAIL",
-        battery::SIGNIFICANCE
-    );
-    for generator in Generator::ALL {
-        let cells: Vec<String> = rows
-            .iter()
-            .filter(|r| r.generator == generator.name())
-            .map(|r| {
-                let verdict = if r.passed { "pass" } else { "FAIL" };
-                format!("{} {:.1} ({:.1}) {verdict}", r.test, r.statistic, r.limit)
-            })
-            .collect();
-        println!("  {:<10} {}", generator.name(), cells.join(" | "));
-    }
-}
-
-fn print_speed_header() {
-    println!(
-        "{:<18} {:<4} {:<10} {:>6} {:>10} {:>8} {:>9} {:>10} {:>6} {:>8}",
-        "scene",
-        "dev",
-        "generator",
-        "passes",
-        "paths/run",
-        "seconds",
-        "Mpaths/s",
-        "Mpaths/min",
-        "×pcg",
-        "diverged"
-    );
-}
-
-fn print_row(row: &Row) {
-    println!(
-        "{:<18} {:<4} {:<10} {:>6} {:>10} {:>8.3} {:>9.3} {:>10.1} {:>6.2} {:>8}",
-        row.scene,
-        row.device,
-        row.generator,
-        row.passes,
-        row.photon_paths,
-        row.seconds,
-        row.photon_paths_per_s / 1e6,
-        row.photon_paths_per_min / 1e6,
-        row.over_pcg,
-        row.diverged
-            .map_or_else(|| "-".to_owned(), |d| d.to_string()),
-    );
 }
 
 /// The scene, its BVH and the speed runs' settings.
@@ -442,34 +320,4 @@ fn check_pass(
             twin.slot.depth != slots[i].depth || twin.photon.is_stored() != photons[i].is_stored()
         })
         .count())
-}
-
-fn row(
-    args: &RngArgs,
-    device: &'static str,
-    generator: Generator,
-    runs: &[Run],
-    diverged: Option<usize>,
-) -> Row {
-    let rates: Vec<f64> = runs
-        .iter()
-        .map(|r| r.paths as f64 / r.seconds.max(1e-9))
-        .collect();
-    let per_s = median(&rates);
-    let paths: Vec<f64> = runs.iter().map(|r| r.paths as f64).collect();
-    let seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
-    Row {
-        scene: String::new(),
-        path: String::new(),
-        device,
-        generator: generator.name(),
-        photon_slots: args.photons,
-        passes: args.passes,
-        photon_paths: median(&paths) as u64,
-        seconds: median(&seconds),
-        photon_paths_per_s: per_s,
-        photon_paths_per_min: 60.0 * per_s,
-        over_pcg: 1.0,
-        diverged,
-    }
 }

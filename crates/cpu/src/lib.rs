@@ -9,7 +9,7 @@ pub mod surface;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
-use render::backend::{Backend, BackendError, PhotonTracing, Setup, Statistics};
+use render::backend::{Backend, BackendError, PhotonTracing, Setup, Snapshot, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
     emitted_total, initial_counters, vec3,
@@ -298,6 +298,35 @@ impl Backend for CpuBackend {
             pixels: self.state.pixels.clone(),
             emitted_paths: self.emitted_paths()?,
         })
+    }
+
+    fn snapshot(&mut self) -> Result<Snapshot, BackendError> {
+        let s = &self.state;
+        Ok(Snapshot {
+            counters: s.counters.iter().map(|c| c.load(Relaxed)).collect(),
+            slots: bytemuck::cast_slice(&s.slots).to_vec(),
+            // f32 points whatever the precision (f16 ones are kept rounded, in f32).
+            visible_points: bytemuck::cast_slice(&s.visible_points).to_vec(),
+            pixels: bytemuck::cast_slice(&s.pixels).to_vec(),
+        })
+    }
+
+    fn restore(&mut self, snapshot: &Snapshot) -> Result<(), BackendError> {
+        let s = &mut self.state;
+        let words = |n: usize, size: usize| n * size / 4;
+        snapshot.check_sizes([
+            s.counters.len(),
+            words(s.slots.len(), size_of::<PathSlot>()),
+            words(s.visible_points.len(), size_of::<VisiblePoint>()),
+            words(s.pixels.len(), size_of::<PixelStats>()),
+        ])?;
+        for (counter, &word) in s.counters.iter().zip(&snapshot.counters) {
+            counter.store(word, Relaxed);
+        }
+        s.slots = bytemuck::cast_slice(&snapshot.slots).to_vec();
+        s.visible_points = bytemuck::cast_slice(&snapshot.visible_points).to_vec();
+        s.pixels = bytemuck::cast_slice(&snapshot.pixels).to_vec();
+        Ok(())
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {

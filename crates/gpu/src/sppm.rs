@@ -11,7 +11,7 @@ use std::collections::VecDeque;
 pub use density::DENSITY_STORAGE_BUFFERS;
 pub use naive::NAIVE_STORAGE_BUFFERS;
 
-use render::backend::{Backend, BackendError, Setup, Statistics};
+use render::backend::{Backend, BackendError, Setup, Snapshot, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
     emitted_total, initial_counters,
@@ -492,6 +492,22 @@ fn device_error(e: GpuError) -> BackendError {
     BackendError::Device(e.to_string())
 }
 
+/// Words of the counters, slots, visible points (as stored: f32 or f16) and statistics
+/// buffers, in [`Snapshot::parts`] order.
+fn snapshot_words(state: &State) -> [usize; 4] {
+    let pixels = state.params.pixel_count() as usize;
+    let point = match state.precision {
+        Precision::F32 => size_of::<VisiblePoint>(),
+        Precision::F16 => size_of::<HalfPoint>(),
+    };
+    [
+        counter::COUNT,
+        state.params.slot_count as usize * size_of::<PathSlot>() / 4,
+        pixels * point / 4,
+        pixels * size_of::<render::buffers::PixelStats>() / 4,
+    ]
+}
+
 impl Backend for GpuBackend {
     fn name(&self) -> &'static str {
         "gpu"
@@ -559,6 +575,34 @@ impl Backend for GpuBackend {
             c[counter::EMITTED_LO],
             c[counter::EMITTED_HI],
         ))
+    }
+
+    fn snapshot(&mut self) -> Result<Snapshot, BackendError> {
+        let sizes = snapshot_words(self.state()?);
+        Ok(Snapshot {
+            counters: self.read_state(|s| (&s.counters, sizes[0]))?,
+            slots: self.read_state(|s| (&s.slots, sizes[1]))?,
+            visible_points: self.read_state(|s| (&s.visible_points, sizes[2]))?,
+            pixels: self.read_state(|s| (&s.pixels, sizes[3]))?,
+        })
+    }
+
+    fn restore(&mut self, snapshot: &Snapshot) -> Result<(), BackendError> {
+        self.synchronize()?;
+        let state = self.state()?;
+        snapshot.check_sizes(snapshot_words(state))?;
+        let buffers = [
+            &state.counters,
+            &state.slots,
+            &state.visible_points,
+            &state.pixels,
+        ];
+        for (buffer, (_, words)) in buffers.into_iter().zip(snapshot.parts()) {
+            self.context
+                .queue
+                .write_buffer(buffer, 0, bytemuck::cast_slice(words));
+        }
+        Ok(())
     }
 
     fn read_statistics(&mut self) -> Result<Statistics, BackendError> {

@@ -27,6 +27,44 @@ pub struct Statistics {
     pub emitted_paths: u64,
 }
 
+/// The state a render carries from one pass to the next, as the backend stores it (raw 32-bit
+/// words, so a restore is exact whatever the storage precision): counters, path slots, visible
+/// points and pixel statistics. Photons and the hash are rebuilt every pass and not kept.
+/// Taken between passes only.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Snapshot {
+    pub counters: Vec<u32>,
+    pub slots: Vec<u32>,
+    pub visible_points: Vec<u32>,
+    pub pixels: Vec<u32>,
+}
+
+impl Snapshot {
+    /// The parts with their names, in file order.
+    pub fn parts(&self) -> [(&'static str, &[u32]); 4] {
+        [
+            ("counters", &self.counters),
+            ("slots", &self.slots),
+            ("visible_points", &self.visible_points),
+            ("pixels", &self.pixels),
+        ]
+    }
+
+    /// An error in words unless each part holds the number of words given (the backend's
+    /// sizes for its render, in [`Snapshot::parts`] order).
+    pub fn check_sizes(&self, expected: [usize; 4]) -> Result<(), BackendError> {
+        for ((name, words), want) in self.parts().into_iter().zip(expected) {
+            if words.len() != want {
+                return Err(BackendError::Device(format!(
+                    "the checkpoint's {name} hold {} words, this render's {want}: it was made with other settings or another backend",
+                    words.len()
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum BackendError {
     /// The device or its driver failed, or the render does not fit it (said in words).
@@ -60,6 +98,11 @@ pub trait Backend {
     fn read_statistics(&mut self) -> Result<Statistics, BackendError>;
     /// Bytes the backend allocated for the render, by kind (scene, BVH, photons, hash, ...).
     fn memory(&self) -> Vec<(&'static str, u64)>;
+    /// The state between passes (waits for the work queued).
+    fn snapshot(&mut self) -> Result<Snapshot, BackendError>;
+    /// Puts back a [`Snapshot`] this backend took of a render started with the same setup; an
+    /// error in words if its sizes do not fit.
+    fn restore(&mut self, snapshot: &Snapshot) -> Result<(), BackendError>;
 }
 
 /// Photon tracing alone, for `kousen bench photons` (issue 6): the photon pass without the hash

@@ -25,6 +25,17 @@ pub enum RenderError {
 
     #[error(transparent)]
     Backend(#[from] BackendError),
+    /// A checkpoint does not fit this render, or could not be written (said in words).
+    #[error("{0}")]
+    Checkpoint(String),
+}
+
+/// A render stopped between passes: enough to continue it exactly ([`Sppm::restore`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Checkpoint {
+    pub passes: u32,
+    pub eye_passes: u32,
+    pub state: crate::backend::Snapshot,
 }
 
 /// Where a render stands, for progress bars and logs.
@@ -216,14 +227,28 @@ impl<B: Backend> Sppm<B> {
         self.passes += 1;
     }
 
-    /// Runs passes until the budget is spent, calling `progress` now and then.
+    /// Runs passes until the budget is spent (a pass budget counts the passes of a restored
+    /// render too), calling `progress` now and then.
     pub fn run(
         &mut self,
         budget: Budget,
         progress: &mut dyn FnMut(&Progress),
     ) -> Result<Rendered, RenderError> {
+        self.run_with_checkpoints(budget, progress, None)
+    }
+
+    /// [`Sppm::run`], handing a [`Checkpoint`] to `save` every `interval` of rendering
+    /// (between passes); an error from `save` stops the render.
+    #[allow(clippy::type_complexity)]
+    pub fn run_with_checkpoints(
+        &mut self,
+        budget: Budget,
+        progress: &mut dyn FnMut(&Progress),
+        mut checkpoints: Option<(Duration, &mut dyn FnMut(&Checkpoint) -> Result<(), String>)>,
+    ) -> Result<Rendered, RenderError> {
         let started = Instant::now();
         let mut last_report = started;
+        let mut last_checkpoint = started;
         loop {
             let done = match budget {
                 Budget::Passes(n) => self.passes >= n,
@@ -233,6 +258,12 @@ impl<B: Backend> Sppm<B> {
                 break;
             }
             self.pass();
+            if let Some((interval, save)) = checkpoints.as_mut()
+                && last_checkpoint.elapsed() >= *interval
+            {
+                last_checkpoint = Instant::now();
+                save(&self.checkpoint()?).map_err(RenderError::Checkpoint)?;
+            }
             if last_report.elapsed() >= PROGRESS_INTERVAL {
                 last_report = Instant::now();
                 progress(&Progress {
@@ -278,6 +309,24 @@ impl<B: Backend> Sppm<B> {
 
     pub fn passes(&self) -> u32 {
         self.passes
+    }
+
+    /// The render so far, to continue later (waits for the work queued).
+    pub fn checkpoint(&mut self) -> Result<Checkpoint, RenderError> {
+        Ok(Checkpoint {
+            passes: self.passes,
+            eye_passes: self.eye_passes,
+            state: self.backend.snapshot()?,
+        })
+    }
+
+    /// Continues from `checkpoint`, taken of a render with the same scene, camera and
+    /// settings: the passes that follow are those the interrupted render would have run.
+    pub fn restore(&mut self, checkpoint: &Checkpoint) -> Result<(), RenderError> {
+        self.backend.restore(&checkpoint.state)?;
+        self.passes = checkpoint.passes;
+        self.eye_passes = checkpoint.eye_passes;
+        Ok(())
     }
 
     pub fn eye_passes(&self) -> u32 {

@@ -22,8 +22,8 @@ pub mod settings;
 pub mod textures;
 pub mod tonemap;
 
-pub use backend::{Backend, BackendError, PhotonTracing, Setup, Statistics};
+pub use backend::{Backend, BackendError, PhotonTracing, Setup, Snapshot, Statistics};
 pub use density::Density;
 pub use image::Image;
-pub use integrator::{Progress, RenderError, Rendered, Sppm};
+pub use integrator::{Checkpoint, Progress, RenderError, Rendered, Sppm};
 pub use settings::{Budget, Settings};

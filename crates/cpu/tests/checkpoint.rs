@@ -1,0 +1,58 @@
+//! A render stopped between passes and continued from its checkpoint on a new backend gives
+//! the image of the render that was never stopped, bit for bit, with every density estimator
+//! and storage precision; a checkpoint of another size is refused in words.
+
+use render::half_storage::Precision;
+use render::{Budget, Checkpoint, Density, Image, Settings, Sppm};
+
+fn start(settings: &Settings) -> Sppm<cpu::CpuBackend> {
+    let scene = scene::testing::cornell_caustics();
+    let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
+    let camera = scene.camera(None).unwrap();
+    let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
+    Sppm::new(backend, &scene, &camera, settings.clone()).unwrap()
+}
+
+fn run(sppm: &mut Sppm<cpu::CpuBackend>, passes: u32) -> Image {
+    sppm.run(Budget::Passes(passes), &mut |_| {}).unwrap().image
+}
+
+#[test]
+fn continued_render_equals_the_uninterrupted_one() {
+    for (density, precision) in [
+        (Density::StochasticHash, Precision::F32),
+        (Density::FullHash, Precision::F16),
+        (Density::KdTree, Precision::F32),
+    ] {
+        let settings = Settings {
+            seed: 9,
+            eye_every: 2,
+            density,
+            precision,
+            ..Settings::new(20, 16, 2048)
+        };
+        let straight = run(&mut start(&settings), 7);
+        let mut first = start(&settings);
+        run(&mut first, 3);
+        let checkpoint: Checkpoint = first.checkpoint().unwrap();
+        assert_eq!((checkpoint.passes, checkpoint.eye_passes), (3, 2));
+        let mut second = start(&settings);
+        second.restore(&checkpoint).unwrap();
+        let continued = run(&mut second, 7);
+        assert!(straight.pixels.iter().any(|p| p.max_element() > 0.0));
+        assert_eq!(continued, straight, "{density:?} {precision:?}");
+        assert_eq!((second.passes(), second.eye_passes()), (7, 4));
+    }
+}
+
+#[test]
+fn checkpoint_of_another_size_is_refused() {
+    let settings = Settings::new(20, 16, 2048);
+    let mut small = start(&settings);
+    run(&mut small, 1);
+    let checkpoint = small.checkpoint().unwrap();
+    let mut other = start(&Settings::new(20, 16, 4096));
+    let message = other.restore(&checkpoint).unwrap_err().to_string();
+    assert!(message.contains("slots"), "{message}");
+    assert!(!message.contains('\n'), "{message}");
+}

@@ -436,6 +436,14 @@ pub struct RenderArgs {
     /// Write statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Save the render's state to FILE every minute and at the end, to continue it later
+    /// with --resume (may be the same file).
+    #[arg(long, value_name = "FILE")]
+    pub checkpoint: Option<PathBuf>,
+    /// Continue the render saved in FILE (by --checkpoint), given the same scene, view and
+    /// options; --passes then counts the passes already done, --time only this run's.
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
     /// Photon path slots per pass (default: one per pixel with the stochastic hash, four with
     /// full lists or the kd-tree; at most 2¹⁸ on CPUs and CPU-type adapters, 2²⁰ on GPUs).
     #[arg(long, value_name = "N")]

@@ -1,5 +1,6 @@
 //! `kousen`: stochastic progressive photon mapping on the GPU. See `kousen --help`.
 
+mod checkpoint_file;
 mod cli;
 mod cmd;
 mod image_io;

@@ -8,9 +8,13 @@ use glam::Vec3;
 use render::{Backend, Budget, Progress, Rendered, Settings, Sppm};
 use serde::Serialize;
 
+use crate::checkpoint_file::{self, Header, Recorded};
 use crate::cli::{Backend as BackendChoice, CameraArgs, Integrator, RenderArgs};
 use crate::image_io::Output;
 use crate::progress::ProgressBar;
+
+/// How often `--checkpoint` saves the render while it runs (and once more at the end).
+const CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
 
 /// Photon passes when neither --passes nor --time is given.
 const DEFAULT_PASSES: u32 = 256;
@@ -52,6 +56,8 @@ struct Stats {
     density: &'static str,
     precision: &'static str,
     seed: u64,
+    /// Passes already done in the checkpoint this render continued (0: a new render).
+    resumed_passes: u32,
     mean_radiance: [f32; 3],
     /// Bytes allocated by the backend, by kind.
     memory_bytes: std::collections::BTreeMap<&'static str, u64>,
@@ -59,8 +65,19 @@ struct Stats {
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let budget = budget(args)?;
-    // Fail on a bad output path before any work.
+    // Fail on a bad output or checkpoint path, or an unreadable checkpoint, before any work.
     let output = Output::create_with(&args.output, args.exr_precision)?;
+    if let Some(path) = &args.checkpoint {
+        crate::output_file::PendingFile::create(path)?;
+    }
+    let resume = args
+        .resume
+        .as_ref()
+        .map(|path| checkpoint_file::read(path).map(|loaded| (path.as_path(), loaded)))
+        .transpose()?;
+    if args.integrator == Integrator::Path && (args.checkpoint.is_some() || resume.is_some()) {
+        bail!("--checkpoint and --resume are for SPPM renders, not --integrator path");
+    }
     let scene = scene::load(&args.scene)?;
     if scene.lights.triangles.is_empty() {
         bail!(
@@ -81,6 +98,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
     log::info!("BVH built in {:.2} s", started.elapsed().as_secs_f64());
+    let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
+        checkpoint_file::fingerprint(&bvh, &camera)
+    } else {
+        String::new()
+    };
+    let continuation = Continuation {
+        resume,
+        fingerprint,
+    };
 
     if args.integrator == Integrator::Path {
         if args.backend == BackendChoice::Gpu {
@@ -146,35 +172,42 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let backend = gpu::sppm::GpuBackend::new(context, &scene, bvh)?;
         finish(
             args,
-            &scene,
-            &camera,
+            (&scene, &camera),
             settings(cpu_device, slots),
             backend,
             budget,
             output,
+            continuation,
         )
     } else {
         let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
         finish(
             args,
-            &scene,
-            &camera,
+            (&scene, &camera),
             settings(true, DEFAULT_SLOTS_CPU),
             backend,
             budget,
             output,
+            continuation,
         )
     }
 }
 
+/// The checkpoint a render continues, if any, and the scene-and-view fingerprint its
+/// checkpoints carry (empty when neither --checkpoint nor --resume is given).
+struct Continuation<'a> {
+    resume: Option<(&'a std::path::Path, checkpoint_file::Loaded)>,
+    fingerprint: String,
+}
+
 fn finish<B: Backend>(
     args: &RenderArgs,
-    scene: &scene::Scene,
-    camera: &scene::Camera,
+    (scene, camera): (&scene::Scene, &scene::Camera),
     settings: Settings,
     backend: B,
     budget: Budget,
     output: Output,
+    continuation: Continuation,
 ) -> anyhow::Result<()> {
     let backend_name = backend.name();
     let adapter = backend.adapter();
@@ -184,11 +217,48 @@ fn finish<B: Backend>(
         settings.height,
         settings.photons
     );
+    let recorded = Recorded::new(backend_name, &settings);
     let cpu_before = thread_cpu_seconds();
     let mut sppm = Sppm::new(backend, scene, camera, settings.clone())?;
+    let (mut seconds_before, mut resumed_passes) = (0.0, 0);
+    if let Some((path, loaded)) = &continuation.resume {
+        checkpoint_file::check_fits(path, &loaded.header, &recorded, &continuation.fingerprint)?;
+        sppm.restore(&loaded.checkpoint)?;
+        (seconds_before, resumed_passes) = (loaded.header.seconds, loaded.checkpoint.passes);
+        log::info!("continuing {} from pass {resumed_passes}", path.display());
+    }
+    let header = |seconds: f64| Header {
+        scene: args.scene.display().to_string(),
+        fingerprint: continuation.fingerprint.clone(),
+        settings: recorded.clone(),
+        adapter: adapter.clone(),
+        passes: 0,
+        eye_passes: 0,
+        seconds,
+        words: [0; 4],
+    };
     let mut bar = ProgressBar::new(budget);
-    let rendered: Rendered = sppm.run(budget, &mut |p: &Progress| bar.update(p))?;
+    let run_started = Instant::now();
+    let rendered: Rendered = match &args.checkpoint {
+        Some(path) => {
+            let mut save = |checkpoint: &render::Checkpoint| {
+                let seconds = seconds_before + run_started.elapsed().as_secs_f64();
+                checkpoint_file::write(path, header(seconds), checkpoint)
+                    .map_err(|e| format!("{e:#}"))
+            };
+            sppm.run_with_checkpoints(
+                budget,
+                &mut |p: &Progress| bar.update(p),
+                Some((CHECKPOINT_INTERVAL, &mut save)),
+            )?
+        }
+        None => sppm.run(budget, &mut |p: &Progress| bar.update(p))?,
+    };
     bar.finish();
+    if let Some(path) = &args.checkpoint {
+        let seconds = seconds_before + rendered.seconds;
+        checkpoint_file::write(path, header(seconds), &sppm.checkpoint()?)?;
+    }
     let host_cpu_seconds = thread_cpu_seconds() - cpu_before;
     output.commit(&rendered.image, args.exposure)?;
     log::info!(
@@ -217,6 +287,7 @@ fn finish<B: Backend>(
             density: settings.density.name(),
             precision: settings.precision.name(),
             seed: args.seed,
+            resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),
             memory_bytes: sppm.backend().memory().into_iter().collect(),
         };

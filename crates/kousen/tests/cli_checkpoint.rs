@@ -1,0 +1,129 @@
+//! `kousen render --checkpoint` / `--resume`: a render stopped and continued writes the same
+//! image, byte for byte, as one that was never stopped; a checkpoint that does not fit the
+//! render, or is not one, is refused in one line and no image is written.
+
+mod common;
+
+use std::path::Path;
+
+use common::*;
+
+fn render(out: &Path, extra: &str) -> std::process::Output {
+    let scene = shipped("cornell-caustics.gltf");
+    let mut args = vec!["render", scene.as_str(), "-o", out.to_str().unwrap()];
+    args.extend("--width 40 --height 32 --eye-every 3 --backend cpu".split_whitespace());
+    args.extend(extra.split_whitespace());
+    kousen(&args)
+}
+
+fn succeeds(output: std::process::Output) {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+#[test]
+fn resumed_render_writes_the_uninterrupted_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name);
+    let checkpoint = path("render.ckpt");
+    let ck = checkpoint.to_str().unwrap();
+    succeeds(render(&path("straight.pfm"), "--passes 7"));
+    succeeds(render(
+        &path("first.pfm"),
+        &format!("--passes 4 --checkpoint {ck}"),
+    ));
+    let stats = path("stats.json");
+    succeeds(render(
+        &path("continued.pfm"),
+        &format!(
+            "--passes 7 --resume {ck} --checkpoint {ck} --stats {}",
+            stats.display()
+        ),
+    ));
+    let read = |name: &str| std::fs::read(path(name)).unwrap();
+    assert_eq!(read("continued.pfm"), read("straight.pfm"));
+    assert_ne!(read("first.pfm"), read("straight.pfm"));
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(stats["resumed_passes"], 4);
+    assert_eq!(stats["passes"], 7);
+    // The checkpoint now holds all seven passes: resuming it for seven does no more work.
+    succeeds(render(
+        &path("again.pfm"),
+        &format!("--passes 7 --resume {ck}"),
+    ));
+    assert_eq!(read("again.pfm"), read("straight.pfm"));
+}
+
+#[test]
+fn checkpoint_that_does_not_fit_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let checkpoint = dir.path().join("render.ckpt");
+    let ck = checkpoint.to_str().unwrap();
+    succeeds(render(
+        &dir.path().join("a.pfm"),
+        &format!("--passes 2 --checkpoint {ck}"),
+    ));
+    let out = dir.path().join("b.pfm");
+    let cases = [
+        (format!("--passes 4 --resume {ck} --seed 5"), "--seed 0"),
+        (
+            format!("--passes 4 --resume {ck} --photons 4096"),
+            "--photons",
+        ),
+        (
+            format!("--passes 4 --resume {ck} --density kdtree"),
+            "--density full",
+        ),
+        (
+            format!("--passes 4 --resume {ck} --fov 30 --eye=0,300,-700 --target=0,300,0"),
+            "camera",
+        ),
+    ];
+    for (extra, needle) in cases {
+        assert_clean_error(&render(&out, &extra), needle);
+        assert!(!out.exists(), "{extra}: an image was written");
+    }
+    let cut = write(
+        dir.path(),
+        "cut.ckpt",
+        &std::fs::read(&checkpoint).unwrap()[..200],
+    );
+    assert_clean_error(
+        &render(&out, &format!("--resume {}", cut.display())),
+        "truncated",
+    );
+    let text = write(dir.path(), "text.ckpt", b"not a checkpoint at all");
+    assert_clean_error(
+        &render(&out, &format!("--resume {}", text.display())),
+        "not a kousen checkpoint",
+    );
+    assert_clean_error(
+        &render(
+            &out,
+            &format!("--checkpoint {ck} --integrator path --passes 1"),
+        ),
+        "--integrator path",
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn checkpoint_with_another_radius_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let checkpoint = dir.path().join("render.ckpt");
+    let ck = checkpoint.to_str().unwrap();
+    succeeds(render(
+        &dir.path().join("a.pfm"),
+        &format!("--passes 1 --checkpoint {ck}"),
+    ));
+    assert_clean_error(
+        &render(
+            &dir.path().join("b.pfm"),
+            &format!("--passes 2 --resume {ck} --radius 4"),
+        ),
+        "initial radius",
+    );
+}

@@ -518,12 +518,17 @@ impl Backend for GpuBackend {
     }
 
     fn start(&mut self, setup: &Setup) -> Result<(), BackendError> {
-        self.density = None;
+        let previous = self.density.take();
         self.compile_for(setup.precision)?;
         self.state = Some(self.allocate(setup).map_err(device_error)?);
-        self.density =
-            density::DensityKernels::new(self, setup.density, setup.precision, &setup.params)
-                .map_err(device_error)?;
+        self.density = density::DensityKernels::new(
+            self,
+            setup.density,
+            setup.precision,
+            &setup.params,
+            previous,
+        )
+        .map_err(device_error)?;
         Ok(())
     }
 

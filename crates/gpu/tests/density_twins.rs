@@ -220,6 +220,26 @@ fn full_hash_renders_are_reproducible() {
     assert_eq!(first, image());
 }
 
+/// A backend restarted with the same method reuses its compiled kernels (as the viewer does
+/// at every camera move) and renders what a new backend renders.
+#[test]
+fn restarted_full_hash_render_equals_a_new_one() {
+    let (mut first, settings) = render(Density::FullHash);
+    first
+        .run(render::Budget::Passes(2), &mut |_| {})
+        .expect("render");
+    let scene = scene::testing::cornell_caustics();
+    let camera = scene.camera(None).unwrap();
+    let mut again = Sppm::new(first.into_backend(), &scene, &camera, settings).expect("restart");
+    let (mut fresh, _) = render(Density::FullHash);
+    let image = |sppm: &mut Sppm<GpuBackend>| {
+        sppm.run(render::Budget::Passes(3), &mut |_| {})
+            .expect("render")
+            .image
+    };
+    assert_eq!(image(&mut again), image(&mut fresh));
+}
+
 #[test]
 fn kd_tree_gather_matches_its_cpu_twin_on_the_gpu_state() {
     let (mut sppm, settings) = render(Density::KdTree);

@@ -111,9 +111,11 @@ impl StoragePrecision {
 /// How `kousen render` and `kousen view` find the photons around each visible point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum DensityChoice {
-    /// Full lists where the render runs on CPU cores (the CPU backend, or a CPU-type adapter
-    /// such as lavapipe), the stochastic hash on a GPU: on CPU cores the lists reach a given
-    /// error sooner (docs/BENCHMARKS.md §3 and §7); on GPUs the talk's hash is the design.
+    /// Render: full lists where the render runs on CPU cores (the CPU backend, or a CPU-type
+    /// adapter such as lavapipe), the stochastic hash on a GPU: on CPU cores the lists reach a
+    /// given error sooner (docs/BENCHMARKS.md §3 and §7); on GPUs the talk's hash is the
+    /// design. View: the stochastic hash, whose cheaper passes show the picture sooner after
+    /// each camera move.
     Auto,
     /// The stochastic spatial hash: one photon kept per table entry, weighted by the entry's
     /// count (the talk's; cheapest per pass).
@@ -133,6 +135,15 @@ impl DensityChoice {
             DensityChoice::Auto | DensityChoice::Stochastic => render::Density::StochasticHash,
             DensityChoice::Full => render::Density::FullHash,
             DensityChoice::Kdtree => render::Density::KdTree,
+        }
+    }
+
+    /// The estimator for `kousen view`, which restarts at every camera move: `auto` takes the
+    /// stochastic hash, the cheapest pass, so a new view shows sooner.
+    pub fn for_view(self) -> render::Density {
+        match self {
+            DensityChoice::Auto => render::Density::StochasticHash,
+            other => other.density(false),
         }
     }
 }
@@ -592,5 +603,7 @@ mod tests {
             assert_eq!(DensityChoice::Full.density(on_cpu_cores), FullHash);
             assert_eq!(DensityChoice::Kdtree.density(on_cpu_cores), KdTree);
         }
+        assert_eq!(DensityChoice::Auto.for_view(), StochasticHash);
+        assert_eq!(DensityChoice::Full.for_view(), FullHash);
     }
 }

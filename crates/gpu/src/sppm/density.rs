@@ -34,6 +34,9 @@ const FULL_KERNELS: [&str; 6] = [
 /// A density method's kernels and its bind group 3.
 pub(super) struct DensityKernels {
     method: Density,
+    precision: Precision,
+    /// Group 3's layout, kept with the pipelines made for it.
+    layout: wgpu::BindGroupLayout,
     /// The method's pipelines by entry point (the full hash's six, or the kd-tree's gather).
     pipelines: Vec<wgpu::ComputePipeline>,
     bind_group: wgpu::BindGroup,
@@ -57,12 +60,15 @@ fn storage_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffe
 
 impl DensityKernels {
     /// The kernels and buffers of `method` for a render with `params`; `None` for the
-    /// stochastic hash, which the SPPM kernels hold.
+    /// stochastic hash, which the SPPM kernels hold. The pipelines of `previous` are reused
+    /// when it is the same method and precision (compiling them takes seconds on a CPU-type
+    /// adapter, and the viewer restarts the render at every camera move).
     pub(super) fn new(
         backend: &GpuBackend,
         method: Density,
         precision: Precision,
         params: &SppmParams,
+        previous: Option<DensityKernels>,
     ) -> Result<Option<DensityKernels>, GpuError> {
         let context = &backend.context;
         let limit = context.limits.max_storage_buffers_per_shader_stage;
@@ -101,49 +107,67 @@ impl DensityKernels {
             check_buffer_fits(label, bytes, &context.limits)?;
         }
         let device = &context.device;
-        let read_only = method == Density::KdTree;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("density"),
-            entries: &[storage_entry(0, read_only), storage_entry(1, read_only)],
-        });
+        let (layout, pipelines) = match previous {
+            Some(p) if p.method == method && p.precision == precision => (p.layout, p.pipelines),
+            _ => compile(backend, module, entry_points, method, precision),
+        };
         let made = buffers.map(|(label, bytes)| storage_buffer(device, label, bytes));
         let bind_group = bind_buffers(device, "density", &layout, &[&made[0], &made[1]]);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(module.label()),
-            bind_group_layouts: &[
-                Some(&scene_layout(device)),
-                Some(&backend.layout),
-                Some(&textures_layout(device)),
-                Some(&layout),
-            ],
-            immediate_size: 0,
-        });
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(module.label()),
-            source: wgpu::ShaderSource::Wgsl(module.source_with_precision(precision).into()),
-        });
-        let pipelines = entry_points
-            .iter()
-            .map(|entry| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pipeline_layout),
-                    module: &shader,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            })
-            .collect();
         let bytes = buffers.iter().map(|(_, b)| b).sum();
         Ok(Some(DensityKernels {
             method,
+            precision,
+            layout,
             pipelines,
             bind_group,
             buffers: made,
             bytes,
         }))
     }
+}
+
+/// Group 3's layout and the method's pipelines, one per entry point.
+fn compile(
+    backend: &GpuBackend,
+    module: Module,
+    entry_points: &[&str],
+    method: Density,
+    precision: Precision,
+) -> (wgpu::BindGroupLayout, Vec<wgpu::ComputePipeline>) {
+    let device = &backend.context.device;
+    let read_only = method == Density::KdTree;
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("density"),
+        entries: &[storage_entry(0, read_only), storage_entry(1, read_only)],
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(module.label()),
+        bind_group_layouts: &[
+            Some(&scene_layout(device)),
+            Some(&backend.layout),
+            Some(&textures_layout(device)),
+            Some(&layout),
+        ],
+        immediate_size: 0,
+    });
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(module.label()),
+        source: wgpu::ShaderSource::Wgsl(module.source_with_precision(precision).into()),
+    });
+    let pipelines = entry_points
+        .iter()
+        .map(|entry| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &shader,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })
+        .collect();
+    (layout, pipelines)
 }
 
 impl GpuBackend {

@@ -43,8 +43,7 @@ pub struct RenderControls {
     pub photons: u32,
     pub alpha: f32,
     pub eye_every: u32,
-    /// Fixed for the window's life (`--density`, resolved for the adapter at each start;
-    /// `--precision`).
+    /// Fixed for the window's life (`--density`, `--precision`).
     pub density: crate::cli::DensityChoice,
     pub precision: render::half_storage::Precision,
 }
@@ -107,7 +106,7 @@ impl Session {
         let settings = Settings {
             alpha: controls.alpha,
             eye_every: controls.eye_every,
-            density: controls.density.density(self.context.is_cpu_device()),
+            density: controls.density.for_view(),
             precision: controls.precision,
             initial_radius: render::integrator::initial_radius_from_view(
                 &self.bvh, camera, width, height,

@@ -49,6 +49,16 @@ fn resumed_render_writes_the_uninterrupted_image() {
     let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
     assert_eq!(stats["resumed_passes"], 4);
     assert_eq!(stats["passes"], 7);
+    // The rate is this run's: three passes' paths over this run's seconds, below the total's.
+    let (paths, seconds) = (
+        stats["photon_paths"].as_f64().unwrap(),
+        stats["seconds"].as_f64().unwrap(),
+    );
+    let rate = stats["photon_paths_per_second"].as_f64().unwrap();
+    assert!(
+        rate > 0.0 && rate < paths / seconds,
+        "{rate} {paths} {seconds}"
+    );
     // The checkpoint now holds all seven passes: resuming it for seven does no more work.
     succeeds(render(
         &path("again.pfm"),

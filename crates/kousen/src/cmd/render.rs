@@ -220,11 +220,12 @@ fn finish<B: Backend>(
     let recorded = Recorded::new(backend_name, &settings);
     let cpu_before = thread_cpu_seconds();
     let mut sppm = Sppm::new(backend, scene, camera, settings.clone())?;
-    let (mut seconds_before, mut resumed_passes) = (0.0, 0);
+    let (mut seconds_before, mut resumed_passes, mut resumed_paths) = (0.0, 0, 0);
     if let Some((path, loaded)) = &continuation.resume {
         checkpoint_file::check_fits(path, &loaded.header, &recorded, &continuation.fingerprint)?;
         sppm.restore(&loaded.checkpoint)?;
         (seconds_before, resumed_passes) = (loaded.header.seconds, loaded.checkpoint.passes);
+        resumed_paths = sppm.backend().emitted_paths()?;
         log::info!("continuing {} from pass {resumed_passes}", path.display());
     }
     let header = |seconds: f64| Header {
@@ -273,7 +274,9 @@ fn finish<B: Backend>(
             eye_passes: rendered.eye_passes,
             photon_paths: rendered.photon_paths,
             seconds: rendered.seconds,
-            photon_paths_per_second: rendered.photon_paths as f64 / rendered.seconds.max(1e-9),
+            // This run's paths over this run's time (a resumed render's total counts both).
+            photon_paths_per_second: (rendered.photon_paths - resumed_paths) as f64
+                / rendered.seconds.max(1e-9),
             backend: backend_name,
             adapter,
             host_cpu_seconds,

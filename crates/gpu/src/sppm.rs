@@ -102,20 +102,33 @@ fn compile_kernels(
     label: &str,
     source: String,
 ) -> Vec<wgpu::ComputePipeline> {
+    compile_pipelines(device, state_layout, None, label, source, &KERNELS)
+}
+
+/// Pipelines for `entry_points` of `source`, laid out as every SPPM kernel is (group 0 the
+/// scene, 1 the render's state, 2 the textures) and, given `extra`, with it as group 3.
+pub(crate) fn compile_pipelines(
+    device: &wgpu::Device,
+    state_layout: &wgpu::BindGroupLayout,
+    extra: Option<&wgpu::BindGroupLayout>,
+    label: &str,
+    source: String,
+    entry_points: &[&str],
+) -> Vec<wgpu::ComputePipeline> {
+    let scene = scene_layout(device);
+    let textures = textures_layout(device);
+    let mut groups = vec![Some(&scene), Some(state_layout), Some(&textures)];
+    groups.extend(extra.map(Some));
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("sppm"),
-        bind_group_layouts: &[
-            Some(&scene_layout(device)),
-            Some(state_layout),
-            Some(&textures_layout(device)),
-        ],
+        label: Some(label),
+        bind_group_layouts: &groups,
         immediate_size: 0,
     });
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
     });
-    KERNELS
+    entry_points
         .iter()
         .map(|entry| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

@@ -91,6 +91,10 @@ fn checkpoint_that_does_not_fit_is_refused() {
             format!("--passes 4 --resume {ck} --fov 30 --eye=0,300,-700 --target=0,300,0"),
             "camera",
         ),
+        (
+            format!("--passes 4 --resume {ck} --radius 4"),
+            "initial radius",
+        ),
     ];
     for (extra, needle) in cases {
         assert_clean_error(&render(&out, &extra), needle);
@@ -118,22 +122,4 @@ fn checkpoint_that_does_not_fit_is_refused() {
         "--integrator path",
     );
     assert!(!out.exists());
-}
-
-#[test]
-fn checkpoint_with_another_radius_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    let checkpoint = dir.path().join("render.ckpt");
-    let ck = checkpoint.to_str().unwrap();
-    succeeds(render(
-        &dir.path().join("a.pfm"),
-        &format!("--passes 1 --checkpoint {ck}"),
-    ));
-    assert_clean_error(
-        &render(
-            &dir.path().join("b.pfm"),
-            &format!("--passes 2 --resume {ck} --radius 4"),
-        ),
-        "initial radius",
-    );
 }

@@ -38,6 +38,13 @@ pub struct Checkpoint {
     pub state: crate::backend::Snapshot,
 }
 
+/// Where [`Sppm::run_with_checkpoints`] hands its checkpoints: every this long, to this
+/// function (an error in words stops the render).
+pub type CheckpointSink<'a> = (
+    Duration,
+    &'a mut dyn FnMut(&Checkpoint) -> Result<(), String>,
+);
+
 /// Where a render stands, for progress bars and logs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Progress {
@@ -239,12 +246,11 @@ impl<B: Backend> Sppm<B> {
 
     /// [`Sppm::run`], handing a [`Checkpoint`] to `save` every `interval` of rendering
     /// (between passes); an error from `save` stops the render.
-    #[allow(clippy::type_complexity)]
     pub fn run_with_checkpoints(
         &mut self,
         budget: Budget,
         progress: &mut dyn FnMut(&Progress),
-        mut checkpoints: Option<(Duration, &mut dyn FnMut(&Checkpoint) -> Result<(), String>)>,
+        mut checkpoints: Option<CheckpointSink>,
     ) -> Result<Rendered, RenderError> {
         let started = Instant::now();
         let mut last_report = started;

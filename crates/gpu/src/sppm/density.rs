@@ -11,9 +11,9 @@ use render::density::scan_blocks;
 use render::half_storage::Precision;
 use render::kdtree::{KdNode, PhotonKdTree};
 
-use super::{GpuBackend, SPPM_STORAGE_BUFFERS, pass_encoder, textures_layout};
+use super::{GpuBackend, SPPM_STORAGE_BUFFERS, compile_pipelines, pass_encoder};
 use crate::readback::read_buffer;
-use crate::scene_upload::{bind_buffers, scene_layout, storage_entry};
+use crate::scene_upload::{bind_buffers, storage_entry};
 use crate::shader::Module;
 use crate::traversal::workgroups;
 use crate::{GpuError, check_buffer_fits};
@@ -140,33 +140,14 @@ fn compile(
         label: Some("density"),
         entries: &[storage_entry(0, read_only), storage_entry(1, read_only)],
     });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(module.label()),
-        bind_group_layouts: &[
-            Some(&scene_layout(device)),
-            Some(&backend.layout),
-            Some(&textures_layout(device)),
-            Some(&layout),
-        ],
-        immediate_size: 0,
-    });
-    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(module.label()),
-        source: wgpu::ShaderSource::Wgsl(module.source_with_precision(precision).into()),
-    });
-    let pipelines = entry_points
-        .iter()
-        .map(|entry| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &shader,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        })
-        .collect();
+    let pipelines = compile_pipelines(
+        device,
+        &backend.layout,
+        Some(&layout),
+        module.label(),
+        module.source_with_precision(precision),
+        entry_points,
+    );
     (layout, pipelines)
 }
 

@@ -6,11 +6,11 @@
 use render::backend::{BackendError, PhotonTracing};
 
 use super::{
-    FINISH_PASS, GpuBackend, SPPM_STORAGE_BUFFERS, device_error, pass_encoder, textures_layout,
+    FINISH_PASS, GpuBackend, SPPM_STORAGE_BUFFERS, compile_pipelines, device_error, pass_encoder,
 };
 use crate::GpuError;
 use crate::readback::read_buffer;
-use crate::scene_upload::{scene_layout, storage_entry};
+use crate::scene_upload::storage_entry;
 use crate::shader::Module;
 use crate::traversal::workgroups;
 
@@ -42,25 +42,16 @@ impl NaiveTracer {
             label: Some("path segments"),
             entries: &[storage_entry(0, false)],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(ENTRY_POINT),
-            bind_group_layouts: &[
-                Some(&scene_layout(device)),
-                Some(&backend.layout),
-                Some(&textures_layout(device)),
-                Some(&layout),
-            ],
-            immediate_size: 0,
-        });
-        let module = Module::PhotonTraceNaive.create(device);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(ENTRY_POINT),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(ENTRY_POINT),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compile_pipelines(
+            device,
+            &backend.layout,
+            Some(&layout),
+            Module::PhotonTraceNaive.label(),
+            Module::PhotonTraceNaive.source(),
+            &[ENTRY_POINT],
+        )
+        .pop()
+        .expect("one entry point, one pipeline");
         NaiveTracer {
             pipeline,
             layout,

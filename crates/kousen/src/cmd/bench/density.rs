@@ -31,7 +31,7 @@ use render::half_storage::Precision;
 use render::integrator::Phase;
 use render::{Backend, Density, Image, Settings, Sppm};
 
-use super::host::{AdapterReport, cpu_model, median, open_gpu};
+use super::host::{BenchHost, median, open_gpu};
 use crate::cli::{BenchDevice, DensityArgs, DensityMethod};
 use crate::image_io::{ExrPrecision, Output, read_image};
 use crate::image_metrics::mean_ratio;
@@ -64,19 +64,16 @@ pub fn run(args: &DensityArgs) -> anyhow::Result<()> {
     }
     let gpu = open_gpu(&args.devices, args.adapter.as_deref())?;
     let mut report = Report {
-        adapter: gpu.as_ref().map(AdapterReport::of),
-        cpu_model: cpu_model(),
-        cpu_threads: rayon::current_num_threads(),
-        gpu_timing: gpu
-            .as_ref()
-            .map(|_| "wall time, the device waited for after each phase"),
+        host: BenchHost::here(
+            gpu.as_ref(),
+            "wall time, the device waited for after each phase",
+        ),
         width: args.width,
         height: args.height,
         photon_slots: args.photons,
         passes: args.passes,
         eye_every: render::settings::DEFAULT_EYE_EVERY,
         seed: args.seed,
-        command: std::env::args().collect::<Vec<_>>().join(" "),
         references: Vec::new(),
         results: Vec::new(),
         gpu_over_cpu: Vec::new(),
@@ -91,7 +88,12 @@ pub fn run(args: &DensityArgs) -> anyhow::Result<()> {
     }
     println!(
         "cpu: {} ({} threads); {}×{}, {} photon slots, {} passes per method",
-        report.cpu_model, report.cpu_threads, args.width, args.height, args.photons, args.passes
+        report.host.cpu_model,
+        report.host.cpu_threads,
+        args.width,
+        args.height,
+        args.photons,
+        args.passes
     );
     for path in &args.scenes {
         let (reference, rows) =

@@ -27,6 +27,31 @@ impl AdapterReport {
     }
 }
 
+/// What a report says about where and how it was made; flattened into the benches' JSON
+/// (keys adapter, cpu_model, cpu_threads, gpu_timing, command).
+#[derive(Serialize)]
+pub struct BenchHost {
+    pub adapter: Option<AdapterReport>,
+    pub cpu_model: String,
+    pub cpu_threads: usize,
+    /// How GPU work is timed; null without a GPU.
+    pub gpu_timing: Option<&'static str>,
+    pub command: String,
+}
+
+impl BenchHost {
+    /// This process on this machine, with `gpu` (if any) timed as `gpu_timing` says.
+    pub fn here(gpu: Option<&GpuContext>, gpu_timing: &'static str) -> BenchHost {
+        BenchHost {
+            adapter: gpu.map(AdapterReport::of),
+            cpu_model: cpu_model(),
+            cpu_threads: rayon::current_num_threads(),
+            gpu_timing: gpu.map(|_| gpu_timing),
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+        }
+    }
+}
+
 /// The GPU when `devices` includes it; with no adapter at all and no `adapter` asked for, the
 /// CPU backend runs alone (said on stderr).
 pub fn open_gpu(

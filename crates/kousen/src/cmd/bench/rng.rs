@@ -33,7 +33,7 @@ use render::buffers::{PathSlot, SppmParams, counter};
 use render::random::{FractSin, Pcg, TalkFloat, Tea, battery};
 use render::{Backend, BackendError, PhotonTracing, Settings, Sppm};
 
-use super::host::{AdapterReport, cpu_model, median, open_gpu};
+use super::host::{BenchHost, median, open_gpu};
 use crate::cli::{BenchDevice, RngArgs};
 
 mod draws;
@@ -82,16 +82,12 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
         bail!("--image renders on the GPU, and no GPU adapter is in use (see --devices)");
     }
     let mut report = Report {
-        adapter: gpu.as_ref().map(AdapterReport::of),
-        cpu_model: cpu_model(),
-        cpu_threads: rayon::current_num_threads(),
-        gpu_timing: gpu.as_ref().map(|_| "wall"),
+        host: BenchHost::here(gpu.as_ref(), "wall"),
         photon_slots: args.photons,
         passes: args.passes,
         runs: args.runs,
         battery_draws: args.battery_draws,
         significance: battery::SIGNIFICANCE,
-        command: std::env::args().collect::<Vec<_>>().join(" "),
         battery: Vec::new(),
         draw_rates: Vec::new(),
         results: Vec::new(),
@@ -104,7 +100,7 @@ pub fn run(args: &RngArgs) -> anyhow::Result<()> {
     println!(
         "cpu: {} ({} threads); {} slots, runs of {} photon passes; warm-up, then median of {} \
          runs, generators alternating",
-        report.cpu_model, report.cpu_threads, args.photons, args.passes, args.runs
+        report.host.cpu_model, report.host.cpu_threads, args.photons, args.passes, args.runs
     );
     print_speed_header();
     for path in &args.scenes {

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use render::Image;
 
-use crate::cmd::bench::host::AdapterReport;
+use crate::cmd::bench::host::BenchHost;
 
 use crate::image_metrics::rel_mse;
 
@@ -14,18 +14,14 @@ use crate::image_metrics::rel_mse;
 /// rel_mse_equal_time; the other keys are extras).
 #[derive(Serialize)]
 pub(super) struct Report {
-    pub(super) adapter: Option<AdapterReport>,
-    pub(super) cpu_model: String,
-    pub(super) cpu_threads: usize,
-    /// How GPU phases are timed.
-    pub(super) gpu_timing: Option<&'static str>,
+    #[serde(flatten)]
+    pub(super) host: BenchHost,
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) photon_slots: u32,
     pub(super) passes: u32,
     pub(super) eye_every: u32,
     pub(super) seed: u32,
-    pub(super) command: String,
     pub(super) references: Vec<ReferenceReport>,
     pub(super) results: Vec<Row>,
     /// Table 5: the CPU backend's times over the GPU's, per scene and method.

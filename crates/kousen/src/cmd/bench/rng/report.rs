@@ -9,24 +9,20 @@ use super::draws::DrawRow;
 use super::images::ImageRow;
 use super::{Run, median};
 use crate::cli::RngArgs;
-use crate::cmd::bench::host::AdapterReport;
+use crate::cmd::bench::host::BenchHost;
 
 /// The JSON report (a contract for scripts: adapter, cpu_model, command, battery[...] with
 /// generator, test, statistic, limit, passed; results[...] with scene, device, generator,
 /// photon_paths, seconds, photon_paths_per_s; images[...]).
 #[derive(Serialize)]
 pub(super) struct Report {
-    pub(super) adapter: Option<AdapterReport>,
-    pub(super) cpu_model: String,
-    pub(super) cpu_threads: usize,
-    /// "wall" (submit to idle), null without a GPU.
-    pub(super) gpu_timing: Option<&'static str>,
+    #[serde(flatten)]
+    pub(super) host: BenchHost,
     pub(super) photon_slots: u32,
     pub(super) passes: u32,
     pub(super) runs: u32,
     pub(super) battery_draws: u32,
     pub(super) significance: f64,
-    pub(super) command: String,
     pub(super) battery: Vec<BatteryRow>,
     /// The generators alone: draws per second (`sum_draws`).
     pub(super) draw_rates: Vec<DrawRow>,

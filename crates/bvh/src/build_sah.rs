@@ -20,6 +20,7 @@ use scene::Triangle;
 
 use crate::aabb::Aabb;
 use crate::binning::{BinMapper, Scratch, Split, find_split};
+use crate::presplit::presplit;
 use crate::tree::{Bvh, INTERSECTION_COST, MAX_DEPTH, Node, TRAVERSAL_COST};
 
 /// Subtrees with at least this many triangles build their two children in parallel.
@@ -37,10 +38,15 @@ pub struct BuildOptions {
     pub max_leaf_size: usize,
     /// Bins per axis, 2 to [`MAX_BINS`].
     pub bins: usize,
+    /// Extra references to large, slanted triangles, in percent of the triangle count (module
+    /// `presplit`); 0 builds over one box per triangle.
+    pub split_percent: u32,
 }
 
 impl Default for BuildOptions {
-    /// Two triangles per leaf at most and 32 bins. Against one triangle per leaf (the talk's
+    /// Two triangles per leaf at most, 32 bins, 30 % extra references from split triangles.
+    /// Splitting cut the boxes tested per ray by the MTBVH by 6–27 % on the Sponzas against
+    /// none, and more references gained no more (BENCHMARKS §2). Against one triangle per leaf (the talk's
     /// choice), the MTBVH traversal of ANCHORS.md's rays visits 4–6 % fewer boxes and reads
     /// 3–5 % fewer bytes, and the MTBVH takes 28 % less memory (bunny, Crytek Sponza); allowing
     /// 4 or 8 gains under 1 % more while the leaf loop a GPU thread may run grows. 32 bins price
@@ -49,6 +55,7 @@ impl Default for BuildOptions {
         BuildOptions {
             max_leaf_size: 2,
             bins: 32,
+            split_percent: 30,
         }
     }
 }
@@ -58,6 +65,7 @@ impl BuildOptions {
         BuildOptions {
             max_leaf_size: self.max_leaf_size.max(1),
             bins: self.bins.clamp(2, MAX_BINS),
+            split_percent: self.split_percent,
         }
     }
 }
@@ -78,6 +86,16 @@ pub fn build_sah(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     }
     let mut boxes: Vec<Aabb> = triangles.par_iter().map(triangle_box).collect();
     let mut ids: Vec<u32> = (0..count as u32).collect();
+    if options.split_percent > 0 {
+        let scene = boxes
+            .par_iter()
+            .copied()
+            .reduce(|| Aabb::EMPTY, Aabb::union);
+        let extra = (count as u64 * u64::from(options.split_percent) / 100) as usize;
+        let extra = extra.min(MAX_TRIANGLES - count);
+        (boxes, ids) = presplit(triangles, &boxes, &scene, extra);
+    }
+    let count = boxes.len();
     let (bounds, centers) = boxes
         .par_iter()
         .fold(
@@ -176,7 +194,7 @@ fn build_node(
             slots[0] = Node {
                 bounds,
                 first_or_right: task.first,
-                triangle_count: count as u32,
+                triangle_count: distinct_first(task.ids) as u32,
             };
             return 1;
         }
@@ -251,6 +269,19 @@ fn plan(options: &BuildOptions, task: &Task, scratch: &mut Scratch) -> Plan {
             }
         }
     }
+}
+
+/// Moves a leaf's distinct triangle ids to the front (pieces of one split triangle may land
+/// in the same leaf) and returns how many there are; the rest stay unreferenced.
+fn distinct_first(ids: &mut [u32]) -> usize {
+    let mut distinct = 0;
+    for i in 0..ids.len() {
+        if !ids[..distinct].contains(&ids[i]) {
+            ids.swap(distinct, i);
+            distinct += 1;
+        }
+    }
+    distinct
 }
 
 fn ceil_log2(x: usize) -> usize {

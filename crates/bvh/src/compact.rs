@@ -589,7 +589,7 @@ mod tests {
         assert_eq!(m.far_bytes, 32 * compact.far_count());
         assert_eq!(
             m.total_bytes,
-            96 * 40_000 + 32 * (bvh.nodes.len() + compact.far_count()) + 32
+            96 * bvh.triangles.len() + 32 * (bvh.nodes.len() + compact.far_count()) + 32
         );
     }
 

@@ -22,6 +22,7 @@ pub mod intersect;
 pub mod mtbvh;
 pub mod pack;
 mod packed_triangle;
+mod presplit;
 pub mod testing;
 pub mod traverse;
 pub mod tree;

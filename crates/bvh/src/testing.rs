@@ -270,3 +270,17 @@ pub fn is_fragile_hit(bvh: &PackedBvh, ray: &Ray, hit: &Hit) -> bool {
     };
     intersect_box(&own_box, &SlabRay::new(ray), hit.t) == f32::INFINITY
 }
+
+/// Whether two traversals' answers are the same hit: equal, or at exactly the same `t` (a
+/// split triangle is packed once per piece, and triangles meeting at an edge or at the ray's
+/// origin tie; traversals that reach boxes in different orders may find a different one of
+/// them first). On copies of one input triangle the barycentrics must agree too.
+pub fn same_hit(bvh: &PackedBvh, a: Option<Hit>, b: Option<Hit>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => {
+            let input = |h: &Hit| bvh.triangle_ids[h.triangle as usize];
+            a.t == b.t && (input(&a) != input(&b) || (a.u, a.v) == (b.u, b.v))
+        }
+        _ => a == b,
+    }
+}

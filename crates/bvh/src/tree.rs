@@ -42,7 +42,9 @@ pub struct Bvh {
     /// Nodes in depth-first, left-first order; node 0 is the root. Empty for no triangles.
     pub nodes: Vec<Node>,
     /// Input triangle indices in leaf order: a leaf with `first_or_right = f` and
-    /// `triangle_count = c` holds triangles `triangle_order[f..f + c]`.
+    /// `triangle_count = c` holds triangles `triangle_order[f..f + c]`. A permutation of the
+    /// input unless triangles were split (`BuildOptions::split_percent`): then an id may
+    /// appear in several leaves, and entries no leaf holds may follow a leaf's own.
     pub triangle_order: Vec<u32>,
 }
 

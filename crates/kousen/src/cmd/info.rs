@@ -46,6 +46,11 @@ struct BvhInfo {
     /// not be made (see `memory.mtbvh_compact_error`).
     compact_ms: Option<f64>,
     max_leaf_size: usize,
+    /// Extra references to split triangles asked for, in percent of the triangles.
+    split_percent: u32,
+    /// Triangles as packed for the GPU: one per reference, so a split triangle counts once per
+    /// piece.
+    packed_triangles: usize,
     /// `leaf_size_histogram[k]` = number of leaves holding k triangles.
     leaf_size_histogram: Vec<usize>,
 }
@@ -129,6 +134,8 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             thread_and_pack_ms,
             compact_ms: compact.is_ok().then_some(compact_ms),
             max_leaf_size: options.max_leaf_size,
+            split_percent: options.split_percent,
+            packed_triangles: packed.triangles.len(),
             leaf_size_histogram: tree.leaf_size_histogram(),
         },
         memory: MemoryInfo {
@@ -152,6 +159,9 @@ pub fn build_options(args: BvhArgs) -> bvh::BuildOptions {
     let mut options = bvh::BuildOptions::default();
     if let Some(n) = args.leaf_size {
         options.max_leaf_size = n as usize;
+    }
+    if let Some(percent) = args.split_percent {
+        options.split_percent = percent;
     }
     options
 }
@@ -214,6 +224,13 @@ fn print_table(info: &Info) {
             ),
         ),
         ("leaf sizes", histogram(&info.bvh.leaf_size_histogram)),
+        (
+            "split triangles",
+            format!(
+                "{} packed for {} triangles (budget {} %)",
+                info.bvh.packed_triangles, info.triangles, info.bvh.split_percent
+            ),
+        ),
         (
             "TBVH memory",
             bytes(info.memory.tbvh_bytes, info.memory.tbvh_bytes_per_triangle),

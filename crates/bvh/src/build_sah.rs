@@ -44,9 +44,10 @@ pub struct BuildOptions {
 }
 
 impl Default for BuildOptions {
-    /// Two triangles per leaf at most, 32 bins, 30 % extra references from split triangles.
-    /// Splitting cut the boxes tested per ray by the MTBVH by 6–27 % on the Sponzas against
-    /// none, and more references gained no more (BENCHMARKS §2). Against one triangle per leaf (the talk's
+    /// Two triangles per leaf at most, 32 bins, no split triangles. Splitting (30 % extra
+    /// references) cut the boxes the MTBVH tests per ray by 14–26 % on the Sponzas but added
+    /// 25–32 % on cornell-metal and 1–3 % on the bunny (BENCHMARKS §2), so it is asked for
+    /// per scene (`--split-percent`). Against one triangle per leaf (the talk's
     /// choice), the MTBVH traversal of ANCHORS.md's rays visits 4–6 % fewer boxes and reads
     /// 3–5 % fewer bytes, and the MTBVH takes 28 % less memory (bunny, Crytek Sponza); allowing
     /// 4 or 8 gains under 1 % more while the leaf loop a GPU thread may run grows. 32 bins price
@@ -55,7 +56,7 @@ impl Default for BuildOptions {
         BuildOptions {
             max_leaf_size: 2,
             bins: 32,
-            split_percent: 30,
+            split_percent: 0,
         }
     }
 }

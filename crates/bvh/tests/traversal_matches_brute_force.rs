@@ -98,9 +98,10 @@ fn check_all(seed: u64, triangle_count: usize, ray_count: usize) -> Tally {
     let triangles = random_soup(seed, triangle_count);
     let rays = random_rays(seed ^ 0x5eed, ray_count, &triangles);
     let mut tally = Tally::default();
-    for max_leaf_size in [1, 4] {
+    for (max_leaf_size, split_percent) in [(1, 0), (4, 0), (2, 30)] {
         let options = BuildOptions {
             max_leaf_size,
+            split_percent,
             ..BuildOptions::default()
         };
         let bvh = PackedBvh::build(&triangles, &options);

@@ -24,7 +24,10 @@ fn main() -> Result<(), String> {
     let options = BuildOptions {
         max_leaf_size: flag("--leaf").unwrap_or(defaults.max_leaf_size),
         bins: flag("--bins").unwrap_or(defaults.bins),
-        split_percent: flag("--split").map_or(defaults.split_percent, |p| p as u32),
+        // Without split triangles unless asked: the build time compared with Embree in
+        // BENCHMARKS §1.
+        split_percent: flag("--split").map_or(0, |p| p as u32),
+        probe_split: false,
     };
     let runs = flag("--runs").unwrap_or(7).max(1);
     let triangles = match args.first().filter(|a| !a.starts_with("--")) {

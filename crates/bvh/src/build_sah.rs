@@ -41,13 +41,17 @@ pub struct BuildOptions {
     /// Extra references to large, slanted triangles, in percent of the triangle count (module
     /// `presplit`); 0 builds over one box per triangle.
     pub split_percent: u32,
+    /// Whether [`crate::PackedBvh::build`] keeps the split tree only where probe rays test
+    /// less in it than in the unsplit one ([`crate::probe`]); else splitting is forced.
+    /// [`build_sah`] itself always splits as asked.
+    pub probe_split: bool,
 }
 
 impl Default for BuildOptions {
-    /// Two triangles per leaf at most, 32 bins, no split triangles. Splitting (30 % extra
-    /// references) cut the boxes the MTBVH tests per ray by 14–26 % on the Sponzas but added
-    /// 25–32 % on cornell-metal and 1–3 % on the bunny (BENCHMARKS §2), so it is asked for
-    /// per scene (`--split-percent`). Against one triangle per leaf (the talk's
+    /// Two triangles per leaf at most, 32 bins, 30 % extra references from split triangles
+    /// where probe rays say they pay. Forced splitting cut the boxes the MTBVH tests per ray
+    /// by 14–27 % on the Sponzas but added 3 % on the bunny and 25–32 % on cornell-metal
+    /// (BENCHMARKS §2), which the probe avoids. Against one triangle per leaf (the talk's
     /// choice), the MTBVH traversal of ANCHORS.md's rays visits 4–6 % fewer boxes and reads
     /// 3–5 % fewer bytes, and the MTBVH takes 28 % less memory (bunny, Crytek Sponza); allowing
     /// 4 or 8 gains under 1 % more while the leaf loop a GPU thread may run grows. 32 bins price
@@ -56,7 +60,8 @@ impl Default for BuildOptions {
         BuildOptions {
             max_leaf_size: 2,
             bins: 32,
-            split_percent: 0,
+            split_percent: 30,
+            probe_split: true,
         }
     }
 }
@@ -67,6 +72,7 @@ impl BuildOptions {
             max_leaf_size: self.max_leaf_size.max(1),
             bins: self.bins.clamp(2, MAX_BINS),
             split_percent: self.split_percent,
+            probe_split: self.probe_split,
         }
     }
 }

@@ -7,6 +7,7 @@
 //! - [`pack`]: `#[repr(C)]` Pod nodes, links and triangles ([`PackedBvh`]).
 //! - [`traverse`]: stack, TBVH and MTBVH traversal, closest and any hit, and brute force.
 //! - [`compact`]: the MTBVH in 32-byte records with 16-bit boxes and links, and its traversal.
+//! - [`probe`]: keeping split triangles only where sample rays say they pay.
 //! - [`testing`]: random triangle soups and rays from a seed.
 //!
 //! Default leaf size: at most two triangles (the talk uses one); measured against 1, 4 and 8
@@ -23,6 +24,7 @@ pub mod mtbvh;
 pub mod pack;
 mod packed_triangle;
 mod presplit;
+pub mod probe;
 pub mod testing;
 pub mod traverse;
 pub mod tree;

@@ -13,8 +13,9 @@ use scene::Triangle;
 
 pub use crate::packed_triangle::{PackedTriangle, PackedVertex};
 
-use crate::build_sah::{BuildOptions, build_sah};
+use crate::build_sah::BuildOptions;
 use crate::mtbvh::{DIRECTION_COUNT, thread_all};
+use crate::probe::build_chosen;
 use crate::tree::Bvh;
 
 /// One node's box and contents, shared by the stack traversal and all seven threadings.
@@ -101,13 +102,14 @@ pub struct Memory {
 }
 
 impl PackedBvh {
-    /// Builds, threads and packs a tree over `triangles`.
+    /// Builds (with split triangles where they pay: [`crate::probe`]), threads and packs a
+    /// tree over `triangles`.
     ///
     /// # Panics
     /// With more triangles than [`crate::build_sah::MAX_TRIANGLES`] or a material index of
     /// [`PackedTriangle::MAX_MATERIAL`] or more.
     pub fn build(triangles: &[Triangle], options: &BuildOptions) -> PackedBvh {
-        PackedBvh::from_bvh(triangles, &build_sah(triangles, options))
+        PackedBvh::from_bvh(triangles, &build_chosen(triangles, options))
     }
 
     /// Threads and packs `bvh`, built over `triangles`.

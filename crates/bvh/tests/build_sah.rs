@@ -96,6 +96,7 @@ fn random_soups_satisfy_the_invariants() {
                         max_leaf_size,
                         bins,
                         split_percent,
+                        probe_split: false,
                     };
                     check_invariants(&triangles, &build_sah(&triangles, &options), &options);
                 }

@@ -77,6 +77,43 @@ fn info_json_keeps_the_contract_for_scripts() {
     );
 }
 
+/// `--split-percent`: a forced budget packs split triangles once per piece, 0 packs each
+/// triangle once, and a budget out of range is refused in one line.
+#[test]
+fn info_reports_split_triangles() {
+    let scene = shipped("cornell-box.gltf");
+    let packed = |percent: &str| {
+        let output = kousen(&[
+            "info",
+            scene.to_str().unwrap(),
+            "--json",
+            "--split-percent",
+            percent,
+        ]);
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let info: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        assert_eq!(info["bvh"]["split_percent"].as_u64(), percent.parse().ok());
+        info["bvh"]["packed_triangles"]
+            .as_u64()
+            .expect("packed_triangles")
+    };
+    let triangles = scene::testing::CORNELL_BOX_TRIANGLES as u64;
+    assert_eq!(packed("0"), triangles);
+    let split = packed("100");
+    assert!(
+        split > triangles && split <= 2 * triangles,
+        "{split} packed"
+    );
+    let refused = kousen(&["info", scene.to_str().unwrap(), "--split-percent", "500"]);
+    assert!(!refused.status.success());
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(stderr.contains("500"), "{stderr}");
+}
+
 #[test]
 fn render_writes_a_readable_png_of_the_requested_size() {
     let dir = tempfile::tempdir().unwrap();

@@ -7,8 +7,8 @@
 //! both trees with the MTBVH and keeps the one that tested less. The work is counted, not
 //! timed, so the choice is the same on every machine and run.
 //!
-//! Probe rays leave random points of random triangles in random directions: the secondary
-//! rays that photon and eye paths trace most.
+//! Probe rays leave random points of the scene's surfaces (uniform by area) in random
+//! directions: the secondary rays that photon and eye paths trace most.
 
 use rayon::prelude::*;
 use scene::Triangle;
@@ -49,15 +49,29 @@ pub fn build_chosen(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     }
 }
 
-/// The probe rays over `triangles`, the same for every tree built over them.
+/// The probe rays over `triangles`, the same for every tree built over them: origins uniform
+/// over the scene's surface area (as the bounces of photon and eye paths are spread, roughly),
+/// directions uniform over the sphere.
 pub fn probe_rays(triangles: &[Triangle]) -> Vec<Ray> {
-    if triangles.is_empty() {
+    let mut total = 0.0f64;
+    let cumulative: Vec<f64> = triangles
+        .iter()
+        .map(|t| {
+            total += f64::from(t.area());
+            total
+        })
+        .collect();
+    if triangles.is_empty() || total <= 0.0 {
         return Vec::new();
     }
     let mut rng = Rng::new(0x9e0b_e5ee_d5a1_7e57);
     (0..PROBE_RAYS)
         .map(|_| {
-            let [a, b, c] = triangles[rng.below(triangles.len())].positions();
+            let target = f64::from(rng.unit()) * total;
+            let index = cumulative
+                .partition_point(|&c| c <= target)
+                .min(triangles.len() - 1);
+            let [a, b, c] = triangles[index].positions();
             let (mut u, mut v) = (rng.unit(), rng.unit());
             if u + v > 1.0 {
                 (u, v) = (1.0 - u, 1.0 - v);
@@ -105,5 +119,37 @@ mod tests {
         // Every ray tests at least the root; a tree that tested every box would cost far more.
         assert!(cost >= PROBE_RAYS as f64 && cost < (PROBE_RAYS * bvh.nodes.len()) as f64);
         assert!(probe_rays(&[]).is_empty());
+    }
+
+    /// The tree kept is the one the probe finds cheaper; with probing off, the split one.
+    #[test]
+    fn build_keeps_the_cheaper_tree() {
+        for seed in 1..6 {
+            let triangles = crate::testing::random_soup(seed, 400);
+            let rays = probe_rays(&triangles);
+            let options = BuildOptions::default();
+            let forced = |percent| {
+                let tree = build_sah(
+                    &triangles,
+                    &BuildOptions {
+                        split_percent: percent,
+                        ..options
+                    },
+                );
+                probe_cost(&PackedBvh::from_bvh(&triangles, &tree), &rays)
+            };
+            let chosen = probe_cost(&PackedBvh::build(&triangles, &options), &rays);
+            assert_eq!(
+                chosen,
+                forced(options.split_percent).min(forced(0)),
+                "soup {seed}"
+            );
+            let unprobed = BuildOptions {
+                probe_split: false,
+                ..options
+            };
+            let kept = probe_cost(&PackedBvh::build(&triangles, &unprobed), &rays);
+            assert_eq!(kept, forced(options.split_percent), "soup {seed}");
+        }
     }
 }

@@ -26,6 +26,10 @@ fn main() -> ExitCode {
         .init();
     match cmd::run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(error) if error.is::<cmd::Interrupted>() => {
+            eprintln!("kousen: {error}");
+            ExitCode::from(130)
+        }
         Err(error) => {
             // One line: the whole chain of causes, joined.
             eprintln!("kousen: error: {error:#}");

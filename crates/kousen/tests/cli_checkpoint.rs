@@ -123,3 +123,47 @@ fn checkpoint_that_does_not_fit_is_refused() {
     );
     assert!(!out.exists());
 }
+
+/// Ctrl-C (SIGINT) ends a long render after the pass in flight: exit code 130, and the image,
+/// the statistics and a checkpoint that `--resume` continues are all written.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_the_render_and_saves_it() {
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name);
+    let (image, checkpoint, stats) = (path("cut.pfm"), path("cut.ckpt"), path("cut.json"));
+    let scene = shipped("cornell-caustics.gltf");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_kousen"))
+        .args(["render", scene.as_str(), "-o", image.to_str().unwrap()])
+        .args("--width 40 --height 32 --eye-every 3 --backend cpu --time 300".split(' '))
+        .args(["--checkpoint", checkpoint.to_str().unwrap()])
+        .args(["--stats", stats.to_str().unwrap()])
+        .env("RUST_LOG", "error")
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the kousen binary runs");
+    // Long enough for the handler (installed before the scene loads) and a few passes.
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(sent.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted after"), "{stderr}");
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    let passes = stats["passes"].as_u64().expect("passes");
+    assert!(
+        passes >= 1 && stats["seconds"].as_f64().unwrap() < 60.0,
+        "{stats}"
+    );
+    assert!(image.exists() && checkpoint.exists());
+    let more = (passes + 2).to_string();
+    succeeds(render(
+        &path("more.pfm"),
+        &format!("--passes {more} --resume {}", checkpoint.display()),
+    ));
+}

@@ -2,6 +2,8 @@
 //! followed by the hash build and the gather/update (DESIGN.md step 3). The backend does the
 //! work; this decides what runs when, and assembles the image.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
@@ -160,6 +162,8 @@ pub struct Sppm<B: Backend> {
     settings: Settings,
     passes: u32,
     eye_passes: u32,
+    /// Set from outside (Ctrl-C) to end the run after the pass in flight.
+    stop: Option<Arc<AtomicBool>>,
 }
 
 impl<B: Backend> Sppm<B> {
@@ -192,7 +196,15 @@ impl<B: Backend> Sppm<B> {
             settings,
             passes: 0,
             eye_passes: 0,
+            stop: None,
         })
+    }
+
+    /// Ends [`Sppm::run`] and [`Sppm::run_with_checkpoints`] after the pass in flight once
+    /// `flag` is set (by a Ctrl-C handler), as if the budget were spent: the image and the
+    /// last checkpoint are whole.
+    pub fn stop_when_set(&mut self, flag: Arc<AtomicBool>) {
+        self.stop = Some(flag);
     }
 
     pub fn backend(&mut self) -> &mut B {
@@ -260,7 +272,8 @@ impl<B: Backend> Sppm<B> {
                 Budget::Passes(n) => self.passes >= n,
                 Budget::Time(t) => started.elapsed() >= t,
             };
-            if done {
+            let stopped = self.stop.as_ref().is_some_and(|flag| flag.load(Relaxed));
+            if done || stopped {
                 break;
             }
             self.pass();

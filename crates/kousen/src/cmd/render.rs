@@ -1,6 +1,8 @@
 //! `kousen render`: a scene to an image with SPPM on the GPU or CPU backend (or, with
 //! `--integrator path`, the CPU path tracer kept as an independent reference).
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
@@ -65,6 +67,11 @@ struct Stats {
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let budget = budget(args)?;
+    // Installed first, so that a Ctrl-C while the scene loads already counts.
+    let stop = match args.integrator {
+        Integrator::Sppm => stop_on_ctrl_c(),
+        Integrator::Path => Arc::new(AtomicBool::new(false)),
+    };
     // Fail on a bad output or checkpoint path, or an unreadable checkpoint, before any work.
     let output = Output::create_with(&args.output, args.exr_precision)?;
     if let Some(path) = &args.checkpoint {
@@ -106,6 +113,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let continuation = Continuation {
         resume,
         fingerprint,
+        stop,
     };
 
     if args.integrator == Integrator::Path {
@@ -193,11 +201,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
 }
 
-/// The checkpoint a render continues, if any, and the scene-and-view fingerprint its
-/// checkpoints carry (empty when neither --checkpoint nor --resume is given).
+/// The checkpoint a render continues, if any, the scene-and-view fingerprint its
+/// checkpoints carry (empty when neither --checkpoint nor --resume is given), and when it
+/// stops early.
 struct Continuation<'a> {
     resume: Option<(&'a std::path::Path, checkpoint_file::Loaded)>,
     fingerprint: String,
+    /// Set by the first Ctrl-C: stop after the pass in flight, writing everything.
+    stop: Arc<AtomicBool>,
 }
 
 fn finish<B: Backend>(
@@ -238,6 +249,8 @@ fn finish<B: Backend>(
         seconds,
         words: [0; 4],
     };
+    let interrupted = continuation.stop.clone();
+    sppm.stop_when_set(interrupted.clone());
     let mut bar = ProgressBar::new(budget);
     let run_started = Instant::now();
     let rendered: Rendered = match &args.checkpoint {
@@ -297,6 +310,12 @@ fn finish<B: Backend>(
         let json = serde_json::to_string_pretty(&stats)?;
         crate::output_file::write_atomically(path, json.as_bytes())?;
     }
+    if interrupted.load(Ordering::Relaxed) {
+        return Err(super::Interrupted {
+            passes: rendered.passes,
+        }
+        .into());
+    }
     Ok(())
 }
 
@@ -353,4 +372,21 @@ pub fn choose_camera(scene: &scene::Scene, args: &CameraArgs) -> anyhow::Result<
             scene.cameras.len()
         )
     })
+}
+
+/// A flag that the first Ctrl-C sets, so that the render stops after the pass in flight and
+/// still writes its image, statistics and checkpoint; a second Ctrl-C exits at once.
+fn stop_on_ctrl_c() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let set = flag.clone();
+    let installed = ctrlc::set_handler(move || {
+        if set.swap(true, Ordering::Relaxed) {
+            std::process::exit(130);
+        }
+        eprintln!("kousen: stopping after this pass (Ctrl-C again to quit at once)");
+    });
+    if let Err(error) = installed {
+        log::warn!("Ctrl-C will end the render without saving it: {error}");
+    }
+    flag
 }

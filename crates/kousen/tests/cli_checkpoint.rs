@@ -134,7 +134,7 @@ fn ctrl_c_stops_the_render_and_saves_it() {
     let path = |name: &str| dir.path().join(name);
     let (image, checkpoint, stats) = (path("cut.pfm"), path("cut.ckpt"), path("cut.json"));
     let scene = shipped("cornell-caustics.gltf");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_kousen"))
+    let child = Command::new(env!("CARGO_BIN_EXE_kousen"))
         .args(["render", scene.as_str(), "-o", image.to_str().unwrap()])
         .args("--width 40 --height 32 --eye-every 3 --backend cpu --time 300".split(' '))
         .args(["--checkpoint", checkpoint.to_str().unwrap()])

@@ -85,6 +85,14 @@ impl Overlay {
                 format!("{} × {}", info.render_size.0, info.render_size.1),
             );
             row(
+                "estimator",
+                format!(
+                    "{}, {} photons",
+                    self.controls.density.for_view().name(),
+                    self.controls.precision.name()
+                ),
+            );
+            row(
                 "passes",
                 format!(
                     "{} ({} eye), {} per frame",

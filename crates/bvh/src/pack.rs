@@ -109,7 +109,7 @@ impl PackedBvh {
     /// With more triangles than [`crate::build_sah::MAX_TRIANGLES`] or a material index of
     /// [`PackedTriangle::MAX_MATERIAL`] or more.
     pub fn build(triangles: &[Triangle], options: &BuildOptions) -> PackedBvh {
-        PackedBvh::from_bvh(triangles, &build_chosen(triangles, options))
+        build_chosen(triangles, options).1
     }
 
     /// Threads and packs `bvh`, built over `triangles`.

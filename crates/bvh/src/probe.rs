@@ -27,11 +27,16 @@ pub const PROBE_RAYS: usize = 8192;
 /// a few min/max; the triangle test two cross products, four dots and three divisions).
 const TRIANGLE_COST: f64 = 3.0;
 
-/// The tree over `triangles` for `options`: where splitting is asked for with
-/// [`BuildOptions::probe_split`], the split tree only if the probe rays test less in it than
-/// in the tree without splits.
-pub fn build_chosen(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
-    let split = build_sah(triangles, options);
+/// The tree over `triangles` for `options`, with its packing: where splitting is asked for
+/// with [`BuildOptions::probe_split`], the split tree only if the probe rays test less in it
+/// than in the tree without splits. Each candidate is packed once, for the probe and for
+/// the caller.
+pub fn build_chosen(triangles: &[Triangle], options: &BuildOptions) -> (Bvh, PackedBvh) {
+    let pack = |tree: Bvh| {
+        let packed = PackedBvh::from_bvh(triangles, &tree);
+        (tree, packed)
+    };
+    let split = pack(build_sah(triangles, options));
     if options.split_percent == 0 || !options.probe_split {
         return split;
     }
@@ -39,10 +44,9 @@ pub fn build_chosen(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
         split_percent: 0,
         ..*options
     };
-    let unsplit = build_sah(triangles, &unsplit_options);
+    let unsplit = pack(build_sah(triangles, &unsplit_options));
     let rays = probe_rays(triangles);
-    let cost = |tree: &Bvh| probe_cost(&PackedBvh::from_bvh(triangles, tree), &rays);
-    if cost(&split) < cost(&unsplit) {
+    if probe_cost(&split.1, &rays) < probe_cost(&unsplit.1, &rays) {
         split
     } else {
         unsplit

@@ -249,8 +249,7 @@ fn finish<B: Backend>(
         seconds,
         words: [0; 4],
     };
-    let interrupted = continuation.stop.clone();
-    sppm.stop_when_set(interrupted.clone());
+    sppm.stop_when_set(continuation.stop.clone());
     let mut bar = ProgressBar::new(budget);
     let run_started = Instant::now();
     let rendered: Rendered = match &args.checkpoint {
@@ -310,7 +309,7 @@ fn finish<B: Backend>(
         let json = serde_json::to_string_pretty(&stats)?;
         crate::output_file::write_atomically(path, json.as_bytes())?;
     }
-    if interrupted.load(Ordering::Relaxed) {
+    if continuation.stop.load(Ordering::Relaxed) {
         return Err(super::Interrupted {
             passes: rendered.passes,
         }

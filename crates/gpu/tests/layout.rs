@@ -363,9 +363,9 @@ fn sppm_types_layout_matches_render_buffers() {
             ("edge1", offset_of!(Light, edge1)),
             ("double_sided", offset_of!(Light, double_sided)),
             ("edge2", offset_of!(Light, edge2)),
-            ("pad0", offset_of!(Light, pad0)),
+            ("kind", offset_of!(Light, kind)),
             ("flux", offset_of!(Light, flux)),
-            ("pad1", offset_of!(Light, pad1)),
+            ("pad", offset_of!(Light, pad)),
         ],
     );
     // Rust's `storage_origin: [f32; 3]` is WGSL's origin_x..origin_z (a vec3 would be 16-byte

@@ -20,11 +20,11 @@ use cpu::{CpuBackend, SceneData, kernels};
 use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::buffers::{
-    HASH_ENTRY_WORDS, PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter,
-    vec3,
+    HASH_ENTRY_WORDS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, PathSlot, Photon,
+    PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter, vec3,
 };
 use render::packing::unpack_normal;
-use render::{Backend, Image, Settings, Sppm};
+use render::{Backend, Image, Settings, Sppm, Statistics};
 use scene::{Camera, Scene};
 
 /// Share of elements (pixels, slots) allowed to differ beyond the tolerances: a branch flipped
@@ -321,6 +321,57 @@ fn mean_ratio(a: &Image, b: &Image) -> f64 {
     sum(a) / sum(b)
 }
 
+/// After both backends' first pass from idle slots: the GPU's photons and slots against the
+/// CPU backend's, and the CPU backend's against its kernel run on idle slots.
+fn assert_first_photon_pass_matches(
+    fixture: &Fixture,
+    settings: &Settings,
+    g: &mut Sppm<GpuBackend>,
+    c: &mut Sppm<CpuBackend>,
+) {
+    let d = fixture.diagonal;
+    let gpu_photons = g.backend().read_photons().expect("photons");
+    let cpu_photons = c.backend().photons().to_vec();
+    let stored = cpu_photons.iter().filter(|p| p.is_stored()).count();
+    assert!(stored > cpu_photons.len() / 4, "{stored} photons stored");
+    Comparison::new("photon_pass photons", &gpu_photons, &cpu_photons, |g, c| {
+        photon_errors(g, c, d)
+    })
+    .assert_at_most(MAX_DIVERGED);
+
+    // The CPU backend has no slot accessor: its slots are its kernel's on idle slots.
+    let data = fixture.scene_data();
+    let params = fixture.params(settings);
+    let twin: Vec<_> = (0..params.slot_count)
+        .map(|i| kernels::photon_pass(&data, &params, 0, i, PathSlot::IDLE))
+        .collect();
+    assert!(
+        twin.iter().zip(&cpu_photons).all(|(t, p)| t.photon == *p),
+        "the CPU backend's photons are not its kernel's"
+    );
+    let cpu_slots: Vec<PathSlot> = twin.iter().map(|t| t.slot).collect();
+    let continuing = cpu_slots.iter().filter(|s| s.depth != SLOT_IDLE).count();
+    assert!(continuing > cpu_slots.len() / 4, "{continuing} paths go on");
+    let gpu_slots = g.backend().read_slots().expect("slots");
+    Comparison::new("photon_pass slots", &gpu_slots, &cpu_slots, |g, c| {
+        slot_errors(g, c, d)
+    })
+    .assert_at_most(MAX_DIVERGED);
+}
+
+/// Both backends' pixel statistics, compared; returned for further checks.
+fn assert_statistics_match(
+    what: &str,
+    g: &mut Sppm<GpuBackend>,
+    c: &mut Sppm<CpuBackend>,
+) -> (Statistics, Statistics) {
+    let gpu_stats = g.backend().read_statistics().expect("statistics");
+    let cpu_stats = c.backend().read_statistics().expect("statistics");
+    Comparison::new(what, &gpu_stats.pixels, &cpu_stats.pixels, stats_errors)
+        .assert_at_most(MAX_DIVERGED);
+    (gpu_stats, cpu_stats)
+}
+
 fn caustics_settings() -> Settings {
     Settings {
         seed: 3,
@@ -350,33 +401,7 @@ fn first_pass_matches_the_cpu_backend() {
     )
     .assert_at_most(MAX_DIVERGED);
 
-    let gpu_photons = g.backend().read_photons().expect("photons");
-    let cpu_photons = c.backend().photons().to_vec();
-    let stored = cpu_photons.iter().filter(|p| p.is_stored()).count();
-    assert!(stored > cpu_photons.len() / 4, "{stored} photons stored");
-    Comparison::new("photon_pass photons", &gpu_photons, &cpu_photons, |g, c| {
-        photon_errors(g, c, d)
-    })
-    .assert_at_most(MAX_DIVERGED);
-
-    // The CPU backend has no slot accessor: its slots are its kernel's on idle slots.
-    let data = fixture.scene_data();
-    let params = fixture.params(&settings);
-    let twin: Vec<_> = (0..params.slot_count)
-        .map(|i| kernels::photon_pass(&data, &params, 0, i, PathSlot::IDLE))
-        .collect();
-    assert!(
-        twin.iter().zip(&cpu_photons).all(|(t, p)| t.photon == *p),
-        "the CPU backend's photons are not its kernel's"
-    );
-    let cpu_slots: Vec<PathSlot> = twin.iter().map(|t| t.slot).collect();
-    let continuing = cpu_slots.iter().filter(|s| s.depth != SLOT_IDLE).count();
-    assert!(continuing > cpu_slots.len() / 4, "{continuing} paths go on");
-    let gpu_slots = g.backend().read_slots().expect("slots");
-    Comparison::new("photon_pass slots", &gpu_slots, &cpu_slots, |g, c| {
-        slot_errors(g, c, d)
-    })
-    .assert_at_most(MAX_DIVERGED);
+    assert_first_photon_pass_matches(&fixture, &settings, &mut g, &mut c);
 
     let gpu_counters = g.backend().counters().expect("counters");
     let cpu_counters = c.backend().counters();
@@ -397,30 +422,15 @@ fn first_pass_matches_the_cpu_backend() {
     })
     .assert_at_most(MAX_HASH_DIVERGED);
 
-    let gpu_stats = g.backend().read_statistics().expect("statistics");
-    let cpu_stats = c.backend().read_statistics().expect("statistics");
-    Comparison::new(
-        "pixel statistics after 1 pass",
-        &gpu_stats.pixels,
-        &cpu_stats.pixels,
-        stats_errors,
-    )
-    .assert_at_most(MAX_DIVERGED);
+    assert_statistics_match("pixel statistics after 1 pass", &mut g, &mut c);
 
     // A few passes more: paths continue from the slots past specular bounces, radii shrink.
     for _ in 0..3 {
         g.pass();
         c.pass();
     }
-    let gpu_stats = g.backend().read_statistics().expect("statistics");
-    let cpu_stats = c.backend().read_statistics().expect("statistics");
-    Comparison::new(
-        "pixel statistics after 4 passes",
-        &gpu_stats.pixels,
-        &cpu_stats.pixels,
-        stats_errors,
-    )
-    .assert_at_most(MAX_DIVERGED);
+    let (gpu_stats, cpu_stats) =
+        assert_statistics_match("pixel statistics after 4 passes", &mut g, &mut c);
     assert_eq!(
         gpu_stats.emitted_paths, cpu_stats.emitted_paths,
         "paths emitted in 4 passes"
@@ -432,6 +442,25 @@ fn first_pass_matches_the_cpu_backend() {
         c.backend().counters()[counter::CELL_SIZE],
         "cell size after 4 passes"
     );
+}
+
+/// Point, spot and directional lights (glTF `KHR_lights_punctual`) besides the Cornell box's
+/// own: the first pass's emission (and first bounce) on the GPU against the CPU twin.
+#[test]
+fn punctual_lights_emit_like_their_cpu_twin() {
+    let fixture = Fixture::new(scene::testing::cornell_box_punctual());
+    let lights = render::emission::light_table(&fixture.scene);
+    let kinds: Vec<u32> = lights.iter().map(|l| l.kind).collect();
+    for kind in [LIGHT_TRIANGLE, LIGHT_POINT, LIGHT_SPOT, LIGHT_DIRECTIONAL] {
+        assert!(kinds.contains(&kind), "no light of kind {kind}: {kinds:?}");
+    }
+    let settings = caustics_settings();
+    let mut g = fixture.gpu(context(), &settings);
+    let mut c = fixture.cpu(&settings);
+    g.pass();
+    c.pass();
+    assert_first_photon_pass_matches(&fixture, &settings, &mut g, &mut c);
+    assert_statistics_match("pixel statistics after 1 pass", &mut g, &mut c);
 }
 
 /// Each kernel's twin run on the GPU's own state before the pass, pass after pass: the photon

@@ -93,11 +93,23 @@ pub struct Loaded {
     pub checkpoint: Checkpoint,
 }
 
-/// 64-bit FNV-1a of the scene's packed triangles and the camera's description.
-pub fn fingerprint(bvh: &bvh::PackedBvh, camera: &scene::Camera) -> String {
+/// 64-bit FNV-1a of the scene's packed triangles, the camera's description and the scene's
+/// punctual lights (only when it has any, so that checkpoints of scenes without them, made
+/// before punctual lights were read, stay valid).
+pub fn fingerprint(
+    bvh: &bvh::PackedBvh,
+    camera: &scene::Camera,
+    punctual: &[scene::PunctualEmitter],
+) -> String {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
     let bytes: &[u8] = bytemuck::cast_slice(&bvh.triangles);
-    for &byte in bytes.iter().chain(format!("{camera:?}").as_bytes()) {
+    let lights = if punctual.is_empty() {
+        String::new()
+    } else {
+        format!("{punctual:?}")
+    };
+    let described = format!("{camera:?}") + &lights;
+    for &byte in bytes.iter().chain(described.as_bytes()) {
         hash = (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
     }
     format!("{hash:016x}")

@@ -204,7 +204,7 @@ impl DensityMethod {
 
 #[derive(Args)]
 pub struct DensityArgs {
-    /// .gltf, .glb or .obj files, each with at least one emissive surface and a camera.
+    /// .gltf, .glb or .obj files, each with at least one light (an emissive surface or a glTF punctual light) and a camera.
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Also write the results as JSON (a contract for scripts).
@@ -327,7 +327,7 @@ pub struct TraversalArgs {
 
 #[derive(Args)]
 pub struct PhotonsArgs {
-    /// .gltf, .glb or .obj files, each with at least one emissive surface.
+    /// .gltf, .glb or .obj files, each with at least one light (an emissive surface or a glTF punctual light).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Also write the results as JSON (a contract for scripts).
@@ -358,7 +358,7 @@ pub struct PhotonsArgs {
 
 #[derive(Args)]
 pub struct RngArgs {
-    /// .gltf, .glb or .obj files, each with at least one emissive surface.
+    /// .gltf, .glb or .obj files, each with at least one light (an emissive surface or a glTF punctual light).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Also write the results as JSON (a contract for scripts).

@@ -100,7 +100,17 @@ impl PixelStats {
     }
 }
 
-/// One emissive triangle for photon emission (64 bytes), in a table ordered like its CDF.
+/// One light for photon emission (64 bytes), in a table ordered like its CDF. `kind` says
+/// which and what the shared fields hold:
+///
+/// | kind | `v0` | `edge1` | `edge2` | `flux` (÷ probability of picking it) |
+/// |---|---|---|---|---|
+/// | [`LIGHT_TRIANGLE`] | first vertex | p1 − p0 | p2 − p0 | its power |
+/// | [`LIGHT_POINT`] | position | — | — | 4π · intensity |
+/// | [`LIGHT_SPOT`] | position | unit axis | (cos inner, cos outer, 0) | intensity · outer cone's solid angle |
+/// | [`LIGHT_DIRECTIONAL`] | disk centre | unit direction | (disk radius, 0, 0) | illuminance · disk area |
+///
+/// A spot's photons are also weighted by [`scene::lights::spot_falloff`] at their direction.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Light {
@@ -108,14 +118,24 @@ pub struct Light {
     /// Probability of picking this light or one before it (the last is exactly 1).
     pub cdf: f32,
     pub edge1: [f32; 3],
-    /// 1 if the light emits from both faces.
+    /// 1 if a triangle light emits from both faces.
     pub double_sided: u32,
     pub edge2: [f32; 3],
-    pub pad0: u32,
-    /// Flux a path leaving this light carries: its power / the probability of picking it.
+    /// [`LIGHT_TRIANGLE`], [`LIGHT_POINT`], [`LIGHT_SPOT`] or [`LIGHT_DIRECTIONAL`].
+    pub kind: u32,
+    /// Flux a path leaving this light carries: see the table above.
     pub flux: [f32; 3],
-    pub pad1: u32,
+    pub pad: u32,
 }
+
+/// [`Light::kind`] of an emissive triangle.
+pub const LIGHT_TRIANGLE: u32 = 0;
+/// [`Light::kind`] of a point light.
+pub const LIGHT_POINT: u32 = 1;
+/// [`Light::kind`] of a spot light.
+pub const LIGHT_SPOT: u32 = 2;
+/// [`Light::kind`] of a directional light.
+pub const LIGHT_DIRECTIONAL: u32 = 3;
 
 /// Render-wide constants (uniform buffer, 112 bytes).
 #[repr(C)]

@@ -1,41 +1,53 @@
-//! Where photon paths start: a table of the emissive triangles with a CDF proportional to
-//! power, a uniform point on the picked triangle, a cosine-distributed direction from its
-//! emitting face (either face, with even odds, for a double-sided emitter).
+//! Where photon paths start: a table of the scene's lights with a CDF proportional to power.
+//! - an emissive triangle: a uniform point on it, a cosine-distributed direction from its
+//!   emitting face (either face, with even odds, for a double-sided emitter);
+//! - a point light: its position, a uniform direction over the sphere;
+//! - a spot light: its position, a uniform direction in its outer cone, the flux weighted by
+//!   the falloff at that direction;
+//! - a directional light: a uniform point on a disk across the scene's bounding sphere,
+//!   upstream of it, travelling in the light's direction.
 
 use glam::Vec3;
-use scene::Scene;
+use scene::{PunctualEmitter, PunctualKind, Scene};
 
-use crate::buffers::{Light, vec3};
-use crate::sampling::{cosine_hemisphere, orthonormal_basis};
+use crate::buffers::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, Light, vec3};
+use crate::sampling::{cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk};
 
-/// The light table of a scene, in CDF order. Empty if nothing emits. A textured emitter is
-/// taken at its texture's mean (scene::Lights does the same for power).
+/// The light table of a scene, in CDF order: emissive triangles, then punctual lights. Empty
+/// if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
+/// same for power).
 pub fn light_table(scene: &Scene) -> Vec<Light> {
-    let lights = &scene.lights.triangles;
-    let weight = |l: &scene::EmissiveTriangle| l.power.element_sum().max(0.0) as f64;
-    let total: f64 = lights.iter().map(weight).sum();
-    if total <= 0.0 {
-        return Vec::new();
-    }
+    let weight = |power: Vec3| power.element_sum().max(0.0) as f64;
+    let triangles = scene.lights.triangles.iter().map(|l| {
+        let triangle = &scene.triangles[l.triangle as usize];
+        let [p0, p1, p2] = triangle.positions();
+        let material = &scene.materials[triangle.material as usize];
+        let light = Light {
+            v0: p0.to_array(),
+            edge1: (p1 - p0).to_array(),
+            double_sided: material.double_sided as u32,
+            edge2: (p2 - p0).to_array(),
+            kind: LIGHT_TRIANGLE,
+            ..Light::default()
+        };
+        (light, l.power, l.power)
+    });
+    let punctual = scene.lights.punctual.iter().map(punctual_light);
+    let lights: Vec<(Light, Vec3, Vec3)> = triangles
+        .chain(punctual)
+        .filter(|(_, power, _)| weight(*power) > 0.0)
+        .collect();
+    let total: f64 = lights.iter().map(|(_, power, _)| weight(*power)).sum();
     let mut running = 0.0;
     let mut table: Vec<Light> = lights
-        .iter()
-        .filter(|l| weight(l) > 0.0)
-        .map(|l| {
-            let probability = weight(l) / total;
+        .into_iter()
+        .map(|(light, power, flux_if_certain)| {
+            let probability = weight(power) / total;
             running += probability;
-            let triangle = &scene.triangles[l.triangle as usize];
-            let [p0, p1, p2] = triangle.positions();
-            let material = &scene.materials[triangle.material as usize];
             Light {
-                v0: p0.to_array(),
                 cdf: running as f32,
-                edge1: (p1 - p0).to_array(),
-                double_sided: material.double_sided as u32,
-                edge2: (p2 - p0).to_array(),
-                pad0: 0,
-                flux: (l.power / probability as f32).to_array(),
-                pad1: 0,
+                flux: (flux_if_certain / probability as f32).to_array(),
+                ..light
             }
         })
         .collect();
@@ -45,11 +57,43 @@ pub fn light_table(scene: &Scene) -> Vec<Light> {
     table
 }
 
+/// A punctual light's table entry (cdf and flux still to be set), its power, and the flux its
+/// photons carry were it the only light: its power, except for a spot, whose photons are
+/// spread uniformly over the whole outer cone and weighted by the falloff.
+fn punctual_light(emitter: &PunctualEmitter) -> (Light, Vec3, Vec3) {
+    let light = &emitter.light;
+    let (kind, edge1, edge2, flux_if_certain) = match light.kind {
+        PunctualKind::Point => (LIGHT_POINT, Vec3::ZERO, Vec3::ZERO, emitter.power),
+        PunctualKind::Spot {
+            cos_inner,
+            cos_outer,
+        } => {
+            let cone = std::f32::consts::TAU * (1.0 - cos_outer);
+            let edge2 = Vec3::new(cos_inner, cos_outer, 0.0);
+            (LIGHT_SPOT, light.direction, edge2, light.intensity * cone)
+        }
+        PunctualKind::Directional => (
+            LIGHT_DIRECTIONAL,
+            light.direction,
+            Vec3::new(emitter.radius, 0.0, 0.0),
+            emitter.power,
+        ),
+    };
+    let entry = Light {
+        v0: emitter.origin.to_array(),
+        edge1: edge1.to_array(),
+        edge2: edge2.to_array(),
+        kind,
+        ..Light::default()
+    };
+    (entry, emitter.power, flux_if_certain)
+}
+
 /// The start of a light path.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Emission {
     pub origin: Vec3,
-    /// Unit normal of the emitting face.
+    /// Unit normal of the emitting face; a punctual light's photon direction.
     pub normal: Vec3,
     pub direction: Vec3,
     pub flux: Vec3,
@@ -72,6 +116,41 @@ pub fn pick_light(lights: &[Light], u: f32) -> usize {
 /// A light path's start from five uniform numbers. `lights` must not be empty.
 pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
     let light = &lights[pick_light(lights, u[0])];
+    match light.kind {
+        LIGHT_POINT => {
+            let direction = uniform_cone(u[3], u[4], -1.0);
+            emission_along(vec3(light.v0), direction, vec3(light.flux))
+        }
+        LIGHT_SPOT => {
+            let axis = vec3(light.edge1);
+            let [cos_inner, cos_outer, _] = light.edge2;
+            let local = uniform_cone(u[3], u[4], cos_outer);
+            let (t, b) = orthonormal_basis(axis);
+            let direction = (t * local.x + b * local.y + axis * local.z).normalize();
+            let falloff = scene::lights::spot_falloff(local.z, cos_inner, cos_outer);
+            emission_along(vec3(light.v0), direction, falloff * vec3(light.flux))
+        }
+        LIGHT_DIRECTIONAL => {
+            let direction = vec3(light.edge1);
+            let (t, b) = orthonormal_basis(direction);
+            let disk = light.edge2[0] * uniform_disk(u[1], u[2]);
+            let origin = vec3(light.v0) + t * disk.x + b * disk.y;
+            emission_along(origin, direction, vec3(light.flux))
+        }
+        _ => triangle_emission(light, u),
+    }
+}
+
+fn emission_along(origin: Vec3, direction: Vec3, flux: Vec3) -> Emission {
+    Emission {
+        origin,
+        normal: direction,
+        direction,
+        flux,
+    }
+}
+
+fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
     let (mut b1, mut b2) = (u[1], u[2]);
     if b1 + b2 > 1.0 {
         (b1, b2) = (1.0 - b1, 1.0 - b2);
@@ -129,6 +208,127 @@ mod tests {
             assert!(e.direction.dot(e.normal) >= 0.0);
             assert!((e.direction.length() - 1.0).abs() < 1e-5);
         }
+    }
+
+    /// `light` alone over the punctual plane: its scene and `count` emissions drawn with a
+    /// xorshift generator.
+    fn emissions(light: scene::PunctualLight, count: u32) -> (Scene, Vec<Emission>) {
+        let scene = scene::testing::punctual_plane(&[light]);
+        let table = light_table(&scene);
+        assert_eq!(table.len(), 1, "one light");
+        let mut state = 0x9e37_79b9u32;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let samples = (0..count)
+            .map(|_| sample_emission(&table, [(); 5].map(|_| next())))
+            .collect();
+        (scene, samples)
+    }
+
+    fn mean_flux(samples: &[Emission]) -> Vec3 {
+        let sum: glam::DVec3 = samples.iter().map(|e| e.flux.as_dvec3()).sum();
+        (sum / samples.len() as f64).as_vec3()
+    }
+
+    #[test]
+    fn point_light_emits_its_power_uniformly() {
+        let light = scene::PunctualLight {
+            kind: PunctualKind::Point,
+            position: Vec3::new(0.0, 1.0, 0.0),
+            direction: Vec3::ZERO,
+            intensity: Vec3::new(1.0, 2.0, 3.0),
+        };
+        let (scene, samples) = emissions(light, 100_000);
+        let power = scene.lights.total_power;
+        let off = |e: &Emission| (e.flux - power).abs().max_element() / power.max_element();
+        assert!(
+            samples.iter().all(|e| off(e) < 1e-6),
+            "every photon carries the power"
+        );
+        let mean_direction = samples.iter().map(|e| e.direction).sum::<Vec3>() / 1e5;
+        assert!(mean_direction.length() < 0.01, "{mean_direction}");
+        assert!(samples.iter().all(|e| e.origin == light.position));
+        assert!(
+            samples
+                .iter()
+                .all(|e| (e.direction.length() - 1.0).abs() < 1e-5)
+        );
+    }
+
+    #[test]
+    fn spot_light_emits_its_power_inside_its_outer_cone() {
+        let (cos_inner, cos_outer) = (0.9, 0.7);
+        let axis = Vec3::new(0.3, -1.0, 0.1).normalize();
+        let light = scene::PunctualLight {
+            kind: PunctualKind::Spot {
+                cos_inner,
+                cos_outer,
+            },
+            position: Vec3::new(0.0, 1.0, 0.0),
+            direction: axis,
+            intensity: Vec3::splat(5.0),
+        };
+        let (scene, samples) = emissions(light, 200_000);
+        // The falloff's weights average out to the power (Monte Carlo: about 0.2% noise).
+        let power = scene.lights.total_power;
+        let mean = mean_flux(&samples);
+        assert!(
+            (mean.x / power.x - 1.0).abs() < 0.01,
+            "{mean} against {power}"
+        );
+        let cosines = samples.iter().map(|e| e.direction.dot(axis));
+        assert!(cosines.clone().all(|c| c >= cos_outer - 1e-5));
+        // Inside the inner cone a photon carries the full intensity × the outer cone's solid
+        // angle.
+        let full = 5.0 * std::f32::consts::TAU * (1.0 - cos_outer);
+        for (e, c) in samples.iter().zip(cosines) {
+            if c > cos_inner + 1e-4 {
+                assert!((e.flux.x / full - 1.0).abs() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn directional_light_crosses_the_scene_from_upstream() {
+        let direction = Vec3::new(0.6, -0.8, 0.0);
+        let light = scene::PunctualLight {
+            kind: PunctualKind::Directional,
+            position: Vec3::ZERO,
+            direction,
+            intensity: Vec3::splat(1.5),
+        };
+        let (scene, samples) = emissions(light, 50_000);
+        let bounds = scene.bounds();
+        let (centre, radius) = (bounds.center(), 0.5 * bounds.extent().length());
+        let power = scene.lights.total_power;
+        let off = |e: &Emission| (e.flux - power).abs().max_element() / power.max_element();
+        assert!(
+            samples.iter().all(|e| off(e) < 1e-6),
+            "every photon carries the power"
+        );
+        for e in &samples {
+            assert_eq!(e.direction, direction);
+            let offset = e.origin - centre;
+            // Upstream of the bounding sphere, and within the disk that covers it.
+            assert!(offset.dot(direction) <= -radius);
+            let lateral = offset - offset.dot(direction) * direction;
+            assert!(lateral.length() <= 1.02 * radius);
+        }
+        // The disk is covered uniformly: a quarter of the photons within half its radius.
+        let disk_radius = scene.lights.punctual[0].radius;
+        let inner = samples
+            .iter()
+            .filter(|e| {
+                let o = e.origin - scene.lights.punctual[0].origin;
+                o.length() < 0.5 * disk_radius
+            })
+            .count() as f64
+            / samples.len() as f64;
+        assert!((inner - 0.25).abs() < 0.01, "{inner}");
     }
 
     #[test]

@@ -22,7 +22,9 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(250);
 pub enum RenderError {
     #[error(transparent)]
     Settings(#[from] SettingsError),
-    #[error("the scene has no emissive surface, so the image would be black")]
+    #[error(
+        "the scene has no light (no emissive surface and no glTF punctual light), so the image would be black"
+    )]
     NoLights,
 
     #[error(transparent)]

@@ -46,6 +46,22 @@ pub fn cosine_hemisphere(u1: f32, u2: f32) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
 }
 
+/// Uniform direction about +Z within the cone `z ≥ cos_max` from two uniform numbers
+/// (`cos_max = −1`: the whole sphere).
+pub fn uniform_cone(u1: f32, u2: f32, cos_max: f32) -> Vec3 {
+    let z = 1.0 - u1 * (1.0 - cos_max);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Uniform point on the unit disk (as x, y) from two uniform numbers.
+pub fn uniform_disk(u1: f32, u2: f32) -> glam::Vec2 {
+    let r = u1.sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    glam::Vec2::new(r * phi.cos(), r * phi.sin())
+}
+
 /// Two unit vectors completing `n` (unit) to an orthonormal basis, without branches on the
 /// tangent's choice (Duff et al. 2017, "Building an orthonormal basis, revisited").
 pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {

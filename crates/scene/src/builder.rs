@@ -2,11 +2,15 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::{Camera, Lights, Material, Scene, SceneError, Texture, TextureId, Triangle};
+use crate::{
+    Camera, Lights, Material, PunctualKind, PunctualLight, Scene, SceneError, Texture, TextureId,
+    Triangle,
+};
 
 pub struct SceneBuilder {
     path: PathBuf,
     scene: Scene,
+    punctual_lights: Vec<PunctualLight>,
 }
 
 impl SceneBuilder {
@@ -15,6 +19,7 @@ impl SceneBuilder {
         SceneBuilder {
             path: path.to_path_buf(),
             scene: Scene::default(),
+            punctual_lights: Vec::new(),
         }
     }
 
@@ -38,6 +43,40 @@ impl SceneBuilder {
 
     pub fn add_camera(&mut self, camera: Camera) {
         self.scene.cameras.push(camera);
+    }
+
+    /// Adds a light without area. Its intensity must be finite and not negative, a spot's or
+    /// directional light's direction finite and not zero (it is made unit length), a spot's
+    /// cone cosines ordered `0 ≤ cos_outer < cos_inner ≤ 1`.
+    pub fn add_punctual_light(&mut self, mut light: PunctualLight) -> Result<(), SceneError> {
+        let error = |message: String| Err(SceneError::format(&self.path, message));
+        if !(light.intensity.is_finite() && light.intensity.min_element() >= 0.0) {
+            return error(format!(
+                "light intensity {} is not finite and ≥ 0",
+                light.intensity
+            ));
+        }
+        if !light.position.is_finite() {
+            return error(format!("non-finite light position {}", light.position));
+        }
+        if let PunctualKind::Spot {
+            cos_inner,
+            cos_outer,
+        } = light.kind
+            && !(0.0 <= cos_outer && cos_outer < cos_inner && cos_inner <= 1.0)
+        {
+            return error(format!(
+                "spot light cone cosines {cos_inner} (inner) and {cos_outer} (outer) are not 0 ≤ outer < inner ≤ 1"
+            ));
+        }
+        if light.kind != PunctualKind::Point {
+            let Some(direction) = light.direction.try_normalize() else {
+                return error(format!("light direction {} has no length", light.direction));
+            };
+            light.direction = direction;
+        }
+        self.punctual_lights.push(light);
+        Ok(())
     }
 
     /// Records something the loader ignored; it is also logged.
@@ -125,7 +164,12 @@ impl SceneBuilder {
                 ));
             }
         }
-        scene.lights = Lights::collect(&scene.triangles, &scene.materials, &scene.textures);
+        scene.lights = Lights::collect(
+            &scene.triangles,
+            &scene.materials,
+            &scene.textures,
+            &self.punctual_lights,
+        );
         Ok(self.scene)
     }
 }

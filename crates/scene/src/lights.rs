@@ -1,8 +1,9 @@
-//! The light list: every emissive triangle with its area and power.
+//! The light list: every emissive triangle with its area and power, and the lights without
+//! area that glTF files place on nodes (`KHR_lights_punctual`).
 
 use glam::Vec3;
 
-use crate::{Material, Texture, Triangle};
+use crate::{Bounds, Material, Texture, Triangle};
 
 /// One emissive triangle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,15 +16,92 @@ pub struct EmissiveTriangle {
     pub power: Vec3,
 }
 
+/// What kind of light without area, with what it needs beyond position and direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PunctualKind {
+    /// Emits the same intensity in every direction.
+    Point,
+    /// Emits around its direction: full intensity within the inner cone, none beyond the
+    /// outer one, and in between the falloff of [`spot_falloff`]. Cosines of the half-angles,
+    /// `cos_outer < cos_inner`.
+    Spot { cos_inner: f32, cos_outer: f32 },
+    /// Parallel light from infinitely far away (the sun).
+    Directional,
+}
+
+/// A light without area, as glTF's `KHR_lights_punctual` defines it. Camera rays never see
+/// one; it lights the scene through the photons it emits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PunctualLight {
+    pub kind: PunctualKind,
+    /// Where the light is (point, spot); unused for a directional light.
+    pub position: Vec3,
+    /// Unit direction the light travels in (spot, directional: its node's −Z); unused for a
+    /// point light.
+    pub direction: Vec3,
+    /// Linear RGB colour × intensity: luminous intensity in candela for point and spot
+    /// lights (radiance units × m²), illuminance in lux for directional ones (radiance units
+    /// × sr), so that they sit with emissive surfaces' radiance as glTF means them to.
+    pub intensity: Vec3,
+}
+
+/// A punctual light with what emitting its photons needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PunctualEmitter {
+    pub light: PunctualLight,
+    /// Point and spot: the light's position. Directional: the centre of the disk the photons
+    /// leave from, outside the scene's bounding sphere on the side the light comes from.
+    pub origin: Vec3,
+    /// Directional: the disk's radius, the scene's bounding-sphere radius (0 otherwise).
+    pub radius: f32,
+    /// Emitted flux per RGB channel (see [`PunctualLight::power`]).
+    pub power: Vec3,
+}
+
+/// glTF's recommended spot falloff: 0 at the outer cone, 1 at the inner one, and in between
+/// the square of the linear ramp in the cosine of the angle from the spot's axis.
+pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    let ramp = (cos_angle - cos_outer) / (cos_inner - cos_outer).max(1e-3);
+    let ramp = ramp.clamp(0.0, 1.0);
+    ramp * ramp
+}
+
+impl PunctualLight {
+    /// Flux the light emits; a directional light's through a disk of `radius`.
+    ///
+    /// Point: 4π·I. Spot: I · ∫ falloff dω = I · 2π ∫ falloff(c) dc over the cosine c: π·I·(1 −
+    /// cos_inner) for the full-intensity cap plus 2π·I·(cos_inner − cos_outer)/3 for the
+    /// squared ramp. Directional: E·π·radius².
+    pub fn power(&self, radius: f32) -> Vec3 {
+        use std::f32::consts::PI;
+        let solid_angle_weight = match self.kind {
+            PunctualKind::Point => 4.0 * PI,
+            PunctualKind::Spot {
+                cos_inner,
+                cos_outer,
+            } => 2.0 * PI * (1.0 - cos_inner) + 2.0 * PI * (cos_inner - cos_outer) / 3.0,
+            PunctualKind::Directional => PI * radius * radius,
+        };
+        self.intensity * solid_angle_weight
+    }
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Lights {
     pub triangles: Vec<EmissiveTriangle>,
+    pub punctual: Vec<PunctualEmitter>,
     pub total_power: Vec3,
 }
 
 impl Lights {
-    /// Collects the emissive triangles of a scene.
-    pub fn collect(triangles: &[Triangle], materials: &[Material], textures: &[Texture]) -> Lights {
+    /// Collects the emissive triangles of a scene and prepares its punctual lights (those of
+    /// zero intensity dropped); directional lights cover the triangles' bounding sphere.
+    pub fn collect(
+        triangles: &[Triangle],
+        materials: &[Material],
+        textures: &[Texture],
+        punctual: &[PunctualLight],
+    ) -> Lights {
         // Only emission textures need their mean, and computing one is not free.
         let mut texture_means: Vec<Option<Vec3>> = vec![None; textures.len()];
         let mut mean = |t: u32| {
@@ -50,11 +128,109 @@ impl Lights {
                 power,
             });
         }
+        let bounds = triangles
+            .iter()
+            .fold(Bounds::EMPTY, |b, t| b.union(t.bounds()));
+        for light in punctual.iter().filter(|l| l.intensity.max_element() > 0.0) {
+            let emitter = PunctualEmitter::new(*light, bounds);
+            lights.total_power += emitter.power;
+            lights.punctual.push(emitter);
+        }
         lights
+    }
+
+    /// Whether anything emits.
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty() && self.punctual.is_empty()
     }
 
     /// Total power as one number: the mean of the three channels.
     pub fn total_power_scalar(&self) -> f32 {
         self.total_power.element_sum() / 3.0
+    }
+}
+
+impl PunctualEmitter {
+    /// Places `light` for a scene within `bounds` (not empty).
+    pub fn new(light: PunctualLight, bounds: Bounds) -> PunctualEmitter {
+        let (origin, radius) = match light.kind {
+            PunctualKind::Directional => {
+                // A little beyond the bounding sphere, so every photon starts outside it.
+                let radius = 0.5 * bounds.extent().length() * 1.01;
+                (bounds.center() - light.direction * 2.0 * radius, radius)
+            }
+            _ => (light.position, 0.0),
+        };
+        PunctualEmitter {
+            light,
+            origin,
+            radius,
+            power: light.power(radius),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Flux by numerical integration of intensity × falloff over the sphere.
+    fn integrated_spot_power(cos_inner: f32, cos_outer: f32) -> f64 {
+        let steps = 200_000;
+        let mut sum = 0.0f64;
+        for i in 0..steps {
+            let c = -1.0 + 2.0 * (i as f64 + 0.5) / steps as f64;
+            sum += spot_falloff(c as f32, cos_inner, cos_outer) as f64;
+        }
+        2.0 * std::f64::consts::PI * sum * 2.0 / steps as f64
+    }
+
+    #[test]
+    fn spot_power_is_the_integral_of_its_falloff() {
+        for (inner, outer) in [(0.1f32, 0.5f32), (0.0, 0.3), (0.7, 0.75), (0.2, 1.5)] {
+            let light = PunctualLight {
+                kind: PunctualKind::Spot {
+                    cos_inner: inner.cos(),
+                    cos_outer: outer.cos(),
+                },
+                position: Vec3::ZERO,
+                direction: Vec3::NEG_Z,
+                intensity: Vec3::ONE,
+            };
+            let expected = integrated_spot_power(inner.cos(), outer.cos());
+            let power = light.power(0.0).x as f64;
+            assert!(
+                (power - expected).abs() < 1e-3 * expected,
+                "{inner} {outer}: {power} vs {expected}"
+            );
+        }
+    }
+
+    #[test]
+    fn falloff_is_one_inside_and_zero_outside() {
+        let (inner, outer) = (0.9f32, 0.8f32);
+        assert_eq!(spot_falloff(0.95, inner, outer), 1.0);
+        assert_eq!(spot_falloff(0.79, inner, outer), 0.0);
+        assert!((spot_falloff(0.85, inner, outer) - 0.25).abs() < 1e-5);
+    }
+
+    #[test]
+    fn directional_light_covers_the_scene_from_outside() {
+        let bounds = Bounds {
+            min: Vec3::splat(-1.0),
+            max: Vec3::splat(1.0),
+        };
+        let light = PunctualLight {
+            kind: PunctualKind::Directional,
+            position: Vec3::ZERO,
+            direction: Vec3::new(0.0, -1.0, 0.0),
+            intensity: Vec3::splat(2.0),
+        };
+        let e = PunctualEmitter::new(light, bounds);
+        let sphere = 3f32.sqrt();
+        assert!(e.radius >= sphere);
+        assert!(e.origin.y >= sphere && e.origin.x == 0.0 && e.origin.z == 0.0);
+        let expected = 2.0 * std::f32::consts::PI * e.radius * e.radius;
+        assert!((e.power.x - expected).abs() < 1e-4 * expected);
     }
 }

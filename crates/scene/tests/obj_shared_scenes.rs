@@ -31,7 +31,7 @@ fn load_timed(path: &Path) -> Scene {
     }
     // The builder's `finish` runs this; timed alone to show its share of the load.
     let start = Instant::now();
-    scene::Lights::collect(&scene.triangles, &scene.materials, &scene.textures);
+    scene::Lights::collect(&scene.triangles, &scene.materials, &scene.textures, &[]);
     println!(
         "  of which Lights::collect: {:.3} s",
         start.elapsed().as_secs_f64()

@@ -10,7 +10,7 @@ mod gltf_writer;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use scene::{Scene, Triangle};
+use scene::{PunctualKind, Scene, Triangle};
 
 fn shipped_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -172,6 +172,33 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
         close(loaded.lights.total_power, fixture.lights.total_power, 1e-5),
         "{stem}"
     );
+    assert_eq!(
+        loaded.lights.punctual.len(),
+        fixture.lights.punctual.len(),
+        "{stem}: punctual lights"
+    );
+    for (x, y) in loaded.lights.punctual.iter().zip(&fixture.lights.punctual) {
+        let (x, y) = (&x.light, &y.light);
+        assert!(
+            close(x.position, y.position, 1e-6)
+                && close(x.direction, y.direction, 1e-6)
+                && close(x.intensity, y.intensity, 1e-6),
+            "{stem}: {x:?} vs {y:?}"
+        );
+        match (x.kind, y.kind) {
+            (
+                PunctualKind::Spot {
+                    cos_inner: a,
+                    cos_outer: b,
+                },
+                PunctualKind::Spot {
+                    cos_inner: c,
+                    cos_outer: d,
+                },
+            ) => assert!((a - c).abs() < 1e-6 && (b - d).abs() < 1e-6, "{stem}"),
+            (a, b) => assert_eq!(a, b, "{stem}"),
+        }
+    }
 }
 
 #[test]

@@ -24,6 +24,27 @@ fn pick_light(u: f32) -> u32 {
     return lo;
 }
 
+// render::sampling::uniform_cone: uniform direction about +Z with z >= cos_max.
+fn uniform_cone(u1: f32, u2: f32, cos_max: f32) -> vec3<f32> {
+    let z = 1.0 - u1 * (1.0 - cos_max);
+    let r = sqrt(max(1.0 - z * z, 0.0));
+    let phi = 2.0 * PI * u2;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
+// render::sampling::uniform_disk.
+fn uniform_disk(u1: f32, u2: f32) -> vec2<f32> {
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    return vec2<f32>(r * cos(phi), r * sin(phi));
+}
+
+// scene::lights::spot_falloff.
+fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    let ramp = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-3), 0.0, 1.0);
+    return ramp * ramp;
+}
+
 // render::emission::sample_emission, written into a fresh slot.
 fn emit(rng: ptr<function, Rng>) -> PathSlot {
     let u0 = next_f32(rng);
@@ -32,24 +53,44 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
     let u3 = next_f32(rng);
     let u4 = next_f32(rng);
     let light = lights[pick_light(u0)];
-    var b1 = u1;
-    var b2 = u2;
-    if b1 + b2 > 1.0 {
-        b1 = 1.0 - b1;
-        b2 = 1.0 - b2;
-    }
-    let origin = light.v0 + b1 * light.edge1 + b2 * light.edge2;
-    var normal = normalize(cross(light.edge1, light.edge2));
-    var u_direction = u3;
-    if light.double_sided != 0u {
-        u_direction *= 2.0;
-        if u_direction >= 1.0 {
-            u_direction -= 1.0;
-            normal = -normal;
+    var origin = light.v0;
+    var normal: vec3<f32>;
+    var direction: vec3<f32>;
+    var flux = light.flux;
+    if light.kind == LIGHT_POINT {
+        direction = uniform_cone(u3, u4, -1.0);
+        normal = direction;
+    } else if light.kind == LIGHT_SPOT {
+        let axis = light.edge1;
+        let local = uniform_cone(u3, u4, light.edge2.y);
+        direction = normalize(basis_tangent(axis) * local.x + basis_bitangent(axis) * local.y + axis * local.z);
+        normal = direction;
+        flux = spot_falloff(local.z, light.edge2.x, light.edge2.y) * flux;
+    } else if light.kind == LIGHT_DIRECTIONAL {
+        direction = light.edge1;
+        normal = direction;
+        let disk = light.edge2.x * uniform_disk(u1, u2);
+        origin = light.v0 + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
+    } else {
+        var b1 = u1;
+        var b2 = u2;
+        if b1 + b2 > 1.0 {
+            b1 = 1.0 - b1;
+            b2 = 1.0 - b2;
         }
+        origin = light.v0 + b1 * light.edge1 + b2 * light.edge2;
+        normal = normalize(cross(light.edge1, light.edge2));
+        var u_direction = u3;
+        if light.double_sided != 0u {
+            u_direction *= 2.0;
+            if u_direction >= 1.0 {
+                u_direction -= 1.0;
+                normal = -normal;
+            }
+        }
+        direction = normalize(cosine_direction(normal, u_direction, u4));
     }
-    let direction = normalize(cosine_direction(normal, u_direction, u4));
-    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, light.flux, 0u);
+    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, 0u);
 }
 
 // What one photon-pass step leaves (cpu::kernels::PhotonStep).

@@ -30,15 +30,16 @@ struct PixelStats {
     radius: f32,
 }
 
+// render::buffers::Light: what v0, edge1 and edge2 hold depends on kind (LIGHT_*).
 struct Light {
     v0: vec3<f32>,
     cdf: f32,
     edge1: vec3<f32>,
     double_sided: u32,
     edge2: vec3<f32>,
-    pad0: u32,
+    kind: u32,
     flux: vec3<f32>,
-    pad1: u32,
+    pad: u32,
 }
 
 struct SppmParams {

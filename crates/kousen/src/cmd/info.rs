@@ -17,6 +17,8 @@ struct Info {
     textures: usize,
     cameras: usize,
     emissive_triangles: usize,
+    /// glTF `KHR_lights_punctual` lights by kind.
+    punctual_lights: PunctualInfo,
     /// Total emitted flux, mean of the RGB channels.
     light_power: f32,
     light_power_rgb: [f32; 3],
@@ -24,6 +26,30 @@ struct Info {
     bvh: BvhInfo,
     memory: MemoryInfo,
     warnings: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct PunctualInfo {
+    point: usize,
+    spot: usize,
+    directional: usize,
+}
+
+impl PunctualInfo {
+    fn count(lights: &scene::Lights) -> PunctualInfo {
+        let of = |kind: fn(&scene::PunctualKind) -> bool| {
+            lights
+                .punctual
+                .iter()
+                .filter(|e| kind(&e.light.kind))
+                .count()
+        };
+        PunctualInfo {
+            point: of(|k| matches!(k, scene::PunctualKind::Point)),
+            spot: of(|k| matches!(k, scene::PunctualKind::Spot { .. })),
+            directional: of(|k| matches!(k, scene::PunctualKind::Directional)),
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -122,6 +148,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
         emissive_triangles: scene.lights.triangles.len(),
+        punctual_lights: PunctualInfo::count(&scene.lights),
         light_power: scene.lights.total_power_scalar(),
         light_power_rgb: scene.lights.total_power.to_array(),
         bounds: BoundsInfo {
@@ -207,6 +234,15 @@ fn print_table(info: &Info) {
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),
         ("emissive triangles", info.emissive_triangles.to_string()),
+        (
+            "punctual lights",
+            format!(
+                "{} point, {} spot, {} directional",
+                info.punctual_lights.point,
+                info.punctual_lights.spot,
+                info.punctual_lights.directional
+            ),
+        ),
         (
             "light power",
             format!("{:.4} (rgb {:?})", info.light_power, info.light_power_rgb),

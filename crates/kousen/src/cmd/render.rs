@@ -86,9 +86,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         bail!("--checkpoint and --resume are for SPPM renders, not --integrator path");
     }
     let scene = scene::load(&args.scene)?;
-    if scene.lights.triangles.is_empty() {
+    if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no emissive surface, so the image would be black",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black",
             args.scene.display()
         );
     }
@@ -106,7 +106,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
     log::info!("BVH built in {:.2} s", started.elapsed().as_secs_f64());
     let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
-        checkpoint_file::fingerprint(&bvh, &camera)
+        checkpoint_file::fingerprint(&bvh, &camera, &scene.lights.punctual)
     } else {
         String::new()
     };
@@ -119,6 +119,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.integrator == Integrator::Path {
         if args.backend == BackendChoice::Gpu {
             bail!("--integrator path runs on the CPU only; use --backend cpu or auto");
+        }
+        if !scene.lights.punctual.is_empty() {
+            bail!(
+                "--integrator path samples emissive surfaces only, and this scene has {} glTF punctual light(s); use --integrator sppm",
+                scene.lights.punctual.len()
+            );
         }
         return super::path_render::run(args, &scene, &bvh, camera, width, height, budget, output);
     }

@@ -19,12 +19,12 @@ pub struct LoadedScene {
     pub bvh: bvh::PackedBvh,
 }
 
-/// Reads a scene the viewer can render: a known format with at least one emissive surface.
+/// Reads a scene the viewer can render: a known format with at least one light.
 pub fn load_scene(path: &Path, bvh_args: BvhArgs) -> anyhow::Result<LoadedScene> {
     let scene = scene::load(path)?;
-    if scene.lights.triangles.is_empty() {
+    if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no emissive surface, so the image would be black",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black",
             path.display()
         );
     }

@@ -9,6 +9,9 @@
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
+//! Punctual lights go into `KHR_lights_punctual`, one node each, the colour scaled to a
+//! maximum of 1 times the intensity, the node rotated so that its −z is the light's direction.
+//!
 //! The output depends only on the scene: object keys are sorted and numbers are written as the
 //! shortest text that reads back as the same f32.
 
@@ -16,16 +19,17 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{Mat3, Quat, Vec3};
-use scene::{AlphaMode, Camera, Material, Scene, Surface, Triangle};
+use scene::{AlphaMode, Camera, Material, PunctualKind, PunctualLight, Scene, Surface, Triangle};
 use serde_json::{Map, Value, json};
 
 /// A function building a fixture scene.
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 2] = [
+pub const SHIPPED: [(&str, Fixture); 3] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
+    ("cornell-spot", scene::testing::cornell_spot),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -77,6 +81,23 @@ pub fn encode(scene: &Scene, stem: &str) -> Encoded {
             .enumerate()
             .map(|(i, c)| camera_node(c, i)),
     );
+    let lights: Vec<Value> = scene
+        .lights
+        .punctual
+        .iter()
+        .map(|e| punctual(&e.light))
+        .collect();
+    nodes.extend(
+        scene
+            .lights
+            .punctual
+            .iter()
+            .enumerate()
+            .map(|(i, e)| light_node(&e.light, i)),
+    );
+    if !lights.is_empty() {
+        doc.extensions.push("KHR_lights_punctual");
+    }
     let mut extensions: Vec<&str> = doc.extensions.clone();
     extensions.sort_unstable();
     extensions.dedup();
@@ -99,6 +120,9 @@ pub fn encode(scene: &Scene, stem: &str) -> Encoded {
     }
     if !extensions.is_empty() {
         root["extensionsUsed"] = json!(extensions);
+    }
+    if !lights.is_empty() {
+        root["extensions"] = json!({ "KHR_lights_punctual": { "lights": lights } });
     }
     let mut json = serde_json::to_vec_pretty(&sorted(root)).expect("JSON values serialise");
     json.push(b'\n');
@@ -317,6 +341,45 @@ fn camera_node(camera: &Camera, index: usize) -> Value {
         "translation": numbers(&camera.eye.to_array()),
         "rotation": numbers(&rotation.to_array()),
     })
+}
+
+/// A `KHR_lights_punctual` light: colour (largest channel 1) × intensity.
+fn punctual(light: &PunctualLight) -> Value {
+    let intensity = light.intensity.max_element();
+    let colour = if intensity > 0.0 {
+        light.intensity / intensity
+    } else {
+        Vec3::ONE
+    };
+    let mut value = json!({ "color": numbers(&colour.to_array()), "intensity": number(intensity) });
+    match light.kind {
+        PunctualKind::Point => value["type"] = json!("point"),
+        PunctualKind::Directional => value["type"] = json!("directional"),
+        PunctualKind::Spot {
+            cos_inner,
+            cos_outer,
+        } => {
+            value["type"] = json!("spot");
+            value["spot"] = json!({
+                "innerConeAngle": number(cos_inner.acos()),
+                "outerConeAngle": number(cos_outer.acos()),
+            });
+        }
+    }
+    value
+}
+
+/// A light's node: at its position, rotated so that its −z is the light's direction.
+fn light_node(light: &PunctualLight, index: usize) -> Value {
+    let mut node = json!({
+        "extensions": { "KHR_lights_punctual": { "light": index } },
+        "translation": numbers(&light.position.to_array()),
+    });
+    if light.kind != PunctualKind::Point {
+        let rotation = Quat::from_rotation_arc(Vec3::NEG_Z, light.direction).normalize();
+        node["rotation"] = numbers(&rotation.to_array());
+    }
+    node
 }
 
 /// An f32 as the shortest decimal that reads back as the same f32 (−0 written as 0).

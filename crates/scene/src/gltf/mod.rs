@@ -4,10 +4,16 @@
 //! root node) with matrix or TRS transforms; every TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN
 //! primitive with POSITION, NORMAL (smoothed, area-weighted, when absent) and TEXCOORD_0,
 //! indexed by u8/u16/u32 or not at all; perspective cameras in traversal order; materials as
-//! [`materials`] describes; the extensions in [`SUPPORTED_EXTENSIONS`]. Skipped with a
-//! warning: point and line primitives, orthographic cameras, skins and morph targets, and every
-//! optional extension not supported. Refused: a required extension not supported, sparse
-//! accessors, URIs other than relative paths and data URIs.
+//! [`materials`] describes; point, spot and directional lights on nodes
+//! (`KHR_lights_punctual`): at the node's world origin, shining down its world −Z, with
+//! intensity = `color` (in [0, 1]) × `intensity` (≥ 0; candela, or lux for directional ones)
+//! and a spot's cone angles `0 ≤ innerConeAngle < outerConeAngle ≤ π/2`; the extensions in
+//! [`SUPPORTED_EXTENSIONS`]. Skipped with a warning: point and line primitives, orthographic
+//! cameras, spot and directional lights whose node's transform leaves no direction (a zero
+//! scale), skins and morph targets, and every optional extension not supported. Ignored with
+//! one warning: lights' `range` (kousen's lights fall off with the inverse square of distance,
+//! however far). Refused: a required extension not supported, sparse accessors, URIs other
+//! than relative paths and data URIs.
 //!
 //! Files come from anywhere (DESIGN.md, "Loader robustness"). The `gltf` crate is used only to
 //! deserialise the JSON; its validation and readers are not (its validation indexes arrays
@@ -21,6 +27,7 @@ mod accessors;
 mod buffers;
 mod cameras;
 mod container;
+mod lights;
 pub mod materials;
 mod meshes;
 mod nodes;
@@ -39,7 +46,8 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+    "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
@@ -74,6 +82,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         triangles_placed: 0,
         skipped_primitives: 0,
         warned_skins: false,
+        warned_light_range: false,
     };
     nodes::walk(&input, &roots, |index, world| loader.visit(index, world))?;
     loader.finish()
@@ -236,6 +245,8 @@ struct Loader<'a> {
     triangles_placed: usize,
     skipped_primitives: usize,
     warned_skins: bool,
+    /// Whether the warning that lights' `range` is ignored was given.
+    warned_light_range: bool,
 }
 
 impl Loader<'_> {
@@ -243,6 +254,15 @@ impl Loader<'_> {
         let node = &self.input.root.nodes[index];
         if let Some(camera) = node.camera {
             cameras::place(self.input, &mut self.builder, index, camera.value(), world)?;
+        }
+        if let Some(light) = node
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+        {
+            let light = light.light.value();
+            let warned = &mut self.warned_light_range;
+            lights::place(self.input, &mut self.builder, index, light, world, warned)?;
         }
         if let Some(mesh) = node.mesh {
             self.mesh(index, mesh.value(), world)?;

@@ -8,6 +8,10 @@
 //!   [`FURNACE_RADIANCE`] everywhere.
 //! - [`lit_plane`]: a diffuse square under a large parallel area light; radiance is
 //!   [`lit_plane_radiance`].
+//! - [`punctual_plane`]: a diffuse square lit only by the punctual lights given.
+//! - [`cornell_box_punctual`]: the Cornell box with a point, a spot and a directional light
+//!   besides its own.
+//! - [`cornell_spot`]: [`cornell_caustics`] with a spot light on the glass sphere.
 //!
 //! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
 //! these by `cargo run -p scene --example make_scenes -- scenes/`.
@@ -16,7 +20,9 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
-use crate::{Camera, Material, Scene, SceneBuilder, Surface, Triangle, Vertex};
+use crate::{
+    Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, Surface, Triangle, Vertex,
+};
 
 /// The Cornell box's white, red and green reflectances (linear RGB). The Cornell data gives
 /// spectra; these RGB values are the common ones (McGuire's `CornellBox-Original.mtl`,
@@ -50,6 +56,10 @@ pub const LIT_PLANE_ALBEDO: f32 = 0.5;
 pub const LIT_PLANE_LIGHT_HALF_SIZE: f32 = 10.0;
 pub const LIT_PLANE_LIGHT_HEIGHT: f32 = 1.0;
 pub const LIT_PLANE_EMISSION: f32 = 1.0;
+
+/// Punctual plane: a square of half-size [`PUNCTUAL_PLANE_HALF_SIZE`] at y = 0 facing +y with
+/// albedo [`LIT_PLANE_ALBEDO`].
+pub const PUNCTUAL_PLANE_HALF_SIZE: f32 = 1.0;
 
 /// The Cornell box as published by the Cornell Program of Computer Graphics, "Cornell Box
 /// Data" (<http://www.graphics.cornell.edu/online/box/data.html>): walls, blocks, light and
@@ -135,6 +145,79 @@ pub fn lit_plane() -> Scene {
     let eye = Vec3::new(0.0, 0.8, 0.8);
     f.camera(eye, -eye, 60f32.to_radians(), None, "above");
     f.finish()
+}
+
+/// A diffuse square (see [`PUNCTUAL_PLANE_HALF_SIZE`]) lit by `lights` alone; nothing else
+/// is there, so its radiance is the light's direct irradiance × ρ/π. The camera looks down at
+/// it from above.
+pub fn punctual_plane(lights: &[PunctualLight]) -> Scene {
+    let mut f = Fixture::new("testing::punctual_plane");
+    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
+    let half = PUNCTUAL_PLANE_HALF_SIZE;
+    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+        .map(|[x, z]| Vec3::new(x * half, 0.0, z * half));
+    f.quad(corners, plane, Vec3::Y);
+    for light in lights {
+        f.builder.add_punctual_light(*light).expect("a valid light");
+    }
+    let eye = Vec3::new(0.0, 2.0, 2.0);
+    f.camera(eye, -eye, 60f32.to_radians(), None, "above");
+    f.finish()
+}
+
+/// [`cornell_box`] with three more lights: a point light in the middle of the room, a spot
+/// under the ceiling pointing at the floor's back left, and a directional light shining in
+/// slantwise from above (onto the outside of the box).
+pub fn cornell_box_punctual() -> Scene {
+    let mut scene = cornell_box();
+    let lights = [
+        PunctualLight {
+            kind: PunctualKind::Point,
+            position: Vec3::new(278.0, 274.0, 280.0),
+            direction: Vec3::ZERO,
+            intensity: Vec3::new(20_000.0, 30_000.0, 40_000.0),
+        },
+        PunctualLight {
+            kind: PunctualKind::Spot {
+                cos_inner: 20f32.to_radians().cos(),
+                cos_outer: 35f32.to_radians().cos(),
+            },
+            position: Vec3::new(400.0, 500.0, 300.0),
+            direction: Vec3::new(-0.3, -1.0, 0.2).normalize(),
+            intensity: Vec3::splat(50_000.0),
+        },
+        PunctualLight {
+            kind: PunctualKind::Directional,
+            position: Vec3::ZERO,
+            direction: Vec3::new(0.3, -1.0, 0.5).normalize(),
+            intensity: Vec3::splat(2.0),
+        },
+    ];
+    scene.lights =
+        crate::Lights::collect(&scene.triangles, &scene.materials, &scene.textures, &lights);
+    scene
+}
+
+/// [`cornell_caustics`] with a spot light high at the back aimed down through the glass
+/// sphere, so that its caustic falls on the floor in front of the sphere: a point source's
+/// caustic is sharp, and one no unidirectional path tracer can find (a camera path reaches the
+/// spot's point through the glass with probability zero).
+pub fn cornell_spot() -> Scene {
+    let mut scene = cornell_caustics();
+    let position = Vec3::new(250.0, 520.0, 480.0);
+    let glass_centre = Vec3::new(180.0, 90.0, 170.0);
+    let spot = PunctualLight {
+        kind: PunctualKind::Spot {
+            cos_inner: 10f32.to_radians().cos(),
+            cos_outer: 18f32.to_radians().cos(),
+        },
+        position,
+        direction: (glass_centre - position).normalize(),
+        intensity: Vec3::new(1_200_000.0, 1_080_000.0, 900_000.0),
+    };
+    scene.lights =
+        crate::Lights::collect(&scene.triangles, &scene.materials, &scene.textures, &[spot]);
+    scene
 }
 
 /// The lit plane's outgoing radiance at (x, 0, z) (|x|, |z| ≤ [`LIT_PLANE_HALF_SIZE`]):

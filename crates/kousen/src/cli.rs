@@ -483,6 +483,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
+    pub sun: SunArgs,
+    #[command(flatten)]
     pub bvh: BvhArgs,
 }
 
@@ -534,6 +536,8 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
+    pub sun: SunArgs,
+    #[command(flatten)]
     pub bvh: BvhArgs,
 }
 
@@ -555,6 +559,43 @@ pub struct CameraArgs {
     /// Vertical field of view in degrees (with --eye).
     #[arg(long, value_name = "DEGREES", default_value_t = 50.0)]
     pub fov: f32,
+}
+
+/// A sun added to the scene: a directional light, so that scenes without lights of their own
+/// (Sponza, the bunny) can be rendered as they are.
+#[derive(Args, Clone, Copy)]
+pub struct SunArgs {
+    /// Add a sun: a directional light travelling along "x,y,z" (0.3,-1,0.2 shines down).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub sun: Option<[f32; 3]>,
+    /// The sun's illuminance on a surface facing it (lux: the units of emitted radiance × sr).
+    #[arg(long, value_name = "E", default_value_t = 3.0, requires = "sun")]
+    pub sun_illuminance: f32,
+}
+
+impl SunArgs {
+    /// Adds the sun to `scene`, if one was asked for.
+    pub fn add_to(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
+        let Some(direction) = self.sun else {
+            return Ok(());
+        };
+        let Some(direction) = glam::Vec3::from(direction).try_normalize() else {
+            anyhow::bail!("--sun needs a direction, not the zero vector");
+        };
+        let illuminance = self.sun_illuminance;
+        if !(illuminance.is_finite() && illuminance > 0.0) {
+            anyhow::bail!("--sun-illuminance must be a positive number, got {illuminance}");
+        }
+        let sun = scene::PunctualLight {
+            kind: scene::PunctualKind::Directional,
+            position: glam::Vec3::ZERO,
+            direction,
+            intensity: glam::Vec3::splat(illuminance),
+        };
+        let bounds = scene.bounds();
+        scene.lights.add_punctual(sun, bounds);
+        Ok(())
+    }
 }
 
 fn parse_vec3(text: &str) -> Result<[f32; 3], String> {

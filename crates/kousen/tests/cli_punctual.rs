@@ -7,37 +7,43 @@ mod common;
 use common::*;
 use serde_json::{Value, json};
 
-/// The unit quad lit only by a point light 0.5 above its centre, seen from straight above.
-fn point_lit_quad(dir: &std::path::Path) -> std::path::PathBuf {
-    let lights = json!({
-        "extensionsUsed": ["KHR_lights_punctual"],
-        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 2.0}]}},
+/// The unit quad seen from straight above by a camera 1 above its centre, with `lights`
+/// (`KHR_lights_punctual` lights, placed by `light_nodes`) as its only lights.
+fn quad_scene(
+    dir: &std::path::Path,
+    name: &str,
+    lights: Vec<Value>,
+    light_nodes: Vec<Value>,
+) -> std::path::PathBuf {
+    let mut extra = json!({
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.01}}],
     });
+    if !lights.is_empty() {
+        extra["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+        extra["extensions"] = json!({"KHR_lights_punctual": {"lights": lights}});
+    }
     let mut document: Value =
-        serde_json::from_slice(&gltf(&QUAD, Some(&QUAD_INDICES), 4, lights)).unwrap();
+        serde_json::from_slice(&gltf(&QUAD, Some(&QUAD_INDICES), 4, extra)).unwrap();
     let nodes = document["nodes"].as_array_mut().unwrap();
-    nodes.push(json!({
-        "translation": [0.5, 0.5, 0.5],
-        "extensions": {"KHR_lights_punctual": {"light": 0}},
-    }));
-    // A camera 1 above the centre looking down (−z of the node is −y of the world).
+    // The camera's −z is the world's −y.
     nodes.push(json!({
         "camera": 0,
         "translation": [0.5, 1.0, 0.5],
         "rotation": [-std::f32::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f32::consts::FRAC_1_SQRT_2],
     }));
-    document["scenes"][0]["nodes"] = json!([0, 1, 2]);
-    document["cameras"] =
-        json!([{"type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.01}}]);
-    write(dir, "point.gltf", &serde_json::to_vec(&document).unwrap())
+    nodes.extend(light_nodes);
+    let count = nodes.len();
+    document["scenes"][0]["nodes"] = json!((0..count).collect::<Vec<_>>());
+    write(dir, name, &serde_json::to_vec(&document).unwrap())
 }
 
-#[test]
-fn a_point_light_alone_lights_a_scene() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene = point_lit_quad(dir.path());
-    let out = dir.path().join("point.pfm");
-    let output = kousen_quiet(&[
+/// `kousen render SCENE -o OUT` at 16², 8 passes on the CPU, with `more` arguments.
+fn render_small(
+    scene: &std::path::Path,
+    out: &std::path::Path,
+    more: &[&str],
+) -> std::process::Output {
+    let mut args = vec![
         "render",
         scene.to_str().unwrap(),
         "-o",
@@ -48,7 +54,26 @@ fn a_point_light_alone_lights_a_scene() {
         "8",
         "--backend",
         "cpu",
-    ]);
+    ];
+    args.extend_from_slice(more);
+    kousen_quiet(&args)
+}
+
+#[test]
+fn a_point_light_alone_lights_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    // A point light 0.5 above the quad's centre.
+    let scene = quad_scene(
+        dir.path(),
+        "point.gltf",
+        vec![json!({"type": "point", "intensity": 2.0})],
+        vec![json!({
+            "translation": [0.5, 0.5, 0.5],
+            "extensions": {"KHR_lights_punctual": {"light": 0}},
+        })],
+    );
+    let out = dir.path().join("point.pfm");
+    let output = render_small(&scene, &out, &[]);
     assert!(
         output.status.success(),
         "{}",
@@ -112,4 +137,31 @@ fn the_path_integrator_refuses_punctual_lights() {
     ]);
     assert_clean_error(&output, "punctual");
     assert!(!out.exists(), "an image was written");
+}
+
+#[test]
+fn sun_lights_a_scene_without_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = quad_scene(dir.path(), "dark.gltf", vec![], vec![]);
+    let render = |out: &std::path::Path, sun: &[&str]| render_small(&scene, out, sun);
+    let unlit = dir.path().join("unlit.pfm");
+    assert_clean_error(&render(&unlit, &[]), "--sun");
+    assert!(!unlit.exists());
+    let zero = dir.path().join("zero.pfm");
+    assert_clean_error(&render(&zero, &["--sun", "0,0,0"]), "--sun");
+    assert!(!zero.exists());
+
+    // Straight down with illuminance 2: L = ρ/π · E = 2/π ≈ 0.64 everywhere on the quad.
+    let out = dir.path().join("sun.pfm");
+    let output = render(&out, &["--sun", "0,-1,0", "--sun-illuminance", "2"]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let centre = mean_red(&std::fs::read(&out).unwrap(), 16, 4..12);
+    assert!(
+        (0.5..0.8).contains(&centre),
+        "radiance {centre}, expected about 0.64"
+    );
 }

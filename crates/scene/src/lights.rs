@@ -132,11 +132,17 @@ impl Lights {
             .iter()
             .fold(Bounds::EMPTY, |b, t| b.union(t.bounds()));
         for light in punctual.iter().filter(|l| l.intensity.max_element() > 0.0) {
-            let emitter = PunctualEmitter::new(*light, bounds);
-            lights.total_power += emitter.power;
-            lights.punctual.push(emitter);
+            lights.add_punctual(*light, bounds);
         }
         lights
+    }
+
+    /// Adds a punctual light to a scene whose triangles lie within `bounds` (the renderer's
+    /// `--sun`); `light` must be valid as [`crate::SceneBuilder::add_punctual_light`] checks.
+    pub fn add_punctual(&mut self, light: PunctualLight, bounds: Bounds) {
+        let emitter = PunctualEmitter::new(light, bounds);
+        self.total_power += emitter.power;
+        self.punctual.push(emitter);
     }
 
     /// Whether anything emits.

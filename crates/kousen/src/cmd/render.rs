@@ -85,10 +85,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.integrator == Integrator::Path && (args.checkpoint.is_some() || resume.is_some()) {
         bail!("--checkpoint and --resume are for SPPM renders, not --integrator path");
     }
-    let scene = scene::load(&args.scene)?;
+    let mut scene = scene::load(&args.scene)?;
+    args.sun.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z adds one",
             args.scene.display()
         );
     }

@@ -22,7 +22,7 @@ use super::frame_budget::{FrameBudget, TARGET_FRAME, initial_photons};
 use super::overlay::{Action, Overlay, OverlayInfo};
 use super::schedule::{Schedule, Timed};
 use super::session::{LoadedScene, RenderControls, Session, load_scene};
-use crate::cli::{BvhArgs, ViewArgs};
+use crate::cli::{BvhArgs, SunArgs, ViewArgs};
 
 /// How often the emitted-path count (a tiny readback) and the mean radius (every pixel's
 /// statistics) are refreshed for the overlay.
@@ -66,6 +66,7 @@ pub struct App {
     scale: f32,
     photons_override: Option<u32>,
     bvh_args: BvhArgs,
+    sun: SunArgs,
     initial_camera: Option<scene::Camera>,
     /// The scene given on the command line, until the device exists to upload it.
     initial_scene: Option<LoadedScene>,
@@ -120,6 +121,7 @@ impl App {
             scale: 1.0,
             photons_override: args.photons,
             bvh_args: args.bvh,
+            sun: args.sun,
             initial_camera: Some(camera),
             initial_scene: Some(loaded),
             gfx: None,
@@ -359,9 +361,10 @@ impl App {
         let (send, receive) = mpsc::channel();
         let owned = path.to_owned();
         let bvh_args = self.bvh_args;
+        let sun = self.sun;
         std::thread::spawn(move || {
             // The receiver may be gone if another file was dropped meanwhile.
-            let _ = send.send(load_scene(&owned, bvh_args));
+            let _ = send.send(load_scene(&owned, bvh_args, sun));
         });
         self.notify(format!("loading {} …", path.display()));
         self.loading = Some((path.to_owned(), receive));

@@ -33,6 +33,12 @@ not used, so nothing about the mapping is hidden):
   area light emits to the side of the surface normal only, so emissive primitives are given no
   vertex normals: the normal is then the geometric one, fixed by the counter-clockwise winding,
   which is exactly kousen's front face. doubleSided emitters are refused (not needed yet).
+- Punctual lights (KHR_lights_punctual) on nodes: `point` -> Mitsuba `point` (intensity =
+  color x intensity, candela = power per steradian in kousen's units), `directional` ->
+  `directional` (irradiance = color x intensity, lux), both placed by the node's world
+  transform (lights shine down their local -z). Spot lights are refused: Mitsuba's spot
+  falloff is not glTF's. `--point X,Y,Z --point-intensity R,G,B` adds a point light to any
+  scene (kousen's tests add the same light in code).
 - Camera: the first camera node in the scene's depth-first node order; perspective yfov
   (vertical field of view); the aspect ratio comes from the image size. glTF cameras look down
   their local -z with +y up. Pixels: `box` reconstruction filter (each sample lands in the one
@@ -273,7 +279,35 @@ def first_camera(doc):
     raise ValueError("the scene has no camera")
 
 
-def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log):
+def punctual_lights(doc, extra_points):
+    """Mitsuba emitter dicts for the scene's KHR_lights_punctual lights and `extra_points`
+    ((position, intensity) pairs)."""
+    lights = doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])
+    out = []
+    for node_index, world in walk_nodes(doc):
+        ext = doc["nodes"][node_index].get("extensions", {}).get("KHR_lights_punctual")
+        if ext is None:
+            continue
+        light = lights[ext["light"]]
+        value = [c * light.get("intensity", 1.0) for c in light.get("color", [1.0, 1.0, 1.0])]
+        kind = light["type"]
+        if kind == "point":
+            out.append({"type": "point", "position": world[:3, 3].tolist(),
+                        "intensity": {"type": "rgb", "value": value}})
+        elif kind == "directional":
+            direction = -world[:3, 2] / np.linalg.norm(world[:3, 2])
+            out.append({"type": "directional", "direction": direction.tolist(),
+                        "irradiance": {"type": "rgb", "value": value}})
+        else:
+            raise NotImplementedError("light %d: %s lights (Mitsuba's spot falloff is not glTF's)"
+                                      % (ext["light"], kind))
+    for position, intensity in extra_points:
+        out.append({"type": "point", "position": list(position),
+                    "intensity": {"type": "rgb", "value": list(intensity)}})
+    return out
+
+
+def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra_points=()):
     world, yfov = first_camera(doc)
     eye = world[:3, 3]
     forward = -world[:3, 2] / np.linalg.norm(world[:3, 2])
@@ -329,6 +363,9 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log):
             k, name, len(tri), kind + ("" if kind != "dielectric" else
                                         " ior %g %s" % (params["ior"], "thin" if params["thin"] else "solid")),
             (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else ""))
+    for k, light in enumerate(punctual_lights(doc, extra_points)):
+        scene["light_%d" % k] = light
+        log("light %d: %s" % (k, light))
     log("%d triangles; camera eye %s forward %s up %s, yfov %.4f deg"
         % (ntri, eye.round(4).tolist(), forward.round(6).tolist(), up.round(6).tolist(),
            math.degrees(yfov)))
@@ -346,6 +383,9 @@ def main():
     ap.add_argument("--variant", default="llvm_ad_rgb", help="llvm_ad_rgb (default) or scalar_rgb")
     ap.add_argument("--max-depth", type=int, default=-1)
     ap.add_argument("--rr-depth", type=int, default=5)
+    ap.add_argument("--point", default=None, help="add a point light at X,Y,Z")
+    ap.add_argument("--point-intensity", default="1,1,1",
+                    help="its intensity R,G,B (power per steradian)")
     ap.add_argument("--pass-samples", type=int, default=1 << 22,
                     help="most samples (pixels x spp) in one Mitsuba render call")
     args = ap.parse_args()
@@ -358,7 +398,10 @@ def main():
     log("mitsuba %s, drjit %s, variant %s" % (mi.__version__, dr.__version__, args.variant))
 
     doc, buffers = load_gltf(args.scene)
-    scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log)
+    triple = lambda text: [float(x) for x in text.split(",")]
+    extra_points = [(triple(args.point), triple(args.point_intensity))] if args.point else []
+    scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log,
+                        extra_points)
 
     pixels = args.width * height
     per_pass = max(1, min(args.spp, args.pass_samples // pixels))

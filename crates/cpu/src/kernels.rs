@@ -201,6 +201,8 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
     let (mut depth, mut pass_throughs) = (0, 0);
     while depth < params.max_depth {
         let Some(hit) = trace(scene, origin, direction) else {
+            // Out of the scene: the sky (zero without one).
+            direct += throughput * vec3(params.sky);
             break;
         };
         let material = &scene.materials[hit.material as usize];

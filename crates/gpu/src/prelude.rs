@@ -49,6 +49,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("LIGHT_POINT", U32(buffers::LIGHT_POINT)),
         ("LIGHT_SPOT", U32(buffers::LIGHT_SPOT)),
         ("LIGHT_DIRECTIONAL", U32(buffers::LIGHT_DIRECTIONAL)),
+        ("LIGHT_SKY", U32(buffers::LIGHT_SKY)),
         ("MAX_PASS_THROUGHS", U32(buffers::MAX_PASS_THROUGHS)),
         ("PHOTON_STREAM", U32(rng::PHOTON_STREAM)),
         ("EYE_STREAM", U32(rng::EYE_STREAM)),

@@ -393,9 +393,9 @@ fn sppm_types_layout_matches_render_buffers() {
             ("origin_y", origin + 4),
             ("origin_z", origin + 8),
             ("flux_scale", offset_of!(SppmParams, storage_flux_scale)),
-            ("pad0", offset_of!(SppmParams, pad)),
-            ("pad1", offset_of!(SppmParams, pad) + 4),
-            ("pad2", offset_of!(SppmParams, pad) + 8),
+            ("sky_r", offset_of!(SppmParams, sky)),
+            ("sky_g", offset_of!(SppmParams, sky) + 4),
+            ("sky_b", offset_of!(SppmParams, sky) + 8),
         ],
     );
 }

@@ -20,8 +20,8 @@ use cpu::{CpuBackend, SceneData, kernels};
 use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::buffers::{
-    HASH_ENTRY_WORDS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, PathSlot, Photon,
-    PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter, vec3,
+    HASH_ENTRY_WORDS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, LIGHT_TRIANGLE,
+    PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter, vec3,
 };
 use render::packing::unpack_normal;
 use render::{Backend, Image, Settings, Sppm, Statistics};
@@ -444,14 +444,21 @@ fn first_pass_matches_the_cpu_backend() {
     );
 }
 
-/// Point, spot and directional lights (glTF `KHR_lights_punctual`) besides the Cornell box's
-/// own: the first pass's emission (and first bounce) on the GPU against the CPU twin.
+/// Point, spot and directional lights (glTF `KHR_lights_punctual`) and a sky besides the
+/// Cornell box's own: the first pass's emission (and first bounce) on the GPU against the CPU
+/// twin, and the pixels' statistics (the sky seen past the box's edges in the direct term).
 #[test]
 fn punctual_lights_emit_like_their_cpu_twin() {
     let fixture = Fixture::new(scene::testing::cornell_box_punctual());
     let lights = render::emission::light_table(&fixture.scene);
     let kinds: Vec<u32> = lights.iter().map(|l| l.kind).collect();
-    for kind in [LIGHT_TRIANGLE, LIGHT_POINT, LIGHT_SPOT, LIGHT_DIRECTIONAL] {
+    for kind in [
+        LIGHT_TRIANGLE,
+        LIGHT_POINT,
+        LIGHT_SPOT,
+        LIGHT_DIRECTIONAL,
+        LIGHT_SKY,
+    ] {
         assert!(kinds.contains(&kind), "no light of kind {kind}: {kinds:?}");
     }
     let settings = caustics_settings();

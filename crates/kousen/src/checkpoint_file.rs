@@ -94,19 +94,16 @@ pub struct Loaded {
 }
 
 /// 64-bit FNV-1a of the scene's packed triangles, the camera's description and the scene's
-/// punctual lights (only when it has any, so that checkpoints of scenes without them, made
-/// before punctual lights were read, stay valid).
-pub fn fingerprint(
-    bvh: &bvh::PackedBvh,
-    camera: &scene::Camera,
-    punctual: &[scene::PunctualEmitter],
-) -> String {
+/// punctual lights and sky (only when it has any, so that checkpoints of scenes without them,
+/// made before such lights were read, stay valid).
+pub fn fingerprint(bvh: &bvh::PackedBvh, camera: &scene::Camera, lights: &scene::Lights) -> String {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
     let bytes: &[u8] = bytemuck::cast_slice(&bvh.triangles);
-    let lights = if punctual.is_empty() {
+    let (punctual, sky) = (&lights.punctual, &lights.sky);
+    let lights = if punctual.is_empty() && sky.is_none() {
         String::new()
     } else {
-        format!("{punctual:?}")
+        format!("{punctual:?}{sky:?}")
     };
     let described = format!("{camera:?}") + &lights;
     for &byte in bytes.iter().chain(described.as_bytes()) {

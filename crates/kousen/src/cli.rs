@@ -561,8 +561,9 @@ pub struct CameraArgs {
     pub fov: f32,
 }
 
-/// A sun added to the scene: a directional light, so that scenes without lights of their own
-/// (Sponza, the bunny) can be rendered as they are.
+/// Lights added to the scene: a sun (a directional light) and a sky (uniform radiance from
+/// every direction), so that scenes without lights of their own (Sponza, the bunny) can be
+/// rendered as they are.
 #[derive(Args, Clone, Copy)]
 pub struct SunArgs {
     /// Add a sun: a directional light travelling along "x,y,z" (0.3,-1,0.2 shines down).
@@ -571,11 +572,23 @@ pub struct SunArgs {
     /// The sun's illuminance on a surface facing it (lux: the units of emitted radiance × sr).
     #[arg(long, value_name = "E", default_value_t = 3.0, requires = "sun")]
     pub sun_illuminance: f32,
+    /// Add a sky: radiance "r,g,b" from every direction, seen by camera rays that leave the
+    /// scene (a white sky of radiance L lights an open floor to ρ·L).
+    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
+    pub sky: Option<[f32; 3]>,
 }
 
 impl SunArgs {
-    /// Adds the sun to `scene`, if one was asked for.
+    /// Adds the sun and the sky to `scene`, those asked for.
     pub fn add_to(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
+        if let Some(sky) = self.sky {
+            let radiance = glam::Vec3::from(sky);
+            if radiance.min_element() < 0.0 || radiance.max_element() <= 0.0 {
+                anyhow::bail!("--sky needs a radiance r,g,b ≥ 0 and not all 0, got {radiance}");
+            }
+            let bounds = scene.bounds();
+            scene.lights.set_sky(radiance, bounds);
+        }
         let Some(direction) = self.sun else {
             return Ok(());
         };

@@ -120,6 +120,11 @@ impl<'a> PathTracer<'a> {
         let (mut depth, mut passes) = (0, 0);
         while depth < max_depth {
             let Some(point) = self.intersect(origin, direction) else {
+                // Out of the scene: the sky, at full weight (next-event estimation samples
+                // emissive triangles only).
+                if let Some(sky) = &self.scene.lights.sky {
+                    radiance += throughput * sky.radiance;
+                }
                 break;
             };
             let material = &self.scene.materials[point.material as usize];

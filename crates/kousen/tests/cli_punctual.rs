@@ -74,19 +74,28 @@ fn a_point_light_alone_lights_a_scene() {
     );
     let out = dir.path().join("point.pfm");
     let output = render_small(&scene, &out, &[]);
+    // The central 4×4 pixels see the quad within 0.08 of the point under the light: there
+    // L = ρ/π · I·h/r³ with the default material's ρ = 1, I = 2, h = 0.5: 8/π ≈ 2.55 at the
+    // centre, 2.4 at the block's corners. 8 passes: within 30%.
+    let centre = block_radiance(&output, &out, 6..10);
+    assert!(
+        (1.7..3.3).contains(&centre),
+        "centre radiance {centre}, expected about 2.5"
+    );
+}
+
+/// After a successful render of a 16² PFM to `out`: the mean red of its `range`² block.
+fn block_radiance(
+    output: &std::process::Output,
+    out: &std::path::Path,
+    range: std::ops::Range<usize>,
+) -> f32 {
     assert!(
         output.status.success(),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    // The central 4×4 pixels see the quad within 0.08 of the point under the light: there
-    // L = ρ/π · I·h/r³ with the default material's ρ = 1, I = 2, h = 0.5: 8/π ≈ 2.55 at the
-    // centre, 2.4 at the block's corners. 8 passes: within 30%.
-    let centre = mean_red(&std::fs::read(&out).unwrap(), 16, 6..10);
-    assert!(
-        (1.7..3.3).contains(&centre),
-        "centre radiance {centre}, expected about 2.5"
-    );
+    mean_red(&std::fs::read(out).unwrap(), 16, range)
 }
 
 /// Mean red channel of the `range` × `range` block of a `side`² PFM (little-endian floats).
@@ -154,14 +163,26 @@ fn sun_lights_a_scene_without_lights() {
     // Straight down with illuminance 2: L = ρ/π · E = 2/π ≈ 0.64 everywhere on the quad.
     let out = dir.path().join("sun.pfm");
     let output = render(&out, &["--sun", "0,-1,0", "--sun-illuminance", "2"]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let centre = mean_red(&std::fs::read(&out).unwrap(), 16, 4..12);
+    let centre = block_radiance(&output, &out, 4..12);
     assert!(
         (0.5..0.8).contains(&centre),
         "radiance {centre}, expected about 0.64"
+    );
+}
+
+#[test]
+fn sky_lights_a_scene_without_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = quad_scene(dir.path(), "dark.gltf", vec![], vec![]);
+    let black = dir.path().join("black.pfm");
+    assert_clean_error(&render_small(&scene, &black, &["--sky", "0,0,0"]), "--sky");
+    assert!(!black.exists());
+    // A white sky of radiance 1 over the quad (default material, ρ = 1): L = ρ·1 = 1.
+    let out = dir.path().join("sky.pfm");
+    let output = render_small(&scene, &out, &["--sky", "1,1,1"]);
+    let centre = block_radiance(&output, &out, 4..12);
+    assert!(
+        (0.75..1.25).contains(&centre),
+        "radiance {centre}, expected about 1"
     );
 }

@@ -109,6 +109,7 @@ impl PixelStats {
 /// | [`LIGHT_POINT`] | position | — | — | 4π · intensity |
 /// | [`LIGHT_SPOT`] | position | unit axis | (cos inner, cos outer, 0) | intensity · outer cone's solid angle |
 /// | [`LIGHT_DIRECTIONAL`] | disk centre | unit direction | (disk radius, 0, 0) | illuminance · disk area |
+/// | [`LIGHT_SKY`] | bounding-sphere centre | — | (its radius, 0, 0) | radiance · disk area · 4π |
 ///
 /// A spot's photons are also weighted by [`scene::lights::spot_falloff`] at their direction.
 #[repr(C)]
@@ -136,6 +137,9 @@ pub const LIGHT_POINT: u32 = 1;
 pub const LIGHT_SPOT: u32 = 2;
 /// [`Light::kind`] of a directional light.
 pub const LIGHT_DIRECTIONAL: u32 = 3;
+/// [`Light::kind`] of the sky: a uniform direction, then a point on the disk across the scene
+/// perpendicular to it, upstream.
+pub const LIGHT_SKY: u32 = 4;
 
 /// Render-wide constants (uniform buffer, 112 bytes).
 #[repr(C)]
@@ -167,7 +171,8 @@ pub struct SppmParams {
     /// photon's (Russian roulette on the largest channel never raises one), so stored fluxes
     /// lie in [0, 1] and keep f16's relative precision.
     pub storage_flux_scale: f32,
-    pub pad: [u32; 3],
+    /// Radiance of the sky (zero without one): what camera paths that leave the scene see.
+    pub sky: [f32; 3],
 }
 
 impl SppmParams {

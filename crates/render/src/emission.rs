@@ -5,12 +5,15 @@
 //! - a spot light: its position, a uniform direction in its outer cone, the flux weighted by
 //!   the falloff at that direction;
 //! - a directional light: a uniform point on a disk across the scene's bounding sphere,
-//!   upstream of it, travelling in the light's direction.
+//!   upstream of it, travelling in the light's direction;
+//! - the sky: a uniform direction over the sphere, then as a directional light that way.
 
 use glam::Vec3;
 use scene::{PunctualEmitter, PunctualKind, Scene};
 
-use crate::buffers::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, Light, vec3};
+use crate::buffers::{
+    LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, LIGHT_TRIANGLE, Light, vec3,
+};
 use crate::sampling::{cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk};
 
 /// The light table of a scene, in CDF order: emissive triangles, then punctual lights. Empty
@@ -33,8 +36,18 @@ pub fn light_table(scene: &Scene) -> Vec<Light> {
         (light, l.power, l.power)
     });
     let punctual = scene.lights.punctual.iter().map(punctual_light);
+    let sky = scene.lights.sky.iter().map(|sky| {
+        let light = Light {
+            v0: sky.centre.to_array(),
+            edge2: [sky.radius, 0.0, 0.0],
+            kind: LIGHT_SKY,
+            ..Light::default()
+        };
+        (light, sky.power, sky.power)
+    });
     let lights: Vec<(Light, Vec3, Vec3)> = triangles
         .chain(punctual)
+        .chain(sky)
         .filter(|(_, power, _)| weight(*power) > 0.0)
         .collect();
     let total: f64 = lights.iter().map(|(_, power, _)| weight(*power)).sum();
@@ -135,6 +148,16 @@ pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
             let (t, b) = orthonormal_basis(direction);
             let disk = light.edge2[0] * uniform_disk(u[1], u[2]);
             let origin = vec3(light.v0) + t * disk.x + b * disk.y;
+            emission_along(origin, direction, vec3(light.flux))
+        }
+        LIGHT_SKY => {
+            let direction = uniform_cone(u[3], u[4], -1.0);
+            let (t, b) = orthonormal_basis(direction);
+            let radius = light.edge2[0];
+            let disk = radius * uniform_disk(u[1], u[2]);
+            // The disk's centre two radii upstream of the sphere's, outside it.
+            let centre = vec3(light.v0) - 2.0 * radius * direction;
+            let origin = centre + t * disk.x + b * disk.y;
             emission_along(origin, direction, vec3(light.flux))
         }
         _ => triangle_emission(light, u),

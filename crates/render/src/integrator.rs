@@ -145,7 +145,11 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
         epsilon: 1e-5 * scene.bounds().extent().length().max(1e-3),
         storage_origin: scene.bounds().center().to_array(),
         storage_flux_scale: 1.0,
-        pad: [0; 3],
+        sky: scene
+            .lights
+            .sky
+            .map_or(Vec3::ZERO, |s| s.radiance)
+            .to_array(),
     }
 }
 

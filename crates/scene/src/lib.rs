@@ -24,7 +24,7 @@ pub mod textures;
 pub use builder::SceneBuilder;
 pub use camera::Camera;
 pub use error::SceneError;
-pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight};
+pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{AlphaMode, Material, Surface};
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use textures::{Texels, Texture, TextureId};

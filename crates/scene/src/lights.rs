@@ -86,10 +86,39 @@ impl PunctualLight {
     }
 }
 
+/// Uniform radiance from every direction, infinitely far away (kousen's `--sky`): camera rays
+/// that leave the scene see it, and its photons come from every direction through a disk
+/// across the scene's bounding sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sky {
+    pub radiance: Vec3,
+    /// The scene's bounding sphere (slightly enlarged), which the photons' disk covers.
+    pub centre: Vec3,
+    pub radius: f32,
+    /// Flux into the bounding sphere: radiance × the disk's area π·radius² × 4π steradians of
+    /// directions (each direction's light crosses the disk perpendicular to it).
+    pub power: Vec3,
+}
+
+impl Sky {
+    /// A sky of `radiance` around a scene within `bounds` (not empty).
+    pub fn new(radiance: Vec3, bounds: Bounds) -> Sky {
+        use std::f32::consts::PI;
+        let radius = 0.5 * bounds.extent().length() * 1.01;
+        Sky {
+            radiance,
+            centre: bounds.center(),
+            radius,
+            power: radiance * PI * radius * radius * 4.0 * PI,
+        }
+    }
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Lights {
     pub triangles: Vec<EmissiveTriangle>,
     pub punctual: Vec<PunctualEmitter>,
+    pub sky: Option<Sky>,
     pub total_power: Vec3,
 }
 
@@ -145,9 +174,19 @@ impl Lights {
         self.punctual.push(emitter);
     }
 
+    /// Sets the sky around a scene within `bounds` (kousen's `--sky`), replacing any.
+    pub fn set_sky(&mut self, radiance: Vec3, bounds: Bounds) {
+        if let Some(old) = self.sky.take() {
+            self.total_power -= old.power;
+        }
+        let sky = Sky::new(radiance, bounds);
+        self.total_power += sky.power;
+        self.sky = Some(sky);
+    }
+
     /// Whether anything emits.
     pub fn is_empty(&self) -> bool {
-        self.triangles.is_empty() && self.punctual.is_empty()
+        self.triangles.is_empty() && self.punctual.is_empty() && self.sky.is_none()
     }
 
     /// Total power as one number: the mean of the three channels.

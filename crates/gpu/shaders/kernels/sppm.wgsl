@@ -71,6 +71,13 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         normal = direction;
         let disk = light.edge2.x * uniform_disk(u1, u2);
         origin = light.v0 + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
+    } else if light.kind == LIGHT_SKY {
+        direction = uniform_cone(u3, u4, -1.0);
+        normal = direction;
+        let radius = light.edge2.x;
+        let disk = radius * uniform_disk(u1, u2);
+        let centre = light.v0 - 2.0 * radius * direction;
+        origin = centre + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
     } else {
         var b1 = u1;
         var b2 = u2;
@@ -191,6 +198,8 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     while depth < params.max_depth {
         let hit = trace_surface(origin, direction);
         if !hit.found {
+            // Out of the scene: the sky (zero without one).
+            direct += throughput * vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
             break;
         }
         let material = materials[hit.material];

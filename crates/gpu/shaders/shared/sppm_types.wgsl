@@ -61,9 +61,10 @@ struct SppmParams {
     origin_y: f32,
     origin_z: f32,
     flux_scale: f32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // render::buffers::SppmParams::sky, the sky's radiance (zero without one), as scalars.
+    sky_r: f32,
+    sky_g: f32,
+    sky_b: f32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

@@ -89,7 +89,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     args.sun.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z adds one",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z or --sky R,G,B adds one",
             args.scene.display()
         );
     }
@@ -107,7 +107,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
     log::info!("BVH built in {:.2} s", started.elapsed().as_secs_f64());
     let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
-        checkpoint_file::fingerprint(&bvh, &camera, &scene.lights.punctual)
+        checkpoint_file::fingerprint(&bvh, &camera, &scene.lights)
     } else {
         String::new()
     };

@@ -26,7 +26,7 @@ pub fn load_scene(path: &Path, bvh_args: BvhArgs, sun: SunArgs) -> anyhow::Resul
     sun.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z adds one",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z or --sky R,G,B adds one",
             path.display()
         );
     }

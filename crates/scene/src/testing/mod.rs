@@ -10,7 +10,7 @@
 //!   [`lit_plane_radiance`].
 //! - [`punctual_plane`]: a diffuse square lit only by the punctual lights given.
 //! - [`cornell_box_punctual`]: the Cornell box with a point, a spot and a directional light
-//!   besides its own.
+//!   and a sky besides its own.
 //! - [`cornell_spot`]: [`cornell_caustics`] with a spot light on the glass sphere.
 //!
 //! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
@@ -165,9 +165,10 @@ pub fn punctual_plane(lights: &[PunctualLight]) -> Scene {
     f.finish()
 }
 
-/// [`cornell_box`] with three more lights: a point light in the middle of the room, a spot
-/// under the ceiling pointing at the floor's back left, and a directional light shining in
-/// slantwise from above (onto the outside of the box).
+/// [`cornell_box`] with four more lights: a point light in the middle of the room, a spot
+/// under the ceiling pointing at the floor's back left, a directional light shining in
+/// slantwise from above (onto the outside of the box), and a blue sky (seen past the box's
+/// edges).
 pub fn cornell_box_punctual() -> Scene {
     let mut scene = cornell_box();
     let lights = [
@@ -195,6 +196,8 @@ pub fn cornell_box_punctual() -> Scene {
     ];
     scene.lights =
         crate::Lights::collect(&scene.triangles, &scene.materials, &scene.textures, &lights);
+    let bounds = scene.bounds();
+    scene.lights.set_sky(Vec3::new(0.2, 0.3, 0.5), bounds);
     scene
 }
 

@@ -204,7 +204,8 @@ impl DensityMethod {
 
 #[derive(Args)]
 pub struct DensityArgs {
-    /// .gltf, .glb or .obj files, each with at least one light (an emissive surface or a glTF punctual light) and a camera.
+    /// .gltf, .glb or .obj files, each with at least one light
+    /// (an emissive surface or a glTF punctual light) and a camera.
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Also write the results as JSON (a contract for scripts).
@@ -327,7 +328,8 @@ pub struct TraversalArgs {
 
 #[derive(Args)]
 pub struct PhotonsArgs {
-    /// .gltf, .glb or .obj files, each with at least one light (an emissive surface or a glTF punctual light).
+    /// .gltf, .glb or .obj files, each with at least one light
+    /// (an emissive surface or a glTF punctual light).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Also write the results as JSON (a contract for scripts).
@@ -358,7 +360,8 @@ pub struct PhotonsArgs {
 
 #[derive(Args)]
 pub struct RngArgs {
-    /// .gltf, .glb or .obj files, each with at least one light (an emissive surface or a glTF punctual light).
+    /// .gltf, .glb or .obj files, each with at least one light
+    /// (an emissive surface or a glTF punctual light).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Also write the results as JSON (a contract for scripts).
@@ -483,7 +486,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
-    pub sun: SunArgs,
+    pub added_lights: AddedLightArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
 }
@@ -536,7 +539,7 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
-    pub sun: SunArgs,
+    pub added_lights: AddedLightArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
 }
@@ -565,7 +568,7 @@ pub struct CameraArgs {
 /// every direction), so that scenes without lights of their own (Sponza, the bunny) can be
 /// rendered as they are.
 #[derive(Args, Clone, Copy)]
-pub struct SunArgs {
+pub struct AddedLightArgs {
     /// Add a sun: a directional light travelling along "x,y,z" (0.3,-1,0.2 shines down).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub sun: Option<[f32; 3]>,
@@ -578,7 +581,7 @@ pub struct SunArgs {
     pub sky: Option<[f32; 3]>,
 }
 
-impl SunArgs {
+impl AddedLightArgs {
     /// Adds the sun and the sky to `scene`, those asked for.
     pub fn add_to(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
         if let Some(sky) = self.sky {

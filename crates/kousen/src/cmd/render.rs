@@ -86,7 +86,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         bail!("--checkpoint and --resume are for SPPM renders, not --integrator path");
     }
     let mut scene = scene::load(&args.scene)?;
-    args.sun.add_to(&mut scene)?;
+    args.added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
             "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z or --sky R,G,B adds one",

@@ -22,7 +22,7 @@ use super::frame_budget::{FrameBudget, TARGET_FRAME, initial_photons};
 use super::overlay::{Action, Overlay, OverlayInfo};
 use super::schedule::{Schedule, Timed};
 use super::session::{LoadedScene, RenderControls, Session, load_scene};
-use crate::cli::{BvhArgs, SunArgs, ViewArgs};
+use crate::cli::{AddedLightArgs, BvhArgs, ViewArgs};
 
 /// How often the emitted-path count (a tiny readback) and the mean radius (every pixel's
 /// statistics) are refreshed for the overlay.
@@ -66,7 +66,7 @@ pub struct App {
     scale: f32,
     photons_override: Option<u32>,
     bvh_args: BvhArgs,
-    sun: SunArgs,
+    added_lights: AddedLightArgs,
     initial_camera: Option<scene::Camera>,
     /// The scene given on the command line, until the device exists to upload it.
     initial_scene: Option<LoadedScene>,
@@ -121,7 +121,7 @@ impl App {
             scale: 1.0,
             photons_override: args.photons,
             bvh_args: args.bvh,
-            sun: args.sun,
+            added_lights: args.added_lights,
             initial_camera: Some(camera),
             initial_scene: Some(loaded),
             gfx: None,
@@ -361,10 +361,10 @@ impl App {
         let (send, receive) = mpsc::channel();
         let owned = path.to_owned();
         let bvh_args = self.bvh_args;
-        let sun = self.sun;
+        let added_lights = self.added_lights;
         std::thread::spawn(move || {
             // The receiver may be gone if another file was dropped meanwhile.
-            let _ = send.send(load_scene(&owned, bvh_args, sun));
+            let _ = send.send(load_scene(&owned, bvh_args, added_lights));
         });
         self.notify(format!("loading {} …", path.display()));
         self.loading = Some((path.to_owned(), receive));

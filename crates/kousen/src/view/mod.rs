@@ -15,7 +15,7 @@ use crate::cli::ViewArgs;
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     // Bad arguments and scenes fail before a window opens.
     app::check_arguments(args)?;
-    let loaded = session::load_scene(&args.scene, args.bvh, args.sun)?;
+    let loaded = session::load_scene(&args.scene, args.bvh, args.added_lights)?;
     let camera = crate::cmd::render::choose_camera(&loaded.scene, &args.camera)?;
     let event_loop = winit::event_loop::EventLoop::new().map_err(|e| {
         log::debug!("view: no event loop: {e}");

@@ -9,7 +9,7 @@ use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::{Backend, Settings, Sppm};
 
-use crate::cli::{BvhArgs, SunArgs};
+use crate::cli::{AddedLightArgs, BvhArgs};
 
 /// A scene read and its BVH built: the part of opening a file that may run off the window's
 /// thread.
@@ -19,11 +19,15 @@ pub struct LoadedScene {
     pub bvh: bvh::PackedBvh,
 }
 
-/// Reads a scene the viewer can render (with `sun` added): a known format with at least one
+/// Reads a scene the viewer can render (with `added_lights` added): a known format with at least one
 /// light.
-pub fn load_scene(path: &Path, bvh_args: BvhArgs, sun: SunArgs) -> anyhow::Result<LoadedScene> {
+pub fn load_scene(
+    path: &Path,
+    bvh_args: BvhArgs,
+    added_lights: AddedLightArgs,
+) -> anyhow::Result<LoadedScene> {
     let mut scene = scene::load(path)?;
-    sun.add_to(&mut scene)?;
+    added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
             "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z or --sky R,G,B adds one",

@@ -61,7 +61,8 @@ pub struct PunctualEmitter {
 /// glTF's recommended spot falloff: 0 at the outer cone, 1 at the inner one, and in between
 /// the square of the linear ramp in the cosine of the angle from the spot's axis.
 pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    let ramp = (cos_angle - cos_outer) / (cos_inner - cos_outer).max(1e-3);
+    // The builder keeps cos_outer < cos_inner; the guard only keeps a bad call finite.
+    let ramp = (cos_angle - cos_outer) / (cos_inner - cos_outer).max(f32::MIN_POSITIVE);
     let ramp = ramp.clamp(0.0, 1.0);
     ramp * ramp
 }

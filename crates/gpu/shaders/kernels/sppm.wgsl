@@ -41,7 +41,7 @@ fn uniform_disk(u1: f32, u2: f32) -> vec2<f32> {
 
 // scene::lights::spot_falloff.
 fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    let ramp = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-3), 0.0, 1.0);
+    let ramp = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1.17549435e-38), 0.0, 1.0);
     return ramp * ramp;
 }
 

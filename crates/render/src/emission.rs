@@ -16,7 +16,7 @@ use crate::buffers::{
 };
 use crate::sampling::{cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk};
 
-/// The light table of a scene, in CDF order: emissive triangles, then punctual lights. Empty
+/// The light table of a scene, in CDF order: emissive triangles, punctual lights, the sky. Empty
 /// if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
 /// same for power).
 pub fn light_table(scene: &Scene) -> Vec<Light> {

@@ -14,7 +14,9 @@ use scene::{PunctualEmitter, PunctualKind, Scene};
 use crate::buffers::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, LIGHT_TRIANGLE, Light, vec3,
 };
-use crate::sampling::{cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk};
+use crate::sampling::{
+    about_axis, cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk,
+};
 
 /// The light table of a scene, in CDF order: emissive triangles, punctual lights, the sky. Empty
 /// if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
@@ -138,30 +140,32 @@ pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
             let axis = vec3(light.edge1);
             let [cos_inner, cos_outer, _] = light.edge2;
             let local = uniform_cone(u[3], u[4], cos_outer);
-            let (t, b) = orthonormal_basis(axis);
-            let direction = (t * local.x + b * local.y + axis * local.z).normalize();
+            let direction = about_axis(axis, local).normalize();
             let falloff = scene::lights::spot_falloff(local.z, cos_inner, cos_outer);
             emission_along(vec3(light.v0), direction, falloff * vec3(light.flux))
         }
         LIGHT_DIRECTIONAL => {
             let direction = vec3(light.edge1);
-            let (t, b) = orthonormal_basis(direction);
-            let disk = light.edge2[0] * uniform_disk(u[1], u[2]);
-            let origin = vec3(light.v0) + t * disk.x + b * disk.y;
+            let origin = disk_point(vec3(light.v0), light.edge2[0], direction, u[1], u[2]);
             emission_along(origin, direction, vec3(light.flux))
         }
         LIGHT_SKY => {
             let direction = uniform_cone(u[3], u[4], -1.0);
-            let (t, b) = orthonormal_basis(direction);
             let radius = light.edge2[0];
-            let disk = radius * uniform_disk(u[1], u[2]);
             // The disk's centre two radii upstream of the sphere's, outside it.
             let centre = vec3(light.v0) - 2.0 * radius * direction;
-            let origin = centre + t * disk.x + b * disk.y;
+            let origin = disk_point(centre, radius, direction, u[1], u[2]);
             emission_along(origin, direction, vec3(light.flux))
         }
         _ => triangle_emission(light, u),
     }
+}
+
+/// A uniform point on the disk of `radius` about `centre` perpendicular to `direction`.
+fn disk_point(centre: Vec3, radius: f32, direction: Vec3, u1: f32, u2: f32) -> Vec3 {
+    let (t, b) = orthonormal_basis(direction);
+    let disk = radius * uniform_disk(u1, u2);
+    centre + t * disk.x + b * disk.y
 }
 
 fn emission_along(origin: Vec3, direction: Vec3, flux: Vec3) -> Emission {
@@ -190,12 +194,10 @@ fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
             normal = -normal;
         }
     }
-    let (t, b) = orthonormal_basis(normal);
-    let local = cosine_hemisphere(u3, u[4]);
     Emission {
         origin,
         normal,
-        direction: (t * local.x + b * local.y + normal * local.z).normalize(),
+        direction: about_axis(normal, cosine_hemisphere(u3, u[4])).normalize(),
         flux: vec3(light.flux),
     }
 }

@@ -62,6 +62,13 @@ pub fn uniform_disk(u1: f32, u2: f32) -> glam::Vec2 {
     glam::Vec2::new(r * phi.cos(), r * phi.sin())
 }
 
+/// `local` (coordinates about +Z) turned to the frame of `n` (unit) built by
+/// [`orthonormal_basis`].
+pub fn about_axis(n: Vec3, local: Vec3) -> Vec3 {
+    let (t, b) = orthonormal_basis(n);
+    t * local.x + b * local.y + n * local.z
+}
+
 /// Two unit vectors completing `n` (unit) to an orthonormal basis, without branches on the
 /// tangent's choice (Duff et al. 2017, "Building an orthonormal basis, revisited").
 pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {

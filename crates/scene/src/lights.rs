@@ -101,14 +101,21 @@ pub struct Sky {
     pub power: Vec3,
 }
 
+/// The sphere the photons of a directional light or the sky must cover: the one around
+/// `bounds` (not empty), 1 % larger so that every photon starts outside the scene. (centre,
+/// radius).
+pub fn bounding_sphere(bounds: Bounds) -> (Vec3, f32) {
+    (bounds.center(), 0.5 * bounds.extent().length() * 1.01)
+}
+
 impl Sky {
     /// A sky of `radiance` around a scene within `bounds` (not empty).
     pub fn new(radiance: Vec3, bounds: Bounds) -> Sky {
         use std::f32::consts::PI;
-        let radius = 0.5 * bounds.extent().length() * 1.01;
+        let (centre, radius) = bounding_sphere(bounds);
         Sky {
             radiance,
-            centre: bounds.center(),
+            centre,
             radius,
             power: radiance * PI * radius * radius * 4.0 * PI,
         }
@@ -201,9 +208,8 @@ impl PunctualEmitter {
     pub fn new(light: PunctualLight, bounds: Bounds) -> PunctualEmitter {
         let (origin, radius) = match light.kind {
             PunctualKind::Directional => {
-                // A little beyond the bounding sphere, so every photon starts outside it.
-                let radius = 0.5 * bounds.extent().length() * 1.01;
-                (bounds.center() - light.direction * 2.0 * radius, radius)
+                let (centre, radius) = bounding_sphere(bounds);
+                (centre - light.direction * 2.0 * radius, radius)
             }
             _ => (light.position, 0.0),
         };

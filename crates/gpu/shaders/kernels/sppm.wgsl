@@ -39,6 +39,13 @@ fn uniform_disk(u1: f32, u2: f32) -> vec2<f32> {
     return vec2<f32>(r * cos(phi), r * sin(phi));
 }
 
+// render::emission::disk_point: uniform on the disk of `radius` about `centre`, perpendicular
+// to `direction`.
+fn disk_point(centre: vec3<f32>, radius: f32, direction: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let disk = radius * uniform_disk(u1, u2);
+    return centre + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
+}
+
 // scene::lights::spot_falloff.
 fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     let ramp = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1.17549435e-38), 0.0, 1.0);
@@ -63,21 +70,18 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
     } else if light.kind == LIGHT_SPOT {
         let axis = light.edge1;
         let local = uniform_cone(u3, u4, light.edge2.y);
-        direction = normalize(basis_tangent(axis) * local.x + basis_bitangent(axis) * local.y + axis * local.z);
+        direction = normalize(about_axis(axis, local));
         normal = direction;
         flux = spot_falloff(local.z, light.edge2.x, light.edge2.y) * flux;
     } else if light.kind == LIGHT_DIRECTIONAL {
         direction = light.edge1;
         normal = direction;
-        let disk = light.edge2.x * uniform_disk(u1, u2);
-        origin = light.v0 + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
+        origin = disk_point(light.v0, light.edge2.x, direction, u1, u2);
     } else if light.kind == LIGHT_SKY {
         direction = uniform_cone(u3, u4, -1.0);
         normal = direction;
         let radius = light.edge2.x;
-        let disk = radius * uniform_disk(u1, u2);
-        let centre = light.v0 - 2.0 * radius * direction;
-        origin = centre + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
+        origin = disk_point(light.v0 - 2.0 * radius * direction, radius, direction, u1, u2);
     } else {
         var b1 = u1;
         var b2 = u2;

@@ -61,9 +61,13 @@ fn basis_bitangent(n: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(b, s + n.y * n.y * a, -n.y);
 }
 
-fn cosine_direction(n: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
-    let local = cosine_hemisphere(u1, u2);
+// render::sampling::about_axis: `local` (about +Z) in the frame of n.
+fn about_axis(n: vec3<f32>, local: vec3<f32>) -> vec3<f32> {
     return basis_tangent(n) * local.x + basis_bitangent(n) * local.y + n * local.z;
+}
+
+fn cosine_direction(n: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    return about_axis(n, cosine_hemisphere(u1, u2));
 }
 
 // ---- render::optics ----

@@ -194,9 +194,10 @@ pub fn cornell_box_punctual() -> Scene {
             intensity: Vec3::splat(2.0),
         },
     ];
-    scene.lights =
-        crate::Lights::collect(&scene.triangles, &scene.materials, &scene.textures, &lights);
     let bounds = scene.bounds();
+    for light in lights {
+        scene.lights.add_punctual(light, bounds);
+    }
     scene.lights.set_sky(Vec3::new(0.2, 0.3, 0.5), bounds);
     scene
 }
@@ -218,8 +219,8 @@ pub fn cornell_spot() -> Scene {
         direction: (glass_centre - position).normalize(),
         intensity: Vec3::new(1_200_000.0, 1_080_000.0, 900_000.0),
     };
-    scene.lights =
-        crate::Lights::collect(&scene.triangles, &scene.materials, &scene.textures, &[spot]);
+    let bounds = scene.bounds();
+    scene.lights.add_punctual(spot, bounds);
     scene
 }
 

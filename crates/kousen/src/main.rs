@@ -15,6 +15,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
+    end_quietly_on_closed_pipes();
     let cli = cli::Cli::parse();
     let level = match cli.verbose {
         0 => "warn",
@@ -35,5 +36,16 @@ fn main() -> ExitCode {
             eprintln!("kousen: error: {error:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Output piped into a reader that stops early (`kousen info X | head -1`) ends kousen the way
+/// it ends any Unix tool, by SIGPIPE, instead of a panic in `println!`. Rust ignores SIGPIPE by
+/// default, turning the closed pipe into an error every print would have to handle.
+fn end_quietly_on_closed_pipes() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in main, before any thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

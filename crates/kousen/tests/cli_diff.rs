@@ -197,3 +197,31 @@ fn diff_of_unreadable_images_is_a_clean_error() {
         "absent.pfm",
     );
 }
+
+/// `kousen diff A B | head -1`: the reader closes the pipe after one line; kousen must end
+/// quietly (SIGPIPE, as any Unix tool), not panic on the next print.
+#[cfg(unix)]
+#[test]
+fn diff_into_a_closed_pipe_ends_without_a_panic() {
+    use std::process::Command;
+    let dir = tempfile::tempdir().unwrap();
+    let a = pfm(dir.path(), "a.pfm", 4, 4, [1.0; 3]);
+    let b = pfm(dir.path(), "b.pfm", 4, 4, [0.5; 3]);
+    // The reading end is closed before kousen starts: its first print meets a closed pipe.
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let output = Command::new(env!("CARGO_BIN_EXE_kousen"))
+        .args(["diff", a.to_str().unwrap(), b.to_str().unwrap()])
+        .stdout(writer)
+        .output()
+        .expect("the kousen binary runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.is_empty(), "kousen wrote to stderr: {stderr}");
+    use std::os::unix::process::ExitStatusExt;
+    assert_eq!(
+        output.status.signal(),
+        Some(libc::SIGPIPE),
+        "{:?}",
+        output.status
+    );
+}

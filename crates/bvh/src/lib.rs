@@ -8,6 +8,7 @@
 //! - [`traverse`]: stack, TBVH and MTBVH traversal, closest and any hit, and brute force.
 //! - [`compact`]: the MTBVH in 32-byte records with 16-bit boxes and links, and its traversal.
 //! - [`probe`]: keeping split triangles only where sample rays say they pay.
+//! - [`wide`]: the MTBVH four-wide with a stackless trail traversal, for the CPU backend.
 //! - [`testing`]: random triangle soups and rays from a seed.
 //!
 //! Default leaf size: at most two triangles (the talk uses one); measured against 1, 4 and 8
@@ -28,6 +29,7 @@ pub mod probe;
 pub mod testing;
 pub mod traverse;
 pub mod tree;
+pub mod wide;
 
 pub use build_sah::{BuildOptions, build_sah};
 pub use compact::{
@@ -42,3 +44,4 @@ pub use traverse::{
     closest_hit_brute_force, closest_hit_mtbvh, closest_hit_stack, closest_hit_tbvh,
 };
 pub use tree::{Bvh, MAX_DEPTH, Node};
+pub use wide::{WideMtbvh, any_hit_wide, closest_hit_wide, trace_wide};

@@ -25,6 +25,9 @@ use scene::{Material, Scene};
 /// and light table.
 pub struct SceneData {
     pub bvh: bvh::PackedBvh,
+    /// The same tree four-wide, which the CPU traverses faster (same hits); `None` where the
+    /// tree has leaves too large for it, and the kernels trace through `bvh`.
+    pub wide: Option<bvh::WideMtbvh>,
     pub materials: Vec<Material>,
     pub textures: TextureArray,
     pub lights: Vec<Light>,
@@ -33,6 +36,7 @@ pub struct SceneData {
 impl SceneData {
     pub fn new(scene: &Scene, bvh: bvh::PackedBvh) -> SceneData {
         SceneData {
+            wide: bvh::WideMtbvh::new(&bvh).ok(),
             bvh,
             materials: scene.materials.clone(),
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
@@ -335,7 +339,11 @@ impl Backend for CpuBackend {
         let bvh = self.scene.bvh.memory();
         vec![
             ("scene", bvh.triangle_bytes as u64),
-            ("bvh", (bvh.node_bytes + 7 * bvh.link_set_bytes) as u64),
+            (
+                "bvh",
+                (bvh.node_bytes + 7 * bvh.link_set_bytes) as u64
+                    + self.scene.wide.as_ref().map_or(0, |w| w.bytes() as u64),
+            ),
             ("textures", self.scene.textures.bytes()),
             (
                 "photons",

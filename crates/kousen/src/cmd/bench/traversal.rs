@@ -1,6 +1,7 @@
 //! `kousen bench traversal SCENE...`: Mrays/s of the stack, TBVH, MTBVH and compact MTBVH
 //! ("mtbvh16", `bvh::compact`) traversals on the GPU adapter and of their CPU twins (rayon, all
-//! cores), on ANCHORS.md's primary and diffuse rays, measured side by side in one run (a
+//! cores), and of the four-wide MTBVH the CPU backend renders with ("mtbvh4", `bvh::wide`, CPU
+//! only), on ANCHORS.md's primary and diffuse rays, measured side by side in one run (a
 //! warm-up, then the median of `--runs`), with every variant's hits checked against the CPU
 //! stack traversal's.
 
@@ -13,7 +14,7 @@ use serde::Serialize;
 
 use bvh::bench_rays::{self, BenchCamera, View};
 use bvh::traverse::{Query, TraversalCounters, hits_agree};
-use bvh::{CompactMtbvh, Hit, PackedBvh, Ray};
+use bvh::{CompactMtbvh, Hit, PackedBvh, Ray, WideMtbvh};
 use gpu::traversal::RayKind;
 use gpu::types::GpuRay;
 use gpu::{GpuContext, GpuScene, RayBatch, TraversalKernels, Variant};
@@ -212,9 +213,13 @@ fn bench_scene(
             Ok(gpu_scene)
         })
         .transpose()?;
+    let wide = WideMtbvh::new(&bvh)
+        .inspect_err(|error| eprintln!("kousen: {}: {error}; mtbvh4 not measured", path.display()))
+        .ok();
     let twins = Twins {
         bvh: &bvh,
         compact: compact.as_ref(),
+        wide: wide.as_ref(),
     };
     let device = gpu.zip(gpu_scene.as_ref());
     let stem = path
@@ -233,7 +238,7 @@ fn bench_scene(
             RayKind::Primary => &primary,
             RayKind::Diffuse => {
                 let hits = primary_hits
-                    .get_or_insert_with(|| cpu_trace(twins, &primary.rays, Variant::Stack).0);
+                    .get_or_insert_with(|| cpu_trace(twins, &primary.rays, Twin(Variant::Stack)).0);
                 diffuse = diffuse_rays(device, &camera, diagonal, &primary, hits, &bvh, &scene)?;
                 &diffuse
             }
@@ -331,13 +336,25 @@ fn diffuse_rays(
     })
 }
 
-/// What the CPU twins traverse: the packed BVH and, where the scene allows it, its compact
-/// MTBVH.
+/// What the CPU twins traverse: the packed BVH and, where the scene allows them, its compact
+/// and four-wide MTBVHs.
 #[derive(Clone, Copy)]
 struct Twins<'a> {
     bvh: &'a PackedBvh,
     compact: Option<&'a CompactMtbvh>,
+    wide: Option<&'a WideMtbvh>,
 }
+
+/// A traversal on the CPU: the twin of a GPU variant, or the four-wide MTBVH.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum CpuTraversal {
+    Twin(Variant),
+    Wide,
+}
+use CpuTraversal::{Twin, Wide};
+
+/// The four-wide MTBVH's name in the table and the JSON.
+const WIDE_NAME: &str = "mtbvh4";
 
 impl Twins<'_> {
     /// The variants measured: all of them, less the compact MTBVH where it could not be made.
@@ -349,22 +366,28 @@ impl Twins<'_> {
     }
 }
 
-/// Closest hits of `rays` by the CPU twin of `variant` on all cores, the seconds it took, and
-/// the work done.
+/// Closest hits of `rays` by `traversal` on all cores, the seconds it took, and the work done.
 fn cpu_trace(
     twins: Twins<'_>,
     rays: &[Ray],
-    variant: Variant,
+    traversal: CpuTraversal,
 ) -> (Vec<Option<Hit>>, f64, TraversalCounters) {
     let empty = CompactMtbvh::default();
     let compact = twins.compact.unwrap_or(&empty);
+    let empty_wide = WideMtbvh::default();
+    let wide = twins.wide.unwrap_or(&empty_wide);
     let start = Instant::now();
     let results: Vec<(Option<Hit>, TraversalCounters)> = rays
         .par_iter()
         .with_min_len(256)
         .map(|ray| {
             let mut counters = TraversalCounters::default();
-            let hit = variant.cpu_trace(twins.bvh, compact, ray, Query::Closest, &mut counters);
+            let hit = match traversal {
+                Twin(variant) => {
+                    variant.cpu_trace(twins.bvh, compact, ray, Query::Closest, &mut counters)
+                }
+                Wide => bvh::trace_wide(wide, ray, Query::Closest, &mut counters),
+            };
             (hit, counters)
         })
         .collect();
@@ -403,7 +426,12 @@ fn bench_rays(
     let mut reference: Vec<Option<Hit>> = Vec::new();
     let mut rows = Vec::new();
     let mut tbvh_rate = [None, None]; // cpu, gpu
-    for variant in twins.variants() {
+    let wide = twins.wide.map(|_| Wide);
+    for traversal in twins.variants().into_iter().map(Twin).chain(wide) {
+        let name = match traversal {
+            Twin(variant) => variant.name(),
+            Wide => WIDE_NAME,
+        };
         let row = |device: &'static str,
                    hits: &[Option<Hit>],
                    seconds: f64,
@@ -411,7 +439,7 @@ fn bench_rays(
             scene: stem.to_owned(),
             path: path.display().to_string(),
             rays: set.kind.name(),
-            variant: variant.name(),
+            variant: name,
             device,
             rays_traced: rays.len(),
             mrays_per_s: rays.len() as f64 / seconds.max(1e-9) / 1e6,
@@ -421,21 +449,23 @@ fn bench_rays(
             triangle_tests_per_ray: work.triangles as f64 / count,
         };
         // CPU: warm-up, then the median of the runs.
-        let (mut hits, _, work) = cpu_trace(twins, rays, variant);
+        let (mut hits, _, work) = cpu_trace(twins, rays, traversal);
         let mut times = Vec::new();
         for _ in 0..args.runs {
-            let (run_hits, seconds, _) = cpu_trace(twins, rays, variant);
+            let (run_hits, seconds, _) = cpu_trace(twins, rays, traversal);
             hits = run_hits;
             times.push(seconds);
         }
-        if variant == Variant::Stack {
+        if traversal == Twin(Variant::Stack) {
             reference = hits.clone();
         }
         let mut cpu_row = row("cpu", &hits, median(&times), work);
         cpu_row.mismatches = mismatches(&reference, &hits);
         let mut variant_rows = vec![cpu_row];
 
-        if let (Some((gpu, scene)), Some(batch)) = (device, set.batch.as_ref()) {
+        if let (Some((gpu, scene)), Some(batch), Twin(variant)) =
+            (device, set.batch.as_ref(), traversal)
+        {
             let (context, kernels) = (&gpu.context, &gpu.kernels);
             kernels.trace(context, scene, batch, variant, Query::Closest)?;
             let mut times = Vec::new();
@@ -452,7 +482,7 @@ fn bench_rays(
             variant_rows.push(gpu_row);
         }
         for (i, row) in variant_rows.into_iter().enumerate() {
-            if variant == Variant::Tbvh {
+            if traversal == Twin(Variant::Tbvh) {
                 tbvh_rate[i] = Some(row.mrays_per_s);
             }
             print_row(&row, tbvh_rate[i]);

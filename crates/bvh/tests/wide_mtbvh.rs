@@ -190,3 +190,40 @@ fn wide_matches_binary_mtbvh_inside_the_caustics_box_on_anchors_rays() {
     assert!(tally.hits * 2 > tally.rays, "{tally:?}");
     assert_eq!(tally.fragile, 0, "{tally:?}");
 }
+
+/// The words `traverse_wide.wgsl` reads: a header, eight words a node (six rows of planes, the
+/// children, then counts, orders, valid mask and parent), ten a leaf (nine rows, then first
+/// triangle and count), little-endian bytes within a word as on every GPU wgpu drives.
+#[test]
+fn gpu_words_are_a_header_then_nodes_then_leaves() {
+    let bvh = PackedBvh::build(&random_soup(51, 500), &BuildOptions::default());
+    let wide = WideMtbvh::new(&bvh).unwrap();
+    let words = wide.gpu_words();
+    let (nodes, leaves) = (wide.nodes.len(), wide.leaves.len());
+    assert!(nodes > 2 && leaves > 2);
+    assert_eq!(words[0], [1 + 8 * nodes as u32, nodes as u32, 0, 0]);
+    assert_eq!(words.len(), 1 + 8 * nodes + 10 * leaves);
+    for (index, node) in wide.nodes.iter().enumerate() {
+        let at = |k: usize| words[1 + 8 * index + k];
+        for (row, plane) in node.planes.iter().enumerate() {
+            assert_eq!(at(row), plane.map(f32::to_bits));
+        }
+        assert_eq!(at(6), node.child);
+        let [counts, low_orders, high, parent] = at(7);
+        assert_eq!(counts, u32::from_le_bytes(node.count));
+        for d in 0..4 {
+            assert_eq!((low_orders >> (8 * d)) & 0xff, u32::from(node.order[d]));
+        }
+        assert_eq!(high & 0xff, u32::from(node.order[4]));
+        assert_eq!((high >> 8) & 0xff, u32::from(node.order[5]));
+        assert_eq!((high >> 16) & 0xf, u32::from(node.valid));
+        assert_eq!(parent, node.parent);
+    }
+    for (index, leaf) in wide.leaves.iter().enumerate() {
+        let at = |k: usize| words[1 + 8 * nodes + 10 * index + k];
+        for (row, values) in leaf.rows.iter().enumerate() {
+            assert_eq!(at(row), values.map(f32::to_bits));
+        }
+        assert_eq!(at(9)[..2], [leaf.first, leaf.count]);
+    }
+}

@@ -1,11 +1,12 @@
 //! The packed scene in storage buffers (bind group 0 of every kernel): BVH nodes (boxes shared
 //! by all threadings), triangles (vertices as two vec4 each), the six MTBVH link sets followed
 //! by the TBVH's, where each threading starts, and the materials. On request
-//! ([`GpuScene::upload_compact`]) also the compact MTBVH, bind group 2 of its trace kernels.
+//! ([`GpuScene::upload_compact`]) also the compact MTBVH, bind group 2 of its trace kernels,
+//! and ([`GpuScene::upload_wide`]) the four-wide MTBVH, binding 2 of group 2 of its.
 
 use wgpu::util::DeviceExt;
 
-use bvh::{BvhNode, CompactMtbvh, CompactNode, Links, PackedBvh, PackedTriangle};
+use bvh::{BvhNode, CompactMtbvh, CompactNode, Links, PackedBvh, PackedTriangle, WideMtbvh};
 use scene::Material;
 
 use crate::traversal::uniform_entry;
@@ -34,6 +35,29 @@ pub struct GpuScene {
     pub bytes: u64,
     /// The compact MTBVH, once [`GpuScene::upload_compact`] has put it there.
     pub compact: Option<GpuCompact>,
+    /// The four-wide MTBVH, once [`GpuScene::upload_wide`] has put it there.
+    pub wide: Option<GpuWide>,
+}
+
+/// The four-wide MTBVH on the device (see `shaders/shared/traverse_wide.wgsl`).
+#[derive(Debug)]
+pub struct GpuWide {
+    /// [`WideMtbvh::gpu_words`].
+    pub words: wgpu::Buffer,
+    /// Group 2 of the wide trace kernels, made with [`wide_layout`].
+    pub bind_group: wgpu::BindGroup,
+}
+
+/// The binding of the four-wide MTBVH's words in group 2 (0 and 1 are the compact MTBVH's, in
+/// the same module).
+const WIDE_BINDING: u32 = 2;
+
+/// The layout of bind group 2 of the four-wide MTBVH's trace kernels.
+pub fn wide_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("wide mtbvh"),
+        entries: &[storage_entry(WIDE_BINDING, true)],
+    })
 }
 
 /// The compact MTBVH on the device (see `shaders/shared/traverse_compact.wgsl`).
@@ -192,6 +216,7 @@ impl GpuScene {
             info,
             bytes,
             compact: None,
+            wide: None,
         })
     }
 
@@ -240,6 +265,36 @@ impl GpuScene {
             bind_group,
             bytes,
         });
+        Ok(())
+    }
+
+    /// Uploads `wide` (made from the uploaded BVH) for the `mtbvh4` trace kernels, after
+    /// checking it fits the device. They bind as many storage buffers as the compact ones.
+    pub fn upload_wide(&mut self, context: &GpuContext, wide: &WideMtbvh) -> Result<(), GpuError> {
+        let limits = &context.limits;
+        if limits.max_storage_buffers_per_shader_stage < COMPACT_STORAGE_BUFFERS_PER_STAGE {
+            return Err(GpuError::TooFewStorageBuffers {
+                needed: COMPACT_STORAGE_BUFFERS_PER_STAGE,
+                limit: limits.max_storage_buffers_per_shader_stage,
+            });
+        }
+        let words = wide.gpu_words();
+        check_buffer_fits("wide_words", size_of_val(words.as_slice()) as u64, limits)?;
+        let device = &context.device;
+        let words = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("wide_words"),
+            contents: bytemuck::cast_slice(&words),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("wide mtbvh"),
+            layout: &wide_layout(device),
+            entries: &[wgpu::BindGroupEntry {
+                binding: WIDE_BINDING,
+                resource: words.as_entire_binding(),
+            }],
+        });
+        self.wide = Some(GpuWide { words, bind_group });
         Ok(())
     }
 }

@@ -13,6 +13,7 @@ const SCENE_BINDINGS: &str = include_str!("../shaders/shared/scene_bindings.wgsl
 const INTERSECT: &str = include_str!("../shaders/shared/intersect.wgsl");
 const TRAVERSE: &str = include_str!("../shaders/shared/traverse.wgsl");
 const TRAVERSE_COMPACT: &str = include_str!("../shaders/shared/traverse_compact.wgsl");
+const TRAVERSE_WIDE: &str = include_str!("../shaders/shared/traverse_wide.wgsl");
 const TRACE: &str = include_str!("../shaders/kernels/trace.wgsl");
 const RAYGEN: &str = include_str!("../shaders/kernels/raygen.wgsl");
 const RANDOM: &str = include_str!("../shaders/shared/random.wgsl");
@@ -89,6 +90,7 @@ impl Module {
                 ("shared/intersect.wgsl", INTERSECT),
                 ("shared/traverse.wgsl", TRAVERSE),
                 ("shared/traverse_compact.wgsl", TRAVERSE_COMPACT),
+                ("shared/traverse_wide.wgsl", TRAVERSE_WIDE),
                 ("kernels/trace.wgsl", TRACE),
             ],
             Module::Raygen => &[

@@ -1,20 +1,24 @@
-//! The traversal kernels (`trace.wgsl`, with `traverse_compact.wgsl` for the compact MTBVH) and
+//! The traversal kernels (`trace.wgsl`, with `traverse_compact.wgsl` for the compact MTBVH and
+//! `traverse_wide.wgsl` for the four-wide one) and
 //! benchmark ray generation (`raygen.wgsl`): pipelines, ray batches, dispatch and timing.
 
 use wgpu::util::DeviceExt;
 
 use bvh::bench_rays::BenchCamera;
 use bvh::traverse::{Query, TraversalCounters};
-use bvh::{CompactMtbvh, Hit, PackedBvh, Ray};
+use bvh::{CompactMtbvh, Hit, PackedBvh, Ray, WideMtbvh};
 
 use crate::prelude::WORKGROUP_SIZE;
 use crate::readback::{read_buffer, wait_idle};
-use crate::scene_upload::{GpuScene, bind_buffers, compact_layout, scene_layout, storage_entry};
+use crate::scene_upload::{
+    GpuScene, bind_buffers, compact_layout, scene_layout, storage_entry, wide_layout,
+};
 use crate::shader::Module;
 use crate::types::{BenchCameraUniform, GpuHit, GpuRay};
 use crate::{GpuContext, GpuError, check_buffer_fits};
 
-/// The ways through the BVH, the same on the GPU and in `bvh::traverse` / `bvh::compact`.
+/// The ways through the BVH, the same on the GPU and in `bvh::traverse` / `bvh::compact` /
+/// `bvh::wide`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Variant {
     /// Fixed-array stack, nearer child first.
@@ -26,24 +30,29 @@ pub enum Variant {
     /// The MTBVH in the compact layout (`bvh::compact`: 16-bit boxes and links, one 32-byte
     /// record per node); needs [`GpuScene::upload_compact`].
     MtbvhCompact,
+    /// The MTBVH four-wide (`bvh::wide`: four boxes per node, a per-direction child order, a
+    /// stackless trail); needs [`GpuScene::upload_wide`].
+    Mtbvh4,
 }
 
 impl Variant {
     /// In discriminant order, so `variant as usize` indexes arrays built from it.
-    pub const ALL: [Variant; 4] = [
+    pub const ALL: [Variant; 5] = [
         Variant::Stack,
         Variant::Tbvh,
         Variant::Mtbvh,
         Variant::MtbvhCompact,
+        Variant::Mtbvh4,
     ];
 
-    /// "stack", "tbvh", "mtbvh" or "mtbvh16" (the bench's JSON contract).
+    /// "stack", "tbvh", "mtbvh", "mtbvh16" or "mtbvh4" (the bench's JSON contract).
     pub fn name(self) -> &'static str {
         match self {
             Variant::Stack => "stack",
             Variant::Tbvh => "tbvh",
             Variant::Mtbvh => "mtbvh",
             Variant::MtbvhCompact => "mtbvh16",
+            Variant::Mtbvh4 => "mtbvh4",
         }
     }
 
@@ -53,19 +62,23 @@ impl Variant {
             (Query::Closest, Variant::Tbvh) => "closest_tbvh",
             (Query::Closest, Variant::Mtbvh) => "closest_mtbvh",
             (Query::Closest, Variant::MtbvhCompact) => "closest_mtbvh16",
+            (Query::Closest, Variant::Mtbvh4) => "closest_mtbvh4",
             (Query::Any, Variant::Stack) => "any_stack",
             (Query::Any, Variant::Tbvh) => "any_tbvh",
             (Query::Any, Variant::Mtbvh) => "any_mtbvh",
             (Query::Any, Variant::MtbvhCompact) => "any_mtbvh16",
+            (Query::Any, Variant::Mtbvh4) => "any_mtbvh4",
         }
     }
 
     /// The CPU twin on `bvh`, or for [`Variant::MtbvhCompact`] on `compact` (made from `bvh`)
-    /// and `bvh`'s triangles; `counters` accumulate the work done.
+    /// and `bvh`'s triangles, for [`Variant::Mtbvh4`] on `wide` (made from `bvh`); `counters`
+    /// accumulate the work done.
     pub fn cpu_trace(
         self,
         bvh: &PackedBvh,
         compact: &CompactMtbvh,
+        wide: &WideMtbvh,
         ray: &Ray,
         query: Query,
         counters: &mut TraversalCounters,
@@ -77,6 +90,7 @@ impl Variant {
             Variant::MtbvhCompact => {
                 bvh::compact::trace_mtbvh_compact(bvh, compact, ray, query, counters)
             }
+            Variant::Mtbvh4 => bvh::wide::trace_wide(wide, ray, query, counters),
         }
     }
 }
@@ -188,6 +202,7 @@ impl TraversalKernels {
             ],
         });
         let compact = compact_layout(device);
+        let wide = wide_layout(device);
         let layout = |groups: &[Option<&wgpu::BindGroupLayout>]| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: None,
@@ -199,12 +214,14 @@ impl TraversalKernels {
         let raygen_pipeline_layout = layout(&[Some(&scene), Some(&raygen_layout)]);
         // Only the compact kernels bind group 2, so the others keep their two groups.
         let compact_pipeline_layout = layout(&[Some(&scene), Some(&trace_layout), Some(&compact)]);
+        let wide_pipeline_layout = layout(&[Some(&scene), Some(&trace_layout), Some(&wide)]);
         let trace = Module::Trace.create(device);
         let raygen = Module::Raygen.create(device);
         let kernels = |query| {
             Variant::ALL.map(|v| {
                 let layout = match v {
                     Variant::MtbvhCompact => &compact_pipeline_layout,
+                    Variant::Mtbvh4 => &wide_pipeline_layout,
                     _ => &trace_pipeline_layout,
                 };
                 pipeline(device, layout, &trace, v.entry_point(query))
@@ -354,7 +371,8 @@ impl TraversalKernels {
 
     /// Traces every ray of `batch` into `batch.hits` and returns the seconds the pass took: GPU
     /// time from timestamp queries where the device has them, else the wall time of a
-    /// submit-and-wait. [`Variant::MtbvhCompact`] needs [`GpuScene::upload_compact`] first.
+    /// submit-and-wait. [`Variant::MtbvhCompact`] needs [`GpuScene::upload_compact`] first,
+    /// [`Variant::Mtbvh4`] [`GpuScene::upload_wide`].
     pub fn trace(
         &self,
         context: &GpuContext,
@@ -380,6 +398,21 @@ impl TraversalKernels {
                 context,
                 pipeline,
                 &[scene_group, batch_group, &compact.bind_group],
+                batch.count,
+                true,
+            );
+        }
+        if variant == Variant::Mtbvh4 {
+            let wide = scene.wide.as_ref().ok_or_else(|| {
+                GpuError::Device(
+                    "the four-wide MTBVH is not on the device (GpuScene::upload_wide)".to_owned(),
+                )
+            })?;
+            let [scene_group, batch_group] = groups;
+            return self.run(
+                context,
+                pipeline,
+                &[scene_group, batch_group, &wide.bind_group],
                 batch.count,
                 true,
             );

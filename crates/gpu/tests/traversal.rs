@@ -1,14 +1,14 @@
 //! The GPU kernels against their CPU twins on the same rays: every variant's closest hit has
 //! the same triangle and t (relative 1e-5), misses agree, any-hit answers agree; ray generation
-//! matches `bvh::bench_rays`. The compact MTBVH (`mtbvh16`) is one of the variants, and on
-//! the GPU too returns exactly the exact MTBVH's hits. Runs on whatever adapter wgpu finds
-//! (lavapipe in CI).
+//! matches `bvh::bench_rays`. The compact MTBVH (`mtbvh16`) and the four-wide one (`mtbvh4`)
+//! are variants too, and on the GPU too return exactly the MTBVH's hits. Runs on whatever
+//! adapter wgpu finds (lavapipe in CI).
 
 use std::path::Path;
 
 use bvh::bench_rays::{self, BenchCamera, View};
 use bvh::traverse::{Query, TraversalCounters};
-use bvh::{BuildOptions, CompactMtbvh, PackedBvh, Ray};
+use bvh::{BuildOptions, CompactMtbvh, PackedBvh, Ray, WideMtbvh};
 use glam::Vec3;
 use gpu::traversal::RayKind;
 use gpu::types::{GpuHit, GpuRay};
@@ -26,8 +26,7 @@ fn context() -> GpuContext {
 
 /// Describes every disagreement between the GPU's `hits` and the CPU twin on `rays`.
 fn disagreements(
-    bvh: &PackedBvh,
-    compact: &CompactMtbvh,
+    (bvh, compact, wide): (&PackedBvh, &CompactMtbvh, &WideMtbvh),
     rays: &[GpuRay],
     hits: &[GpuHit],
     variant: Variant,
@@ -36,7 +35,8 @@ fn disagreements(
     let mut found = Vec::new();
     for (i, (gpu_ray, gpu_hit)) in rays.iter().zip(hits).enumerate() {
         let ray = gpu_ray.to_ray();
-        let cpu = variant.cpu_trace(bvh, compact, &ray, query, &mut TraversalCounters::default());
+        let mut counters = TraversalCounters::default();
+        let cpu = variant.cpu_trace(bvh, compact, wide, &ray, query, &mut counters);
         let gpu = gpu_hit.to_hit();
         let agree = match (query, cpu, gpu) {
             (_, None, None) => true,
@@ -54,8 +54,8 @@ fn disagreements(
 }
 
 /// Traces `rays` with every GPU variant and query and compares with the twins; the compact
-/// MTBVH's closest hits must also be the exact MTBVH's on the GPU (`same_hit`), except
-/// where the compact one reaches a closer fragile hit (`bvh::testing::is_fragile_hit`).
+/// and wide MTBVHs' closest hits must also be the MTBVH's on the GPU (`same_hit`), except
+/// where they reach a closer fragile hit (`bvh::testing::is_fragile_hit`).
 fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &[GpuRay]) {
     let kernels = TraversalKernels::new(context);
     let mut scene = GpuScene::upload(context, bvh, &vec![Material::default(); 8]).expect("upload");
@@ -63,6 +63,8 @@ fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &
     scene
         .upload_compact(context, &compact)
         .expect("compact upload");
+    let wide = WideMtbvh::new(bvh).expect("leaves of at most 255 triangles");
+    scene.upload_wide(context, &wide).expect("wide upload");
     let batch = kernels.upload_rays(context, rays).expect("ray batch");
     let mut report = Vec::new();
     let mut closest_hits = 0;
@@ -77,7 +79,7 @@ fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &
                 closest_hits = hits.iter().filter(|h| h.to_hit().is_some()).count();
                 closest_by_variant.push((variant, hits.clone()));
             }
-            let bad = disagreements(bvh, &compact, rays, &hits, variant, query);
+            let bad = disagreements((bvh, &compact, &wide), rays, &hits, variant, query);
             if !bad.is_empty() {
                 report.push(format!(
                     "{name} {} {query:?}: {} of {} rays disagree, first: {}",
@@ -97,21 +99,21 @@ fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &
             .expect("traced")
             .1
     };
-    let (exact, compact_hits) = (
-        gpu_closest(Variant::Mtbvh),
-        gpu_closest(Variant::MtbvhCompact),
-    );
-    for (i, (e, c)) in exact.iter().zip(compact_hits).enumerate() {
-        let (e, c) = (e.to_hit(), c.to_hit());
-        if !bvh::testing::same_hit(bvh, e, c) {
-            let ray = rays[i].to_ray();
-            let fragile = c.is_some_and(|c| {
-                bvh::testing::is_fragile_hit(bvh, &ray, &c) && e.is_none_or(|e| c.t < e.t)
-            });
-            assert!(
-                fragile,
-                "{name}: ray {i} {ray:?}: gpu mtbvh {e:?}, gpu mtbvh16 {c:?}"
-            );
+    let exact = gpu_closest(Variant::Mtbvh);
+    for other in [Variant::MtbvhCompact, Variant::Mtbvh4] {
+        for (i, (e, o)) in exact.iter().zip(gpu_closest(other)).enumerate() {
+            let (e, o) = (e.to_hit(), o.to_hit());
+            if !bvh::testing::same_hit(bvh, e, o) {
+                let ray = rays[i].to_ray();
+                let fragile = o.is_some_and(|o| {
+                    bvh::testing::is_fragile_hit(bvh, &ray, &o) && e.is_none_or(|e| o.t < e.t)
+                });
+                assert!(
+                    fragile,
+                    "{name}: ray {i} {ray:?}: gpu mtbvh {e:?}, gpu {} {o:?}",
+                    other.name()
+                );
+            }
         }
     }
     // The test means something only if the rays hit and miss.
@@ -208,6 +210,13 @@ fn ray_generation_matches_bench_rays() {
     assert!(
         none.is_err_and(|e| e.to_string().contains("upload_compact")),
         "compact trace without its upload"
+    );
+    let none = kernels
+        .batch(&context, 1)
+        .and_then(|b| kernels.trace(&context, &scene, &b, Variant::Mtbvh4, Query::Closest));
+    assert!(
+        none.is_err_and(|e| e.to_string().contains("upload_wide")),
+        "wide trace without its upload"
     );
     let bounds = cornell.bounds();
     let diagonal = bounds.extent().length();

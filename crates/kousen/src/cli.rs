@@ -78,8 +78,8 @@ pub struct BenchArgs {
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
-    /// Mrays/s of the stack, TBVH, MTBVH and compact MTBVH (mtbvh16) traversals on the GPU and
-    /// the CPU twins.
+    /// Mrays/s of the stack, TBVH, MTBVH, compact MTBVH (mtbvh16) and four-wide MTBVH (mtbvh4)
+    /// traversals on the GPU and the CPU twins.
     Traversal(TraversalArgs),
     /// Photon paths per second: one bounce per pass with asynchronous path regeneration against
     /// the naive scheme (every path traced to its end in one pass), with lane occupancy.

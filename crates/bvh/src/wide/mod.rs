@@ -160,6 +160,17 @@ impl WideMtbvh {
         size_of_val(self.nodes.as_slice()) + size_of_val(self.leaves.as_slice())
     }
 
+    /// The tree as the GPU kernel reads it (`traverse_wide.wgsl`), in 16-byte words: a header
+    /// `[first leaf word, node count, 0, 0]`, the nodes (eight words each), the leaves (ten).
+    /// One buffer, so the kernel binds one storage buffer more than the others, not two.
+    pub fn gpu_words(&self) -> Vec<[u32; 4]> {
+        let leaf_base = 1 + self.nodes.len() * size_of::<WideNode>() / 16;
+        let mut words = vec![[leaf_base as u32, self.nodes.len() as u32, 0, 0]];
+        words.extend_from_slice(bytemuck::cast_slice(&self.nodes));
+        words.extend_from_slice(bytemuck::cast_slice(&self.leaves));
+        words
+    }
+
     /// Appends the node for binary node `b` (its children, or `b` itself if it makes one leaf)
     /// and its subtree; returns its index.
     fn collapse(&mut self, bvh: &PackedBvh, ranges: &[(u32, u32, u32)], b: u32) -> u32 {

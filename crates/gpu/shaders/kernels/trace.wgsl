@@ -72,3 +72,20 @@ fn any_mtbvh16(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
         hits[i] = trace_mtbvh16(rays[i], true);
     }
 }
+
+// The four-wide MTBVH: binding 2 of group 2 (traverse_wide.wgsl).
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn closest_mtbvh4(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = invocation_index(id, groups);
+    if i < batch.ray_count {
+        hits[i] = trace_mtbvh4(rays[i], false);
+    }
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn any_mtbvh4(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = invocation_index(id, groups);
+    if i < batch.ray_count {
+        hits[i] = trace_mtbvh4(rays[i], true);
+    }
+}

@@ -48,8 +48,12 @@ fn intersect_triangle(triangle: u32, origin: vec3<f32>, direction: vec3<f32>, t_
     let p0 = bvh_triangles[triangle].vertices[0].position;
     let p1 = bvh_triangles[triangle].vertices[1].position;
     let p2 = bvh_triangles[triangle].vertices[2].position;
-    let e0 = p1 - p0;
-    let e1 = p2 - p0;
+    return intersect_edges(p0, p1 - p0, p2 - p0, origin, direction, t_best);
+}
+
+// The same test on a triangle given as p0 and its two edges (the four-wide MTBVH's leaves
+// store them so).
+fn intersect_edges(p0: vec3<f32>, e0: vec3<f32>, e1: vec3<f32>, origin: vec3<f32>, direction: vec3<f32>, t_best: f32) -> TriangleHit {
     let pv = cross(direction, e1);
     let det = dot(e0, pv);
     let tv = origin - p0;

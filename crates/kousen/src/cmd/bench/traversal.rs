@@ -1,7 +1,7 @@
-//! `kousen bench traversal SCENE...`: Mrays/s of the stack, TBVH, MTBVH and compact MTBVH
-//! ("mtbvh16", `bvh::compact`) traversals on the GPU adapter and of their CPU twins (rayon, all
-//! cores), and of the four-wide MTBVH the CPU backend renders with ("mtbvh4", `bvh::wide`, CPU
-//! only), on ANCHORS.md's primary and diffuse rays, measured side by side in one run (a
+//! `kousen bench traversal SCENE...`: Mrays/s of the stack, TBVH, MTBVH, compact MTBVH
+//! ("mtbvh16", `bvh::compact`) and four-wide MTBVH ("mtbvh4", `bvh::wide`, which the CPU
+//! backend renders with) traversals on the GPU adapter and of their CPU twins (rayon, all
+//! cores), on ANCHORS.md's primary and diffuse rays, measured side by side in one run (a
 //! warm-up, then the median of `--runs`), with every variant's hits checked against the CPU
 //! stack traversal's.
 
@@ -201,6 +201,9 @@ fn bench_scene(
             None
         }
     };
+    let wide = WideMtbvh::new(&bvh)
+        .inspect_err(|error| eprintln!("kousen: {}: {error}; mtbvh4 not measured", path.display()))
+        .ok();
     let bounds = scene.bounds();
     let camera = BenchCamera::new(bounds, view, args.size);
     let diagonal = bounds.extent().length();
@@ -210,12 +213,12 @@ fn bench_scene(
             if let Some(compact) = &compact {
                 gpu_scene.upload_compact(&g.context, compact)?;
             }
+            if let Some(wide) = &wide {
+                gpu_scene.upload_wide(&g.context, wide)?;
+            }
             Ok(gpu_scene)
         })
         .transpose()?;
-    let wide = WideMtbvh::new(&bvh)
-        .inspect_err(|error| eprintln!("kousen: {}: {error}; mtbvh4 not measured", path.display()))
-        .ok();
     let twins = Twins {
         bvh: &bvh,
         compact: compact.as_ref(),
@@ -238,7 +241,7 @@ fn bench_scene(
             RayKind::Primary => &primary,
             RayKind::Diffuse => {
                 let hits = primary_hits
-                    .get_or_insert_with(|| cpu_trace(twins, &primary.rays, Twin(Variant::Stack)).0);
+                    .get_or_insert_with(|| cpu_trace(twins, &primary.rays, Variant::Stack).0);
                 diffuse = diffuse_rays(device, &camera, diagonal, &primary, hits, &bvh, &scene)?;
                 &diffuse
             }
@@ -345,32 +348,24 @@ struct Twins<'a> {
     wide: Option<&'a WideMtbvh>,
 }
 
-/// A traversal on the CPU: the twin of a GPU variant, or the four-wide MTBVH.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum CpuTraversal {
-    Twin(Variant),
-    Wide,
-}
-use CpuTraversal::{Twin, Wide};
-
-/// The four-wide MTBVH's name in the table and the JSON.
-const WIDE_NAME: &str = "mtbvh4";
-
 impl Twins<'_> {
-    /// The variants measured: all of them, less the compact MTBVH where it could not be made.
+    /// The variants measured: all of them, less the compact and wide MTBVHs where they could
+    /// not be made.
     fn variants(&self) -> Vec<Variant> {
         Variant::ALL
             .into_iter()
             .filter(|&v| v != Variant::MtbvhCompact || self.compact.is_some())
+            .filter(|&v| v != Variant::Mtbvh4 || self.wide.is_some())
             .collect()
     }
 }
 
-/// Closest hits of `rays` by `traversal` on all cores, the seconds it took, and the work done.
+/// Closest hits of `rays` by the CPU twin of `variant` on all cores, the seconds it took, and
+/// the work done.
 fn cpu_trace(
     twins: Twins<'_>,
     rays: &[Ray],
-    traversal: CpuTraversal,
+    variant: Variant,
 ) -> (Vec<Option<Hit>>, f64, TraversalCounters) {
     let empty = CompactMtbvh::default();
     let compact = twins.compact.unwrap_or(&empty);
@@ -382,12 +377,8 @@ fn cpu_trace(
         .with_min_len(256)
         .map(|ray| {
             let mut counters = TraversalCounters::default();
-            let hit = match traversal {
-                Twin(variant) => {
-                    variant.cpu_trace(twins.bvh, compact, ray, Query::Closest, &mut counters)
-                }
-                Wide => bvh::trace_wide(wide, ray, Query::Closest, &mut counters),
-            };
+            let hit =
+                variant.cpu_trace(twins.bvh, compact, wide, ray, Query::Closest, &mut counters);
             (hit, counters)
         })
         .collect();
@@ -426,12 +417,7 @@ fn bench_rays(
     let mut reference: Vec<Option<Hit>> = Vec::new();
     let mut rows = Vec::new();
     let mut tbvh_rate = [None, None]; // cpu, gpu
-    let wide = twins.wide.map(|_| Wide);
-    for traversal in twins.variants().into_iter().map(Twin).chain(wide) {
-        let name = match traversal {
-            Twin(variant) => variant.name(),
-            Wide => WIDE_NAME,
-        };
+    for variant in twins.variants() {
         let row = |device: &'static str,
                    hits: &[Option<Hit>],
                    seconds: f64,
@@ -439,7 +425,7 @@ fn bench_rays(
             scene: stem.to_owned(),
             path: path.display().to_string(),
             rays: set.kind.name(),
-            variant: name,
+            variant: variant.name(),
             device,
             rays_traced: rays.len(),
             mrays_per_s: rays.len() as f64 / seconds.max(1e-9) / 1e6,
@@ -449,23 +435,21 @@ fn bench_rays(
             triangle_tests_per_ray: work.triangles as f64 / count,
         };
         // CPU: warm-up, then the median of the runs.
-        let (mut hits, _, work) = cpu_trace(twins, rays, traversal);
+        let (mut hits, _, work) = cpu_trace(twins, rays, variant);
         let mut times = Vec::new();
         for _ in 0..args.runs {
-            let (run_hits, seconds, _) = cpu_trace(twins, rays, traversal);
+            let (run_hits, seconds, _) = cpu_trace(twins, rays, variant);
             hits = run_hits;
             times.push(seconds);
         }
-        if traversal == Twin(Variant::Stack) {
+        if variant == Variant::Stack {
             reference = hits.clone();
         }
         let mut cpu_row = row("cpu", &hits, median(&times), work);
         cpu_row.mismatches = mismatches(&reference, &hits);
         let mut variant_rows = vec![cpu_row];
 
-        if let (Some((gpu, scene)), Some(batch), Twin(variant)) =
-            (device, set.batch.as_ref(), traversal)
-        {
+        if let (Some((gpu, scene)), Some(batch)) = (device, set.batch.as_ref()) {
             let (context, kernels) = (&gpu.context, &gpu.kernels);
             kernels.trace(context, scene, batch, variant, Query::Closest)?;
             let mut times = Vec::new();
@@ -482,7 +466,7 @@ fn bench_rays(
             variant_rows.push(gpu_row);
         }
         for (i, row) in variant_rows.into_iter().enumerate() {
-            if traversal == Twin(Variant::Tbvh) {
+            if variant == Variant::Tbvh {
                 tbvh_rate[i] = Some(row.mrays_per_s);
             }
             print_row(&row, tbvh_rate[i]);

@@ -9,8 +9,35 @@
 @group(2) @binding(2) var<storage, read> wide_words: array<vec4<u32>>;
 
 const WIDE_NONE: u32 = 0xffffffffu;
-// Levels the trail holds: bvh::MAX_DEPTH, eight levels a word.
-const WIDE_TRAIL_WORDS: u32 = 8u;
+// The trail: four bits a level, eight levels a word, in two vec4 of words (bvh::MAX_DEPTH = 64
+// levels), read and written with selects rather than a runtime index (which lavapipe would
+// turn into memory).
+struct Trail {
+    low: vec4<u32>,
+    high: vec4<u32>,
+}
+
+fn trail_set(trail: ptr<function, Trail>, level: u32, positions: u32) {
+    let word = vec4<u32>(level / 8u);
+    let bits = vec4<u32>(positions << (4u * (level % 8u)));
+    (*trail).low |= select(vec4<u32>(0u), bits, vec4<u32>(0u, 1u, 2u, 3u) == word);
+    (*trail).high |= select(vec4<u32>(0u), bits, vec4<u32>(4u, 5u, 6u, 7u) == word);
+}
+
+// Level `level`'s positions, cleared from the trail.
+fn trail_take(trail: ptr<function, Trail>, level: u32) -> u32 {
+    let word = vec4<u32>(level / 8u);
+    let shift = 4u * (level % 8u);
+    let in_low = vec4<u32>(0u, 1u, 2u, 3u) == word;
+    let in_high = vec4<u32>(4u, 5u, 6u, 7u) == word;
+    let zero = vec4<u32>(0u);
+    let value = dot(select(zero, (*trail).low, in_low), vec4<u32>(1u))
+        + dot(select(zero, (*trail).high, in_high), vec4<u32>(1u));
+    let clear = vec4<u32>(~(0xfu << shift));
+    (*trail).low &= select(vec4<u32>(0xffffffffu), clear, in_low);
+    (*trail).high &= select(vec4<u32>(0xffffffffu), clear, in_high);
+    return (value >> shift) & 0xfu;
+}
 
 // A node's child word and its last word (counts, orders, valid mask, parent).
 struct WideNode {
@@ -38,8 +65,10 @@ fn wide_slot(order: u32, position: u32) -> u32 {
     return (order >> (2u * position)) & 3u;
 }
 
-// Bit s set when the ray enters slot s's box before t_far: intersect_box on each valid slot
-// (WideRay::entered), as positions in `order` (the POSITIONS table of bvh::wide).
+// Bit s set when the ray enters slot s's box before t_far: intersect_box's arithmetic on the
+// four boxes at once, as vec4 rows (WideRay::entered), then as positions in `order` (the
+// POSITIONS table of bvh::wide). No component is picked by a runtime index: lavapipe turns
+// those into memory.
 fn wide_positions(node: u32, n: WideNode, order: u32, slab: SlabRay, t_far: f32) -> u32 {
     let base = 1u + 8u * node;
     let lo_x = bitcast<vec4<f32>>(wide_words[base]);
@@ -48,18 +77,46 @@ fn wide_positions(node: u32, n: WideNode, order: u32, slab: SlabRay, t_far: f32)
     let hi_x = bitcast<vec4<f32>>(wide_words[base + 3u]);
     let hi_y = bitcast<vec4<f32>>(wide_words[base + 4u]);
     let hi_z = bitcast<vec4<f32>>(wide_words[base + 5u]);
+    let o = slab.origin;
+    let inv = slab.inv_direction;
+    let x0 = (lo_x - vec4<f32>(o.x)) * inv.x;
+    let x1 = (hi_x - vec4<f32>(o.x)) * inv.x;
+    let y0 = (lo_y - vec4<f32>(o.y)) * inv.y;
+    let y1 = (hi_y - vec4<f32>(o.y)) * inv.y;
+    let z0 = (lo_z - vec4<f32>(o.z)) * inv.z;
+    let z1 = (hi_z - vec4<f32>(o.z)) * inv.z;
+    let none = vec4<f32>(NO_DISTANCE);
+    let far_x = select(max(x0, x1), none, slab.parallel.x);
+    let far_y = select(max(y0, y1), none, slab.parallel.y);
+    let far_z = select(max(z0, z1), none, slab.parallel.z);
+    let t_enter = max(max(max(min(x0, x1), min(y0, y1)), min(z0, z1)), vec4<f32>(0.0));
+    let t_exit = min(min(min(far_x, far_y), far_z), vec4<f32>(t_far)) * ROBUST_EXIT;
+    var inside = t_enter <= t_exit;
+    if slab.any_parallel {
+        let outside_x = (vec4<f32>(o.x) < lo_x) | (vec4<f32>(o.x) > hi_x);
+        let outside_y = (vec4<f32>(o.y) < lo_y) | (vec4<f32>(o.y) > hi_y);
+        let outside_z = (vec4<f32>(o.z) < lo_z) | (vec4<f32>(o.z) > hi_z);
+        let outside = (outside_x & vec4<bool>(slab.parallel.x))
+            | (outside_y & vec4<bool>(slab.parallel.y))
+            | (outside_z & vec4<bool>(slab.parallel.z));
+        inside = inside & !outside;
+    }
     let valid = (n.tail.z >> 16u) & 0xfu;
+    let entered = dot(select(vec4<u32>(0u), vec4<u32>(1u, 2u, 4u, 8u), inside), vec4<u32>(1u)) & valid;
     var positions = 0u;
     for (var k = 0u; k < 4u; k += 1u) {
-        let s = wide_slot(order, k);
-        if ((valid >> s) & 1u) != 0u {
-            let b = BvhNode(vec3<f32>(lo_x[s], lo_y[s], lo_z[s]), 0u, vec3<f32>(hi_x[s], hi_y[s], hi_z[s]), 0u);
-            if intersect_box(b, slab, t_far) < NO_DISTANCE {
-                positions |= 1u << k;
-            }
-        }
+        positions |= ((entered >> wide_slot(order, k)) & 1u) << k;
     }
     return positions;
+}
+
+// Component `lane` of `v`, by selects rather than a runtime index.
+fn wide_lane(v: vec4<f32>, lane: u32) -> f32 {
+    return select(select(select(v.x, v.y, lane == 1u), v.z, lane == 2u), v.w, lane == 3u);
+}
+
+fn wide_child(v: vec4<u32>, slot: u32) -> u32 {
+    return select(select(select(v.x, v.y, slot == 1u), v.z, slot == 2u), v.w, slot == 3u);
 }
 
 // WideRay::test_leaf: the leaf's records of four triangles, the nearer hit winning (the first
@@ -69,15 +126,20 @@ fn wide_test_leaf(leaf: u32, count: u32, ray: GpuRay, best: ptr<function, GpuHit
     var found = false;
     for (var r = 0u; r < (count + 3u) / 4u; r += 1u) {
         let base = leaf_base + 10u * (leaf + r);
-        var rows: array<vec4<f32>, 9>;
-        for (var i = 0u; i < 9u; i += 1u) {
-            rows[i] = bitcast<vec4<f32>>(wide_words[base + i]);
-        }
+        let r0 = bitcast<vec4<f32>>(wide_words[base]);
+        let r1 = bitcast<vec4<f32>>(wide_words[base + 1u]);
+        let r2 = bitcast<vec4<f32>>(wide_words[base + 2u]);
+        let r3 = bitcast<vec4<f32>>(wide_words[base + 3u]);
+        let r4 = bitcast<vec4<f32>>(wide_words[base + 4u]);
+        let r5 = bitcast<vec4<f32>>(wide_words[base + 5u]);
+        let r6 = bitcast<vec4<f32>>(wide_words[base + 6u]);
+        let r7 = bitcast<vec4<f32>>(wide_words[base + 7u]);
+        let r8 = bitcast<vec4<f32>>(wide_words[base + 8u]);
         let info = wide_words[base + 9u];
         for (var lane = 0u; lane < info.y; lane += 1u) {
-            let p0 = vec3<f32>(rows[0][lane], rows[1][lane], rows[2][lane]);
-            let e0 = vec3<f32>(rows[3][lane], rows[4][lane], rows[5][lane]);
-            let e1 = vec3<f32>(rows[6][lane], rows[7][lane], rows[8][lane]);
+            let p0 = vec3<f32>(wide_lane(r0, lane), wide_lane(r1, lane), wide_lane(r2, lane));
+            let e0 = vec3<f32>(wide_lane(r3, lane), wide_lane(r4, lane), wide_lane(r5, lane));
+            let e1 = vec3<f32>(wide_lane(r6, lane), wide_lane(r7, lane), wide_lane(r8, lane));
             let h = intersect_edges(p0, e0, e1, ray.origin, ray.direction, (*best).t);
             if h.hit {
                 *best = GpuHit(h.t, info.x + lane, h.u, h.v);
@@ -99,7 +161,7 @@ fn trace_mtbvh4(ray: GpuRay, stop_at_first: bool) -> GpuHit {
     }
     let slab = make_slab_ray(ray);
     let d = direction_index(ray.direction);
-    var trail: array<u32, WIDE_TRAIL_WORDS>;
+    var trail = Trail(vec4<u32>(0u), vec4<u32>(0u));
     var level = 0u;
     // Levels below this one made their positions before the last hit.
     var fresh_from = 0u;
@@ -114,10 +176,10 @@ fn trace_mtbvh4(ray: GpuRay, stop_at_first: bool) -> GpuHit {
             positions &= positions - 1u;
             let count = wide_count(current, slot);
             if count == 0u {
-                next = current.child[slot];
+                next = wide_child(current.child, slot);
                 break;
             }
-            if wide_test_leaf(current.child[slot], count, ray, &best, stop_at_first) {
+            if wide_test_leaf(wide_child(current.child, slot), count, ray, &best, stop_at_first) {
                 if stop_at_first {
                     return best;
                 }
@@ -127,7 +189,7 @@ fn trace_mtbvh4(ray: GpuRay, stop_at_first: bool) -> GpuHit {
             }
         }
         if next != WIDE_NONE {
-            trail[level / 8u] |= positions << (4u * (level % 8u));
+            trail_set(&trail, level, positions);
             level += 1u;
             node = next;
             current = wide_node(node);
@@ -144,9 +206,7 @@ fn trace_mtbvh4(ray: GpuRay, stop_at_first: bool) -> GpuHit {
             level -= 1u;
             node = current.tail.w;
             current = wide_node(node);
-            let shift = 4u * (level % 8u);
-            positions = (trail[level / 8u] >> shift) & 0xfu;
-            trail[level / 8u] &= ~(0xfu << shift);
+            positions = trail_take(&trail, level);
             if positions != 0u && level < fresh_from {
                 // A hit since these were made: re-cull them.
                 positions &= wide_positions(node, current, wide_order(current, d), slab, best.t);

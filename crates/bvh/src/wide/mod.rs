@@ -1,17 +1,19 @@
-//! The MTBVH made four-wide, for the CPU: each node holds four children's boxes, tested at
-//! once with SSE, and per ray direction the order its children are visited in (the talk's
-//! multiple threading, one order per major axis and sign). The traversal keeps no stack: a
-//! **trail** of four bits per level (which of that level's entered children, in the
-//! direction's order, are still to visit) and the nodes' parent links bring it back up, as
-//! Laine's restart trail does for binary trees. Leaves of up to four triangles are tested at
-//! once too ([`Tri4`]).
+//! The MTBVH made four-wide (`mtbvh4`): each node holds four children's boxes, tested at once
+//! (SSE here; the WGSL twin, `traverse_wide.wgsl`, tests them as vec4 rows), and per ray
+//! direction the order its children are visited in (the talk's multiple threading, one order
+//! per major axis and sign). The traversal keeps no stack: a **trail** of four bits per level
+//! (which of that level's entered children, in the direction's order, are still to visit) and
+//! the nodes' parent links bring it back up, as Laine's restart trail does for binary trees.
+//! Leaves of up to four triangles are tested at once too ([`Tri4`]).
 //!
 //! Built from a [`PackedBvh`] by collapsing it (each wide node opens its binary children with
 //! the largest boxes until it has four), it tests the same triangles with
 //! [`intersect_triangle`]'s arithmetic operation for operation, so it returns the same hits
-//! as [`crate::traverse::trace_mtbvh`]. Measured against the binary MTBVH in
-//! docs/BENCHMARKS.md §2: a wide step costs about three binary steps, and takes the place of
-//! three to four.
+//! as [`crate::traverse::trace_mtbvh`] (but for a fragile hit, see
+//! [`crate::testing::is_fragile_hit`], which a box the binary tree has and this one skips may
+//! cull). Measured in docs/BENCHMARKS.md §2: on the CPU 1.2–2.4× the binary MTBVH (a wide step
+//! costs about three binary steps and takes the place of three to four); through lavapipe
+//! slower, so the GPU kernels render with the binary MTBVH and the CPU backend with this.
 //!
 //! [`intersect_triangle`]: crate::intersect::intersect_triangle
 
@@ -51,7 +53,7 @@ pub struct WideNode {
     /// Bit `s` set when slot `s` holds a child.
     pub valid: u8,
     pub pad: u8,
-    /// The parent node ([`NONE`] for the root).
+    /// The parent node (`u32::MAX` for the root).
     pub parent: u32,
 }
 

@@ -75,6 +75,17 @@ fn info_json_keeps_the_contract_for_scripts() {
         info.pointer("/memory/mtbvh_compact_error")
             .is_some_and(|v| v.is_null())
     );
+    // The four-wide MTBVH with the packed triangles: more than the triangles' 96 bytes each,
+    // at least one node.
+    let wide = number("/memory/mtbvh4_bytes");
+    assert!(wide > 96.0 * number("/triangles"), "{info}");
+    let per_triangle = number("/memory/mtbvh4_bytes_per_triangle");
+    assert!((per_triangle * number("/triangles") - wide).abs() < 1e-6 * wide);
+    assert!(number("/memory/mtbvh4_nodes") >= 1.0 && number("/memory/mtbvh4_ms") >= 0.0);
+    assert!(
+        info.pointer("/memory/mtbvh4_error")
+            .is_some_and(|v| v.is_null())
+    );
 }
 
 /// `--split-percent`: a forced budget packs split triangles once per piece, 0 packs each

@@ -100,6 +100,16 @@ struct MemoryInfo {
     mtbvh_compact_far_records: Option<usize>,
     /// Why the compact MTBVH could not be made, else null.
     mtbvh_compact_error: Option<String>,
+    /// The four-wide MTBVH ("mtbvh4", `bvh::wide`) with the packed triangles, as the other
+    /// rows count them: its nodes, its leaves (the triangles' positions again, four to a
+    /// record) and the packed triangles the CPU backend shades hits from; the `mtbvh4_*` keys
+    /// are null where it could not be made.
+    mtbvh4_bytes: Option<usize>,
+    mtbvh4_bytes_per_triangle: Option<f64>,
+    mtbvh4_nodes: Option<usize>,
+    mtbvh4_ms: Option<f64>,
+    /// Why the four-wide MTBVH could not be made, else null.
+    mtbvh4_error: Option<String>,
 }
 
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
@@ -130,6 +140,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
     let started = Instant::now();
     let compact = bvh::CompactMtbvh::new(&packed);
     let compact_ms = millis(started);
+    let started = Instant::now();
+    let wide = bvh::WideMtbvh::new(&packed);
+    let wide_ms = millis(started);
 
     let triangles = scene.triangles.len();
     let per_triangle = |bytes: usize| bytes as f64 / triangles as f64;
@@ -138,6 +151,10 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         .ok()
         .map(|c| (c.memory(packed.triangles.len()).total_bytes, c.far_count()));
     let compact_bytes = compact_memory.map(|(bytes, _)| bytes);
+    let wide_bytes = wide
+        .as_ref()
+        .ok()
+        .map(|w| w.bytes() + memory.triangle_bytes);
     let bounds = scene.bounds();
     Ok(Info {
         scene: args.scene.display().to_string(),
@@ -180,6 +197,11 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             mtbvh_compact_over_mtbvh: compact_bytes.map(|b| b as f64 / memory.mtbvh_bytes as f64),
             mtbvh_compact_far_records: compact_memory.map(|(_, far)| far),
             mtbvh_compact_error: compact.err().map(|e| e.to_string()),
+            mtbvh4_bytes: wide_bytes,
+            mtbvh4_bytes_per_triangle: wide_bytes.map(per_triangle),
+            mtbvh4_nodes: wide.as_ref().ok().map(|w| w.nodes.len()),
+            mtbvh4_ms: wide.is_ok().then_some(wide_ms),
+            mtbvh4_error: wide.err().map(|e| e.to_string()),
         },
         warnings: scene.warnings,
     })
@@ -288,6 +310,7 @@ fn print_table(info: &Info) {
             format!("{:.3}×", info.memory.mtbvh_over_tbvh),
         ),
         ("compact MTBVH", compact_row(info, bytes)),
+        ("four-wide MTBVH", wide_row(info, bytes)),
     ];
     for (name, value) in rows {
         println!("{name:<20} {value}");
@@ -316,6 +339,19 @@ fn compact_row(info: &Info, bytes: impl Fn(usize, f64) -> String) -> String {
             "n/a ({})",
             m.mtbvh_compact_error.as_deref().unwrap_or("not made")
         ),
+    }
+}
+
+/// The four-wide MTBVH's memory and nodes, or why it could not be made.
+fn wide_row(info: &Info, bytes: impl Fn(usize, f64) -> String) -> String {
+    let m = &info.memory;
+    match (m.mtbvh4_bytes, m.mtbvh4_bytes_per_triangle, m.mtbvh4_nodes) {
+        (Some(total), Some(per), Some(nodes)) => format!(
+            "{}, {nodes} nodes, made in {:.1} ms",
+            bytes(total, per),
+            m.mtbvh4_ms.unwrap_or(0.0)
+        ),
+        _ => format!("n/a ({})", m.mtbvh4_error.as_deref().unwrap_or("not made")),
     }
 }
 

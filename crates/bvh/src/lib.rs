@@ -44,4 +44,6 @@ pub use traverse::{
     closest_hit_brute_force, closest_hit_mtbvh, closest_hit_stack, closest_hit_tbvh,
 };
 pub use tree::{Bvh, MAX_DEPTH, Node};
-pub use wide::{WideMtbvh, any_hit_wide, closest_hit_wide, trace_wide};
+pub use wide::{
+    WideMtbvh, any_hit_cpu, any_hit_wide, closest_hit_cpu, closest_hit_wide, trace_wide,
+};

@@ -30,10 +30,7 @@ pub fn trace(scene: &SceneData, origin: Vec3, direction: Vec3) -> Option<Surface
         direction,
         t_max: render::buffers::RAY_T_MAX,
     };
-    let hit = match &scene.wide {
-        Some(wide) => bvh::closest_hit_wide(wide, &ray),
-        None => bvh::closest_hit_mtbvh(&scene.bvh, &ray),
-    }?;
+    let hit = bvh::closest_hit_cpu(&scene.bvh, scene.wide.as_ref(), &ray)?;
     let triangle = scene.bvh.triangles[hit.triangle as usize].unpack();
     let [a, b, c] = triangle.vertices;
     let geometric = triangle

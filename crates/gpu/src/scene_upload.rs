@@ -16,9 +16,20 @@ use crate::{GpuContext, GpuError, check_buffer_fits};
 /// Storage buffers bound at once by the busiest kernel (scene group + a ray batch).
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 7;
 
-/// Storage buffers bound by the compact MTBVH's trace kernels: the scene's five, the ray
-/// batch's two and the compact records.
+/// Storage buffers bound by the trace kernels that bind group 2 (the compact and the four-wide
+/// MTBVH's): the scene's five, the ray batch's two and their own one.
 pub const COMPACT_STORAGE_BUFFERS_PER_STAGE: u32 = 8;
+
+/// Whether the device lets a kernel bind group 2's storage buffer besides the others.
+fn check_group_2_fits(limits: &wgpu::Limits) -> Result<(), GpuError> {
+    if limits.max_storage_buffers_per_shader_stage < COMPACT_STORAGE_BUFFERS_PER_STAGE {
+        return Err(GpuError::TooFewStorageBuffers {
+            needed: COMPACT_STORAGE_BUFFERS_PER_STAGE,
+            limit: limits.max_storage_buffers_per_shader_stage,
+        });
+    }
+    Ok(())
+}
 
 /// The scene's buffers on the device.
 #[derive(Debug)]
@@ -228,12 +239,7 @@ impl GpuScene {
         compact: &CompactMtbvh,
     ) -> Result<(), GpuError> {
         let limits = &context.limits;
-        if limits.max_storage_buffers_per_shader_stage < COMPACT_STORAGE_BUFFERS_PER_STAGE {
-            return Err(GpuError::TooFewStorageBuffers {
-                needed: COMPACT_STORAGE_BUFFERS_PER_STAGE,
-                limit: limits.max_storage_buffers_per_shader_stage,
-            });
-        }
+        check_group_2_fits(limits)?;
         let record_bytes = (compact.records.len().max(1) * size_of::<CompactNode>()) as u64;
         check_buffer_fits("compact_nodes", record_bytes, limits)?;
         let device = &context.device;
@@ -269,15 +275,10 @@ impl GpuScene {
     }
 
     /// Uploads `wide` (made from the uploaded BVH) for the `mtbvh4` trace kernels, after
-    /// checking it fits the device. They bind as many storage buffers as the compact ones.
+    /// checking it fits the device.
     pub fn upload_wide(&mut self, context: &GpuContext, wide: &WideMtbvh) -> Result<(), GpuError> {
         let limits = &context.limits;
-        if limits.max_storage_buffers_per_shader_stage < COMPACT_STORAGE_BUFFERS_PER_STAGE {
-            return Err(GpuError::TooFewStorageBuffers {
-                needed: COMPACT_STORAGE_BUFFERS_PER_STAGE,
-                limit: limits.max_storage_buffers_per_shader_stage,
-            });
-        }
+        check_group_2_fits(limits)?;
         let words = wide.gpu_words();
         check_buffer_fits("wide_words", size_of_val(words.as_slice()) as u64, limits)?;
         let device = &context.device;

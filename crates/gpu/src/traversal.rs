@@ -386,37 +386,31 @@ impl TraversalKernels {
             Query::Any => &self.any,
         };
         let pipeline = &pipelines[variant as usize];
-        let groups = [&scene.bind_group, &batch.trace_group];
-        if variant == Variant::MtbvhCompact {
-            let compact = scene.compact.as_ref().ok_or_else(|| {
-                GpuError::Device(
-                    "the compact MTBVH is not on the device (GpuScene::upload_compact)".to_owned(),
-                )
-            })?;
-            let [scene_group, batch_group] = groups;
-            return self.run(
-                context,
-                pipeline,
-                &[scene_group, batch_group, &compact.bind_group],
-                batch.count,
-                true,
-            );
-        }
-        if variant == Variant::Mtbvh4 {
-            let wide = scene.wide.as_ref().ok_or_else(|| {
-                GpuError::Device(
-                    "the four-wide MTBVH is not on the device (GpuScene::upload_wide)".to_owned(),
-                )
-            })?;
-            let [scene_group, batch_group] = groups;
-            return self.run(
-                context,
-                pipeline,
-                &[scene_group, batch_group, &wide.bind_group],
-                batch.count,
-                true,
-            );
-        }
+        let not_uploaded = |what: &str, upload: &str| {
+            GpuError::Device(format!(
+                "the {what} is not on the device (GpuScene::{upload})"
+            ))
+        };
+        // The compact and four-wide kernels also bind their tree as group 2.
+        let group_2 = match variant {
+            Variant::MtbvhCompact => Some(
+                scene
+                    .compact
+                    .as_ref()
+                    .map(|c| &c.bind_group)
+                    .ok_or_else(|| not_uploaded("compact MTBVH", "upload_compact"))?,
+            ),
+            Variant::Mtbvh4 => Some(
+                scene
+                    .wide
+                    .as_ref()
+                    .map(|w| &w.bind_group)
+                    .ok_or_else(|| not_uploaded("four-wide MTBVH", "upload_wide"))?,
+            ),
+            _ => None,
+        };
+        let mut groups = vec![&scene.bind_group, &batch.trace_group];
+        groups.extend(group_2);
         self.run(context, pipeline, &groups, batch.count, true)
     }
 

@@ -239,10 +239,7 @@ impl<'a> PathTracer<'a> {
                 direction: to - from,
                 t_max: SHORT_OF_TARGET,
             };
-            return match &self.wide {
-                Some(wide) => !bvh::any_hit_wide(wide, &ray),
-                None => !bvh::any_hit_mtbvh(self.bvh, &ray),
-            };
+            return !bvh::any_hit_cpu(self.bvh, self.wide.as_ref(), &ray);
         }
         for _ in 0..MAX_PASS_THROUGH {
             let Some(point) = self.intersect_segment(from, to - from, SHORT_OF_TARGET) else {
@@ -267,10 +264,7 @@ impl<'a> PathTracer<'a> {
             direction,
             t_max,
         };
-        let hit = match &self.wide {
-            Some(wide) => bvh::closest_hit_wide(wide, &ray),
-            None => bvh::closest_hit_mtbvh(self.bvh, &ray),
-        }?;
+        let hit = bvh::closest_hit_cpu(self.bvh, self.wide.as_ref(), &ray)?;
         let id = self.bvh.triangle_ids[hit.triangle as usize];
         let triangle = &self.scene.triangles[id as usize];
         let [a, b, c] = triangle.vertices;

@@ -470,3 +470,20 @@ pub fn closest_hit_wide(wide: &WideMtbvh, ray: &Ray) -> Option<Hit> {
 pub fn any_hit_wide(wide: &WideMtbvh, ray: &Ray) -> bool {
     trace_wide(wide, ray, Query::Any, &mut TraversalCounters::default()).is_some()
 }
+
+/// The CPU's closest hit: through `wide` where the tree has one (see [`WideMtbvh::new`]), else
+/// through the binary MTBVH of `bvh` it was made from.
+pub fn closest_hit_cpu(bvh: &PackedBvh, wide: Option<&WideMtbvh>, ray: &Ray) -> Option<Hit> {
+    match wide {
+        Some(wide) => closest_hit_wide(wide, ray),
+        None => crate::traverse::closest_hit_mtbvh(bvh, ray),
+    }
+}
+
+/// [`closest_hit_cpu`]'s any-hit query.
+pub fn any_hit_cpu(bvh: &PackedBvh, wide: Option<&WideMtbvh>, ray: &Ray) -> bool {
+    match wide {
+        Some(wide) => any_hit_wide(wide, ray),
+        None => crate::traverse::any_hit_mtbvh(bvh, ray),
+    }
+}

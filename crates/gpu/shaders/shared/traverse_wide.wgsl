@@ -45,6 +45,11 @@ struct WideNode {
     tail: vec4<u32>,
 }
 
+// Word `word` as four floats (a row of boxes or of triangle coordinates).
+fn wide_row(word: u32) -> vec4<f32> {
+    return bitcast<vec4<f32>>(wide_words[word]);
+}
+
 fn wide_node(node: u32) -> WideNode {
     let base = 1u + 8u * node;
     return WideNode(wide_words[base + 6u], wide_words[base + 7u]);
@@ -71,12 +76,12 @@ fn wide_slot(order: u32, position: u32) -> u32 {
 // those into memory.
 fn wide_positions(node: u32, n: WideNode, order: u32, slab: SlabRay, t_far: f32) -> u32 {
     let base = 1u + 8u * node;
-    let lo_x = bitcast<vec4<f32>>(wide_words[base]);
-    let lo_y = bitcast<vec4<f32>>(wide_words[base + 1u]);
-    let lo_z = bitcast<vec4<f32>>(wide_words[base + 2u]);
-    let hi_x = bitcast<vec4<f32>>(wide_words[base + 3u]);
-    let hi_y = bitcast<vec4<f32>>(wide_words[base + 4u]);
-    let hi_z = bitcast<vec4<f32>>(wide_words[base + 5u]);
+    let lo_x = wide_row(base);
+    let lo_y = wide_row(base + 1u);
+    let lo_z = wide_row(base + 2u);
+    let hi_x = wide_row(base + 3u);
+    let hi_y = wide_row(base + 4u);
+    let hi_z = wide_row(base + 5u);
     let o = slab.origin;
     let inv = slab.inv_direction;
     let x0 = (lo_x - vec4<f32>(o.x)) * inv.x;
@@ -126,15 +131,15 @@ fn wide_test_leaf(leaf: u32, count: u32, ray: GpuRay, best: ptr<function, GpuHit
     var found = false;
     for (var r = 0u; r < (count + 3u) / 4u; r += 1u) {
         let base = leaf_base + 10u * (leaf + r);
-        let r0 = bitcast<vec4<f32>>(wide_words[base]);
-        let r1 = bitcast<vec4<f32>>(wide_words[base + 1u]);
-        let r2 = bitcast<vec4<f32>>(wide_words[base + 2u]);
-        let r3 = bitcast<vec4<f32>>(wide_words[base + 3u]);
-        let r4 = bitcast<vec4<f32>>(wide_words[base + 4u]);
-        let r5 = bitcast<vec4<f32>>(wide_words[base + 5u]);
-        let r6 = bitcast<vec4<f32>>(wide_words[base + 6u]);
-        let r7 = bitcast<vec4<f32>>(wide_words[base + 7u]);
-        let r8 = bitcast<vec4<f32>>(wide_words[base + 8u]);
+        let r0 = wide_row(base);
+        let r1 = wide_row(base + 1u);
+        let r2 = wide_row(base + 2u);
+        let r3 = wide_row(base + 3u);
+        let r4 = wide_row(base + 4u);
+        let r5 = wide_row(base + 5u);
+        let r6 = wide_row(base + 6u);
+        let r7 = wide_row(base + 7u);
+        let r8 = wide_row(base + 8u);
         let info = wide_words[base + 9u];
         for (var lane = 0u; lane < info.y; lane += 1u) {
             let p0 = vec3<f32>(wide_lane(r0, lane), wide_lane(r1, lane), wide_lane(r2, lane));

@@ -59,7 +59,7 @@ use rayon::prelude::*;
 use crate::intersect::{Hit, Ray, SlabRay, intersect_box};
 use crate::mtbvh::{DIRECTION_COUNT, LINK_END};
 use crate::pack::{BvhNode, PackedBvh, PackedTriangle, direction_index};
-use crate::traverse::{Query, TraversalCounters, test_leaf};
+use crate::traverse::{Query, Uncounted, WorkTally, test_leaf};
 
 /// `meta` bit: the node is a leaf.
 pub const COMPACT_LEAF: u32 = 1 << 31;
@@ -450,12 +450,12 @@ impl CompactMtbvh {
 
 /// Compact MTBVH traversal of `compact` (made from `bvh`, whose triangles it tests); the
 /// twin of `trace_mtbvh16` in `traverse_compact.wgsl`. `counters` accumulate the work done.
-pub fn trace_mtbvh_compact(
+pub fn trace_mtbvh_compact<W: WorkTally>(
     bvh: &PackedBvh,
     compact: &CompactMtbvh,
     ray: &Ray,
     query: Query,
-    counters: &mut TraversalCounters,
+    counters: &mut W,
 ) -> Option<Hit> {
     let slab_ray = SlabRay::new(ray);
     let d = direction_index(ray.direction);
@@ -465,7 +465,7 @@ pub fn trace_mtbvh_compact(
         let record = &compact.records[node as usize];
         let current = compact.decode(record);
         let t_best = best.map_or(ray.t_max, |h| h.t);
-        counters.boxes += 1;
+        counters.add_boxes(1);
         let mut next = None;
         if intersect_box(&current, &slab_ray, t_best) < f32::INFINITY {
             if current.triangle_count > 0 {
@@ -494,25 +494,12 @@ pub fn closest_hit_mtbvh_compact(
     compact: &CompactMtbvh,
     ray: &Ray,
 ) -> Option<Hit> {
-    trace_mtbvh_compact(
-        bvh,
-        compact,
-        ray,
-        Query::Closest,
-        &mut TraversalCounters::default(),
-    )
+    trace_mtbvh_compact(bvh, compact, ray, Query::Closest, &mut Uncounted)
 }
 
 /// Whether anything is hit at `t` in `[0, t_max)`, compact MTBVH traversal.
 pub fn any_hit_mtbvh_compact(bvh: &PackedBvh, compact: &CompactMtbvh, ray: &Ray) -> bool {
-    trace_mtbvh_compact(
-        bvh,
-        compact,
-        ray,
-        Query::Any,
-        &mut TraversalCounters::default(),
-    )
-    .is_some()
+    trace_mtbvh_compact(bvh, compact, ray, Query::Any, &mut Uncounted).is_some()
 }
 
 #[cfg(test)]

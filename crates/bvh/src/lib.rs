@@ -40,8 +40,9 @@ pub use intersect::{Hit, Ray, SlabRay};
 pub use mtbvh::{DIRECTION_COUNT, LINK_END, Order, Threading, Threadings};
 pub use pack::{BvhNode, Links, Memory, PackedBvh, PackedTriangle, PackedVertex, direction_index};
 pub use traverse::{
-    Query, TraversalCounters, any_hit_brute_force, any_hit_mtbvh, any_hit_stack, any_hit_tbvh,
-    closest_hit_brute_force, closest_hit_mtbvh, closest_hit_stack, closest_hit_tbvh,
+    Query, TraversalCounters, Uncounted, WorkTally, any_hit_brute_force, any_hit_mtbvh,
+    any_hit_stack, any_hit_tbvh, closest_hit_brute_force, closest_hit_mtbvh, closest_hit_stack,
+    closest_hit_tbvh,
 };
 pub use tree::{Bvh, MAX_DEPTH, Node};
 pub use wide::{

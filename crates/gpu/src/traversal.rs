@@ -93,6 +93,24 @@ impl Variant {
             Variant::Mtbvh4 => bvh::wide::trace_wide(wide, ray, query, counters),
         }
     }
+
+    /// [`Variant::cpu_trace`]'s closest hit without counting work: the functions renders call,
+    /// compiled in `bvh` (what timed runs measure).
+    pub fn cpu_closest_hit(
+        self,
+        bvh: &PackedBvh,
+        compact: &CompactMtbvh,
+        wide: &WideMtbvh,
+        ray: &Ray,
+    ) -> Option<Hit> {
+        match self {
+            Variant::Stack => bvh::closest_hit_stack(bvh, ray),
+            Variant::Tbvh => bvh::closest_hit_tbvh(bvh, ray),
+            Variant::Mtbvh => bvh::closest_hit_mtbvh(bvh, ray),
+            Variant::MtbvhCompact => bvh::compact::closest_hit_mtbvh_compact(bvh, compact, ray),
+            Variant::Mtbvh4 => bvh::closest_hit_wide(wide, ray),
+        }
+    }
 }
 
 /// The benchmark's two kinds of rays (ANCHORS.md).

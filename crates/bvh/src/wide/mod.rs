@@ -23,7 +23,7 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::intersect::{Hit, Ray, SlabRay, intersect_box};
 use crate::pack::{BvhNode, PackedBvh, direction_index};
-use crate::traverse::{Query, TraversalCounters};
+use crate::traverse::{Query, Uncounted, WorkTally};
 
 /// Children per node.
 pub const WIDTH: usize = 4;
@@ -324,8 +324,8 @@ impl WideRay {
 
     /// Bit `s` set when the ray enters slot `s`'s box before `t_far` (as [`intersect_box`]).
     #[inline(always)]
-    fn entered(&self, node: &WideNode, t_far: f32, counters: &mut TraversalCounters) -> u32 {
-        counters.boxes += node.len() as u64;
+    fn entered(&self, node: &WideNode, t_far: f32, counters: &mut impl WorkTally) -> u32 {
+        counters.add_boxes(node.len() as u64);
         if !self.slab.any_parallel {
             return self.fast.entered(node, t_far);
         }
@@ -342,7 +342,7 @@ impl WideRay {
 
     /// Positions (in `order`) of the slots the ray enters before `t_far`.
     #[inline(always)]
-    fn positions(&self, node: &WideNode, order: u8, t_far: f32, c: &mut TraversalCounters) -> u32 {
+    fn positions(&self, node: &WideNode, order: u8, t_far: f32, c: &mut impl WorkTally) -> u32 {
         POSITIONS[order as usize][self.entered(node, t_far, c) as usize] as u32
     }
 
@@ -354,10 +354,10 @@ impl WideRay {
         leaf: u32,
         count: u32,
         best: &mut Option<Hit>,
-        counters: &mut TraversalCounters,
+        counters: &mut impl WorkTally,
     ) -> bool {
         let mut found = false;
-        counters.triangles += count as u64;
+        counters.add_triangles(count as u64);
         for tri in &leaves[leaf as usize..(leaf + count.div_ceil(LEAF_WIDTH as u32)) as usize] {
             let t_best = best.map_or(self.ray.t_max, |h| h.t);
             if let Some((lane, (u, v, t))) = simd::intersect4(tri, &self.ray, t_best) {
@@ -393,7 +393,7 @@ pub fn trace_wide(
     wide: &WideMtbvh,
     ray: &Ray,
     query: Query,
-    counters: &mut TraversalCounters,
+    counters: &mut impl WorkTally,
 ) -> Option<Hit> {
     if wide.nodes.is_empty() {
         return None;
@@ -463,12 +463,12 @@ pub fn trace_wide(
 
 /// Closest hit through the wide MTBVH.
 pub fn closest_hit_wide(wide: &WideMtbvh, ray: &Ray) -> Option<Hit> {
-    trace_wide(wide, ray, Query::Closest, &mut TraversalCounters::default())
+    trace_wide(wide, ray, Query::Closest, &mut Uncounted)
 }
 
 /// Whether anything is hit at `t` in `[0, t_max)`, through the wide MTBVH.
 pub fn any_hit_wide(wide: &WideMtbvh, ray: &Ray) -> bool {
-    trace_wide(wide, ray, Query::Any, &mut TraversalCounters::default()).is_some()
+    trace_wide(wide, ray, Query::Any, &mut Uncounted).is_some()
 }
 
 /// The CPU's closest hit: through `wide` where the tree has one (see [`WideMtbvh::new`]), else

@@ -13,6 +13,9 @@
 //!
 //! Depth is capped at [`MAX_DEPTH`]: a node that could otherwise exceed it is split at its
 //! median centre, which halves it.
+//!
+//! With [`BuildOptions::split_percent`] above 0 the tree is built with spatial splits instead
+//! (module [`crate::sbvh`]).
 
 use glam::Vec3A;
 use rayon::prelude::*;
@@ -20,11 +23,10 @@ use scene::Triangle;
 
 use crate::aabb::Aabb;
 use crate::binning::{BinMapper, Scratch, Split, find_split};
-use crate::presplit::presplit;
 use crate::tree::{Bvh, INTERSECTION_COST, MAX_DEPTH, Node, TRAVERSAL_COST};
 
 /// Subtrees with at least this many triangles build their two children in parallel.
-const PARALLEL_BUILD_MIN: usize = 1 << 12;
+pub(crate) const PARALLEL_BUILD_MIN: usize = 1 << 12;
 /// Most bins a build may ask for.
 pub const MAX_BINS: usize = 256;
 /// Most triangles a tree may hold: node indices and [`crate::mtbvh::LINK_END`] share a `u32`.
@@ -38,8 +40,8 @@ pub struct BuildOptions {
     pub max_leaf_size: usize,
     /// Bins per axis, 2 to [`MAX_BINS`].
     pub bins: usize,
-    /// Extra references to large, slanted triangles, in percent of the triangle count (module
-    /// `presplit`); 0 builds over one box per triangle.
+    /// Most extra references that spatial splits may add, in percent of the triangle count
+    /// (module [`crate::sbvh`]); 0 builds over one box per triangle, binned.
     pub split_percent: u32,
     /// Whether [`crate::PackedBvh::build`] keeps the split tree only where probe rays test
     /// less in it than in the unsplit one ([`crate::probe`]); else splitting is forced.
@@ -48,10 +50,11 @@ pub struct BuildOptions {
 }
 
 impl Default for BuildOptions {
-    /// Two triangles per leaf at most, 32 bins, 30 % extra references from split triangles
-    /// where probe rays say they pay. Forced splitting cut the boxes the MTBVH tests per ray
-    /// by 14–27 % on the Sponzas but added 3 % on the bunny and 25–32 % on cornell-metal
-    /// (BENCHMARKS §2), which the probe avoids. Against one triangle per leaf (the talk's
+    /// Two triangles per leaf at most, 32 bins, spatial splits adding up to 30 % references
+    /// where probe rays say they pay. On the Sponzas they made the CPU MTBVH 18–22 % faster
+    /// than the earlier triangle pre-splitting on diffuse rays and Dabrovic's primary rays
+    /// (BENCHMARKS §2, session 10); on the bunny or cornell-metal split trees only deepen the
+    /// tree, which the probe avoids. Against one triangle per leaf (the talk's
     /// choice), the MTBVH traversal of ANCHORS.md's rays visits 4–6 % fewer boxes and reads
     /// 3–5 % fewer bytes, and the MTBVH takes 28 % less memory (bunny, Crytek Sponza); allowing
     /// 4 or 8 gains under 1 % more while the leaf loop a GPU thread may run grows. 32 bins price
@@ -91,18 +94,12 @@ pub fn build_sah(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     if count == 0 {
         return Bvh::default();
     }
+    if options.split_percent > 0 {
+        let extra = (count as u64 * u64::from(options.split_percent) / 100) as usize;
+        return crate::sbvh::build_sbvh(triangles, &options, extra.min(MAX_TRIANGLES - count));
+    }
     let mut boxes: Vec<Aabb> = triangles.par_iter().map(triangle_box).collect();
     let mut ids: Vec<u32> = (0..count as u32).collect();
-    if options.split_percent > 0 {
-        let scene = boxes
-            .par_iter()
-            .copied()
-            .reduce(|| Aabb::EMPTY, Aabb::union);
-        let extra = (count as u64 * u64::from(options.split_percent) / 100) as usize;
-        let extra = extra.min(MAX_TRIANGLES - count);
-        (boxes, ids) = presplit(triangles, &boxes, &scene, extra);
-    }
-    let count = boxes.len();
     let (bounds, centers) = boxes
         .par_iter()
         .fold(
@@ -142,7 +139,7 @@ pub fn build_sah(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     }
 }
 
-fn triangle_box(triangle: &Triangle) -> Aabb {
+pub(crate) fn triangle_box(triangle: &Triangle) -> Aabb {
     let [p0, p1, p2] = triangle.positions().map(Vec3A::from);
     Aabb {
         min: p0.min(p1).min(p2),
@@ -201,7 +198,7 @@ fn build_node(
             slots[0] = Node {
                 bounds,
                 first_or_right: task.first,
-                triangle_count: distinct_first(task.ids) as u32,
+                triangle_count: count as u32,
             };
             return 1;
         }
@@ -278,20 +275,7 @@ fn plan(options: &BuildOptions, task: &Task, scratch: &mut Scratch) -> Plan {
     }
 }
 
-/// Moves a leaf's distinct triangle ids to the front (pieces of one split triangle may land
-/// in the same leaf) and returns how many there are; the rest stay unreferenced.
-fn distinct_first(ids: &mut [u32]) -> usize {
-    let mut distinct = 0;
-    for i in 0..ids.len() {
-        if !ids[..distinct].contains(&ids[i]) {
-            ids.swap(distinct, i);
-            distinct += 1;
-        }
-    }
-    distinct
-}
-
-fn ceil_log2(x: usize) -> usize {
+pub(crate) fn ceil_log2(x: usize) -> usize {
     if x <= 1 {
         0
     } else {

@@ -1,9 +1,9 @@
 //! Choosing between two trees by tracing a sample of rays through both.
 //!
-//! Whether splitting triangles ([`crate::presplit`]) pays depends on the scene: on the Sponzas
-//! it cuts the boxes a ray tests by a sixth to a quarter, on a scanned model or a box of a
-//! few walls it only deepens the tree. The SAH cost does not tell which (it rose on Crytek
-//! Sponza while traversal got cheaper), so the build traces the same probe rays through
+//! Whether spatial splits ([`crate::sbvh`]) pay depends on the scene: on the Sponzas they cut
+//! the boxes a ray tests by a sixth to a quarter, on a scanned model or a box of a
+//! few walls it only deepens the tree. The SAH cost is no reliable guide (with the triangle
+//! pre-splitting used before session 10 it rose on Crytek Sponza while traversal got cheaper), so the build traces the same probe rays through
 //! both trees with the MTBVH and keeps the one that tested less. The work is counted, not
 //! timed, so the choice is the same on every machine and run.
 //!

@@ -641,9 +641,10 @@ pub struct BvhArgs {
     /// Most triangles per BVH leaf (the talk uses 1).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
     pub leaf_size: Option<u32>,
-    /// Extra BVH references to large, slanted triangles, in percent of the triangle count
-    /// (their boxes are split before the build; 0 turns splitting off). Default: 30 where
-    /// probe rays find the split tree cheaper to traverse; a number given here is forced.
+    /// Most extra BVH references that spatial splits may add (a triangle cut by a node's plane
+    /// is referenced on both sides), in percent of the triangle count; 0 turns them off.
+    /// Default: 30 where probe rays find the split tree cheaper to traverse; a number given
+    /// here is forced.
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u32).range(0..=400))]
     pub split_percent: Option<u32>,
 }

@@ -24,6 +24,7 @@ pub mod intersect;
 pub mod mtbvh;
 pub mod pack;
 mod packed_triangle;
+mod presplit;
 pub mod probe;
 pub mod sbvh;
 pub mod testing;

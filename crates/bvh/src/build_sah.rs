@@ -50,11 +50,10 @@ pub struct BuildOptions {
 }
 
 impl Default for BuildOptions {
-    /// Two triangles per leaf at most, 32 bins, spatial splits adding up to 30 % references
-    /// where probe rays say they pay. On the Sponzas they made the CPU MTBVH 18–22 % faster
-    /// than the earlier triangle pre-splitting on diffuse rays and Dabrovic's primary rays
-    /// (BENCHMARKS §2, session 10); on the bunny or cornell-metal split trees only deepen the
-    /// tree, which the probe avoids. Against one triangle per leaf (the talk's
+    /// Two triangles per leaf at most, 32 bins, up to 30 % more references from pre-splitting
+    /// and spatial splits where probe rays say they pay. On the Sponzas that made the CPU
+    /// four-wide MTBVH 13–26 % faster than pre-splitting alone (BENCHMARKS §2, session 10);
+    /// on the bunny or cornell-metal split trees only deepen the tree, which the probe avoids. Against one triangle per leaf (the talk's
     /// choice), the MTBVH traversal of ANCHORS.md's rays visits 4–6 % fewer boxes and reads
     /// 3–5 % fewer bytes, and the MTBVH takes 28 % less memory (bunny, Crytek Sponza); allowing
     /// 4 or 8 gains under 1 % more while the leaf loop a GPU thread may run grows. 32 bins price

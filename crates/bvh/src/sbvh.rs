@@ -72,7 +72,8 @@ impl Subtree {
     }
 }
 
-/// Builds the tree over `triangles`, adding at most `extra` references by spatial splits.
+/// Builds the tree over `triangles`, adding at most `extra` references (a tenth of them by
+/// pre-splitting, the rest by spatial splits).
 pub fn build_sbvh(triangles: &[Triangle], options: &BuildOptions, extra: usize) -> Bvh {
     if triangles.is_empty() {
         return Bvh::default();
@@ -80,7 +81,7 @@ pub fn build_sbvh(triangles: &[Triangle], options: &BuildOptions, extra: usize) 
     let boxes: Vec<Aabb> = triangles.par_iter().map(triangle_box).collect();
     let scene = boxes.iter().fold(Aabb::EMPTY, |s, b| s.union(*b));
     let (boxes, ids) = presplit(triangles, &boxes, &scene, extra / PRESPLIT_SHARE);
-    let extra = extra - (boxes.len() - triangles.len());
+    let extra = extra.saturating_sub(boxes.len() - triangles.len());
     let references: Vec<Reference> = boxes
         .into_iter()
         .zip(ids)

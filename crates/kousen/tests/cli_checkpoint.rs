@@ -124,21 +124,18 @@ fn checkpoint_that_does_not_fit_is_refused() {
     assert!(!out.exists());
 }
 
-/// Ctrl-C (SIGINT) ends a long render after the pass in flight: exit code 130, and the image,
-/// the statistics and a checkpoint that `--resume` continues are all written.
+/// Starts a long render of cornell-caustics with `extra` arguments, sends it Ctrl-C (SIGINT)
+/// after two seconds and checks that it ended as interrupted (exit code 130, one line saying
+/// so); returns the statistics it wrote to `stats`.
 #[cfg(unix)]
-#[test]
-fn ctrl_c_stops_the_render_and_saves_it() {
+fn interrupted_render(image: &Path, stats: &Path, extra: &[&str]) -> serde_json::Value {
     use std::process::{Command, Stdio};
-    let dir = tempfile::tempdir().unwrap();
-    let path = |name: &str| dir.path().join(name);
-    let (image, checkpoint, stats) = (path("cut.pfm"), path("cut.ckpt"), path("cut.json"));
     let scene = shipped("cornell-caustics.gltf");
     let child = Command::new(env!("CARGO_BIN_EXE_kousen"))
         .args(["render", scene.as_str(), "-o", image.to_str().unwrap()])
         .args("--width 40 --height 32 --eye-every 3 --backend cpu --time 300".split(' '))
-        .args(["--checkpoint", checkpoint.to_str().unwrap()])
         .args(["--stats", stats.to_str().unwrap()])
+        .args(extra)
         .env("RUST_LOG", "error")
         .stderr(Stdio::piped())
         .spawn()
@@ -154,7 +151,22 @@ fn ctrl_c_stops_the_render_and_saves_it() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted after"), "{stderr}");
-    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    serde_json::from_slice(&std::fs::read(stats).unwrap()).unwrap()
+}
+
+/// Ctrl-C (SIGINT) ends a long render after the pass in flight: exit code 130, and the image,
+/// the statistics and a checkpoint that `--resume` continues are all written.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_the_render_and_saves_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name);
+    let (image, checkpoint, stats) = (path("cut.pfm"), path("cut.ckpt"), path("cut.json"));
+    let stats = interrupted_render(
+        &image,
+        &stats,
+        &["--checkpoint", checkpoint.to_str().unwrap()],
+    );
     let passes = stats["passes"].as_u64().expect("passes");
     assert!(
         passes >= 1 && stats["seconds"].as_f64().unwrap() < 60.0,
@@ -166,4 +178,27 @@ fn ctrl_c_stops_the_render_and_saves_it() {
         &path("more.pfm"),
         &format!("--passes {more} --resume {}", checkpoint.display()),
     ));
+}
+
+/// The path integrator stops on Ctrl-C too, writing its image and statistics.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_path_traced_render_and_saves_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (image, stats) = (dir.path().join("cut.pfm"), dir.path().join("cut.json"));
+    let stats = interrupted_render(&image, &stats, &["--integrator", "path"]);
+    assert_eq!(stats["integrator"], "path");
+    let passes = stats["passes"].as_u64().expect("passes");
+    assert!(
+        passes >= 1 && stats["seconds"].as_f64().unwrap() < 60.0,
+        "{stats}"
+    );
+    // A whole PFM: its header, then 40 × 32 RGB floats.
+    let bytes = std::fs::read(&image).expect("the image was written");
+    assert!(
+        bytes.starts_with(b"PF\n40 32\n"),
+        "{:?}",
+        &bytes[..12.min(bytes.len())]
+    );
+    assert!(bytes.len() > 40 * 32 * 12, "{} bytes", bytes.len());
 }

@@ -1,6 +1,7 @@
 //! `kousen render --integrator path`: the CPU path tracer of [`crate::path_trace`], one sample
 //! per pixel per pass, averaged. An independent reference for the SPPM integrator.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use glam::Vec3;
@@ -13,17 +14,29 @@ use crate::path_trace::{PathTracer, RenderSettings};
 /// Bounces per path before it is cut off.
 const MAX_DEPTH: u32 = 32;
 
-#[allow(clippy::too_many_arguments)]
+/// The view rendered.
+pub struct Frame {
+    pub camera: scene::Camera,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Renders until `budget` is spent or `stop` is set (Ctrl-C: after the pass in flight, with the
+/// image and statistics written, then [`super::Interrupted`]).
 pub fn run(
     args: &RenderArgs,
     scene: &scene::Scene,
     bvh: &bvh::PackedBvh,
-    camera: scene::Camera,
-    width: u32,
-    height: u32,
+    frame: Frame,
     budget: Budget,
     output: Output,
+    stop: &AtomicBool,
 ) -> anyhow::Result<()> {
+    let Frame {
+        camera,
+        width,
+        height,
+    } = frame;
     let tracer = PathTracer::new(scene, bvh, camera);
     let started = Instant::now();
     let mut sum = vec![Vec3::ZERO; (width * height) as usize];
@@ -32,7 +45,7 @@ pub fn run(
         let done = match budget {
             Budget::Passes(n) => passes >= n,
             Budget::Time(t) => passes > 0 && started.elapsed() >= t,
-        };
+        } || (passes > 0 && stop.load(Ordering::Relaxed));
         if done {
             break;
         }
@@ -75,6 +88,9 @@ pub fn run(
         });
         let json = serde_json::to_string_pretty(&stats)?;
         crate::output_file::write_atomically(path, json.as_bytes())?;
+    }
+    if stop.load(Ordering::Relaxed) {
+        return Err(super::Interrupted { passes }.into());
     }
     Ok(())
 }

@@ -68,10 +68,7 @@ struct Stats {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let budget = budget(args)?;
     // Installed first, so that a Ctrl-C while the scene loads already counts.
-    let stop = match args.integrator {
-        Integrator::Sppm => stop_on_ctrl_c(),
-        Integrator::Path => Arc::new(AtomicBool::new(false)),
-    };
+    let stop = stop_on_ctrl_c();
     // Fail on a bad output or checkpoint path, or an unreadable checkpoint, before any work.
     let output = Output::create_with(&args.output, args.exr_precision)?;
     if let Some(path) = &args.checkpoint {
@@ -127,7 +124,20 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 scene.lights.punctual.len()
             );
         }
-        return super::path_render::run(args, &scene, &bvh, camera, width, height, budget, output);
+        let frame = super::path_render::Frame {
+            camera,
+            width,
+            height,
+        };
+        return super::path_render::run(
+            args,
+            &scene,
+            &bvh,
+            frame,
+            budget,
+            output,
+            &continuation.stop,
+        );
     }
 
     if !(args.radius.is_finite() && args.radius > 0.0 && args.radius <= 1e6) {

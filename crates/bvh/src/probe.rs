@@ -95,17 +95,17 @@ pub fn probe_rays(triangles: &[Triangle]) -> Vec<Ray> {
 
 /// The traversal work of `rays` through `bvh` (closest hits, MTBVH), in box tests.
 pub fn probe_cost(bvh: &PackedBvh, rays: &[Ray]) -> f64 {
-    let (boxes, triangles) = rays
+    let work = rays
         .par_chunks(256)
         .map(|chunk| {
             let mut counters = TraversalCounters::default();
             for ray in chunk {
                 trace_mtbvh(bvh, ray, Query::Closest, &mut counters);
             }
-            (counters.boxes, counters.triangles)
+            counters
         })
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    boxes as f64 + TRIANGLE_COST * triangles as f64
+        .reduce(TraversalCounters::default, |a, b| a + b);
+    work.boxes as f64 + TRIANGLE_COST * work.triangles as f64
 }
 
 #[cfg(test)]

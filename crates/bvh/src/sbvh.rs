@@ -87,7 +87,8 @@ pub fn build_sbvh(triangles: &[Triangle], options: &BuildOptions, extra: usize) 
         .zip(ids)
         .map(|(bounds, id)| Reference { bounds, id })
         .collect();
-    let bounds = union(&references);
+    // The pieces cover their triangles' corners and stay inside their boxes: same bounds.
+    let bounds = scene;
     let options = BuildOptions {
         max_leaf_size: options.max_leaf_size.max(1),
         bins: options.bins.clamp(2, MAX_BINS),
@@ -136,7 +137,7 @@ impl Builder<'_> {
     /// `budget` references, onto `out`.
     fn build(
         &self,
-        mut references: Vec<Reference>,
+        references: Vec<Reference>,
         bounds: Aabb,
         level: usize,
         budget: usize,
@@ -165,13 +166,7 @@ impl Builder<'_> {
             Choice::Object { axis, bin, mapper } => references
                 .into_iter()
                 .partition(|r| mapper.bins(r.bounds.center())[axis] < bin),
-            Choice::Median => {
-                let axis = largest_axis(&centre_bounds(&references));
-                references
-                    .sort_by(|a, b| a.bounds.center()[axis].total_cmp(&b.bounds.center()[axis]));
-                let right = references.split_off(references.len() / 2);
-                (references, right)
-            }
+            Choice::Median => halve_by_centre(references),
             Choice::Spatial { axis, position } => {
                 self.split_spatial(references, axis, position, budget)
             }
@@ -295,10 +290,12 @@ impl Builder<'_> {
             }
             // Sweep: right side's SA·N for planes 1..bins, then the left side.
             let mut right_cost = [0.0f32; SPATIAL_BINS];
+            let mut right_count = [0u32; SPATIAL_BINS];
             let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
             for b in (1..bins).rev() {
                 acc = acc.union(boxes[b]);
                 n += exit[b];
+                right_count[b] = n;
                 right_cost[b] = if n == 0 {
                     0.0
                 } else {
@@ -309,7 +306,7 @@ impl Builder<'_> {
             for b in 1..bins {
                 acc = acc.union(boxes[b - 1]);
                 n += enter[b - 1];
-                let n_right: u32 = exit[b..].iter().sum();
+                let n_right = right_count[b];
                 if n == 0 || n_right == 0 || n as usize >= count || n_right as usize >= count {
                     continue;
                 }
@@ -406,15 +403,19 @@ impl Builder<'_> {
         }
         if left.is_empty() || right.is_empty() {
             // Everything ended on one side: fall back to halving by centre.
-            let mut all = left;
-            all.append(&mut right);
-            let axis = largest_axis(&centre_bounds(&all));
-            all.sort_by(|a, b| a.bounds.center()[axis].total_cmp(&b.bounds.center()[axis]));
-            let right = all.split_off(all.len() / 2);
-            return (all, right);
+            left.append(&mut right);
+            return halve_by_centre(left);
         }
         (left, right)
     }
+}
+
+/// The references in two halves by centre along the axis their centres spread most on.
+fn halve_by_centre(mut references: Vec<Reference>) -> (Vec<Reference>, Vec<Reference>) {
+    let axis = largest_axis(&centre_bounds(&references));
+    references.sort_by(|a, b| a.bounds.center()[axis].total_cmp(&b.bounds.center()[axis]));
+    let right = references.split_off(references.len() / 2);
+    (references, right)
 }
 
 fn centre_bounds(references: &[Reference]) -> Aabb {

@@ -38,6 +38,17 @@ pub struct TraversalCounters {
     pub triangles: u64,
 }
 
+impl std::ops::Add for TraversalCounters {
+    type Output = TraversalCounters;
+
+    fn add(self, other: TraversalCounters) -> TraversalCounters {
+        TraversalCounters {
+            boxes: self.boxes + other.boxes,
+            triangles: self.triangles + other.triangles,
+        }
+    }
+}
+
 /// Where a traversal tallies its work. [`TraversalCounters`] counts; [`Uncounted`] compiles the
 /// tally away, so renders and timed benchmark runs pay nothing for it (~4 % of the four-wide
 /// traversal's time, measured in session 10).

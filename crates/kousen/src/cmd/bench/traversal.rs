@@ -387,17 +387,15 @@ fn cpu_trace(twins: Twins<'_>, rays: &[Ray], variant: Variant) -> (Vec<Option<Hi
 /// The work the CPU twin of `variant` does on `rays` (an untimed run).
 fn cpu_work(twins: Twins<'_>, rays: &[Ray], variant: Variant) -> TraversalCounters {
     twins.with_parts(|compact, wide| {
-        rays.par_iter()
-            .with_min_len(256)
-            .map(|ray| {
+        rays.par_chunks(256)
+            .map(|chunk| {
                 let mut work = TraversalCounters::default();
-                variant.cpu_trace(twins.bvh, compact, wide, ray, Query::Closest, &mut work);
+                for ray in chunk {
+                    variant.cpu_trace(twins.bvh, compact, wide, ray, Query::Closest, &mut work);
+                }
                 work
             })
-            .reduce(TraversalCounters::default, |a, b| TraversalCounters {
-                boxes: a.boxes + b.boxes,
-                triangles: a.triangles + b.triangles,
-            })
+            .reduce(TraversalCounters::default, |a, b| a + b)
     })
 }
 

@@ -10,6 +10,7 @@ use render::buffers::{
     HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams,
     VisiblePoint, counter, hash_word, vec3,
 };
+use render::direct::{sample_light, shadow_ray};
 use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
@@ -20,7 +21,10 @@ use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use scene::Surface;
 
 use crate::SceneData;
-use crate::surface::{base_color, emitted, is_cut_out, offset_origin, specular_direction, trace};
+use crate::surface::{
+    SurfaceHit, base_color, emitted, is_cut_out, offset_origin, specular_direction, trace,
+    unoccluded,
+};
 
 /// What one photon-pass invocation leaves behind.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,12 +100,16 @@ pub fn photon_pass_with<R: StreamRng>(
     let flux = vec3(slot.flux);
     let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
     let next = if let Surface::Diffuse = material.surface {
-        photon = Photon {
-            position: hit.position.to_array(),
-            normal: pack_normal(hit.shading),
-            flux: slot.flux,
-            pad: 0,
-        };
+        // Straight from the light, this photon is direct light, which eye passes sample
+        // themselves when `sample_lights` is set.
+        if slot.depth > 0 || params.sample_lights == 0 {
+            photon = Photon {
+                position: hit.position.to_array(),
+                normal: pack_normal(hit.shading),
+                flux: slot.flux,
+                pad: 0,
+            };
+        }
         let (t, b) = orthonormal_basis(hit.shading);
         let local = cosine_hemisphere(u_direction[0], u_direction[1]);
         let next = t * local.x + b * local.y + hit.shading * local.z;
@@ -187,7 +195,8 @@ pub struct EyeStep {
 }
 
 /// Eye pass, pixel `index`: a jittered camera ray through mirror and glass chains to the
-/// first diffuse surface, where it leaves a visible point.
+/// first diffuse surface, where it leaves a visible point (and, with `sample_lights`, adds the
+/// direct light of one light sample there).
 pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -> EyeStep {
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
     let (x, y) = (index % params.width, index / params.width);
@@ -226,6 +235,10 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
                     weight: weight.to_array(),
                     pad: 0,
                 };
+                if params.sample_lights != 0 {
+                    let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                    direct += weight * direct_light(scene, params, &hit, u);
+                }
             }
             break;
         };
@@ -241,6 +254,25 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
         visible_point,
         direct,
     }
+}
+
+/// Radiance arriving at a diffuse hit from one sample of the light table (from three uniform
+/// numbers), cosine-weighted and divided by the sample's density; zero if the light is behind
+/// the surface or blocked.
+pub fn direct_light(scene: &SceneData, params: &SppmParams, hit: &SurfaceHit, u: [f32; 3]) -> Vec3 {
+    let Some(light) = sample_light(&scene.lights, u, hit.position) else {
+        return Vec3::ZERO;
+    };
+    let cosine = light.direction.dot(hit.shading);
+    if cosine <= 0.0 || light.direction.dot(hit.geometric) <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let origin = offset_origin(hit, light.direction, params.epsilon);
+    let (direction, distance) = shadow_ray(&light, origin);
+    if !unoccluded(scene, params, origin, direction, distance) {
+        return Vec3::ZERO;
+    }
+    light.incident * cosine
 }
 
 /// Hash build, first half, photon `index`: raises its entry's priority to the photon's and

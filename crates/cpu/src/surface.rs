@@ -2,6 +2,7 @@
 //! kernels read them, and the specular events both eye and photon paths take.
 
 use glam::{Vec2, Vec3, Vec4};
+use render::buffers::{MAX_PASS_THROUGHS, RAY_T_MAX, SppmParams};
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
@@ -12,6 +13,8 @@ use crate::SceneData;
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
     pub position: Vec3,
+    /// How far along the ray it lies.
+    pub distance: f32,
     /// Unit geometric normal on the ray's side.
     pub geometric: Vec3,
     /// Unit shading normal on the ray's side (the geometric one where interpolation turns it
@@ -25,10 +28,20 @@ pub struct SurfaceHit {
 
 /// Closest hit along a ray, or `None` if it leaves the scene.
 pub fn trace(scene: &SceneData, origin: Vec3, direction: Vec3) -> Option<SurfaceHit> {
+    trace_within(scene, origin, direction, RAY_T_MAX)
+}
+
+/// Closest hit along a ray closer than `t_max`.
+pub fn trace_within(
+    scene: &SceneData,
+    origin: Vec3,
+    direction: Vec3,
+    t_max: f32,
+) -> Option<SurfaceHit> {
     let ray = bvh::Ray {
         origin,
         direction,
-        t_max: render::buffers::RAY_T_MAX,
+        t_max,
     };
     let hit = bvh::closest_hit_cpu(&scene.bvh, scene.wide.as_ref(), &ray)?;
     let triangle = scene.bvh.triangles[hit.triangle as usize].unpack();
@@ -46,12 +59,48 @@ pub fn trace(scene: &SceneData, origin: Vec3, direction: Vec3) -> Option<Surface
     }
     Some(SurfaceHit {
         position: origin + hit.t * direction,
+        distance: hit.t,
         geometric,
         shading,
         uv: w * a.uv + hit.u * b.uv + hit.v * c.uv,
         material: triangle.material,
         front,
     })
+}
+
+/// Whether nothing blocks the segment from `origin` along `direction` for `distance`: alpha
+/// cut-outs let it through (up to [`MAX_PASS_THROUGHS`] of them), anything else stops it,
+/// glass included (light through glass reaches the eye as photons: a caustic). Without cut-outs
+/// in the scene any hit decides at once.
+pub fn unoccluded(
+    scene: &SceneData,
+    params: &SppmParams,
+    mut origin: Vec3,
+    direction: Vec3,
+    mut distance: f32,
+) -> bool {
+    if params.cut_outs == 0 {
+        let ray = bvh::Ray {
+            origin,
+            direction,
+            t_max: distance,
+        };
+        return !bvh::any_hit_cpu(&scene.bvh, scene.wide.as_ref(), &ray);
+    }
+    for _ in 0..=MAX_PASS_THROUGHS {
+        let Some(hit) = trace_within(scene, origin, direction, distance) else {
+            return true;
+        };
+        if !is_cut_out(scene, &scene.materials[hit.material as usize], hit.uv) {
+            return false;
+        }
+        origin = hit.position + params.epsilon * direction;
+        distance -= hit.distance + params.epsilon;
+        if distance <= 0.0 {
+            return true;
+        }
+    }
+    false
 }
 
 /// Where a ray leaving `hit` in `direction` starts: off the surface on the side it goes.

@@ -396,6 +396,10 @@ fn sppm_types_layout_matches_render_buffers() {
             ("sky_r", offset_of!(SppmParams, sky)),
             ("sky_g", offset_of!(SppmParams, sky) + 4),
             ("sky_b", offset_of!(SppmParams, sky) + 8),
+            ("sample_lights", offset_of!(SppmParams, sample_lights)),
+            ("cut_outs", offset_of!(SppmParams, cut_outs)),
+            ("pad0", offset_of!(SppmParams, pad)),
+            ("pad1", offset_of!(SppmParams, pad) + 4),
         ],
     );
 }

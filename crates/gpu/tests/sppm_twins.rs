@@ -24,6 +24,7 @@ use render::buffers::{
     PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter, vec3,
 };
 use render::packing::unpack_normal;
+use render::direct::DirectLight;
 use render::{Backend, Image, Settings, Sppm, Statistics};
 use scene::{Camera, Scene};
 
@@ -461,13 +462,23 @@ fn punctual_lights_emit_like_their_cpu_twin() {
     ] {
         assert!(kinds.contains(&kind), "no light of kind {kind}: {kinds:?}");
     }
-    let settings = caustics_settings();
-    let mut g = fixture.gpu(context(), &settings);
-    let mut c = fixture.cpu(&settings);
-    g.pass();
-    c.pass();
-    assert_first_photon_pass_matches(&fixture, &settings, &mut g, &mut c);
-    assert_statistics_match("pixel statistics after 1 pass", &mut g, &mut c);
+    // With sampled direct light the eye pass also samples every kind of light.
+    for direct in [DirectLight::Photons, DirectLight::Sampled] {
+        let settings = Settings {
+            direct,
+            ..caustics_settings()
+        };
+        let mut g = fixture.gpu(context(), &settings);
+        let mut c = fixture.cpu(&settings);
+        g.pass();
+        c.pass();
+        assert_first_photon_pass_matches(&fixture, &settings, &mut g, &mut c);
+        assert_statistics_match(
+            &format!("pixel statistics after 1 pass, {} direct light", direct.name()),
+            &mut g,
+            &mut c,
+        );
+    }
 }
 
 /// Each kernel's twin run on the GPU's own state before the pass, pass after pass: the photon
@@ -476,9 +487,21 @@ fn punctual_lights_emit_like_their_cpu_twin() {
 /// from one pass or kernel to the next, so these agree more tightly than two whole renders.
 #[test]
 fn every_kernel_matches_its_twin_on_the_gpu_state() {
+    every_kernel_matches_its_twin(DirectLight::Photons);
+}
+
+/// The same with light sampled at the visible points: the eye pass's light samples and shadow
+/// rays in the direct sums, and photons stored from their second hit on.
+#[test]
+fn every_kernel_matches_its_twin_with_sampled_direct_light() {
+    every_kernel_matches_its_twin(DirectLight::Sampled);
+}
+
+fn every_kernel_matches_its_twin(direct: DirectLight) {
     let fixture = Fixture::new(scene::testing::cornell_caustics());
     let settings = Settings {
         eye_every: 2,
+        direct,
         ..caustics_settings()
     };
     let data = fixture.scene_data();

@@ -29,6 +29,9 @@ pub struct Recorded {
     pub hash_ratio: f32,
     pub density: String,
     pub precision: String,
+    /// Absent from checkpoints written before `--direct-light` existed: photons, as then.
+    #[serde(default = "photons")]
+    pub direct_light: String,
     pub max_depth: u32,
     pub seed: u32,
     pub initial_radius: Option<f32>,
@@ -46,6 +49,7 @@ impl Recorded {
             hash_ratio: settings.hash_ratio,
             density: settings.density.name().to_owned(),
             precision: settings.precision.name().to_owned(),
+            direct_light: settings.direct.name().to_owned(),
             max_depth: settings.max_depth,
             seed: settings.seed,
             initial_radius: settings.initial_radius,
@@ -53,7 +57,7 @@ impl Recorded {
     }
 
     /// (option, value) pairs, compared in this order.
-    fn options(&self) -> [(&'static str, String); 11] {
+    fn options(&self) -> [(&'static str, String); 12] {
         [
             ("--backend", self.backend.clone()),
             ("--width", self.width.to_string()),
@@ -64,10 +68,15 @@ impl Recorded {
             ("--hash-ratio", self.hash_ratio.to_string()),
             ("--density", self.density.clone()),
             ("--precision", self.precision.clone()),
+            ("--direct-light", self.direct_light.clone()),
             ("--max-depth", self.max_depth.to_string()),
             ("--seed", self.seed.to_string()),
         ]
     }
+}
+
+fn photons() -> String {
+    render::direct::DirectLight::Photons.name().to_owned()
 }
 
 /// The JSON after the magic.

@@ -148,6 +148,25 @@ impl DensityChoice {
     }
 }
 
+/// Where direct light comes from (`--direct-light`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DirectChoice {
+    /// Photons landing straight from the lights, as the talk's renderer does.
+    Photons,
+    /// One light sample and shadow ray per visible point and eye pass (next-event estimation);
+    /// photons then carry only light that has bounced. Less noise and sharp shadows.
+    Sampled,
+}
+
+impl DirectChoice {
+    pub fn direct(self) -> render::direct::DirectLight {
+        match self {
+            DirectChoice::Photons => render::direct::DirectLight::Photons,
+            DirectChoice::Sampled => render::direct::DirectLight::Sampled,
+        }
+    }
+}
+
 /// Density estimation and storage, shared by `kousen render` and `kousen view`.
 #[derive(Args, Clone, Copy)]
 pub struct EstimatorArgs {
@@ -157,6 +176,9 @@ pub struct EstimatorArgs {
     /// How photons and visible points are stored on the device (f16: half the memory).
     #[arg(long, value_enum, default_value_t = StoragePrecision::F32)]
     pub precision: StoragePrecision,
+    /// Where direct light comes from.
+    #[arg(long, value_enum, default_value_t = DirectChoice::Photons)]
+    pub direct_light: DirectChoice,
 }
 
 /// A density-estimation method as `kousen bench density` names it.

@@ -141,7 +141,7 @@ pub const LIGHT_DIRECTIONAL: u32 = 3;
 /// perpendicular to it, upstream.
 pub const LIGHT_SKY: u32 = 4;
 
-/// Render-wide constants (uniform buffer, 112 bytes).
+/// Render-wide constants (uniform buffer, 128 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct SppmParams {
@@ -173,6 +173,13 @@ pub struct SppmParams {
     pub storage_flux_scale: f32,
     /// Radiance of the sky (zero without one): what camera paths that leave the scene see.
     pub sky: [f32; 3],
+    /// 1: eye passes sample the lights at visible points and photons are stored from their
+    /// second hit on ([`crate::direct::DirectLight::Sampled`]); 0: photons carry direct light.
+    pub sample_lights: u32,
+    /// 1 if some material is an alpha cut-out, so shadow rays must look at what they hit
+    /// (0: any hit blocks them).
+    pub cut_outs: u32,
+    pub pad: [u32; 2],
 }
 
 impl SppmParams {

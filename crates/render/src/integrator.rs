@@ -150,6 +150,12 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
             .sky
             .map_or(Vec3::ZERO, |s| s.radiance)
             .to_array(),
+        sample_lights: settings.direct.flag(),
+        cut_outs: scene
+            .materials
+            .iter()
+            .any(|m| m.alpha_mode != scene::AlphaMode::Opaque) as u32,
+        pad: [0; 2],
     }
 }
 

@@ -5,6 +5,7 @@
 pub mod backend;
 pub mod buffers;
 pub mod density;
+pub mod direct;
 pub mod emission;
 pub mod half_storage;
 pub mod hash;

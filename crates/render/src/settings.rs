@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use crate::density::Density;
+use crate::direct::DirectLight;
 use crate::half_storage::Precision;
 
 /// α of the SPPM radius update (Hachisuka & Jensen 2009 suggest 2/3 … 0.7).
@@ -30,6 +31,8 @@ pub struct Settings {
     pub density: Density,
     /// How photons and visible points are stored (benchmarks compare f32 and f16).
     pub precision: Precision,
+    /// Where direct light comes from: photons (the talk) or light samples at visible points.
+    pub direct: DirectLight,
     pub max_depth: u32,
     pub seed: u32,
     /// Every pixel's starting gather radius; `None`: from the scene's bounding box
@@ -50,6 +53,7 @@ impl Settings {
             hash_ratio: 1.0,
             density: Density::StochasticHash,
             precision: Precision::F32,
+            direct: DirectLight::Photons,
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
             initial_radius: None,

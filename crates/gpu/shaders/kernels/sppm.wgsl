@@ -104,6 +104,118 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
     return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, 0u);
 }
 
+// render::direct::LightSample; `found` false where the light sends nothing this way.
+struct LightSample {
+    direction: vec3<f32>,
+    distance: f32,
+    target_point: vec3<f32>,
+    incident: vec3<f32>,
+    found: bool,
+}
+
+// render::direct::sample_light: one sample of the light table seen from `position`.
+fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>) -> LightSample {
+    let light = lights[pick_light(u0)];
+    var sample = LightSample(vec3<f32>(0.0), RAY_T_MAX, position, vec3<f32>(0.0), false);
+    if light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_SKY {
+        if light.kind == LIGHT_SKY {
+            sample.direction = uniform_cone(u1, u2, -1.0);
+        } else {
+            sample.direction = -light.edge1;
+        }
+        sample.incident = light.flux / (PI * light.edge2.x * light.edge2.x);
+    } else {
+        var light_point = light.v0;
+        if light.kind == LIGHT_TRIANGLE {
+            var b1 = u1;
+            var b2 = u2;
+            if b1 + b2 > 1.0 {
+                b1 = 1.0 - b1;
+                b2 = 1.0 - b2;
+            }
+            light_point = light.v0 + b1 * light.edge1 + b2 * light.edge2;
+        }
+        let offset = light_point - position;
+        let distance_squared = dot(offset, offset);
+        if distance_squared <= 0.0 {
+            return sample;
+        }
+        sample.distance = sqrt(distance_squared);
+        sample.target_point = light_point;
+        sample.direction = offset / sample.distance;
+        if light.kind == LIGHT_POINT {
+            sample.incident = light.flux / (4.0 * PI * distance_squared);
+        } else if light.kind == LIGHT_SPOT {
+            let falloff = spot_falloff(-dot(sample.direction, light.edge1), light.edge2.x, light.edge2.y);
+            let cone = 2.0 * PI * (1.0 - light.edge2.y);
+            sample.incident = light.flux * falloff / (cone * distance_squared);
+        } else {
+            let normal = normalize(cross(light.edge1, light.edge2));
+            var cos_light = -dot(sample.direction, normal);
+            var faces = 1.0;
+            if light.double_sided != 0u {
+                cos_light = abs(cos_light);
+                faces = 2.0;
+            }
+            sample.incident = light.flux * cos_light / (PI * faces * distance_squared);
+        }
+    }
+    sample.found = max3(sample.incident) > 0.0;
+    return sample;
+}
+
+// cpu::surface::unoccluded: nothing but alpha cut-outs on the segment.
+fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> bool {
+    if params.cut_outs == 0u {
+        return trace_mtbvh(GpuRay(origin_in, distance_in, direction, 0u), true).triangle == NO_HIT;
+    }
+    var origin = origin_in;
+    var distance = distance_in;
+    for (var i = 0u; i <= MAX_PASS_THROUGHS; i++) {
+        let hit = trace_surface_within(origin, direction, distance);
+        if !hit.found {
+            return true;
+        }
+        if !is_cut_out(materials[hit.material], hit.uv) {
+            return false;
+        }
+        origin = hit.position + params.epsilon * direction;
+        distance -= hit.distance + params.epsilon;
+        if distance <= 0.0 {
+            return true;
+        }
+    }
+    return false;
+}
+
+// cpu::kernels::direct_light: one light sample's cosine-weighted radiance at a diffuse hit.
+fn direct_light(hit: SurfaceHit, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let light = sample_light(u0, u1, u2, hit.position);
+    if !light.found {
+        return vec3<f32>(0.0);
+    }
+    let cosine = dot(light.direction, hit.shading);
+    if cosine <= 0.0 || dot(light.direction, hit.geometric) <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let origin = offset_origin(hit, light.direction, params.epsilon);
+    // render::direct::shadow_ray.
+    var direction = light.direction;
+    var distance = RAY_T_MAX;
+    if light.distance < RAY_T_MAX {
+        let offset = light.target_point - origin;
+        distance = length(offset);
+        if distance > 0.0 {
+            direction = offset / distance;
+            distance *= 1.0 - SHADOW_SHORTENING;
+        }
+    }
+    if !unoccluded(origin, direction, distance) {
+        return vec3<f32>(0.0);
+    }
+    return light.incident * cosine;
+}
+
 // What one photon-pass step leaves (cpu::kernels::PhotonStep).
 struct PhotonStep {
     slot: PathSlot,
@@ -147,7 +259,10 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     var next = vec3<f32>(0.0);
     var scattered = true;
     if material.surface == SURFACE_DIFFUSE {
-        photon = Photon(hit.position, pack_normal(hit.shading), slot.flux, 0u);
+        // Straight from the light it is direct light, which eye passes sample themselves.
+        if slot.depth > 0u || params.sample_lights == 0u {
+            photon = Photon(hit.position, pack_normal(hit.shading), slot.flux, 0u);
+        }
         next = cosine_direction(hit.shading, u_direction0, u_direction1);
         scattered = dot(next, hit.geometric) > 0.0;
     } else {
@@ -222,6 +337,12 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             let weight = throughput * tint * (1.0 / PI);
             if max3(weight) > 0.0 {
                 point = VisiblePoint(hit.position, pack_normal(hit.shading), weight, 0u);
+                if params.sample_lights != 0u {
+                    let u0 = next_f32(&rng);
+                    let u1 = next_f32(&rng);
+                    let u2 = next_f32(&rng);
+                    direct += weight * direct_light(hit, u0, u1, u2);
+                }
             }
             break;
         }

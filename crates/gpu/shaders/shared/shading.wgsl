@@ -101,6 +101,7 @@ fn refract_or_reflect(incoming: vec3<f32>, normal: vec3<f32>, eta: f32) -> vec3<
 // ---- cpu::surface ----
 struct SurfaceHit {
     position: vec3<f32>,
+    distance: f32,
     geometric: vec3<f32>,
     shading: vec3<f32>,
     uv: vec2<f32>,
@@ -120,8 +121,13 @@ fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 }
 
 fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {
+    return trace_surface_within(origin, direction, RAY_T_MAX);
+}
+
+// cpu::surface::trace_within: the closest hit nearer than t_max.
+fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> SurfaceHit {
     var result: SurfaceHit;
-    let hit = trace_mtbvh(GpuRay(origin, RAY_T_MAX, direction, 0u), false);
+    let hit = trace_mtbvh(GpuRay(origin, t_max, direction, 0u), false);
     if hit.triangle == NO_HIT {
         result.found = false;
         return result;
@@ -141,6 +147,7 @@ fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {
         result.shading = result.geometric;
     }
     result.position = origin + hit.t * direction;
+    result.distance = hit.t;
     result.uv = w * vec2<f32>(a.u, a.v) + hit.u * vec2<f32>(b.u, b.v) + hit.v * vec2<f32>(c.u, c.v);
     result.material = u32(abs(a.signed_material)) - 1u;
     result.front = front;

@@ -57,6 +57,7 @@ struct Stats {
     eye_every: u32,
     density: &'static str,
     precision: &'static str,
+    direct_light: &'static str,
     seed: u64,
     /// Passes already done in the checkpoint this render continued (0: a new render).
     resumed_passes: u32,
@@ -158,6 +159,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             max_depth: args.max_depth,
             density,
             precision: args.estimator.precision.precision(),
+            direct: args.estimator.direct_light.direct(),
             seed: fold_seed(args.seed),
             ..Settings::new(
                 width,
@@ -318,6 +320,7 @@ fn finish<B: Backend>(
             eye_every: settings.eye_every,
             density: settings.density.name(),
             precision: settings.precision.name(),
+            direct_light: settings.direct.name(),
             seed: args.seed,
             resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),

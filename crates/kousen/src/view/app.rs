@@ -761,6 +761,7 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         eye_every: args.eye_every,
         density: args.estimator.density,
         precision: args.estimator.precision.precision(),
+        direct: args.estimator.direct_light.direct(),
     };
     render::Settings {
         alpha: controls.alpha,

@@ -87,9 +87,10 @@ impl Overlay {
             row(
                 "estimator",
                 format!(
-                    "{}, {} photons",
+                    "{}, {} photons, direct light: {}",
                     self.controls.density.for_view().name(),
-                    self.controls.precision.name()
+                    self.controls.precision.name(),
+                    self.controls.direct.name()
                 ),
             );
             row(

@@ -49,9 +49,10 @@ pub struct RenderControls {
     pub photons: u32,
     pub alpha: f32,
     pub eye_every: u32,
-    /// Fixed for the window's life (`--density`, `--precision`).
+    /// Fixed for the window's life (`--density`, `--precision`, `--direct-light`).
     pub density: crate::cli::DensityChoice,
     pub precision: render::half_storage::Precision,
+    pub direct: render::direct::DirectLight,
 }
 
 /// Figures for the overlay.
@@ -114,6 +115,7 @@ impl Session {
             eye_every: controls.eye_every,
             density: controls.density.for_view(),
             precision: controls.precision,
+            direct: controls.direct,
             initial_radius: render::integrator::initial_radius_from_view(
                 &self.bvh, camera, width, height,
             ),

@@ -124,6 +124,12 @@ pub fn furnace_sphere() -> Scene {
 /// the constants after it). The light is black, so the plane is lit once: its radiance is
 /// [`lit_plane_radiance`]. The camera looks down at the plane from between the two.
 pub fn lit_plane() -> Scene {
+    lit_plane_under(LIT_PLANE_LIGHT_HALF_SIZE)
+}
+
+/// [`lit_plane`] with a square light of half-size `light_half_size` instead (its radiance:
+/// [`square_light_radiance`]).
+pub fn lit_plane_under(light_half_size: f32) -> Scene {
     let mut f = Fixture::new("testing::lit_plane");
     let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
     let light = f.builder.add_material(Material {
@@ -138,7 +144,7 @@ pub fn lit_plane() -> Scene {
     };
     f.quad(square(LIT_PLANE_HALF_SIZE, 0.0), plane, Vec3::Y);
     f.quad(
-        square(LIT_PLANE_LIGHT_HALF_SIZE, LIT_PLANE_LIGHT_HEIGHT),
+        square(light_half_size, LIT_PLANE_LIGHT_HEIGHT),
         light,
         Vec3::NEG_Y,
     );
@@ -230,13 +236,18 @@ pub fn cornell_spot() -> Scene {
 /// differential area to a parallel rectangle over one of its corners (sides a, b, height h,
 /// X = a/h, Y = b/h): F = 1/(2π) [X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))].
 pub fn lit_plane_radiance(x: f32, z: f32) -> f32 {
+    square_light_radiance(x, z, LIT_PLANE_LIGHT_HALF_SIZE)
+}
+
+/// [`lit_plane_radiance`] under the light of [`lit_plane_under`].
+pub fn square_light_radiance(x: f32, z: f32, light_half_size: f32) -> f32 {
     let corner = |a: f64, b: f64| {
         let h = LIT_PLANE_LIGHT_HEIGHT as f64;
         let (x, y) = (a / h, b / h);
         let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
         (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
     };
-    let half = LIT_PLANE_LIGHT_HALF_SIZE as f64;
+    let half = light_half_size as f64;
     let (x, z) = (x as f64, z as f64);
     let form_factor = corner(half - x, half - z)
         + corner(half + x, half - z)

@@ -1,0 +1,277 @@
+//! Direct light by sampling the light table from a visible point (next-event estimation), the
+//! alternative to letting the photons that land straight from a light carry it.
+//!
+//! With `DirectLight::Sampled` each eye pass picks one light for every visible point, by the
+//! same power CDF the photons start from, and a point on it (or a direction to it), and adds
+//! what arrives, unoccluded, to the pixel's direct sum; photons are then stored from their
+//! second hit on only, so every path from a light to the visible point is counted once. The
+//! photons still carry everything that bounced at least once, caustics included. Direct light
+//! then has no gather blur (sharp shadows from small lights) and no photon noise.
+//!
+//! Every quantity comes from the light table's `flux` (power ÷ probability of picking the
+//! light, see [`Light`]), so the GPU reads nothing new. Per kind, what arrives from the sample
+//! divided by the sample's density, before the receiver's cosine:
+//!
+//! | kind | sample | incident radiance ÷ density |
+//! |---|---|---|
+//! | triangle | uniform point, distance d, light cosine θ | flux · cos θ / (π · faces · d²) |
+//! | point | its position | flux / (4π · d²) |
+//! | spot | its position | flux · falloff / (cone's solid angle · d²) |
+//! | directional | against its direction, unbounded | flux / disk area |
+//! | sky | a uniform direction over the sphere, unbounded | flux / disk area |
+
+use std::f32::consts::{PI, TAU};
+
+use glam::Vec3;
+
+use crate::buffers::{
+    LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, Light, RAY_T_MAX, vec3,
+};
+use crate::emission::pick_light;
+use crate::sampling::uniform_cone;
+
+/// Where the direct light on a visible point comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DirectLight {
+    /// Photons landing straight from the lights, as the talk's renderer does.
+    #[default]
+    Photons,
+    /// One light sample and shadow ray per visible point and eye pass.
+    Sampled,
+}
+
+impl DirectLight {
+    pub fn name(self) -> &'static str {
+        match self {
+            DirectLight::Photons => "photons",
+            DirectLight::Sampled => "sampled",
+        }
+    }
+
+    /// [`crate::buffers::SppmParams::sample_lights`].
+    pub fn flag(self) -> u32 {
+        (self == DirectLight::Sampled) as u32
+    }
+}
+
+/// A light seen from a point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSample {
+    /// Unit direction from the point towards the light.
+    pub direction: Vec3,
+    /// How far along `direction` the light lies ([`RAY_T_MAX`] for the sky and directional
+    /// lights).
+    pub distance: f32,
+    /// The point sampled on the light (a point or spot light's position); the receiver for
+    /// the sky and directional lights. Shadow rays aim at it.
+    pub target: Vec3,
+    /// Radiance arriving along `direction` divided by the sample's density (solid angle, light
+    /// pick included), before the receiver's cosine.
+    pub incident: Vec3,
+}
+
+/// How much shorter than the distance to the light a shadow ray stops, relative: the ray
+/// must not meet the light's own triangle, whose hit distance carries rounding error.
+pub const SHADOW_SHORTENING: f32 = 1e-4;
+
+/// One sample of the light table as seen from `position`, from three uniform numbers; `None`
+/// where the picked light sends nothing that way (a one-sided emitter seen from behind, a spot
+/// seen from outside its cone). `lights` must not be empty.
+pub fn sample_light(lights: &[Light], u: [f32; 3], position: Vec3) -> Option<LightSample> {
+    let light = &lights[pick_light(lights, u[0])];
+    let flux = vec3(light.flux);
+    let towards = |target: Vec3| {
+        let offset = target - position;
+        let distance_squared = offset.length_squared();
+        (distance_squared > 0.0).then(|| {
+            let distance = distance_squared.sqrt();
+            (offset / distance, distance, distance_squared, target)
+        })
+    };
+    let sample = match light.kind {
+        LIGHT_POINT => {
+            let (direction, distance, d2, target) = towards(vec3(light.v0))?;
+            LightSample {
+                direction,
+                distance,
+                target,
+                incident: flux / (4.0 * PI * d2),
+            }
+        }
+        LIGHT_SPOT => {
+            let (direction, distance, d2, target) = towards(vec3(light.v0))?;
+            let [cos_inner, cos_outer, _] = light.edge2;
+            let cos_angle = -direction.dot(vec3(light.edge1));
+            let falloff = scene::lights::spot_falloff(cos_angle, cos_inner, cos_outer);
+            let cone = TAU * (1.0 - cos_outer);
+            LightSample {
+                direction,
+                distance,
+                target,
+                incident: flux * falloff / (cone * d2),
+            }
+        }
+        LIGHT_DIRECTIONAL | LIGHT_SKY => {
+            let direction = if light.kind == LIGHT_SKY {
+                uniform_cone(u[1], u[2], -1.0)
+            } else {
+                -vec3(light.edge1)
+            };
+            let radius = light.edge2[0];
+            LightSample {
+                direction,
+                distance: RAY_T_MAX,
+                target: position,
+                incident: flux / (PI * radius * radius),
+            }
+        }
+        _ => {
+            let (mut b1, mut b2) = (u[1], u[2]);
+            if b1 + b2 > 1.0 {
+                (b1, b2) = (1.0 - b1, 1.0 - b2);
+            }
+            let (edge1, edge2) = (vec3(light.edge1), vec3(light.edge2));
+            let (direction, distance, d2, target) =
+                towards(vec3(light.v0) + b1 * edge1 + b2 * edge2)?;
+            let normal = edge1.cross(edge2).normalize();
+            let cos_light = -direction.dot(normal);
+            let (cos_light, faces) = if light.double_sided != 0 {
+                (cos_light.abs(), 2.0)
+            } else {
+                (cos_light, 1.0)
+            };
+            LightSample {
+                direction,
+                distance,
+                target,
+                incident: flux * cos_light / (PI * faces * d2),
+            }
+        }
+    };
+    (sample.incident.max_element() > 0.0).then_some(sample)
+}
+
+/// The shadow ray towards a light sample from `origin` (the receiver, already offset off its
+/// surface): its direction and length. A finite light's ray aims from the offset origin at the
+/// sampled point and stops [`SHADOW_SHORTENING`] short of it (aiming the sample's own
+/// direction from the offset origin would pass the light's plane before the point on grazing
+/// directions, and meet the light).
+pub fn shadow_ray(light: &LightSample, origin: Vec3) -> (Vec3, f32) {
+    if light.distance >= RAY_T_MAX {
+        return (light.direction, RAY_T_MAX);
+    }
+    let offset = light.target - origin;
+    let distance = offset.length();
+    if distance <= 0.0 {
+        return (light.direction, 0.0);
+    }
+    (offset / distance, distance * (1.0 - SHADOW_SHORTENING))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::emission::{light_table, sample_emission};
+    use crate::rng::stream_key;
+
+    fn uniform(seed: u32, index: u32) -> f32 {
+        (stream_key(seed, 0, 0, index) >> 8) as f32 / (1u32 << 24) as f32
+    }
+
+    /// The mean irradiance over a disk of radius `r` from `lights` (occlusion ignored) two
+    /// ways: light samples from uniform points on the disk, and the flux of photons from the
+    /// same table crossing the disk ÷ its area. They must agree within the photons' noise.
+    fn estimates_agree(lights: &[Light], centre: Vec3, normal: Vec3, r: f32) {
+        let (tangent, bitangent) = crate::sampling::orthonormal_basis(normal);
+        let n = 1 << 18;
+        let mut sampled = 0.0f64;
+        for i in 0..n {
+            let disk = r * crate::sampling::uniform_disk(uniform(8, i), uniform(9, i));
+            let point = centre + disk.x * tangent + disk.y * bitangent;
+            let u = [(i as f32 + 0.5) / n as f32, uniform(1, i), uniform(2, i)];
+            if let Some(s) = sample_light(lights, u, point) {
+                sampled += (s.incident * s.direction.dot(normal).max(0.0)).element_sum() as f64;
+            }
+        }
+        let sampled = sampled / n as f64;
+        let (m, area) = (1u32 << 22, (PI * r * r) as f64);
+        let (mut sum, mut sum_squares) = (0.0f64, 0.0f64);
+        for i in 0..m {
+            let e = sample_emission(lights, [3, 4, 5, 6, 7].map(|seed| uniform(seed, i)));
+            let towards = e.direction.dot(normal);
+            if towards >= 0.0 {
+                continue;
+            }
+            let t = (centre - e.origin).dot(normal) / towards;
+            if t > 0.0 && (e.origin + t * e.direction - centre).length() < r {
+                let x = e.flux.element_sum() as f64 / area;
+                sum += x;
+                sum_squares += x * x;
+            }
+        }
+        let counted = sum / m as f64;
+        let sigma = ((sum_squares / m as f64 - counted * counted) / m as f64).sqrt();
+        assert!(counted > 0.0 && sigma < 0.02 * counted, "too few photons: {counted} ± {sigma}");
+        assert!(
+            (sampled - counted).abs() < 4.0 * sigma + 0.01 * counted,
+            "kind {}: sampled {sampled}, photons {counted} ± {sigma}",
+            lights[0].kind
+        );
+    }
+
+    /// The entries of `table` of one kind, as the table of a scene with only those lights.
+    fn only_kind(table: &[Light], kind: u32) -> Vec<Light> {
+        let mut previous = 0.0;
+        let chosen: Vec<(Light, f32)> = table
+            .iter()
+            .map(|light| {
+                let probability = light.cdf - previous;
+                previous = light.cdf;
+                (*light, probability)
+            })
+            .filter(|(light, _)| light.kind == kind)
+            .collect();
+        let total: f32 = chosen.iter().map(|(_, p)| p).sum();
+        let mut running = 0.0;
+        let mut lights: Vec<Light> = chosen
+            .into_iter()
+            .map(|(light, p)| {
+                running += p / total;
+                Light {
+                    cdf: running,
+                    flux: (vec3(light.flux) * p / total).to_array(),
+                    ..light
+                }
+            })
+            .collect();
+        lights.last_mut().expect("a light of that kind").cdf = 1.0;
+        lights
+    }
+
+    /// Each kind of light alone (the Cornell box's area light, and the point, spot,
+    /// directional and sky lights added to it), on a floor patch the spot's inner cone covers.
+    #[test]
+    fn sampled_irradiance_matches_the_photons_for_every_light_kind() {
+        let table = light_table(&scene::testing::cornell_box_punctual());
+        for kind in [
+            crate::buffers::LIGHT_TRIANGLE,
+            LIGHT_POINT,
+            LIGHT_SPOT,
+            LIGHT_DIRECTIONAL,
+            LIGHT_SKY,
+        ] {
+            estimates_agree(&only_kind(&table, kind), Vec3::new(250.0, 1.0, 400.0), Vec3::Y, 40.0);
+        }
+    }
+
+    #[test]
+    fn one_sided_emitters_send_nothing_backwards() {
+        let scene = scene::testing::cornell_box();
+        let lights = light_table(&scene);
+        let above_the_light = Vec3::new(278.0, 600.0, 280.0);
+        for i in 0..64 {
+            let u = [uniform(1, i), uniform(2, i), uniform(3, i)];
+            assert_eq!(sample_light(&lights, u, above_the_light), None);
+        }
+    }
+}

@@ -557,7 +557,13 @@ fn sampled_direct_light_matches_every_analytic_case() {
     };
     let image = sampled(&testing::punctual_plane(&[directional]), &view);
     let radiance = testing::LIT_PLANE_ALBEDO / std::f32::consts::PI * 0.8 * illuminance;
-    assert_matches("sampled, directional light", &image, |_| radiance, 0.01, 0.005);
+    assert_matches(
+        "sampled, directional light",
+        &image,
+        |_| radiance,
+        0.01,
+        0.005,
+    );
 
     let sky = 2.0;
     let mut scene = testing::punctual_plane(&[]);

@@ -295,7 +295,10 @@ fn cut_out_shadows_of_sampled_light_match_between_backends() {
     };
     let ratio = quarter_mean(&sampled) / quarter_mean(&photons);
     println!("under the screen, sampled / photon direct light: {ratio:.4}");
-    assert!((ratio - 1.0).abs() < MAX_DIRECT_LIGHT_RATIO_ERROR, "{ratio}");
+    assert!(
+        (ratio - 1.0).abs() < MAX_DIRECT_LIGHT_RATIO_ERROR,
+        "{ratio}"
+    );
     let context = match GpuContext::new(None) {
         Ok(context) => context,
         Err(e) => {

@@ -23,8 +23,8 @@ use render::buffers::{
     HASH_ENTRY_WORDS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, LIGHT_TRIANGLE,
     PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter, vec3,
 };
-use render::packing::unpack_normal;
 use render::direct::DirectLight;
+use render::packing::unpack_normal;
 use render::{Backend, Image, Settings, Sppm, Statistics};
 use scene::{Camera, Scene};
 

@@ -220,3 +220,19 @@ pub fn check_fits(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Checkpoints written before `--direct-light` existed rendered with photons only: they
+    /// read as such, so resuming one asks for `--direct-light photons`.
+    #[test]
+    fn settings_without_direct_light_read_as_photons() {
+        let mut json =
+            serde_json::to_value(Recorded::new("cpu", &Settings::new(4, 4, 16))).unwrap();
+        json.as_object_mut().unwrap().remove("direct_light");
+        let recorded: Recorded = serde_json::from_value(json).unwrap();
+        assert_eq!(recorded.direct_light, "photons");
+    }
+}

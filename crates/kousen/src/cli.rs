@@ -176,8 +176,9 @@ pub struct EstimatorArgs {
     /// How photons and visible points are stored on the device (f16: half the memory).
     #[arg(long, value_enum, default_value_t = StoragePrecision::F32)]
     pub precision: StoragePrecision,
-    /// Where direct light comes from.
-    #[arg(long, value_enum, default_value_t = DirectChoice::Photons)]
+    /// Where direct light comes from (sampled: on the CPU backend it reaches Mitsuba's error
+    /// over the whole Cornell-caustics image in half the time, docs/BENCHMARKS.md §3).
+    #[arg(long, value_enum, default_value_t = DirectChoice::Sampled)]
     pub direct_light: DirectChoice,
 }
 

@@ -95,6 +95,10 @@ fn checkpoint_that_does_not_fit_is_refused() {
             format!("--passes 4 --resume {ck} --radius 4"),
             "initial radius",
         ),
+        (
+            format!("--passes 4 --resume {ck} --direct-light photons"),
+            "--direct-light sampled",
+        ),
     ];
     for (extra, needle) in cases {
         assert_clean_error(&render(&out, &extra), needle);

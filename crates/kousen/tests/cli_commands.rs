@@ -192,6 +192,7 @@ fn render_writes_a_readable_png_of_the_requested_size() {
     assert_eq!(stats["backend"], "cpu");
     assert_eq!(stats["density"], "kdtree");
     assert_eq!(stats["precision"], "f32");
+    assert_eq!(stats["direct_light"], "sampled");
     assert!(stats["photon_paths"].as_u64().unwrap() >= 4096);
 }
 
@@ -206,6 +207,7 @@ fn render_on_the_cpu_defaults_to_full_lists() {
     );
     assert_eq!(stats["density"], "full");
     assert_eq!(stats["photon_slots"], 4 * 64 * 64);
+    assert_eq!(stats["direct_light"], "sampled");
 }
 
 /// The GPU backend (lavapipe in CI) renders to EXR, and --stats keeps its contract: passes,

@@ -211,7 +211,10 @@ mod tests {
         }
         let counted = sum / m as f64;
         let sigma = ((sum_squares / m as f64 - counted * counted) / m as f64).sqrt();
-        assert!(counted > 0.0 && sigma < 0.02 * counted, "too few photons: {counted} ± {sigma}");
+        assert!(
+            counted > 0.0 && sigma < 0.02 * counted,
+            "too few photons: {counted} ± {sigma}"
+        );
         assert!(
             (sampled - counted).abs() < 4.0 * sigma + 0.01 * counted,
             "kind {}: sampled {sampled}, photons {counted} ± {sigma}",
@@ -260,7 +263,12 @@ mod tests {
             LIGHT_DIRECTIONAL,
             LIGHT_SKY,
         ] {
-            estimates_agree(&only_kind(&table, kind), Vec3::new(250.0, 1.0, 400.0), Vec3::Y, 40.0);
+            estimates_agree(
+                &only_kind(&table, kind),
+                Vec3::new(250.0, 1.0, 400.0),
+                Vec3::Y,
+                40.0,
+            );
         }
     }
 

@@ -31,7 +31,8 @@ pub struct Settings {
     pub density: Density,
     /// How photons and visible points are stored (benchmarks compare f32 and f16).
     pub precision: Precision,
-    /// Where direct light comes from: photons (the talk) or light samples at visible points.
+    /// Where direct light comes from: photons (the talk's scheme, and this default) or light
+    /// samples at the visible points (`kousen render`'s and `kousen view`'s default).
     pub direct: DirectLight,
     pub max_depth: u32,
     pub seed: u32,

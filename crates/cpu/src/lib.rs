@@ -61,6 +61,8 @@ struct State {
     precision: Precision,
     /// The full hash's photon indices in entry order and its scan blocks' offsets.
     photon_order: Vec<AtomicU32>,
+    /// The photons themselves in that order, for the gather.
+    listed_photons: Vec<Photon>,
     block_offsets: Vec<u32>,
     /// This pass's kd-tree (kd-tree density only).
     kd_tree: Option<PhotonKdTree>,
@@ -165,6 +167,7 @@ impl Backend for CpuBackend {
                 _ => Vec::new(),
             },
             block_offsets: Vec::new(),
+            listed_photons: Vec::new(),
             kd_tree: None,
         };
         Ok(())
@@ -238,13 +241,13 @@ impl Backend for CpuBackend {
                     .for_each(|p| density::full_count(params, counters, hash, p));
                 state.block_offsets = density::full_scan(hash);
                 let (offsets, order) = (&state.block_offsets, &state.photon_order);
-                // In photon order, on one thread: each list then holds its photons in index
-                // order, so the gather sums them in the same order every run and the image
-                // is reproducible (the GPU's atomics list them in arrival order). It costs
-                // about a millisecond per 65k photons.
-                for (i, p) in state.photons.iter().enumerate() {
-                    density::full_scatter(params, counters, hash, offsets, order, i as u32, p);
-                }
+                state.photons.par_iter().enumerate().for_each(|(i, p)| {
+                    density::full_scatter(params, counters, hash, offsets, order, i as u32, p)
+                });
+                // The GPU's lists stay in arrival order; the CPU's are sorted, so that its
+                // images are reproducible.
+                density::sort_lists(hash, offsets, order);
+                density::list_photons(order, &state.photons, &mut state.listed_photons);
             }
             Density::KdTree => state.kd_tree = Some(PhotonKdTree::build(&state.photons)),
         }
@@ -254,9 +257,9 @@ impl Backend for CpuBackend {
         let state = &mut self.state;
         let (params, counters, hash, photons) =
             (&state.params, &state.counters, &state.hash, &state.photons);
-        let (offsets, order, tree) = (
+        let (offsets, listed, tree) = (
             &state.block_offsets,
-            &state.photon_order,
+            &state.listed_photons,
             state.kd_tree.as_ref(),
         );
         let density = state.density;
@@ -268,7 +271,7 @@ impl Backend for CpuBackend {
                 *stats = kernels::gather_with(counters, params, point, *stats, |query| {
                     match (density, tree) {
                         (Density::FullHash, _) => {
-                            density::full_query(params, hash, offsets, order, photons, query)
+                            density::full_query_listed(params, hash, offsets, listed, query)
                         }
                         // No tree: no hash was built this pass, so no photon is found.
                         (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
@@ -353,6 +356,7 @@ impl Backend for CpuBackend {
             (
                 "hash",
                 bytes(s.hash.len() + s.photon_order.len(), size_of::<u32>())
+                    + bytes(s.listed_photons.capacity(), size_of::<Photon>())
                     + s.kd_tree
                         .as_ref()
                         .map_or(0, |t| size_of_val(t.nodes()) as u64),

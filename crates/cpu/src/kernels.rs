@@ -16,7 +16,7 @@ use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query
 use render::integrator::camera_direction;
 use render::packing::{pack_normal, unpack_normal};
 use render::random::StreamRng;
-use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM};
+use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use scene::Surface;
 
@@ -200,8 +200,9 @@ pub struct EyeStep {
 pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -> EyeStep {
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
     let (x, y) = (index % params.width, index / params.width);
-    let sx = (x as f32 + rng.next_f32()) / params.width as f32 * 2.0 - 1.0;
-    let sy = 1.0 - (y as f32 + rng.next_f32()) / params.height as f32 * 2.0;
+    let [jx, jy] = pixel_jitter(params.seed, index, pass / params.eye_every.max(1));
+    let sx = (x as f32 + jx) / params.width as f32 * 2.0 - 1.0;
+    let sy = 1.0 - (y as f32 + jy) / params.height as f32 * 2.0;
     let mut origin = vec3(params.eye);
     let mut direction = camera_direction(params, sx, sy);
     let mut throughput = Vec3::ONE;

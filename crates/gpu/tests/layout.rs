@@ -398,8 +398,8 @@ fn sppm_types_layout_matches_render_buffers() {
             ("sky_b", offset_of!(SppmParams, sky) + 8),
             ("sample_lights", offset_of!(SppmParams, sample_lights)),
             ("cut_outs", offset_of!(SppmParams, cut_outs)),
-            ("pad0", offset_of!(SppmParams, pad)),
-            ("pad1", offset_of!(SppmParams, pad) + 4),
+            ("eye_every", offset_of!(SppmParams, eye_every)),
+            ("pad", offset_of!(SppmParams, pad)),
         ],
     );
 }

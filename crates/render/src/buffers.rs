@@ -179,7 +179,10 @@ pub struct SppmParams {
     /// 1 if some material is an alpha cut-out, so shadow rays must look at what they hit
     /// (0: any hit blocks them).
     pub cut_outs: u32,
-    pub pad: [u32; 2],
+    /// Photon passes per eye pass: eye pass `pass / eye_every` picks its pixels' jitter
+    /// ([`crate::rng::pixel_jitter`]).
+    pub eye_every: u32,
+    pub pad: u32,
 }
 
 impl SppmParams {

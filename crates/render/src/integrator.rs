@@ -155,7 +155,8 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
             .materials
             .iter()
             .any(|m| m.alpha_mode != scene::AlphaMode::Opaque) as u32,
-        pad: [0; 2],
+        eye_every: settings.eye_every,
+        pad: 0,
     }
 }
 

@@ -295,6 +295,14 @@ fn photon_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     store_photon(index, step.photon);
 }
 
+// render::rng::pixel_jitter: the R2 sequence's point `eye_pass`, rotated per pixel.
+fn pixel_jitter(index: u32, eye_pass: u32) -> vec2<f32> {
+    let shift_x = stream_key(params.seed, JITTER_STREAM, 0u, index);
+    let shift_y = stream_key(params.seed, JITTER_STREAM, 1u, index);
+    let fixed = vec2<u32>(eye_pass * R2_STEP_X + shift_x, eye_pass * R2_STEP_Y + shift_y);
+    return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
+}
+
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let index = invocation_index(id, groups);
@@ -305,8 +313,9 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     var rng = rng_start(params.seed, EYE_STREAM, pass_index, index);
     let x = index % params.width;
     let y = index / params.width;
-    let sx = (f32(x) + next_f32(&rng)) / f32(params.width) * 2.0 - 1.0;
-    let sy = 1.0 - (f32(y) + next_f32(&rng)) / f32(params.height) * 2.0;
+    let jitter = pixel_jitter(index, pass_index / max(params.eye_every, 1u));
+    let sx = (f32(x) + jitter.x) / f32(params.width) * 2.0 - 1.0;
+    let sy = 1.0 - (f32(y) + jitter.y) / f32(params.height) * 2.0;
     var origin = params.eye;
     var direction = normalize(params.forward + sx * params.right + sy * params.up);
     var throughput = vec3<f32>(1.0);

@@ -65,11 +65,11 @@ struct SppmParams {
     sky_r: f32,
     sky_g: f32,
     sky_b: f32,
-    // render::buffers::SppmParams::sample_lights and cut_outs.
+    // render::buffers::SppmParams::sample_lights, cut_outs and eye_every.
     sample_lights: u32,
     cut_outs: u32,
-    pad0: u32,
-    pad1: u32,
+    eye_every: u32,
+    pad: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

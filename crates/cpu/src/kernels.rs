@@ -261,7 +261,7 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
 /// numbers), cosine-weighted and divided by the sample's density; zero if the light is behind
 /// the surface or blocked.
 pub fn direct_light(scene: &SceneData, params: &SppmParams, hit: &SurfaceHit, u: [f32; 3]) -> Vec3 {
-    let Some(light) = sample_light(&scene.lights, u, hit.position) else {
+    let Some(light) = sample_light(&scene.lights, u, hit.position, hit.shading) else {
         return Vec3::ZERO;
     };
     let cosine = light.direction.dot(hit.shading);

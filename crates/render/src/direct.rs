@@ -18,7 +18,10 @@
 //! | point | its position | flux / (4π · d²) |
 //! | spot | its position | flux · falloff / (cone's solid angle · d²) |
 //! | directional | against its direction, unbounded | flux / disk area |
-//! | sky | a uniform direction over the sphere, unbounded | flux / disk area |
+//! | sky | a cosine-distributed direction about the receiver's normal, unbounded | flux / (4 · disk area · cos θ) |
+//!
+//! (The sky's flux is its radiance × disk area × 4π; sampled by the receiver's cosine, a lit
+//! open plane gets the same value from every sample.)
 
 use std::f32::consts::{PI, TAU};
 
@@ -28,7 +31,7 @@ use crate::buffers::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, Light, RAY_T_MAX, vec3,
 };
 use crate::emission::pick_light;
-use crate::sampling::uniform_cone;
+use crate::sampling::{about_axis, cosine_hemisphere};
 
 /// Where the direct light on a visible point comes from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -74,10 +77,16 @@ pub struct LightSample {
 /// must not meet the light's own triangle, whose hit distance carries rounding error.
 pub const SHADOW_SHORTENING: f32 = 1e-4;
 
-/// One sample of the light table as seen from `position`, from three uniform numbers; `None`
-/// where the picked light sends nothing that way (a one-sided emitter seen from behind, a spot
-/// seen from outside its cone). `lights` must not be empty.
-pub fn sample_light(lights: &[Light], u: [f32; 3], position: Vec3) -> Option<LightSample> {
+/// One sample of the light table as seen from `position` on a surface facing `normal` (unit),
+/// from three uniform numbers; `None` where the picked light sends nothing that way (a
+/// one-sided emitter seen from behind, a spot seen from outside its cone). `lights` must not be
+/// empty.
+pub fn sample_light(
+    lights: &[Light],
+    u: [f32; 3],
+    position: Vec3,
+    normal: Vec3,
+) -> Option<LightSample> {
     let light = &lights[pick_light(lights, u[0])];
     let flux = vec3(light.flux);
     let towards = |target: Vec3| {
@@ -111,18 +120,23 @@ pub fn sample_light(lights: &[Light], u: [f32; 3], position: Vec3) -> Option<Lig
                 incident: flux * falloff / (cone * d2),
             }
         }
-        LIGHT_DIRECTIONAL | LIGHT_SKY => {
-            let direction = if light.kind == LIGHT_SKY {
-                uniform_cone(u[1], u[2], -1.0)
-            } else {
-                -vec3(light.edge1)
-            };
+        LIGHT_DIRECTIONAL => {
             let radius = light.edge2[0];
             LightSample {
-                direction,
+                direction: -vec3(light.edge1),
                 distance: RAY_T_MAX,
                 target: position,
                 incident: flux / (PI * radius * radius),
+            }
+        }
+        LIGHT_SKY => {
+            let local = cosine_hemisphere(u[1], u[2]);
+            let radius = light.edge2[0];
+            LightSample {
+                direction: about_axis(normal, local).normalize(),
+                distance: RAY_T_MAX,
+                target: position,
+                incident: flux / (4.0 * PI * radius * radius * local.z),
             }
         }
         _ => {
@@ -189,7 +203,7 @@ mod tests {
             let disk = r * crate::sampling::uniform_disk(uniform(8, i), uniform(9, i));
             let point = centre + disk.x * tangent + disk.y * bitangent;
             let u = [(i as f32 + 0.5) / n as f32, uniform(1, i), uniform(2, i)];
-            if let Some(s) = sample_light(lights, u, point) {
+            if let Some(s) = sample_light(lights, u, point, normal) {
                 sampled += (s.incident * s.direction.dot(normal).max(0.0)).element_sum() as f64;
             }
         }
@@ -279,7 +293,7 @@ mod tests {
         let above_the_light = Vec3::new(278.0, 600.0, 280.0);
         for i in 0..64 {
             let u = [uniform(1, i), uniform(2, i), uniform(3, i)];
-            assert_eq!(sample_light(&lights, u, above_the_light), None);
+            assert_eq!(sample_light(&lights, u, above_the_light, Vec3::Y), None);
         }
     }
 }

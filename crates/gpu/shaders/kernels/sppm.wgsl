@@ -113,17 +113,18 @@ struct LightSample {
     found: bool,
 }
 
-// render::direct::sample_light: one sample of the light table seen from `position`.
-fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>) -> LightSample {
+// render::direct::sample_light: one sample of the light table seen from `position` on a
+// surface facing `normal`.
+fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32>) -> LightSample {
     let light = lights[pick_light(u0)];
     var sample = LightSample(vec3<f32>(0.0), RAY_T_MAX, position, vec3<f32>(0.0), false);
-    if light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_SKY {
-        if light.kind == LIGHT_SKY {
-            sample.direction = uniform_cone(u1, u2, -1.0);
-        } else {
-            sample.direction = -light.edge1;
-        }
+    if light.kind == LIGHT_DIRECTIONAL {
+        sample.direction = -light.edge1;
         sample.incident = light.flux / (PI * light.edge2.x * light.edge2.x);
+    } else if light.kind == LIGHT_SKY {
+        let local = cosine_hemisphere(u1, u2);
+        sample.direction = normalize(about_axis(normal, local));
+        sample.incident = light.flux / (4.0 * PI * light.edge2.x * light.edge2.x * local.z);
     } else {
         var light_point = light.v0;
         if light.kind == LIGHT_TRIANGLE {
@@ -190,7 +191,7 @@ fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> b
 
 // cpu::kernels::direct_light: one light sample's cosine-weighted radiance at a diffuse hit.
 fn direct_light(hit: SurfaceHit, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
-    let light = sample_light(u0, u1, u2, hit.position);
+    let light = sample_light(u0, u1, u2, hit.position, hit.shading);
     if !light.found {
         return vec3<f32>(0.0);
     }

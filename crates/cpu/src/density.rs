@@ -159,7 +159,7 @@ fn full_query_with<'a>(
 ) -> GatherSum {
     let (entries, count) = query_entries(
         query.position,
-        query.radius,
+        query.reach(),
         query.cell_size,
         params.hash_size,
     );
@@ -265,6 +265,7 @@ mod tests {
                 position: glam::Vec3::new(i as f32 / 200.0, 0.25, 0.03),
                 normal: glam::Vec3::Z,
                 radius: 0.05,
+                caustic_radius: 0.03,
                 cell_size,
             };
             let sum = full_query(&params, &hash, &offsets, &order, &photons, &query);

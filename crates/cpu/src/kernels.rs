@@ -14,7 +14,7 @@ use render::direct::{sample_light, shadow_ray};
 use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
-use render::packing::{pack_normal, unpack_normal};
+use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
@@ -69,7 +69,7 @@ pub fn photon_pass_with<R: StreamRng>(
             direction: e.direction.to_array(),
             pass_throughs: 0,
             flux: e.flux.to_array(),
-            pad: 0,
+            bounced: 0,
         };
         emitted = true;
     }
@@ -105,7 +105,7 @@ pub fn photon_pass_with<R: StreamRng>(
         if slot.depth > 0 || params.sample_lights == 0 {
             photon = Photon {
                 position: hit.position.to_array(),
-                normal: pack_normal(hit.shading),
+                normal: photon_normal(hit.shading, slot.bounced == 0),
                 flux: slot.flux,
                 pad: 0,
             };
@@ -122,6 +122,9 @@ pub fn photon_pass_with<R: StreamRng>(
     slot.depth += 1;
     match next {
         Some(next) if u_roulette < survival && slot.depth < params.max_depth => {
+            if let Surface::Diffuse = material.surface {
+                slot.bounced = 1;
+            }
             slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
             slot.direction = next.to_array();
             slot.flux = (flux * tint / survival).to_array();
@@ -346,27 +349,52 @@ pub fn gather(
 pub struct GatherQuery {
     pub position: Vec3,
     pub normal: Vec3,
+    /// Gather radius of the indirect photons.
     pub radius: f32,
+    /// Gather radius of the caustic photons.
+    pub caustic_radius: f32,
     pub cell_size: f32,
 }
 
-/// What a gather found: the photons it counts (M) and their flux.
+impl GatherQuery {
+    /// How far any photon may count: the larger radius, which the density methods search.
+    pub fn reach(&self) -> f32 {
+        self.radius.max(self.caustic_radius)
+    }
+}
+
+/// What a gather found: the indirect photons it counts (M) and their flux, and the caustic
+/// ones.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GatherSum {
     pub found: u32,
     pub flux: Vec3,
+    pub caustic_found: u32,
+    pub caustic_flux: Vec3,
 }
 
 impl GatherSum {
-    /// Adds `count` photons of `flux` each when `photon` lies inside the query's sphere and on
-    /// its side of the surface.
+    /// Adds `count` photons of `flux` each to the photon's class when it lies inside that
+    /// class's sphere and on the query's side of the surface.
     pub fn add_if_near(&mut self, query: &GatherQuery, photon: &Photon, count: u32) {
+        let caustic = is_caustic(photon.normal);
+        let radius = if caustic {
+            query.caustic_radius
+        } else {
+            query.radius
+        };
         let offset = vec3(photon.position) - query.position;
-        if offset.length_squared() < query.radius * query.radius
+        if offset.length_squared() < radius * radius
             && unpack_normal(photon.normal).dot(query.normal) > 0.0
         {
-            self.found += count;
-            self.flux += count as f32 * vec3(photon.flux);
+            let flux = count as f32 * vec3(photon.flux);
+            if caustic {
+                self.caustic_found += count;
+                self.caustic_flux += flux;
+            } else {
+                self.found += count;
+                self.flux += flux;
+            }
         }
     }
 }
@@ -381,7 +409,7 @@ pub fn stochastic_query(
 ) -> GatherSum {
     let (entries, count) = query_entries(
         query.position,
-        query.radius,
+        query.reach(),
         query.cell_size,
         params.hash_size,
     );
@@ -411,36 +439,70 @@ pub fn gather_with(
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
     // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
     let largest = largest_radius(cell_size);
-    if stats.radius > largest {
-        let scale = (largest / stats.radius) * (largest / stats.radius);
-        stats.tau = (vec3(stats.tau) * scale).to_array();
-        stats.radius = largest;
-    }
+    shrink_to_fit(&mut stats.tau, &mut stats.radius, largest);
+    shrink_to_fit(&mut stats.caustic_tau, &mut stats.caustic_radius, largest);
     if visible_point.is_valid() {
-        let radius = stats.radius;
         let sum = query(&GatherQuery {
             position: vec3(visible_point.position),
             normal: unpack_normal(visible_point.normal),
-            radius,
+            radius: stats.radius,
+            caustic_radius: stats.caustic_radius,
             cell_size,
         });
-        if sum.found > 0 {
-            let n = stats.photon_count;
-            let m = sum.found as f32;
-            let n_next = n + params.alpha * m;
-            let ratio = n_next / (n + m);
-            stats.photon_count = n_next;
-            stats.radius = radius * ratio.sqrt();
-            stats.tau =
-                ((vec3(stats.tau) + vec3(visible_point.weight) * sum.flux) * ratio).to_array();
+        let weight = vec3(visible_point.weight);
+        let indirect = (sum.found, weight * sum.flux, params.indirect_alpha);
+        update(
+            &mut stats.tau,
+            &mut stats.photon_count,
+            &mut stats.radius,
+            indirect,
+        );
+        let caustic = (sum.caustic_found, weight * sum.caustic_flux, params.alpha);
+        let PixelStats {
+            caustic_tau,
+            caustic_count,
+            caustic_radius,
+            ..
+        } = &mut stats;
+        update(caustic_tau, caustic_count, caustic_radius, caustic);
+        // Only radii that have met photons size the cells: the others would hold them at the
+        // initial radius for ever, and one photon kept per cell would then serve ever more
+        // pixels.
+        for (count, radius) in [
+            (stats.photon_count, stats.radius),
+            (stats.caustic_count, stats.caustic_radius),
+        ] {
+            if count > 0.0 {
+                counters[counter::MAX_RADIUS].fetch_max(radius.to_bits(), Relaxed);
+            }
         }
     }
-    // Only pixels that have met photons size the cells: the others would hold them at the
-    // initial radius for ever, and one photon kept per cell would then serve ever more pixels.
-    if visible_point.is_valid() && stats.photon_count > 0.0 {
-        counters[counter::MAX_RADIUS].fetch_max(stats.radius.to_bits(), Relaxed);
-    }
     stats
+}
+
+/// A radius larger than the cells allow shrinks to `largest`, its flux scaled with the area.
+fn shrink_to_fit(tau: &mut [f32; 3], radius: &mut f32, largest: f32) {
+    if *radius > largest {
+        let scale = (largest / *radius) * (largest / *radius);
+        *tau = (vec3(*tau) * scale).to_array();
+        *radius = largest;
+    }
+}
+
+/// SPPM's update of one set of statistics (DESIGN.md, "SPPM update") with M photons found of
+/// weighted flux Φ, at α: N' = N + αM, R' = R·√((N + αM)/(N + M)), τ' = (τ + Φ)·R'²/R².
+fn update(tau: &mut [f32; 3], count: &mut f32, radius: &mut f32, found: (u32, Vec3, f32)) {
+    let (m, flux, alpha) = found;
+    if m == 0 {
+        return;
+    }
+    let n = *count;
+    let m = m as f32;
+    let n_next = n + alpha * m;
+    let ratio = n_next / (n + m);
+    *count = n_next;
+    *radius *= ratio.sqrt();
+    *tau = ((vec3(*tau) + flux) * ratio).to_array();
 }
 
 /// Closes a pass (one invocation): folds this pass's emitted paths into the 64-bit total,

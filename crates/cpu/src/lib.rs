@@ -275,9 +275,15 @@ impl Backend for CpuBackend {
                         }
                         // No tree: no hash was built this pass, so no photon is found.
                         (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
-                            let (found, flux) =
-                                tree.query(query.position, query.radius, query.normal);
-                            kernels::GatherSum { found, flux }
+                            let radii = [query.caustic_radius, query.radius];
+                            let [(caustic_found, caustic_flux), (found, flux)] =
+                                tree.query_classes(query.position, radii, query.normal);
+                            kernels::GatherSum {
+                                found,
+                                flux,
+                                caustic_found,
+                                caustic_flux,
+                            }
                         }),
                         (Density::StochasticHash, _) => {
                             kernels::stochastic_query(params, hash, photons, query)

@@ -11,7 +11,7 @@ use cpu::kernels::GatherQuery;
 use glam::Vec3;
 use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams, counter};
 use render::density::full_word;
-use render::kdtree::{PhotonKdTree, gather_brute_force};
+use render::kdtree::PhotonKdTree;
 use render::packing::pack_normal;
 use render::{Budget, Density, Image, Settings, Sppm};
 
@@ -149,11 +149,16 @@ fn full_hash_and_kd_tree_find_exactly_the_photons_in_the_sphere() {
         };
         let normal = (Vec3::Y + (rng.vec3() - 0.5)).normalize();
         let radius = 0.04 * rng.next_f32();
-        let (found, flux) = gather_brute_force(&photons, position, radius, normal);
+        // Caustic photons within a smaller radius: each class is found within its own.
+        let caustic_radius = 0.6 * radius;
+        let radii = [caustic_radius, radius];
+        let [(caustic_found, caustic_flux), (found, flux)] =
+            render::kdtree::gather_brute_force_classes(&photons, position, radii, normal);
         let query = GatherQuery {
             position,
             normal,
             radius,
+            caustic_radius,
             cell_size: full.cell_size,
         };
         let listed = full_query(
@@ -164,14 +169,23 @@ fn full_hash_and_kd_tree_find_exactly_the_photons_in_the_sphere() {
             &photons,
             &query,
         );
-        let (tree_found, tree_flux) = tree.query(position, radius, normal);
+        let [tree_caustic, (tree_found, tree_flux)] = tree.query_classes(position, radii, normal);
         assert_eq!((listed.found, tree_found), (found, found));
-        let scale = flux.max_element().max(1e-6);
+        assert_eq!(
+            (listed.caustic_found, tree_caustic.0),
+            (caustic_found, caustic_found)
+        );
+        let scale = flux.max_element().max(caustic_flux.max_element()).max(1e-6);
         assert!((listed.flux - flux).abs().max_element() / scale < 1e-5);
         assert!((tree_flux - flux).abs().max_element() / scale < 1e-5);
-        nonempty += usize::from(found > 0);
+        assert!((listed.caustic_flux - caustic_flux).abs().max_element() / scale < 1e-5);
+        assert!((tree_caustic.1 - caustic_flux).abs().max_element() / scale < 1e-5);
+        nonempty += usize::from(found > 0 && caustic_found > 0);
     }
-    assert!(nonempty > 800, "too few queries met photons: {nonempty}");
+    assert!(
+        nonempty > 500,
+        "too few queries met photons of both classes: {nonempty}"
+    );
 }
 
 fn render(density: Density, seed: u32) -> Image {

@@ -28,6 +28,7 @@ impl Table {
                 hash_size,
                 seed,
                 alpha,
+                indirect_alpha: alpha,
                 ..SppmParams::default()
             },
             counters,
@@ -290,8 +291,9 @@ fn the_gather_estimate_is_unbiased() {
             &point,
             PixelStats::initial(radius),
         );
-        let flux = Vec3::from_array(stats.tau) / ALPHA;
-        let count = stats.photon_count / ALPHA;
+        // Both classes of photon (the packed normals' lowest bits pick them) count.
+        let flux = (Vec3::from_array(stats.tau) + Vec3::from_array(stats.caustic_tau)) / ALPHA;
+        let count = (stats.photon_count + stats.caustic_count) / ALPHA;
         for (k, v) in [flux.x, flux.y, flux.z, count].into_iter().enumerate() {
             sum[k] += v as f64;
             sum_sq[k] += (v as f64).powi(2);

@@ -104,12 +104,18 @@ fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) {
             let mut errors = vec![
                 relative(g.photon_count, c.photon_count),
                 relative(g.radius, c.radius),
+                relative(g.caustic_count, c.caustic_count),
+                relative(g.caustic_radius, c.caustic_radius),
             ];
             errors.extend((0..3).map(|k| relative(g.tau[k], c.tau[k])));
+            errors.extend((0..3).map(|k| relative(g.caustic_tau[k], c.caustic_tau[k])));
             errors.iter().any(|&e| e > RELATIVE_TOLERANCE)
         })
         .count();
-    let lit = twin.iter().filter(|s| s.photon_count > 0.0).count();
+    let lit = twin
+        .iter()
+        .filter(|s| s.photon_count > 0.0 || s.caustic_count > 0.0)
+        .count();
     println!(
         "{label}: {differing} of {} pixels differ; {lit} lit",
         gpu.len()
@@ -259,8 +265,15 @@ fn kd_tree_gather_matches_its_cpu_twin_on_the_gpu_state() {
             .zip(&before.points)
             .map(|(s, point)| {
                 gather_with(&counters, &params, point, *s, |q| {
-                    let (found, flux) = tree.query(q.position, q.radius, q.normal);
-                    GatherSum { found, flux }
+                    let radii = [q.caustic_radius, q.radius];
+                    let [(caustic_found, caustic_flux), (found, flux)] =
+                        tree.query_classes(q.position, radii, q.normal);
+                    GatherSum {
+                        found,
+                        flux,
+                        caustic_found,
+                        caustic_flux,
+                    }
                 })
             })
             .collect();

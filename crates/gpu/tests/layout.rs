@@ -317,7 +317,7 @@ fn sppm_types_layout_matches_render_buffers() {
             ("direction", offset_of!(PathSlot, direction)),
             ("pass_throughs", offset_of!(PathSlot, pass_throughs)),
             ("flux", offset_of!(PathSlot, flux)),
-            ("pad", offset_of!(PathSlot, pad)),
+            ("bounced", offset_of!(PathSlot, bounced)),
         ],
     );
     assert_layout(
@@ -351,6 +351,12 @@ fn sppm_types_layout_matches_render_buffers() {
             ("photon_count", offset_of!(PixelStats, photon_count)),
             ("direct", offset_of!(PixelStats, direct)),
             ("radius", offset_of!(PixelStats, radius)),
+            ("caustic_tau", offset_of!(PixelStats, caustic_tau)),
+            ("caustic_count", offset_of!(PixelStats, caustic_count)),
+            ("caustic_radius", offset_of!(PixelStats, caustic_radius)),
+            ("pad0", offset_of!(PixelStats, pad)),
+            ("pad1", offset_of!(PixelStats, pad) + 4),
+            ("pad2", offset_of!(PixelStats, pad) + 8),
         ],
     );
     assert_layout(
@@ -399,7 +405,7 @@ fn sppm_types_layout_matches_render_buffers() {
             ("sample_lights", offset_of!(SppmParams, sample_lights)),
             ("cut_outs", offset_of!(SppmParams, cut_outs)),
             ("eye_every", offset_of!(SppmParams, eye_every)),
-            ("pad", offset_of!(SppmParams, pad)),
+            ("indirect_alpha", offset_of!(SppmParams, indirect_alpha)),
         ],
     );
 }
@@ -466,6 +472,21 @@ fn display_params_layout_matches_rust() {
             ),
             ("direct", offset_of!(render::buffers::PixelStats, direct)),
             ("radius", offset_of!(render::buffers::PixelStats, radius)),
+            (
+                "caustic_tau",
+                offset_of!(render::buffers::PixelStats, caustic_tau),
+            ),
+            (
+                "caustic_count",
+                offset_of!(render::buffers::PixelStats, caustic_count),
+            ),
+            (
+                "caustic_radius",
+                offset_of!(render::buffers::PixelStats, caustic_radius),
+            ),
+            ("pad0", offset_of!(render::buffers::PixelStats, pad)),
+            ("pad1", offset_of!(render::buffers::PixelStats, pad) + 4),
+            ("pad2", offset_of!(render::buffers::PixelStats, pad) + 8),
         ],
     );
 }

@@ -180,6 +180,15 @@ fn stats_errors(g: &PixelStats, c: &PixelStats) -> Vec<(&'static str, f32)> {
         ),
         ("direct", relative(g.direct, c.direct)),
         ("radius", relative_scalar(g.radius, c.radius)),
+        ("caustic_tau", relative(g.caustic_tau, c.caustic_tau)),
+        (
+            "caustic_count",
+            relative_scalar(g.caustic_count, c.caustic_count),
+        ),
+        (
+            "caustic_radius",
+            relative_scalar(g.caustic_radius, c.caustic_radius),
+        ),
     ]
 }
 

@@ -14,7 +14,8 @@ use serde::{Deserialize, Serialize};
 use render::{Checkpoint, Settings, Snapshot};
 
 const MAGIC: &[u8; 8] = b"KOUSENCP";
-const FORMAT: u32 = 1;
+/// 2: pixel statistics hold caustic and indirect sets (session 11).
+const FORMAT: u32 = 2;
 
 /// The settings a continued render must share with the stopped one, each with the option
 /// that sets it (for messages).
@@ -29,9 +30,8 @@ pub struct Recorded {
     pub hash_ratio: f32,
     pub density: String,
     pub precision: String,
-    /// Absent from checkpoints written before `--direct-light` existed: photons, as then.
-    #[serde(default = "photons")]
     pub direct_light: String,
+    pub indirect_alpha: f32,
     pub max_depth: u32,
     pub seed: u32,
     pub initial_radius: Option<f32>,
@@ -50,6 +50,7 @@ impl Recorded {
             density: settings.density.name().to_owned(),
             precision: settings.precision.name().to_owned(),
             direct_light: settings.direct.name().to_owned(),
+            indirect_alpha: settings.indirect_alpha,
             max_depth: settings.max_depth,
             seed: settings.seed,
             initial_radius: settings.initial_radius,
@@ -57,13 +58,14 @@ impl Recorded {
     }
 
     /// (option, value) pairs, compared in this order.
-    fn options(&self) -> [(&'static str, String); 12] {
+    fn options(&self) -> [(&'static str, String); 13] {
         [
             ("--backend", self.backend.clone()),
             ("--width", self.width.to_string()),
             ("--height", self.height.to_string()),
             ("--photons", self.photons.to_string()),
             ("--alpha", self.alpha.to_string()),
+            ("--indirect-alpha", self.indirect_alpha.to_string()),
             ("--eye-every", self.eye_every.to_string()),
             ("--hash-ratio", self.hash_ratio.to_string()),
             ("--density", self.density.clone()),
@@ -73,10 +75,6 @@ impl Recorded {
             ("--seed", self.seed.to_string()),
         ]
     }
-}
-
-fn photons() -> String {
-    render::direct::DirectLight::Photons.name().to_owned()
 }
 
 /// The JSON after the magic.
@@ -219,20 +217,4 @@ pub fn check_fits(
         );
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Checkpoints written before `--direct-light` existed rendered with photons only: they
-    /// read as such, so resuming one asks for `--direct-light photons`.
-    #[test]
-    fn settings_without_direct_light_read_as_photons() {
-        let mut json =
-            serde_json::to_value(Recorded::new("cpu", &Settings::new(4, 4, 16))).unwrap();
-        json.as_object_mut().unwrap().remove("direct_light");
-        let recorded: Recorded = serde_json::from_value(json).unwrap();
-        assert_eq!(recorded.direct_light, "photons");
-    }
 }

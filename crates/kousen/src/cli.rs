@@ -485,9 +485,14 @@ pub struct RenderArgs {
     /// full lists or the kd-tree; at most 2¹⁸ on CPUs and CPU-type adapters, 2²⁰ on GPUs).
     #[arg(long, value_name = "N")]
     pub photons: Option<u32>,
-    /// SPPM's radius reduction α, in (0, 1).
+    /// SPPM's radius reduction α, in (0, 1), of the caustic photons (those at their first
+    /// diffuse surface).
     #[arg(long, default_value_t = render::settings::DEFAULT_ALPHA)]
     pub alpha: f32,
+    /// SPPM's α of the indirect photons (those that bounced off a diffuse surface before):
+    /// indirect light is smooth, so its radius may shrink slower, for less noise.
+    #[arg(long, value_name = "ALPHA", default_value_t = render::settings::MEASURED_INDIRECT_ALPHA)]
+    pub indirect_alpha: f32,
     /// An eye pass (new visible points) every this many photon passes.
     #[arg(long, value_name = "K", default_value_t = render::settings::DEFAULT_EYE_EVERY)]
     pub eye_every: u32,

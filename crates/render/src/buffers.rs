@@ -23,7 +23,9 @@ pub struct PathSlot {
     pub pass_throughs: u32,
     /// The path's flux (RGB, watts in scene units).
     pub flux: [f32; 3],
-    pub pad: u32,
+    /// 1 once the path has left a diffuse surface: its later photons are indirect, not
+    /// caustic ([`crate::packing::photon_normal`]).
+    pub bounced: u32,
 }
 
 impl PathSlot {
@@ -34,11 +36,12 @@ impl PathSlot {
         direction: [0.0; 3],
         pass_throughs: 0,
         flux: [0.0; 3],
-        pad: 0,
+        bounced: 0,
     };
 }
 
-/// A photon stored by this pass's slot (32 bytes). Zero flux: the slot stored none.
+/// A photon stored by this pass's slot (32 bytes). Zero flux: the slot stored none. Its
+/// normal's lowest bit says whether it is a caustic photon ([`crate::packing::photon_normal`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Photon {
@@ -76,25 +79,33 @@ impl VisiblePoint {
     }
 }
 
-/// A pixel's progressive statistics (32 bytes): SPPM's τ, N and R, and the sum of the emission
-/// its eye paths saw directly.
+/// A pixel's progressive statistics (64 bytes): SPPM's τ, N and R twice, for the indirect
+/// photons and for the caustic ones (each set shrinks at its own α: caustics are sharp,
+/// indirect light smooth), and the sum of the direct light its eye passes saw.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PixelStats {
-    /// Accumulated flux, already scaled to the current radius.
+    /// Accumulated flux of indirect photons, already scaled to the current radius.
     pub tau: [f32; 3],
-    /// Accumulated photon count N (fractional: α·M per update).
+    /// Accumulated indirect photon count N (fractional: α·M per update).
     pub photon_count: f32,
-    /// Sum over eye passes of the emission seen through specular chains.
+    /// Sum over eye passes of the emission seen through specular chains and of the sampled
+    /// direct light.
     pub direct: [f32; 3],
-    /// Current gather radius R.
+    /// Current gather radius R of indirect photons.
     pub radius: f32,
+    /// τ, N and R of the caustic photons.
+    pub caustic_tau: [f32; 3],
+    pub caustic_count: f32,
+    pub caustic_radius: f32,
+    pub pad: [u32; 3],
 }
 
 impl PixelStats {
     pub fn initial(radius: f32) -> PixelStats {
         PixelStats {
             radius,
+            caustic_radius: radius,
             ..PixelStats::default()
         }
     }
@@ -156,7 +167,7 @@ pub struct SppmParams {
     pub up: [f32; 3],
     /// Entries in the stochastic hash table.
     pub hash_size: u32,
-    /// SPPM's α.
+    /// SPPM's α for the caustic photons.
     pub alpha: f32,
     /// Bounces before a path (photon or eye) is cut off.
     pub max_depth: u32,
@@ -182,7 +193,8 @@ pub struct SppmParams {
     /// Photon passes per eye pass: eye pass `pass / eye_every` picks its pixels' jitter
     /// ([`crate::rng::pixel_jitter`]).
     pub eye_every: u32,
-    pub pad: u32,
+    /// SPPM's α for the indirect photons (`alpha` is the caustic photons').
+    pub indirect_alpha: f32,
 }
 
 impl SppmParams {

@@ -156,7 +156,7 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
             .iter()
             .any(|m| m.alpha_mode != scene::AlphaMode::Opaque) as u32,
         eye_every: settings.eye_every,
-        pad: 0,
+        indirect_alpha: settings.indirect_alpha,
     }
 }
 

@@ -159,10 +159,17 @@ impl PhotonKdTree {
     /// faces `normal` (dot > 0): how many, and the sum of their flux. Visits nodes in
     /// `kd_gather`'s order.
     pub fn query(&self, position: Vec3, radius: f32, normal: Vec3) -> (u32, Vec3) {
+        let [(c, caustic), (i, indirect)] = self.query_classes(position, [radius; 2], normal);
+        (c + i, caustic + indirect)
+    }
+
+    /// [`Self::query`] for caustic and indirect photons apart ([`crate::packing::is_caustic`]),
+    /// each within its own radius (`radii`: caustic, indirect): their counts and fluxes.
+    pub fn query_classes(&self, position: Vec3, radii: [f32; 2], normal: Vec3) -> [(u32, Vec3); 2] {
         let count = self.nodes.len();
+        let radius = radii[0].max(radii[1]);
         let radius_sq = radius * radius;
-        let mut found = 0u32;
-        let mut flux = Vec3::ZERO;
+        let mut sums = [(0u32, Vec3::ZERO); 2];
         let mut stack = [0u32; STACK_SIZE];
         let mut top = 0;
         let mut node = 0;
@@ -170,10 +177,12 @@ impl PhotonKdTree {
             while node < count {
                 let kd = self.nodes[node];
                 let offset = Vec3::from(kd.position) - position;
-                if offset.length_squared() < radius_sq && unpack_normal(kd.normal).dot(normal) > 0.0
+                let class = !crate::packing::is_caustic(kd.normal) as usize;
+                if offset.length_squared() < radii[class] * radii[class]
+                    && unpack_normal(kd.normal).dot(normal) > 0.0
                 {
-                    found += 1;
-                    flux += Vec3::from(kd.flux);
+                    sums[class].0 += 1;
+                    sums[class].1 += Vec3::from(kd.flux);
                 }
                 // The split plane is `offset[axis]` away: the query lies on the left (lower)
                 // side when the plane is ahead of it.
@@ -191,7 +200,7 @@ impl PhotonKdTree {
                 node = near;
             }
             if top == 0 {
-                return (found, flux);
+                return sums;
             }
             top -= 1;
             node = stack[top] as usize;
@@ -206,15 +215,29 @@ pub fn gather_brute_force(
     radius: f32,
     normal: Vec3,
 ) -> (u32, Vec3) {
-    let radius_sq = radius * radius;
-    photons
-        .iter()
-        .filter(|photon| photon.is_stored())
-        .filter(|photon| (Vec3::from(photon.position) - position).length_squared() < radius_sq)
-        .filter(|photon| unpack_normal(photon.normal).dot(normal) > 0.0)
-        .fold((0, Vec3::ZERO), |(found, flux), photon| {
-            (found + 1, flux + Vec3::from(photon.flux))
-        })
+    let [(c, caustic), (i, indirect)] =
+        gather_brute_force_classes(photons, position, [radius; 2], normal);
+    (c + i, caustic + indirect)
+}
+
+/// What [`PhotonKdTree::query_classes`] finds, by testing every stored photon (for tests).
+pub fn gather_brute_force_classes(
+    photons: &[Photon],
+    position: Vec3,
+    radii: [f32; 2],
+    normal: Vec3,
+) -> [(u32, Vec3); 2] {
+    let mut sums = [(0, Vec3::ZERO); 2];
+    for photon in photons.iter().filter(|photon| photon.is_stored()) {
+        let class = !crate::packing::is_caustic(photon.normal) as usize;
+        let offset = Vec3::from(photon.position) - position;
+        let near = offset.length_squared() < radii[class] * radii[class];
+        if near && unpack_normal(photon.normal).dot(normal) > 0.0 {
+            sums[class].0 += 1;
+            sums[class].1 += Vec3::from(photon.flux);
+        }
+    }
+    sums
 }
 
 /// Levels of a complete binary tree of `count` nodes.

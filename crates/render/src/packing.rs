@@ -9,6 +9,20 @@ pub fn pack_normal(n: Vec3) -> u32 {
     snorm(o.x) | (snorm(o.y) << 16)
 }
 
+/// A photon's packed normal with its class in the lowest bit (1: caustic), which moves the
+/// normal by at most 1/32767 in its first octahedral coordinate. Caustic photons are those at
+/// their first diffuse surface: light that came there straight or through specular surfaces
+/// only (caustics, and direct light where photons carry it); the rest are indirect. The two
+/// classes have their own gather radius and statistics per pixel.
+pub fn photon_normal(n: Vec3, caustic: bool) -> u32 {
+    (pack_normal(n) & !1) | caustic as u32
+}
+
+/// Whether a photon's packed normal ([`photon_normal`]) marks a caustic photon.
+pub fn is_caustic(packed_normal: u32) -> bool {
+    packed_normal & 1 != 0
+}
+
 pub fn unpack_normal(bits: u32) -> Vec3 {
     let snorm = |h: u32| ((h as u16 as i16) as f32 / 32767.0).max(-1.0);
     let o = Vec2::new(snorm(bits & 0xffff), snorm(bits >> 16));

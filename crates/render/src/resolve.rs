@@ -1,4 +1,5 @@
-//! From statistics to radiance: L = direct / E + τ / (π R² N_emitted) per pixel.
+//! From statistics to radiance: L = direct / E + τ / (π R² N_emitted) per pixel, the last term
+//! once for the indirect and once for the caustic photons.
 
 use glam::Vec3;
 
@@ -11,13 +12,15 @@ pub fn resolve_pixel(stats: &PixelStats, eye_passes: u32, emitted_paths: u64) ->
     } else {
         Vec3::ZERO
     };
-    let area = std::f64::consts::PI * (stats.radius as f64).powi(2);
-    let photons = if emitted_paths > 0 && area > 0.0 {
-        (vec3(stats.tau).as_dvec3() / (area * emitted_paths as f64)).as_vec3()
-    } else {
-        Vec3::ZERO
+    let density = |tau: [f32; 3], radius: f32| {
+        let area = std::f64::consts::PI * (radius as f64).powi(2);
+        if emitted_paths > 0 && area > 0.0 {
+            (vec3(tau).as_dvec3() / (area * emitted_paths as f64)).as_vec3()
+        } else {
+            Vec3::ZERO
+        }
     };
-    direct + photons
+    direct + density(stats.tau, stats.radius) + density(stats.caustic_tau, stats.caustic_radius)
 }
 
 pub fn resolve(
@@ -45,11 +48,15 @@ mod tests {
             photon_count: 10.0,
             direct: [3.0, 6.0, 9.0],
             radius: 2.0,
+            caustic_tau: [std::f32::consts::PI * 2.0; 3],
+            caustic_count: 1.0,
+            caustic_radius: 1.0,
+            pad: [0; 3],
         };
-        // τ / (π·4·2) = 1; direct / 3 = (1, 2, 3).
+        // τ / (π·4·2) = 1; caustic τ / (π·1·2) = 1; direct / 3 = (1, 2, 3).
         let l = resolve_pixel(&stats, 3, 2);
         assert!(
-            (l - Vec3::new(2.0, 3.0, 4.0)).abs().max_element() < 1e-5,
+            (l - Vec3::new(3.0, 4.0, 5.0)).abs().max_element() < 1e-5,
             "{l}"
         );
         assert_eq!(resolve_pixel(&PixelStats::initial(1.0), 0, 0), Vec3::ZERO);

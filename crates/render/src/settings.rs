@@ -8,6 +8,10 @@ use crate::half_storage::Precision;
 
 /// α of the SPPM radius update (Hachisuka & Jensen 2009 suggest 2/3 … 0.7).
 pub const DEFAULT_ALPHA: f32 = 2.0 / 3.0;
+/// α of the indirect photons' radius that `kousen render` and `kousen view` use: indirect
+/// light is smooth, so its radius may shrink slower, for less noise (docs/BENCHMARKS.md §3,
+/// session 11). [`Settings::new`] keeps one α for both.
+pub const MEASURED_INDIRECT_ALPHA: f32 = 0.8;
 /// Photon passes per eye pass. Measured on lavapipe with the Cornell scenes (docs/BENCHMARKS.md
 /// §3): fewer eye passes leave more time for photons, more anti-alias the edges sooner.
 pub const DEFAULT_EYE_EVERY: u32 = 8;
@@ -22,7 +26,11 @@ pub struct Settings {
     pub height: u32,
     /// Photon path slots, each advanced one bounce per pass.
     pub photons: u32,
+    /// α of the caustic photons' statistics (and of the indirect ones' unless
+    /// `indirect_alpha` says otherwise).
     pub alpha: f32,
+    /// α of the indirect photons' statistics.
+    pub indirect_alpha: f32,
     /// An eye pass before every `eye_every`-th photon pass (the first included).
     pub eye_every: u32,
     /// Hash table entries per photon slot.
@@ -50,6 +58,7 @@ impl Settings {
             height,
             photons,
             alpha: DEFAULT_ALPHA,
+            indirect_alpha: DEFAULT_ALPHA,
             eye_every: DEFAULT_EYE_EVERY,
             hash_ratio: 1.0,
             density: Density::StochasticHash,
@@ -79,6 +88,9 @@ impl Settings {
         }
         if !(self.alpha > 0.0 && self.alpha < 1.0) {
             return Err(SettingsError::Alpha(self.alpha));
+        }
+        if !(self.indirect_alpha > 0.0 && self.indirect_alpha < 1.0) {
+            return Err(SettingsError::IndirectAlpha(self.indirect_alpha));
         }
         if self.eye_every == 0 {
             return Err(SettingsError::EyeEvery);
@@ -115,6 +127,8 @@ pub enum SettingsError {
     NoPhotons,
     #[error("--alpha must lie strictly between 0 and 1, got {0}")]
     Alpha(f32),
+    #[error("--indirect-alpha must lie strictly between 0 and 1, got {0}")]
+    IndirectAlpha(f32),
     #[error("--eye-every must be at least 1")]
     EyeEvery,
     #[error("--hash-ratio must be a positive number, got {0}")]

@@ -46,7 +46,7 @@ fn display_source_index(target_pixel: u32, target_size: u32, render_size: u32) -
     return min(scaled, render_size - 1u);
 }
 
-// render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted).
+// render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted) for each class.
 fn display_resolve(stats: PixelStats) -> vec3<f32> {
     var direct = vec3<f32>(0.0);
     if display.eye_passes > 0u {
@@ -54,12 +54,16 @@ fn display_resolve(stats: PixelStats) -> vec3<f32> {
     }
     let emitted = f32(display_counters[COUNTER_EMITTED_HI]) * 4294967296.0
         + f32(display_counters[COUNTER_EMITTED_LO]);
-    let area = PI * stats.radius * stats.radius;
-    var photons = vec3<f32>(0.0);
+    return direct + display_density(stats.tau, stats.radius, emitted)
+        + display_density(stats.caustic_tau, stats.caustic_radius, emitted);
+}
+
+fn display_density(tau: vec3<f32>, radius: f32, emitted: f32) -> vec3<f32> {
+    let area = PI * radius * radius;
     if emitted > 0.0 && area > 0.0 {
-        photons = stats.tau / (area * emitted);
+        return tau / (area * emitted);
     }
-    return direct + photons;
+    return vec3<f32>(0.0);
 }
 
 // Whether `x` is neither infinite nor NaN, from its bits (WGSL has no isnan, and compilers may

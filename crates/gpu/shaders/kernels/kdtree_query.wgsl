@@ -37,6 +37,6 @@ fn kdtree_query(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
         return;
     }
     let query = kd_queries[index];
-    let gathered = kd_gather(query.position, query.radius, query.normal, kd_params.node_count);
-    kd_results[index] = KdResult(gathered.flux, gathered.found);
+    let gathered = kd_gather(query.position, vec2<f32>(query.radius), query.normal, kd_params.node_count);
+    kd_results[index] = KdResult(gathered.caustic_flux + gathered.flux, gathered.caustic_found + gathered.found);
 }

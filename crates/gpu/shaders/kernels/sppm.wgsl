@@ -262,7 +262,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if material.surface == SURFACE_DIFFUSE {
         // Straight from the light it is direct light, which eye passes sample themselves.
         if slot.depth > 0u || params.sample_lights == 0u {
-            photon = Photon(hit.position, pack_normal(hit.shading), slot.flux, 0u);
+            photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux, 0u);
         }
         next = cosine_direction(hit.shading, u_direction0, u_direction1);
         scattered = dot(next, hit.geometric) > 0.0;
@@ -272,6 +272,9 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if scattered && u_roulette < survival && slot.depth < params.max_depth {
+        if material.surface == SURFACE_DIFFUSE {
+            slot.bounced = 1u;
+        }
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
         slot.flux = slot.flux * tint / survival;
@@ -410,20 +413,59 @@ fn hash_select(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     }
 }
 
-// cpu::kernels::GatherSum: the photons a gather counts (M) and their flux.
+// cpu::kernels::GatherSum: the indirect photons a gather counts (M) and their flux, and the
+// caustic ones.
 struct GatherSum {
     found: u32,
     flux: vec3<f32>,
+    caustic_found: u32,
+    caustic_flux: vec3<f32>,
 }
 
-// cpu::kernels::GatherSum::add_if_near: `count` photons of `photon`'s flux when it lies inside
-// the sphere and on the visible point's side of the surface.
-fn add_if_near(sum: ptr<function, GatherSum>, position: vec3<f32>, normal: vec3<f32>, radius: f32, photon: Photon, count: u32) {
+// cpu::kernels::GatherQuery::reach: the larger of the two radii (x caustic, y indirect).
+fn reach(radii: vec2<f32>) -> f32 {
+    return max(radii.y, radii.x);
+}
+
+// cpu::kernels::GatherSum::add_if_near: `count` photons of `photon`'s flux to its class when
+// it lies inside that class's sphere (radii: x caustic, y indirect) and on the visible
+// point's side of the surface.
+fn add_if_near(sum: ptr<function, GatherSum>, position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, photon: Photon, count: u32) {
+    let caustic = is_caustic(photon.normal);
+    let radius = select(radii.y, radii.x, caustic);
     let offset = photon.position - position;
     if dot(offset, offset) < radius * radius && dot(unpack_normal(photon.normal), normal) > 0.0 {
-        (*sum).found += count;
-        (*sum).flux += f32(count) * photon.flux;
+        let flux = f32(count) * photon.flux;
+        if caustic {
+            (*sum).caustic_found += count;
+            (*sum).caustic_flux += flux;
+        } else {
+            (*sum).found += count;
+            (*sum).flux += flux;
+        }
     }
+}
+
+// One class's statistics (PixelStats' τ, N and R of the indirect or the caustic photons).
+struct Estimate {
+    tau: vec3<f32>,
+    count: f32,
+    radius: f32,
+}
+
+// cpu::kernels::shrink_to_fit: a radius larger than the cells allow shrinks to `largest`.
+fn shrink_to_fit(e: Estimate, largest: f32) -> Estimate {
+    let scale = (largest / e.radius) * (largest / e.radius);
+    return Estimate(e.tau * scale, e.count, largest);
+}
+
+// cpu::kernels::update: one class's statistics after M > 0 photons of weighted flux `flux`.
+fn update(e: Estimate, found: u32, flux: vec3<f32>, alpha: f32) -> Estimate {
+    let n = e.count;
+    let m = f32(found);
+    let n_next = n + alpha * m;
+    let ratio = n_next / (n + m);
+    return Estimate((e.tau + flux) * ratio, n_next, e.radius * sqrt(ratio));
 }
 
 // cpu::kernels::gather_with: the update is the same for every density method; the module's
@@ -439,33 +481,44 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
     // A radius larger than the cells allow shrinks to fit.
     let largest = largest_radius(cell_size);
+    var indirect = Estimate(stats.tau, stats.photon_count, stats.radius);
+    var caustic = Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius);
     var changed = false;
-    if stats.radius > largest {
-        let scale = (largest / stats.radius) * (largest / stats.radius);
-        stats.tau = stats.tau * scale;
-        stats.radius = largest;
+    if indirect.radius > largest {
+        indirect = shrink_to_fit(indirect, largest);
+        changed = true;
+    }
+    if caustic.radius > largest {
+        caustic = shrink_to_fit(caustic, largest);
         changed = true;
     }
     let valid = any(point.weight != vec3<f32>(0.0));
     if valid {
-        let radius = stats.radius;
-        let sum = density_query(point.position, unpack_normal(point.normal), radius, cell_size);
+        let radii = vec2<f32>(caustic.radius, indirect.radius);
+        let sum = density_query(point.position, unpack_normal(point.normal), radii, cell_size);
         if sum.found > 0u {
-            let n = stats.photon_count;
-            let m = f32(sum.found);
-            let n_next = n + params.alpha * m;
-            let ratio = n_next / (n + m);
-            stats.photon_count = n_next;
-            stats.radius = radius * sqrt(ratio);
-            stats.tau = (stats.tau + point.weight * sum.flux) * ratio;
+            indirect = update(indirect, sum.found, point.weight * sum.flux, params.indirect_alpha);
             changed = true;
+        }
+        if sum.caustic_found > 0u {
+            caustic = update(caustic, sum.caustic_found, point.weight * sum.caustic_flux, params.alpha);
+            changed = true;
+        }
+        if indirect.count > 0.0 {
+            atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(indirect.radius));
+        }
+        if caustic.count > 0.0 {
+            atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(caustic.radius));
         }
     }
     if changed {
+        stats.tau = indirect.tau;
+        stats.photon_count = indirect.count;
+        stats.radius = indirect.radius;
+        stats.caustic_tau = caustic.tau;
+        stats.caustic_count = caustic.count;
+        stats.caustic_radius = caustic.radius;
         pixels[index] = stats;
-    }
-    if valid && stats.photon_count > 0.0 {
-        atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(stats.radius));
     }
 }
 

@@ -142,15 +142,15 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
 }
 
 // cpu::density::full_query: every photon listed in each distinct entry the sphere touches.
-fn density_query(position: vec3<f32>, normal: vec3<f32>, radius: f32, cell_size: f32) -> GatherSum {
-    var sum = GatherSum(0u, vec3<f32>(0.0));
-    let touched = query_entries(position, radius, cell_size);
+fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
+    var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
+    let touched = query_entries(position, reach(radii), cell_size);
     for (var k = 0u; k < touched.count; k += 1u) {
         let word = touched.entries[k] * HASH_ENTRY_WORDS;
         let start = list_start(word);
         let listed = atomicLoad(&hash[word + FULL_COUNT]);
         for (var place = start; place < start + listed; place += 1u) {
-            add_if_near(&sum, position, normal, radius, load_photon(photon_order[place]), 1u);
+            add_if_near(&sum, position, normal, radii, load_photon(photon_order[place]), 1u);
         }
     }
     return sum;

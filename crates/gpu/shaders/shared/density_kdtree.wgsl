@@ -6,7 +6,7 @@
 @group(3) @binding(0) var<storage, read> kd_nodes: array<KdNode>;
 @group(3) @binding(1) var<storage, read> kd_node_count: array<u32>;
 
-fn density_query(position: vec3<f32>, normal: vec3<f32>, radius: f32, cell_size: f32) -> GatherSum {
-    let found = kd_gather(position, radius, normal, kd_node_count[0]);
-    return GatherSum(found.found, found.flux);
+fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
+    let found = kd_gather(position, radii, normal, kd_node_count[0]);
+    return GatherSum(found.found, found.flux, found.caustic_found, found.caustic_flux);
 }

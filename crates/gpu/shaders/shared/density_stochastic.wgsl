@@ -1,15 +1,15 @@
 // The stochastic spatial hash's query (cpu::kernels::stochastic_query): each distinct table
 // entry the gather sphere's box touches gives its kept photon, weighted by the entry's count.
 
-fn density_query(position: vec3<f32>, normal: vec3<f32>, radius: f32, cell_size: f32) -> GatherSum {
-    var sum = GatherSum(0u, vec3<f32>(0.0));
-    let touched = query_entries(position, radius, cell_size);
+fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
+    var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
+    let touched = query_entries(position, reach(radii), cell_size);
     for (var k = 0u; k < touched.count; k += 1u) {
         let word = touched.entries[k] * HASH_ENTRY_WORDS;
         let in_entry = atomicLoad(&hash[word + HASH_COUNT]);
         if in_entry != 0u {
             let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));
-            add_if_near(&sum, position, normal, radius, photon, in_entry);
+            add_if_near(&sum, position, normal, radii, photon, in_entry);
         }
     }
     return sum;

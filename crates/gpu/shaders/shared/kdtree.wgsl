@@ -14,9 +14,12 @@ struct KdNode {
     photon_axis: u32,
 }
 
+// The indirect photons found and their flux, and the caustic ones.
 struct KdGather {
     found: u32,
     flux: vec3<f32>,
+    caustic_found: u32,
+    caustic_flux: vec3<f32>,
 }
 
 // The photons within `radius` of `position` (squared distance < radius²) whose normal faces
@@ -24,9 +27,12 @@ struct KdGather {
 // split plane holding `position`, then the other side when the plane is nearer than `radius`.
 // A complete tree of node_count < 2^27 nodes is at most KD_STACK_SIZE + 1 levels deep, and the
 // stack holds at most one entry per level below the root (render::kdtree::STACK_SIZE).
-fn kd_gather(position: vec3<f32>, radius: f32, normal: vec3<f32>, node_count: u32) -> KdGather {
+// Caustic and indirect photons count within their own radius (radii: x caustic, y
+// indirect; render::kdtree::PhotonKdTree::query_classes).
+fn kd_gather(position: vec3<f32>, radii: vec2<f32>, normal: vec3<f32>, node_count: u32) -> KdGather {
+    let radius = max(radii.x, radii.y);
     let radius_sq = radius * radius;
-    var result = KdGather(0u, vec3<f32>(0.0));
+    var result = KdGather(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
     var stack: array<u32, KD_STACK_SIZE>;
     var top = 0u;
     var node = 0u;
@@ -34,9 +40,16 @@ fn kd_gather(position: vec3<f32>, radius: f32, normal: vec3<f32>, node_count: u3
         while node < node_count {
             let kd = kd_nodes[node];
             let offset = kd.position - position;
-            if dot(offset, offset) < radius_sq && dot(unpack_normal(kd.normal), normal) > 0.0 {
-                result.found += 1u;
-                result.flux += kd.flux;
+            let caustic = (kd.normal & 1u) != 0u;
+            let own = select(radii.y, radii.x, caustic);
+            if dot(offset, offset) < own * own && dot(unpack_normal(kd.normal), normal) > 0.0 {
+                if caustic {
+                    result.caustic_found += 1u;
+                    result.caustic_flux += kd.flux;
+                } else {
+                    result.found += 1u;
+                    result.flux += kd.flux;
+                }
             }
             let to_plane = offset[kd.photon_axis >> KD_AXIS_SHIFT];
             let left = 2u * node + 1u;

@@ -22,6 +22,15 @@ fn pack_normal(n: vec3<f32>) -> u32 {
     return pack2x16snorm(p);
 }
 
+// render::packing::photon_normal: the class in the lowest bit (1: caustic).
+fn photon_normal(n: vec3<f32>, caustic: bool) -> u32 {
+    return (pack_normal(n) & ~1u) | select(0u, 1u, caustic);
+}
+
+fn is_caustic(packed_normal: u32) -> bool {
+    return (packed_normal & 1u) != 0u;
+}
+
 fn unpack_normal(bits: u32) -> vec3<f32> {
     let o = unpack2x16snorm(bits);
     let z = 1.0 - abs(o.x) - abs(o.y);

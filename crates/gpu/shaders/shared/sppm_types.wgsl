@@ -6,7 +6,7 @@ struct PathSlot {
     direction: vec3<f32>,
     pass_throughs: u32,
     flux: vec3<f32>,
-    pad: u32,
+    bounced: u32,
 }
 
 struct Photon {
@@ -28,6 +28,12 @@ struct PixelStats {
     photon_count: f32,
     direct: vec3<f32>,
     radius: f32,
+    caustic_tau: vec3<f32>,
+    caustic_count: f32,
+    caustic_radius: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // render::buffers::Light: what v0, edge1 and edge2 hold depends on kind (LIGHT_*).
@@ -65,11 +71,11 @@ struct SppmParams {
     sky_r: f32,
     sky_g: f32,
     sky_b: f32,
-    // render::buffers::SppmParams::sample_lights, cut_outs and eye_every.
+    // render::buffers::SppmParams::sample_lights, cut_outs, eye_every and indirect_alpha.
     sample_lights: u32,
     cut_outs: u32,
     eye_every: u32,
-    pad: u32,
+    indirect_alpha: f32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

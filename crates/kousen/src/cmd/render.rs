@@ -54,6 +54,7 @@ struct Stats {
     photon_slots: u32,
     hash_entries: u32,
     alpha: f32,
+    indirect_alpha: f32,
     eye_every: u32,
     density: &'static str,
     precision: &'static str,
@@ -154,6 +155,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         Settings {
             initial_radius,
             alpha: args.alpha,
+            indirect_alpha: args.indirect_alpha,
             eye_every: args.eye_every,
             hash_ratio: args.hash_ratio,
             max_depth: args.max_depth,
@@ -317,6 +319,7 @@ fn finish<B: Backend>(
             photon_slots: settings.photons,
             hash_entries: settings.hash_size(),
             alpha: settings.alpha,
+            indirect_alpha: settings.indirect_alpha,
             eye_every: settings.eye_every,
             density: settings.density.name(),
             precision: settings.precision.name(),

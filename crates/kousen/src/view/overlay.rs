@@ -134,7 +134,8 @@ impl Overlay {
                 .text("photons per pass")
                 .custom_formatter(|v, _| format!("2^{v} = {}", 1u64 << v as u32)),
         );
-        let alpha = ui.add(egui::Slider::new(&mut self.controls.alpha, 0.05..=0.95).text("α"));
+        let alpha =
+            ui.add(egui::Slider::new(&mut self.controls.alpha, 0.05..=0.95).text("α (caustics)"));
         let eye_every =
             ui.add(egui::Slider::new(&mut self.controls.eye_every, 1..=64).text("eye pass every"));
         if photons.changed() {

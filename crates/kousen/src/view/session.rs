@@ -112,6 +112,7 @@ impl Session {
         let (width, height) = size;
         let settings = Settings {
             alpha: controls.alpha,
+            indirect_alpha: render::settings::MEASURED_INDIRECT_ALPHA,
             eye_every: controls.eye_every,
             density: controls.density.for_view(),
             precision: controls.precision,

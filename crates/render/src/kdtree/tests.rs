@@ -89,6 +89,16 @@ fn assert_matches_brute_force(photons: &[Photon], queries: usize, seed: u64) {
             "query {q}: flux {flux} vs {want_flux}"
         );
         hits += found;
+        // Caustic and indirect photons apart, each within its own radius.
+        let radii = [radius, 0.5 * radius];
+        let classes = tree.query_classes(position, radii, normal);
+        let want = gather_brute_force_classes(photons, position, radii, normal);
+        for ((found, flux), (want_found, want_flux)) in classes.into_iter().zip(want) {
+            assert_eq!(found, want_found, "query {q}, classes");
+            assert!(
+                (flux - want_flux).abs().max_element() <= 1e-5 * want_flux.max_element().max(1.0)
+            );
+        }
     }
     if photons.len() > 100 {
         assert!(hits > 0, "the queries should find photons");

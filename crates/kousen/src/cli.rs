@@ -493,9 +493,11 @@ pub struct RenderArgs {
     /// indirect light is smooth, so its radius may shrink slower, for less noise.
     #[arg(long, value_name = "ALPHA", default_value_t = render::settings::MEASURED_INDIRECT_ALPHA)]
     pub indirect_alpha: f32,
-    /// An eye pass (new visible points) every this many photon passes.
-    #[arg(long, value_name = "K", default_value_t = render::settings::DEFAULT_EYE_EVERY)]
-    pub eye_every: u32,
+    /// An eye pass (new visible points, and a light sample for each) every this many photon
+    /// passes (default: every pass on the CPU backend, every 8th on a GPU adapter; measured,
+    /// docs/BENCHMARKS.md §3).
+    #[arg(long, value_name = "K")]
+    pub eye_every: Option<u32>,
     /// Hash table entries per photon slot (1 = 1:1, 0.125 = 1:8).
     #[arg(long, value_name = "RATIO", default_value_t = 1.0)]
     pub hash_ratio: f32,

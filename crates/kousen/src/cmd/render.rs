@@ -67,6 +67,12 @@ struct Stats {
     memory_bytes: std::collections::BTreeMap<&'static str, u64>,
 }
 
+/// Photon passes per eye pass on the CPU backend: every one. Its eye passes are cheap next
+/// to its photon passes, and each brings a new jittered position and light sample per pixel:
+/// on cornell-caustics the error at equal time fell 3.5× at 128² and 1.4× at 512² against
+/// every 8th (docs/BENCHMARKS.md §3, session 11).
+const CPU_BACKEND_EYE_EVERY: u32 = 1;
+
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let budget = budget(args)?;
     // Installed first, so that a Ctrl-C while the scene loads already counts.
@@ -150,13 +156,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let initial_radius =
         render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, args.radius);
-    let settings = |on_cpu_cores: bool, cap: u32| {
+    let settings = |on_cpu_cores: bool, cap: u32, eye_every: u32| {
         let density = args.estimator.density.density(on_cpu_cores);
         Settings {
             initial_radius,
             alpha: args.alpha,
             indirect_alpha: args.indirect_alpha,
-            eye_every: args.eye_every,
+            eye_every: args.eye_every.unwrap_or(eye_every),
             hash_ratio: args.hash_ratio,
             max_depth: args.max_depth,
             density,
@@ -202,7 +208,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         finish(
             args,
             (&scene, &camera),
-            settings(cpu_device, slots),
+            settings(cpu_device, slots, render::settings::DEFAULT_EYE_EVERY),
             backend,
             budget,
             output,
@@ -213,7 +219,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         finish(
             args,
             (&scene, &camera),
-            settings(true, DEFAULT_SLOTS_CPU),
+            settings(true, DEFAULT_SLOTS_CPU, CPU_BACKEND_EYE_EVERY),
             backend,
             budget,
             output,

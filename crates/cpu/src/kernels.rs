@@ -110,6 +110,8 @@ pub fn photon_pass_with<R: StreamRng>(
                 pad: 0,
             };
         }
+        // Its later photons are indirect (if it goes on; an ended slot's is not read).
+        slot.bounced = 1;
         let (t, b) = orthonormal_basis(hit.shading);
         let local = cosine_hemisphere(u_direction[0], u_direction[1]);
         let next = t * local.x + b * local.y + hit.shading * local.z;
@@ -122,9 +124,6 @@ pub fn photon_pass_with<R: StreamRng>(
     slot.depth += 1;
     match next {
         Some(next) if u_roulette < survival && slot.depth < params.max_depth => {
-            if let Surface::Diffuse = material.surface {
-                slot.bounced = 1;
-            }
             slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
             slot.direction = next.to_array();
             slot.flux = (flux * tint / survival).to_array();
@@ -450,21 +449,16 @@ pub fn gather_with(
             cell_size,
         });
         let weight = vec3(visible_point.weight);
+        let s = &mut stats;
         let indirect = (sum.found, weight * sum.flux, params.indirect_alpha);
-        update(
-            &mut stats.tau,
-            &mut stats.photon_count,
-            &mut stats.radius,
-            indirect,
-        );
+        update(&mut s.tau, &mut s.photon_count, &mut s.radius, indirect);
         let caustic = (sum.caustic_found, weight * sum.caustic_flux, params.alpha);
-        let PixelStats {
-            caustic_tau,
-            caustic_count,
-            caustic_radius,
-            ..
-        } = &mut stats;
-        update(caustic_tau, caustic_count, caustic_radius, caustic);
+        update(
+            &mut s.caustic_tau,
+            &mut s.caustic_count,
+            &mut s.caustic_radius,
+            caustic,
+        );
         // Only radii that have met photons size the cells: the others would hold them at the
         // initial radius for ever, and one photon kept per cell would then serve ever more
         // pixels.

@@ -208,6 +208,13 @@ fn render_gpu(context: GpuContext, p: &Prepared, direct: DirectLight) -> Image {
         .image
 }
 
+/// The default adapter, or `None` with a note saying what the test then leaves out.
+fn gpu_context(skipped: &str) -> Option<GpuContext> {
+    GpuContext::new(None)
+        .map_err(|e| eprintln!("note: no GPU adapter ({e}); {skipped}"))
+        .ok()
+}
+
 /// Mean over pixels and channels of |a − b| / mean(|a|, |b|) (0 where both are 0).
 fn mean_relative_difference(a: &Image, b: &Image) -> f64 {
     assert_eq!((a.width, a.height), (b.width, b.height));
@@ -243,12 +250,8 @@ fn textured_scene_matches_between_backends_and_textures_matter() {
         "the textures barely change the image: {effect}"
     );
 
-    let context = match GpuContext::new(None) {
-        Ok(context) => context,
-        Err(e) => {
-            eprintln!("note: no GPU adapter ({e}); the GPU half of this test is skipped");
-            return;
-        }
+    let Some(context) = gpu_context("the GPU half of this test is skipped") else {
+        return;
     };
     println!("gpu: {}", context.description());
     let gpu = render_gpu(context, &textured, DirectLight::Photons);
@@ -299,12 +302,8 @@ fn cut_out_shadows_of_sampled_light_match_between_backends() {
         (ratio - 1.0).abs() < MAX_DIRECT_LIGHT_RATIO_ERROR,
         "{ratio}"
     );
-    let context = match GpuContext::new(None) {
-        Ok(context) => context,
-        Err(e) => {
-            eprintln!("note: no GPU adapter ({e}); test skipped");
-            return;
-        }
+    let Some(context) = gpu_context("the GPU half of this test is skipped") else {
+        return;
     };
     let gpu = render_gpu(context, &textured, DirectLight::Sampled);
     let difference = mean_relative_difference(&gpu, &cpu);
@@ -492,12 +491,8 @@ fn sample_texture_matches_texture_array_sample() {
         }
     }
 
-    let context = match GpuContext::new(None) {
-        Ok(context) => context,
-        Err(e) => {
-            eprintln!("note: no GPU adapter ({e}); sample_texture is not checked on a device");
-            return;
-        }
+    let Some(context) = gpu_context("sample_texture is not checked on a device") else {
+        return;
     };
     let results = gpu_lookups(&context, &array, &queries);
     let mut worst = 0.0f32;

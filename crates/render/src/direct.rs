@@ -30,7 +30,7 @@ use glam::Vec3;
 use crate::buffers::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, Light, RAY_T_MAX, vec3,
 };
-use crate::emission::pick_light;
+use crate::emission::{pick_light, triangle_point};
 use crate::sampling::{about_axis, cosine_hemisphere};
 
 /// Where the direct light on a visible point comes from.
@@ -140,14 +140,8 @@ pub fn sample_light(
             }
         }
         _ => {
-            let (mut b1, mut b2) = (u[1], u[2]);
-            if b1 + b2 > 1.0 {
-                (b1, b2) = (1.0 - b1, 1.0 - b2);
-            }
-            let (edge1, edge2) = (vec3(light.edge1), vec3(light.edge2));
-            let (direction, distance, d2, target) =
-                towards(vec3(light.v0) + b1 * edge1 + b2 * edge2)?;
-            let normal = edge1.cross(edge2).normalize();
+            let (direction, distance, d2, target) = towards(triangle_point(light, u[1], u[2]))?;
+            let normal = vec3(light.edge1).cross(vec3(light.edge2)).normalize();
             let cos_light = -direction.dot(normal);
             let (cos_light, faces) = if light.double_sided != 0 {
                 (cos_light.abs(), 2.0)

@@ -177,14 +177,19 @@ fn emission_along(origin: Vec3, direction: Vec3, flux: Vec3) -> Emission {
     }
 }
 
-fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
-    let (mut b1, mut b2) = (u[1], u[2]);
+/// A uniform point on a triangle light from two uniform numbers (the unit square folded onto
+/// the triangle's barycentrics).
+pub fn triangle_point(light: &Light, u1: f32, u2: f32) -> Vec3 {
+    let (mut b1, mut b2) = (u1, u2);
     if b1 + b2 > 1.0 {
         (b1, b2) = (1.0 - b1, 1.0 - b2);
     }
-    let (edge1, edge2) = (vec3(light.edge1), vec3(light.edge2));
-    let origin = vec3(light.v0) + b1 * edge1 + b2 * edge2;
-    let mut normal = edge1.cross(edge2).normalize();
+    vec3(light.v0) + b1 * vec3(light.edge1) + b2 * vec3(light.edge2)
+}
+
+fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
+    let origin = triangle_point(light, u[1], u[2]);
+    let mut normal = vec3(light.edge1).cross(vec3(light.edge2)).normalize();
     // A double-sided light picks its face with the lowest bit of the direction's first number.
     let mut u3 = u[3];
     if light.double_sided != 0 {

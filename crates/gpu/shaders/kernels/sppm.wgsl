@@ -52,6 +52,17 @@ fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     return ramp * ramp;
 }
 
+// render::emission::triangle_point: a uniform point on a triangle light.
+fn triangle_point(light: Light, u1: f32, u2: f32) -> vec3<f32> {
+    var b1 = u1;
+    var b2 = u2;
+    if b1 + b2 > 1.0 {
+        b1 = 1.0 - b1;
+        b2 = 1.0 - b2;
+    }
+    return light.v0 + b1 * light.edge1 + b2 * light.edge2;
+}
+
 // render::emission::sample_emission, written into a fresh slot.
 fn emit(rng: ptr<function, Rng>) -> PathSlot {
     let u0 = next_f32(rng);
@@ -83,13 +94,7 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         let radius = light.edge2.x;
         origin = disk_point(light.v0 - 2.0 * radius * direction, radius, direction, u1, u2);
     } else {
-        var b1 = u1;
-        var b2 = u2;
-        if b1 + b2 > 1.0 {
-            b1 = 1.0 - b1;
-            b2 = 1.0 - b2;
-        }
-        origin = light.v0 + b1 * light.edge1 + b2 * light.edge2;
+        origin = triangle_point(light, u1, u2);
         normal = normalize(cross(light.edge1, light.edge2));
         var u_direction = u3;
         if light.double_sided != 0u {
@@ -128,13 +133,7 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
     } else {
         var light_point = light.v0;
         if light.kind == LIGHT_TRIANGLE {
-            var b1 = u1;
-            var b2 = u2;
-            if b1 + b2 > 1.0 {
-                b1 = 1.0 - b1;
-                b2 = 1.0 - b2;
-            }
-            light_point = light.v0 + b1 * light.edge1 + b2 * light.edge2;
+            light_point = triangle_point(light, u1, u2);
         }
         let offset = light_point - position;
         let distance_squared = dot(offset, offset);
@@ -200,21 +199,25 @@ fn direct_light(hit: SurfaceHit, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     let origin = offset_origin(hit, light.direction, params.epsilon);
-    // render::direct::shadow_ray.
-    var direction = light.direction;
-    var distance = RAY_T_MAX;
-    if light.distance < RAY_T_MAX {
-        let offset = light.target_point - origin;
-        distance = length(offset);
-        if distance > 0.0 {
-            direction = offset / distance;
-            distance *= 1.0 - SHADOW_SHORTENING;
-        }
-    }
-    if !unoccluded(origin, direction, distance) {
+    let shadow = shadow_ray(light, origin);
+    if !unoccluded(origin, shadow.xyz, shadow.w) {
         return vec3<f32>(0.0);
     }
     return light.incident * cosine;
+}
+
+// render::direct::shadow_ray: the direction (xyz) and length (w) of the shadow ray from
+// `origin` towards a light sample.
+fn shadow_ray(light: LightSample, origin: vec3<f32>) -> vec4<f32> {
+    if light.distance >= RAY_T_MAX {
+        return vec4<f32>(light.direction, RAY_T_MAX);
+    }
+    let offset = light.target_point - origin;
+    let distance = length(offset);
+    if distance <= 0.0 {
+        return vec4<f32>(light.direction, 0.0);
+    }
+    return vec4<f32>(offset / distance, distance * (1.0 - SHADOW_SHORTENING));
 }
 
 // What one photon-pass step leaves (cpu::kernels::PhotonStep).
@@ -264,6 +267,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         if slot.depth > 0u || params.sample_lights == 0u {
             photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux, 0u);
         }
+        // Its later photons are indirect (if it goes on; an ended slot's is not read).
+        slot.bounced = 1u;
         next = cosine_direction(hit.shading, u_direction0, u_direction1);
         scattered = dot(next, hit.geometric) > 0.0;
     } else {
@@ -272,9 +277,6 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if scattered && u_roulette < survival && slot.depth < params.max_depth {
-        if material.surface == SURFACE_DIFFUSE {
-            slot.bounced = 1u;
-        }
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
         slot.flux = slot.flux * tint / survival;

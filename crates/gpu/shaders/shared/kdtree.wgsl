@@ -2,7 +2,7 @@
 // (PhotonKdTree::query), node for node in the same order, so found counts agree exactly and
 // flux sums in the same order. Needs, declared by the module that includes it:
 // `kd_nodes: array<KdNode>` (render::kdtree::PhotonKdTree::nodes, heap order),
-// `unpack_normal`, and the prelude's KD_STACK_SIZE and KD_AXIS_SHIFT.
+// `unpack_normal` and `is_caustic`, and the prelude's KD_STACK_SIZE and KD_AXIS_SHIFT.
 
 // render::kdtree::KdNode (32 bytes): a photon in tree order.
 struct KdNode {
@@ -40,7 +40,7 @@ fn kd_gather(position: vec3<f32>, radii: vec2<f32>, normal: vec3<f32>, node_coun
         while node < node_count {
             let kd = kd_nodes[node];
             let offset = kd.position - position;
-            let caustic = (kd.normal & 1u) != 0u;
+            let caustic = is_caustic(kd.normal);
             let own = select(radii.y, radii.x, caustic);
             if dot(offset, offset) < own * own && dot(unpack_normal(kd.normal), normal) > 0.0 {
                 if caustic {

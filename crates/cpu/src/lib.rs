@@ -153,7 +153,10 @@ impl Backend for CpuBackend {
             slots: vec![PathSlot::IDLE; params.slot_count as usize],
             photons: vec![Photon::default(); params.slot_count as usize],
             visible_points: vec![VisiblePoint::default(); pixels],
-            pixels: vec![PixelStats::initial(setup.initial_radius); pixels],
+            pixels: vec![
+                PixelStats::initial(setup.initial_radius, setup.initial_caustic_radius);
+                pixels
+            ],
             hash: atomics(std::iter::repeat_n(
                 0,
                 params.hash_size as usize * HASH_ENTRY_WORDS,

@@ -267,6 +267,7 @@ fn render_top_view_with(
             params,
             lights,
             initial_radius: TopView::INITIAL_RADIUS,
+            initial_caustic_radius: TopView::INITIAL_RADIUS,
             density: render::Density::default(),
             precision: Default::default(),
         })

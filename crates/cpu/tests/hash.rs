@@ -289,7 +289,7 @@ fn the_gather_estimate_is_unbiased() {
             &table.hash,
             &photons,
             &point,
-            PixelStats::initial(radius),
+            PixelStats::initial(radius, radius),
         );
         // Both classes of photon (the packed normals' lowest bits pick them) count.
         let flux = (Vec3::from_array(stats.tau) + Vec3::from_array(stats.caustic_tau)) / ALPHA;

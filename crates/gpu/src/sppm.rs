@@ -323,7 +323,10 @@ impl GpuBackend {
         let pixels = init(
             "pixel_stats",
             bytemuck::cast_slice(&vec![
-                PixelStats::initial(setup.initial_radius);
+                PixelStats::initial(
+                    setup.initial_radius,
+                    setup.initial_caustic_radius
+                );
                 params.pixel_count() as usize
             ]),
         );

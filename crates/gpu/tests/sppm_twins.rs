@@ -454,6 +454,40 @@ fn first_pass_matches_the_cpu_backend() {
     );
 }
 
+/// `--caustic-radius`: both backends start every pixel's caustic radius at its share of the
+/// indirect one, and the statistics stay twins while the two radii shrink apart.
+#[test]
+fn caustic_radii_start_at_their_share_on_both_backends() {
+    let fixture = Fixture::new(scene::testing::cornell_caustics());
+    let settings = Settings {
+        caustic_radius_share: 0.5,
+        direct: DirectLight::Sampled,
+        ..caustics_settings()
+    };
+    let mut g = fixture.gpu(context(), &settings);
+    let mut c = fixture.cpu(&settings);
+    let (gpu_start, cpu_start) = assert_statistics_match("statistics at the start", &mut g, &mut c);
+    assert_eq!(gpu_start.pixels, cpu_start.pixels);
+    for stats in &gpu_start.pixels {
+        assert!(stats.radius > 0.0);
+        assert_eq!(stats.caustic_radius, 0.5 * stats.radius);
+    }
+    for _ in 0..4 {
+        g.pass();
+        c.pass();
+    }
+    let (_, cpu_stats) = assert_statistics_match("statistics after 4 passes", &mut g, &mut c);
+    let caustic_pixels = cpu_stats
+        .pixels
+        .iter()
+        .filter(|s| s.caustic_count > 0.0)
+        .count();
+    assert!(
+        caustic_pixels > 10,
+        "{caustic_pixels} pixels met caustic photons"
+    );
+}
+
 /// Point, spot and directional lights (glTF `KHR_lights_punctual`) and a sky besides the
 /// Cornell box's own: the first pass's emission (and first bounce) on the GPU against the CPU
 /// twin, and the pixels' statistics (the sky seen past the box's edges in the direct term).

@@ -35,6 +35,13 @@ pub struct Recorded {
     pub max_depth: u32,
     pub seed: u32,
     pub initial_radius: Option<f32>,
+    /// Absent from checkpoints made before `--caustic-radius` existed: they used 1.
+    #[serde(default = "same_radius")]
+    pub caustic_radius_share: f32,
+}
+
+fn same_radius() -> f32 {
+    1.0
 }
 
 impl Recorded {
@@ -54,11 +61,12 @@ impl Recorded {
             max_depth: settings.max_depth,
             seed: settings.seed,
             initial_radius: settings.initial_radius,
+            caustic_radius_share: settings.caustic_radius_share,
         }
     }
 
     /// (option, value) pairs, compared in this order.
-    fn options(&self) -> [(&'static str, String); 13] {
+    fn options(&self) -> [(&'static str, String); 14] {
         [
             ("--backend", self.backend.clone()),
             ("--width", self.width.to_string()),
@@ -73,6 +81,7 @@ impl Recorded {
             ("--direct-light", self.direct_light.clone()),
             ("--max-depth", self.max_depth.to_string()),
             ("--seed", self.seed.to_string()),
+            ("--caustic-radius", self.caustic_radius_share.to_string()),
         ]
     }
 }

@@ -505,6 +505,13 @@ pub struct RenderArgs {
     /// (smaller: sharper caustics sooner, more noise).
     #[arg(long, value_name = "FOOTPRINTS", default_value_t = render::settings::INITIAL_RADIUS_FOOTPRINTS)]
     pub radius: f32,
+    /// The caustic photons' first gather radius as a share of --radius, in (0, 1]. Smaller:
+    /// sharper rims of glass caustics sooner, noisier broad caustics such as flat mirrors
+    /// throw. With sampled direct light, 0.5 lowered the error inside cornell-caustics' glass
+    /// caustic by 17-30 % at equal time and raised cornell-metal's by 56 % (docs/BENCHMARKS.md
+    /// §3); with --direct-light photons it also shrinks the direct light's radius.
+    #[arg(long, value_name = "SHARE", default_value_t = 1.0)]
+    pub caustic_radius: f32,
     /// Bounces before a photon or eye path is cut off.
     #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH)]
     pub max_depth: u32,

@@ -183,6 +183,8 @@ fn render_refuses_bad_sppm_settings_and_leaves_no_file() {
     for (flag, value, words) in [
         ("--photons", "0", "--photons"),
         ("--alpha", "1.5", "--alpha"),
+        ("--caustic-radius", "0", "--caustic-radius"),
+        ("--caustic-radius", "1.5", "--caustic-radius"),
         ("--eye-every", "0", "--eye-every"),
         ("--hash-ratio", "0", "--hash-ratio"),
         ("--max-depth", "0", "--max-depth"),

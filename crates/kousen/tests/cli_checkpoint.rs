@@ -99,6 +99,10 @@ fn checkpoint_that_does_not_fit_is_refused() {
             format!("--passes 4 --resume {ck} --direct-light photons"),
             "--direct-light sampled",
         ),
+        (
+            format!("--passes 4 --resume {ck} --caustic-radius 0.5"),
+            "--caustic-radius 1",
+        ),
     ];
     for (extra, needle) in cases {
         assert_clean_error(&render(&out, &extra), needle);

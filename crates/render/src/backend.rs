@@ -12,8 +12,10 @@ use crate::half_storage::Precision;
 pub struct Setup {
     pub params: SppmParams,
     pub lights: Vec<Light>,
-    /// Every pixel's starting gather radius.
+    /// Every pixel's starting gather radius of the indirect photons.
     pub initial_radius: f32,
+    /// And of the caustic photons.
+    pub initial_caustic_radius: f32,
     /// How photons are found around the visible points.
     pub density: Density,
     /// How photons and visible points are stored.

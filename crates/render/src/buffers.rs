@@ -102,10 +102,11 @@ pub struct PixelStats {
 }
 
 impl PixelStats {
-    pub fn initial(radius: f32) -> PixelStats {
+    /// A pixel before any photon: nothing gathered, each class at its starting radius.
+    pub fn initial(radius: f32, caustic_radius: f32) -> PixelStats {
         PixelStats {
             radius,
-            caustic_radius: radius,
+            caustic_radius,
             ..PixelStats::default()
         }
     }

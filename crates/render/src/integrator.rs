@@ -191,15 +191,17 @@ impl<B: Backend> Sppm<B> {
         if lights.is_empty() {
             return Err(RenderError::NoLights);
         }
+        let radius = settings
+            .initial_radius
+            .unwrap_or_else(|| initial_radius(scene, settings.width, settings.height));
         let setup = Setup {
             params: SppmParams {
                 storage_flux_scale: crate::half_storage::flux_scale(&lights),
                 ..params(scene, camera, &settings, lights.len() as u32)
             },
             lights,
-            initial_radius: settings
-                .initial_radius
-                .unwrap_or_else(|| initial_radius(scene, settings.width, settings.height)),
+            initial_radius: radius,
+            initial_caustic_radius: radius * settings.caustic_radius_share,
             density: settings.density,
             precision: settings.precision,
         };

@@ -59,6 +59,9 @@ mod tests {
             (l - Vec3::new(3.0, 4.0, 5.0)).abs().max_element() < 1e-5,
             "{l}"
         );
-        assert_eq!(resolve_pixel(&PixelStats::initial(1.0), 0, 0), Vec3::ZERO);
+        assert_eq!(
+            resolve_pixel(&PixelStats::initial(1.0, 0.5), 0, 0),
+            Vec3::ZERO
+        );
     }
 }

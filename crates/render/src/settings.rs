@@ -48,6 +48,11 @@ pub struct Settings {
     /// ([`crate::integrator::initial_radius`]). Renderers set it from the view
     /// ([`crate::integrator::initial_radius_from_view`]).
     pub initial_radius: Option<f32>,
+    /// The caustic photons' starting radius as a share of `initial_radius` (1: the same).
+    /// Caustics through glass are dense and sharp-edged, so a smaller first radius blurs their
+    /// rims less at little cost in noise; caustics thrown broad by flat mirrors lose (measured
+    /// in docs/BENCHMARKS.md §3, session 12).
+    pub caustic_radius_share: f32,
 }
 
 impl Settings {
@@ -67,6 +72,7 @@ impl Settings {
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
             initial_radius: None,
+            caustic_radius_share: 1.0,
         }
     }
 
@@ -106,6 +112,9 @@ impl Settings {
         {
             return Err(SettingsError::Radius(r));
         }
+        if !(self.caustic_radius_share > 0.0 && self.caustic_radius_share <= 1.0) {
+            return Err(SettingsError::CausticRadiusShare(self.caustic_radius_share));
+        }
         Ok(())
     }
 }
@@ -137,4 +146,6 @@ pub enum SettingsError {
     MaxDepth,
     #[error("the initial radius must be a positive number, got {0}")]
     Radius(f32),
+    #[error("--caustic-radius must lie in (0, 1] (a share of --radius), got {0}")]
+    CausticRadiusShare(f32),
 }

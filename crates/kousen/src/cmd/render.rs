@@ -55,6 +55,8 @@ struct Stats {
     hash_entries: u32,
     alpha: f32,
     indirect_alpha: f32,
+    /// The caustic photons' first radius as a share of the indirect ones' (`--caustic-radius`).
+    caustic_radius: f32,
     eye_every: u32,
     density: &'static str,
     precision: &'static str,
@@ -160,6 +162,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let density = args.estimator.density.density(on_cpu_cores);
         Settings {
             initial_radius,
+            caustic_radius_share: args.caustic_radius,
             alpha: args.alpha,
             indirect_alpha: args.indirect_alpha,
             eye_every: args.eye_every.unwrap_or(eye_every),
@@ -326,6 +329,7 @@ fn finish<B: Backend>(
             hash_entries: settings.hash_size(),
             alpha: settings.alpha,
             indirect_alpha: settings.indirect_alpha,
+            caustic_radius: settings.caustic_radius_share,
             eye_every: settings.eye_every,
             density: settings.density.name(),
             precision: settings.precision.name(),

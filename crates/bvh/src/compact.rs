@@ -59,7 +59,7 @@ use rayon::prelude::*;
 use crate::intersect::{Hit, Ray, SlabRay, intersect_box};
 use crate::mtbvh::{DIRECTION_COUNT, LINK_END};
 use crate::pack::{BvhNode, PackedBvh, PackedTriangle, direction_index};
-use crate::traverse::{Query, Uncounted, WorkTally, test_leaf};
+use crate::traverse::{Query, Uncounted, WorkTally, every_hit, test_leaf};
 
 /// `meta` bit: the node is a leaf.
 pub const COMPACT_LEAF: u32 = 1 << 31;
@@ -469,7 +469,8 @@ pub fn trace_mtbvh_compact<W: WorkTally>(
         let mut next = None;
         if intersect_box(&current, &slab_ray, t_best) < f32::INFINITY {
             if current.triangle_count > 0 {
-                if test_leaf(bvh, &current, ray, query, &mut best, counters) && query == Query::Any
+                if test_leaf(bvh, &current, ray, query, &mut best, counters, &every_hit)
+                    && query == Query::Any
                 {
                     return best;
                 }

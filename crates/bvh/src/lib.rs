@@ -42,10 +42,11 @@ pub use mtbvh::{DIRECTION_COUNT, LINK_END, Order, Threading, Threadings};
 pub use pack::{BvhNode, Links, Memory, PackedBvh, PackedTriangle, PackedVertex, direction_index};
 pub use traverse::{
     Query, TraversalCounters, Uncounted, WorkTally, any_hit_brute_force, any_hit_mtbvh,
-    any_hit_stack, any_hit_tbvh, closest_hit_brute_force, closest_hit_mtbvh, closest_hit_stack,
-    closest_hit_tbvh,
+    any_hit_mtbvh_where, any_hit_stack, any_hit_tbvh, closest_hit_brute_force, closest_hit_mtbvh,
+    closest_hit_stack, closest_hit_tbvh,
 };
 pub use tree::{Bvh, MAX_DEPTH, Node};
 pub use wide::{
-    WideMtbvh, any_hit_cpu, any_hit_wide, closest_hit_cpu, closest_hit_wide, trace_wide,
+    WideMtbvh, any_hit_cpu, any_hit_cpu_where, any_hit_wide, closest_hit_cpu, closest_hit_wide,
+    trace_wide,
 };

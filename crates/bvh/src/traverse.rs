@@ -84,7 +84,14 @@ impl WorkTally for Uncounted {
 /// The signature every traversal shares (see [`trace_stack`], [`trace_tbvh`], [`trace_mtbvh`]).
 pub type TraceFn = fn(&PackedBvh, &Ray, Query, &mut TraversalCounters) -> Option<Hit>;
 
-/// Tests a leaf's triangles, updating `best` and `t_best`; true if one was hit.
+/// Every hit blocks an any-hit query: the occluder test of plain shadow rays.
+#[inline(always)]
+pub fn every_hit(_: &Hit) -> bool {
+    true
+}
+
+/// Tests a leaf's triangles, updating `best`; true if one was hit. An any-hit query takes only
+/// a hit that `occludes` (an alpha cut-out's hole does not); a closest-hit query takes all.
 pub(crate) fn test_leaf<W: WorkTally>(
     bvh: &PackedBvh,
     leaf: &BvhNode,
@@ -92,6 +99,7 @@ pub(crate) fn test_leaf<W: WorkTally>(
     query: Query,
     best: &mut Option<Hit>,
     counters: &mut W,
+    occludes: &impl Fn(&Hit) -> bool,
 ) -> bool {
     let mut found = false;
     let first = leaf.first_or_right;
@@ -100,11 +108,16 @@ pub(crate) fn test_leaf<W: WorkTally>(
         let t_best = best.map_or(ray.t_max, |h| h.t);
         let tri = &bvh.triangles[triangle as usize];
         if let Some((u, v, t)) = intersect_triangle(tri, ray.origin, ray.direction, t_best) {
-            *best = Some(Hit { triangle, t, u, v });
-            found = true;
+            let hit = Hit { triangle, t, u, v };
             if query == Query::Any {
-                break;
+                if occludes(&hit) {
+                    *best = Some(hit);
+                    return true;
+                }
+                continue;
             }
+            *best = Some(hit);
+            found = true;
         }
     }
     found
@@ -159,7 +172,9 @@ pub fn trace_stack<W: WorkTally>(
         let t_best = best.map_or(ray.t_max, |h| h.t);
         let mut next = LINK_END;
         if current.triangle_count > 0 {
-            if test_leaf(bvh, current, ray, query, &mut best, counters) && query == Query::Any {
+            if test_leaf(bvh, current, ray, query, &mut best, counters, &every_hit)
+                && query == Query::Any
+            {
                 return best;
             }
         } else {
@@ -181,7 +196,8 @@ pub fn trace_stack<W: WorkTally>(
     }
 }
 
-/// Stackless traversal along one threading: `links` per node, starting at `root`.
+/// Stackless traversal along one threading: `links` per node, starting at `root`; an any-hit
+/// query stops at the first hit that `occludes`.
 fn trace_threaded<W: WorkTally>(
     bvh: &PackedBvh,
     links: &[Links],
@@ -189,6 +205,7 @@ fn trace_threaded<W: WorkTally>(
     ray: &Ray,
     query: Query,
     counters: &mut W,
+    occludes: &impl Fn(&Hit) -> bool,
 ) -> Option<Hit> {
     let slab_ray = SlabRay::new(ray);
     let mut best: Option<Hit> = None;
@@ -201,7 +218,7 @@ fn trace_threaded<W: WorkTally>(
         let entered = intersect_box(current, &slab_ray, t_best) < f32::INFINITY;
         if entered
             && current.triangle_count > 0
-            && test_leaf(bvh, current, ray, query, &mut best, counters)
+            && test_leaf(bvh, current, ray, query, &mut best, counters, occludes)
         {
             if query == Query::Any {
                 return best;
@@ -222,7 +239,15 @@ pub fn trace_tbvh<W: WorkTally>(
     query: Query,
     counters: &mut W,
 ) -> Option<Hit> {
-    trace_threaded(bvh, &bvh.tbvh_links, bvh.tbvh_root, ray, query, counters)
+    trace_threaded(
+        bvh,
+        &bvh.tbvh_links,
+        bvh.tbvh_root,
+        ray,
+        query,
+        counters,
+        &every_hit,
+    )
 }
 
 /// MTBVH traversal (the threading of the ray's major direction); `counters` accumulate the
@@ -235,7 +260,17 @@ pub fn trace_mtbvh<W: WorkTally>(
 ) -> Option<Hit> {
     let direction = direction_index(ray.direction);
     let links = bvh.direction_links(direction);
-    trace_threaded(bvh, links, bvh.mtbvh_roots[direction], ray, query, counters)
+    let root = bvh.mtbvh_roots[direction];
+    trace_threaded(bvh, links, root, ray, query, counters, &every_hit)
+}
+
+/// Whether a hit that `occludes` lies at `t` in `[0, t_max)`, MTBVH traversal: shadow rays
+/// through alpha cut-outs, whose holes are hits that do not occlude.
+pub fn any_hit_mtbvh_where(bvh: &PackedBvh, ray: &Ray, occludes: impl Fn(&Hit) -> bool) -> bool {
+    let direction = direction_index(ray.direction);
+    let links = bvh.direction_links(direction);
+    let root = bvh.mtbvh_roots[direction];
+    trace_threaded(bvh, links, root, ray, Query::Any, &mut Uncounted, &occludes).is_some()
 }
 
 /// Closest hit, stack traversal.

@@ -2,7 +2,9 @@
 //! kernels read them, and the specular events both eye and photon paths take.
 
 use glam::{Vec2, Vec3, Vec4};
-use render::buffers::{MAX_PASS_THROUGHS, RAY_T_MAX, SppmParams};
+#[cfg(doc)]
+use render::buffers::MAX_PASS_THROUGHS;
+use render::buffers::{RAY_T_MAX, SppmParams};
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
@@ -68,39 +70,41 @@ pub fn trace_within(
     })
 }
 
-/// Whether nothing blocks the segment from `origin` along `direction` for `distance`: alpha
-/// cut-outs let it through (up to [`MAX_PASS_THROUGHS`] of them), anything else stops it,
-/// glass included (light through glass reaches the eye as photons: a caustic). Without cut-outs
-/// in the scene any hit decides at once.
+/// Whether nothing blocks the segment from `origin` along `direction` for `distance`: the
+/// holes of alpha cut-outs let it through, anything else stops it, glass included (light
+/// through glass reaches the eye as photons: a caustic). Without cut-outs in the scene any hit
+/// decides at once; with them, the traversal tests each hit's alpha in the leaf (the WGSL twin
+/// passes through hole after hole from the closest hit, up to [`MAX_PASS_THROUGHS`] of them:
+/// the same answer unless a ray meets more holes than that).
 pub fn unoccluded(
     scene: &SceneData,
     params: &SppmParams,
-    mut origin: Vec3,
+    origin: Vec3,
     direction: Vec3,
-    mut distance: f32,
+    distance: f32,
 ) -> bool {
+    let ray = bvh::Ray {
+        origin,
+        direction,
+        t_max: distance,
+    };
+    let (tree, wide) = (&scene.bvh, scene.wide.as_ref());
     if params.cut_outs == 0 {
-        let ray = bvh::Ray {
-            origin,
-            direction,
-            t_max: distance,
-        };
-        return !bvh::any_hit_cpu(&scene.bvh, scene.wide.as_ref(), &ray);
+        return !bvh::any_hit_cpu(tree, wide, &ray);
     }
-    for _ in 0..=MAX_PASS_THROUGHS {
-        let Some(hit) = trace_within(scene, origin, direction, distance) else {
-            return true;
-        };
-        if !is_cut_out(scene, &scene.materials[hit.material as usize], hit.uv) {
-            return false;
-        }
-        origin = hit.position + params.epsilon * direction;
-        distance -= hit.distance + params.epsilon;
-        if distance <= 0.0 {
-            return true;
-        }
+    !bvh::any_hit_cpu_where(tree, wide, &ray, |hit| occludes(scene, hit))
+}
+
+/// Whether a ray's hit stops light: any surface but an alpha cut-out's hole.
+fn occludes(scene: &SceneData, hit: &bvh::Hit) -> bool {
+    let packed = &scene.bvh.triangles[hit.triangle as usize];
+    let material = &scene.materials[packed.material() as usize];
+    if matches!(material.alpha_mode, AlphaMode::Opaque) {
+        return true;
     }
-    false
+    let [a, b, c] = packed.unpack().vertices;
+    let uv = (1.0 - hit.u - hit.v) * a.uv + hit.u * b.uv + hit.v * c.uv;
+    !is_cut_out(scene, material, uv)
 }
 
 /// Where a ray leaving `hit` in `direction` starts: off the surface on the side it goes.

@@ -23,7 +23,7 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::intersect::{Hit, Ray, SlabRay, intersect_box};
 use crate::pack::{BvhNode, PackedBvh, direction_index};
-use crate::traverse::{Query, Uncounted, WorkTally};
+use crate::traverse::{Query, Uncounted, WorkTally, every_hit};
 
 /// Children per node.
 pub const WIDTH: usize = 4;
@@ -346,7 +346,8 @@ impl WideRay {
         POSITIONS[order as usize][self.entered(node, t_far, c) as usize] as u32
     }
 
-    /// Tests the leaf at `leaf` (`count` triangles); true if one was hit before `t_best`.
+    /// Tests the leaf at `leaf` (`count` triangles) for the closest hit; true if one was hit
+    /// before `t_best`.
     #[inline(always)]
     fn test_leaf(
         &self,
@@ -367,6 +368,37 @@ impl WideRay {
             }
         }
         found
+    }
+
+    /// Tests the leaf at `leaf` for any hit that `occludes`; that hit, if there is one.
+    #[inline(always)]
+    fn test_leaf_any(
+        &self,
+        leaves: &[Tri4],
+        leaf: u32,
+        count: u32,
+        counters: &mut impl WorkTally,
+        occludes: &impl Fn(&Hit) -> bool,
+    ) -> Option<Hit> {
+        counters.add_triangles(count as u64);
+        for tri in &leaves[leaf as usize..(leaf + count.div_ceil(LEAF_WIDTH as u32)) as usize] {
+            let lanes = simd::intersect4_lanes(tri, &self.ray, self.ray.t_max);
+            let mut mask = lanes.mask;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let hit = Hit {
+                    triangle: tri.first + lane as u32,
+                    t: lanes.t[lane],
+                    u: lanes.u[lane],
+                    v: lanes.v[lane],
+                };
+                if occludes(&hit) {
+                    return Some(hit);
+                }
+            }
+        }
+        None
     }
 }
 
@@ -395,6 +427,17 @@ pub fn trace_wide(
     query: Query,
     counters: &mut impl WorkTally,
 ) -> Option<Hit> {
+    trace_wide_where(wide, ray, query, counters, &every_hit)
+}
+
+/// [`trace_wide`] where an any-hit query stops only at a hit that `occludes`.
+fn trace_wide_where(
+    wide: &WideMtbvh,
+    ray: &Ray,
+    query: Query,
+    counters: &mut impl WorkTally,
+    occludes: &impl Fn(&Hit) -> bool,
+) -> Option<Hit> {
     if wide.nodes.is_empty() {
         return None;
     }
@@ -419,6 +462,14 @@ pub fn trace_wide(
                 next = current.child[slot];
                 break;
             }
+            if query == Query::Any {
+                let leaf = current.child[slot];
+                let hit = r.test_leaf_any(&wide.leaves, leaf, count, counters, occludes);
+                if hit.is_some() {
+                    return hit;
+                }
+                continue;
+            }
             if r.test_leaf(
                 &wide.leaves,
                 current.child[slot],
@@ -426,9 +477,6 @@ pub fn trace_wide(
                 &mut best,
                 counters,
             ) {
-                if query == Query::Any {
-                    return best;
-                }
                 // Cull the siblings still to come against the nearer hit.
                 positions &= r.positions(current, order, t_best(&best), counters);
                 fresh_from = level;
@@ -485,5 +533,18 @@ pub fn any_hit_cpu(bvh: &PackedBvh, wide: Option<&WideMtbvh>, ray: &Ray) -> bool
     match wide {
         Some(wide) => any_hit_wide(wide, ray),
         None => crate::traverse::any_hit_mtbvh(bvh, ray),
+    }
+}
+
+/// [`any_hit_cpu`] counting only hits that `occludes` (shadow rays through alpha cut-outs).
+pub fn any_hit_cpu_where(
+    bvh: &PackedBvh,
+    wide: Option<&WideMtbvh>,
+    ray: &Ray,
+    occludes: impl Fn(&Hit) -> bool,
+) -> bool {
+    match wide {
+        Some(wide) => trace_wide_where(wide, ray, Query::Any, &mut Uncounted, &occludes).is_some(),
+        None => crate::traverse::any_hit_mtbvh_where(bvh, ray, occludes),
     }
 }

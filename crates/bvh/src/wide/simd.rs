@@ -68,6 +68,14 @@ mod sse {
     /// nearest hit before `t_best` (the first of equals) and its `(u, v, t)`.
     #[inline(always)]
     pub fn intersect4(tri: &Tri4, ray: &Ray, t_best: f32) -> Option<(u32, (f32, f32, f32))> {
+        let lanes = intersect4_lanes(tri, ray, t_best);
+        (lanes.mask != 0).then(|| nearest_lane(lanes.mask, &lanes.u, &lanes.v, &lanes.t))
+    }
+
+    /// Every lane's hit before `t_best`: `intersect_triangle` on four lanes at once, operation
+    /// for operation.
+    #[inline(always)]
+    pub fn intersect4_lanes(tri: &Tri4, ray: &Ray, t_best: f32) -> Lanes {
         // SAFETY: SSE is part of the x86-64 baseline; the rows are 16-byte aligned.
         unsafe {
             let row = |i: usize| _mm_load_ps(tri.rows[i].as_ptr());
@@ -114,20 +122,32 @@ mod sse {
                 _mm_and_ps(_mm_cmpge_ps(t, zero), _mm_cmplt_ps(t, splat(t_best))),
             );
             let mask = _mm_movemask_ps(hit) as u32 & ((1 << tri.count) - 1);
-            if mask == 0 {
-                return None;
+            let mut lanes = Lanes {
+                mask,
+                ..Lanes::default()
+            };
+            if mask != 0 {
+                _mm_storeu_ps(lanes.u.as_mut_ptr(), u);
+                _mm_storeu_ps(lanes.v.as_mut_ptr(), v);
+                _mm_storeu_ps(lanes.t.as_mut_ptr(), t);
             }
-            let (mut us, mut vs, mut ts) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
-            _mm_storeu_ps(us.as_mut_ptr(), u);
-            _mm_storeu_ps(vs.as_mut_ptr(), v);
-            _mm_storeu_ps(ts.as_mut_ptr(), t);
-            Some(nearest_lane(mask, &us, &vs, &ts))
+            lanes
         }
     }
 }
 
 #[cfg(target_arch = "x86_64")]
-pub use sse::{Slab4, intersect4};
+pub use sse::{Slab4, intersect4, intersect4_lanes};
+
+/// Four triangle tests' results: bit `i` of `mask` set where lane `i` was hit, at `t[i]`,
+/// with barycentrics `u[i]`, `v[i]`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Lanes {
+    pub mask: u32,
+    pub u: [f32; 4],
+    pub v: [f32; 4],
+    pub t: [f32; 4],
+}
 
 /// Of the lanes in `mask`, the one with the smallest `t` (the first of equals).
 #[inline(always)]
@@ -188,6 +208,12 @@ mod portable {
 
     /// The lane with the nearest hit before `t_best` (the first of equals) and its `(u, v, t)`.
     pub fn intersect4(tri: &Tri4, ray: &Ray, t_best: f32) -> Option<(u32, (f32, f32, f32))> {
+        let Lanes { mask, u, v, t } = intersect4_lanes(tri, ray, t_best);
+        (mask != 0).then(|| nearest_lane(mask, &u, &v, &t))
+    }
+
+    /// Every lane's hit before `t_best`.
+    pub fn intersect4_lanes(tri: &Tri4, ray: &Ray, t_best: f32) -> Lanes {
         let (mut u, mut v, mut t) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
         let mut mask = 0;
         for lane in 0..tri.count as usize {
@@ -210,11 +236,11 @@ mod portable {
                 && t[lane] < t_best;
             mask |= u32::from(hit) << lane;
         }
-        (mask != 0).then(|| nearest_lane(mask, &u, &v, &t))
+        Lanes { mask, u, v, t }
     }
 }
 
 #[cfg(not(target_arch = "x86_64"))]
-pub use portable::{Slab4, intersect4};
+pub use portable::{Slab4, intersect4, intersect4_lanes};
 
 const _: () = assert!(LEAF_WIDTH == 4 && WIDTH == 4);

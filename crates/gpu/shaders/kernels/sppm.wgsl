@@ -164,7 +164,10 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
     return sample;
 }
 
-// cpu::surface::unoccluded: nothing but alpha cut-outs on the segment.
+// cpu::surface::unoccluded: nothing but alpha cut-outs' holes on the segment. The CPU tests
+// each hit's alpha inside its any-hit traversal; here the closest hit is found and passed
+// through, hole after hole: the same answer (tested), and through lavapipe texture sampling
+// inside the traversal loop made eye passes 15 % slower (docs/BENCHMARKS.md §3, session 12).
 fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> bool {
     if params.cut_outs == 0u {
         return trace_mtbvh(GpuRay(origin_in, distance_in, direction, 0u), true).triangle == NO_HIT;

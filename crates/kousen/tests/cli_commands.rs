@@ -188,7 +188,7 @@ fn render_writes_a_readable_png_of_the_requested_size() {
         );
     }
     assert_eq!(stats["passes"], 2);
-    // The CPU backend runs an eye pass every pass unless told otherwise.
+    // With more photon slots than pixels the CPU backend runs an eye pass every pass.
     assert_eq!(stats["eye_passes"], 2);
     assert_eq!(stats["backend"], "cpu");
     assert_eq!(stats["density"], "kdtree");
@@ -209,6 +209,26 @@ fn render_on_the_cpu_defaults_to_full_lists() {
     assert_eq!(stats["density"], "full");
     assert_eq!(stats["photon_slots"], 4 * 64 * 64);
     assert_eq!(stats["direct_light"], "sampled");
+}
+
+/// Where pixels outnumber the photon slots, the CPU backend's eye passes thin out (4 × pixels
+/// per slot, at most every 8th) unless --eye-every says otherwise.
+#[test]
+fn cpu_eye_passes_follow_pixels_per_slot() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box.pfm");
+    let stats = render_box(
+        &out,
+        "--width 64 --height 64 --photons 2048 --passes 4 --backend cpu",
+    );
+    assert_eq!(stats["eye_every"], 8);
+    assert_eq!(stats["eye_passes"], 1);
+    let stats = render_box(
+        &out,
+        "--width 64 --height 64 --photons 2048 --passes 4 --backend cpu --eye-every 2",
+    );
+    assert_eq!(stats["eye_every"], 2);
+    assert_eq!(stats["eye_passes"], 2);
 }
 
 /// The GPU backend (lavapipe in CI) renders to EXR, and --stats keeps its contract: passes,

@@ -69,11 +69,19 @@ struct Stats {
     memory_bytes: std::collections::BTreeMap<&'static str, u64>,
 }
 
-/// Photon passes per eye pass on the CPU backend: every one. Its eye passes are cheap next
-/// to its photon passes, and each brings a new jittered position and light sample per pixel:
-/// on cornell-caustics the error at equal time fell 3.5× at 128² and 1.4× at 512² against
-/// every 8th (docs/BENCHMARKS.md §3, session 11).
-const CPU_BACKEND_EYE_EVERY: u32 = 1;
+/// Photon passes per eye pass on the CPU backend: 4 × pixels per photon slot, to the nearest
+/// power of two, from 1 to 8. An eye pass (a camera ray, a shadow ray and a gather per pixel)
+/// costs about what a photon pass of twice as many slots costs, and each brings a new jittered
+/// position and light sample per pixel: worth every pass where pixels are few next to the
+/// slots, and a share of the time that photons need more where they are many. Measured at
+/// equal time (docs/BENCHMARKS.md §3, session 12), best K against pixels per slot:
+/// cornell-caustics 128² (0.25) 1; 512² (1) 1–2, 4 within 9 %; Crytek Sponza in sunlight
+/// 480×270 (0.49) 2–4, 960×540 (1.98) 8–16.
+fn cpu_backend_eye_every(pixels: u64, slots: u32) -> u32 {
+    let share = 4.0 * pixels as f64 / f64::from(slots.max(1));
+    let power = share.max(1.0).log2().round().min(3.0);
+    power.exp2() as u32
+}
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let budget = budget(args)?;
@@ -158,26 +166,25 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let initial_radius =
         render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, args.radius);
-    let settings = |on_cpu_cores: bool, cap: u32, eye_every: u32| {
+    let pixels = u64::from(width) * u64::from(height);
+    let settings = |on_cpu_cores: bool, cap: u32, eye_every: fn(u64, u32) -> u32| {
         let density = args.estimator.density.density(on_cpu_cores);
+        let photons = args
+            .photons
+            .unwrap_or(default_slots(width, height, density, cap));
         Settings {
             initial_radius,
             caustic_radius_share: args.caustic_radius,
             alpha: args.alpha,
             indirect_alpha: args.indirect_alpha,
-            eye_every: args.eye_every.unwrap_or(eye_every),
+            eye_every: args.eye_every.unwrap_or(eye_every(pixels, photons)),
             hash_ratio: args.hash_ratio,
             max_depth: args.max_depth,
             density,
             precision: args.estimator.precision.precision(),
             direct: args.estimator.direct_light.direct(),
             seed: fold_seed(args.seed),
-            ..Settings::new(
-                width,
-                height,
-                args.photons
-                    .unwrap_or(default_slots(width, height, density, cap)),
-            )
+            ..Settings::new(width, height, photons)
         }
     };
     let gpu_context = match args.backend {
@@ -211,7 +218,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         finish(
             args,
             (&scene, &camera),
-            settings(cpu_device, slots, render::settings::DEFAULT_EYE_EVERY),
+            settings(cpu_device, slots, |_, _| {
+                render::settings::DEFAULT_EYE_EVERY
+            }),
             backend,
             budget,
             output,
@@ -222,7 +231,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         finish(
             args,
             (&scene, &camera),
-            settings(true, DEFAULT_SLOTS_CPU, CPU_BACKEND_EYE_EVERY),
+            settings(true, DEFAULT_SLOTS_CPU, cpu_backend_eye_every),
             backend,
             budget,
             output,
@@ -421,4 +430,22 @@ fn stop_on_ctrl_c() -> Arc<AtomicBool> {
         log::warn!("Ctrl-C will end the render without saving it: {error}");
     }
     flag
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cpu_backend_eye_every;
+
+    #[test]
+    fn cpu_eye_passes_thin_out_as_pixels_outnumber_slots() {
+        // The measured cases (pixels, default slots) and their best K.
+        assert_eq!(cpu_backend_eye_every(128 * 128, 65_536), 1);
+        assert_eq!(cpu_backend_eye_every(512 * 512, 262_144), 4);
+        assert_eq!(cpu_backend_eye_every(480 * 270, 262_144), 2);
+        assert_eq!(cpu_backend_eye_every(960 * 540, 262_144), 8);
+        // Never beyond every 8th, never less than every pass.
+        assert_eq!(cpu_backend_eye_every(3840 * 2160, 262_144), 8);
+        assert_eq!(cpu_backend_eye_every(1, 262_144), 1);
+        assert_eq!(cpu_backend_eye_every(1000, 0), 8);
+    }
 }

@@ -494,8 +494,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "ALPHA", default_value_t = render::settings::MEASURED_INDIRECT_ALPHA)]
     pub indirect_alpha: f32,
     /// An eye pass (new visible points, and a light sample for each) every this many photon
-    /// passes (default on the CPU backend: 4 × pixels per photon slot, to a power of two from 1
-    /// to 8; every 8th on a GPU adapter; measured, docs/BENCHMARKS.md §3).
+    /// passes (default on CPU cores, the CPU backend or a CPU-type adapter such as lavapipe:
+    /// 4 × pixels per photon slot, to a power of two from 1 to 8; on a GPU every 8th;
+    /// measured, docs/BENCHMARKS.md §3).
     #[arg(long, value_name = "K")]
     pub eye_every: Option<u32>,
     /// Hash table entries per photon slot (1 = 1:1, 0.125 = 1:8).

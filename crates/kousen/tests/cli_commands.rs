@@ -211,8 +211,9 @@ fn render_on_the_cpu_defaults_to_full_lists() {
     assert_eq!(stats["direct_light"], "sampled");
 }
 
-/// Where pixels outnumber the photon slots, the CPU backend's eye passes thin out (4 × pixels
-/// per slot, at most every 8th) unless --eye-every says otherwise.
+/// Where pixels outnumber the photon slots, eye passes on CPU cores thin out (4 × pixels per
+/// slot, at most every 8th) unless --eye-every says otherwise; a CPU-type adapter (lavapipe)
+/// follows the same rule, a GPU takes every 8th.
 #[test]
 fn cpu_eye_passes_follow_pixels_per_slot() {
     let dir = tempfile::tempdir().unwrap();
@@ -229,6 +230,19 @@ fn cpu_eye_passes_follow_pixels_per_slot() {
     );
     assert_eq!(stats["eye_every"], 2);
     assert_eq!(stats["eye_passes"], 2);
+    // 1,024 pixels, 4,096 slots: every pass on CPU cores.
+    let stats = render_box(
+        &out,
+        "--width 32 --height 32 --photons 4096 --passes 2 --backend cpu",
+    );
+    assert_eq!(stats["eye_every"], 1);
+    let stats = render_box(
+        &out,
+        "--width 32 --height 32 --photons 4096 --passes 2 --backend gpu",
+    );
+    let adapter = stats["adapter"].as_str().unwrap().to_lowercase();
+    let expected = if adapter.contains("llvmpipe") { 1 } else { 8 };
+    assert_eq!(stats["eye_every"], expected, "{adapter}");
 }
 
 /// The GPU backend (lavapipe in CI) renders to EXR, and --stats keeps its contract: passes,

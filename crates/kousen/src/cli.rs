@@ -482,7 +482,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
     /// Photon path slots per pass (default: one per pixel with the stochastic hash, four with
-    /// full lists or the kd-tree; at most 2¹⁸ on CPUs and CPU-type adapters, 2²⁰ on GPUs).
+    /// full lists or the kd-tree; at most 2²⁰).
     #[arg(long, value_name = "N")]
     pub photons: Option<u32>,
     /// SPPM's radius reduction α, in (0, 1), of the caustic photons (those at their first

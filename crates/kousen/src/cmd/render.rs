@@ -24,18 +24,18 @@ const DEFAULT_PASSES: u32 = 256;
 /// one photon per cell, so many more slots than pixels mostly trace photons it drops: at
 /// 128², 2¹⁴ slots reached half the error of 2¹⁸ in the same time, docs/BENCHMARKS.md §3);
 /// with full lists or a kd-tree, which use every photon, four per pixel (measured there to
-/// reach a given error sooner than one). At least [`MIN_SLOTS`] and at most the device's cap:
-/// 2¹⁸ on CPU-type devices (glslppm's 512²) and the CPU backend, 2²⁰ on GPUs.
+/// reach a given error sooner than one). At least [`MIN_SLOTS`] and at most [`MAX_SLOTS`] on
+/// every device: on CPU cores too, where a cap of 2¹⁸ (glslppm's 512²) had 20–27 % more error
+/// at equal time at 512² and 960×540 (docs/BENCHMARKS.md §3, session 12).
 const MIN_SLOTS: u32 = 1 << 12;
-const DEFAULT_SLOTS_CPU: u32 = 1 << 18;
-const DEFAULT_SLOTS_GPU: u32 = 1 << 20;
+const MAX_SLOTS: u32 = 1 << 20;
 
-fn default_slots(width: u32, height: u32, density: render::Density, cap: u32) -> u32 {
+fn default_slots(width: u32, height: u32, density: render::Density) -> u32 {
     let per_pixel = match density {
         render::Density::StochasticHash => 1,
         render::Density::FullHash | render::Density::KdTree => 4,
     };
-    (width as u64 * height as u64 * per_pixel).clamp(MIN_SLOTS as u64, cap as u64) as u32
+    (width as u64 * height as u64 * per_pixel).clamp(MIN_SLOTS as u64, MAX_SLOTS as u64) as u32
 }
 
 #[derive(Serialize)]
@@ -169,11 +169,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let initial_radius =
         render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, args.radius);
     let pixels = u64::from(width) * u64::from(height);
-    let settings = |on_cpu_cores: bool, cap: u32, eye_every: fn(u64, u32) -> u32| {
+    let settings = |on_cpu_cores: bool, eye_every: fn(u64, u32) -> u32| {
         let density = args.estimator.density.density(on_cpu_cores);
         let photons = args
             .photons
-            .unwrap_or(default_slots(width, height, density, cap));
+            .unwrap_or(default_slots(width, height, density));
         Settings {
             initial_radius,
             caustic_radius_share: args.caustic_radius,
@@ -211,11 +211,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     if let Some(context) = gpu_context {
         let cpu_device = context.is_cpu_device();
-        let slots = if cpu_device {
-            DEFAULT_SLOTS_CPU
-        } else {
-            DEFAULT_SLOTS_GPU
-        };
         let eye_every: fn(u64, u32) -> u32 = if cpu_device {
             eye_every_on_cpu_cores
         } else {
@@ -225,7 +220,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         finish(
             args,
             (&scene, &camera),
-            settings(cpu_device, slots, eye_every),
+            settings(cpu_device, eye_every),
             backend,
             budget,
             output,
@@ -236,7 +231,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         finish(
             args,
             (&scene, &camera),
-            settings(true, DEFAULT_SLOTS_CPU, eye_every_on_cpu_cores),
+            settings(true, eye_every_on_cpu_cores),
             backend,
             budget,
             output,

@@ -258,19 +258,27 @@ pub fn trace_mtbvh<W: WorkTally>(
     query: Query,
     counters: &mut W,
 ) -> Option<Hit> {
+    trace_mtbvh_where(bvh, ray, query, counters, &every_hit)
+}
+
+/// [`trace_mtbvh`] where an any-hit query stops only at a hit that `occludes`.
+fn trace_mtbvh_where<W: WorkTally>(
+    bvh: &PackedBvh,
+    ray: &Ray,
+    query: Query,
+    counters: &mut W,
+    occludes: &impl Fn(&Hit) -> bool,
+) -> Option<Hit> {
     let direction = direction_index(ray.direction);
     let links = bvh.direction_links(direction);
     let root = bvh.mtbvh_roots[direction];
-    trace_threaded(bvh, links, root, ray, query, counters, &every_hit)
+    trace_threaded(bvh, links, root, ray, query, counters, occludes)
 }
 
 /// Whether a hit that `occludes` lies at `t` in `[0, t_max)`, MTBVH traversal: shadow rays
 /// through alpha cut-outs, whose holes are hits that do not occlude.
 pub fn any_hit_mtbvh_where(bvh: &PackedBvh, ray: &Ray, occludes: impl Fn(&Hit) -> bool) -> bool {
-    let direction = direction_index(ray.direction);
-    let links = bvh.direction_links(direction);
-    let root = bvh.mtbvh_roots[direction];
-    trace_threaded(bvh, links, root, ray, Query::Any, &mut Uncounted, &occludes).is_some()
+    trace_mtbvh_where(bvh, ray, Query::Any, &mut Uncounted, &occludes).is_some()
 }
 
 /// Closest hit, stack traversal.

@@ -64,7 +64,7 @@ pub fn trace_within(
         distance: hit.t,
         geometric,
         shading,
-        uv: w * a.uv + hit.u * b.uv + hit.v * c.uv,
+        uv: uv_at([a.uv, b.uv, c.uv], hit.u, hit.v),
         material: triangle.material,
         front,
     })
@@ -99,12 +99,17 @@ pub fn unoccluded(
 fn occludes(scene: &SceneData, hit: &bvh::Hit) -> bool {
     let packed = &scene.bvh.triangles[hit.triangle as usize];
     let material = &scene.materials[packed.material() as usize];
+    // Most hits are opaque: no texture coordinates to read for them.
     if matches!(material.alpha_mode, AlphaMode::Opaque) {
         return true;
     }
-    let [a, b, c] = packed.unpack().vertices;
-    let uv = (1.0 - hit.u - hit.v) * a.uv + hit.u * b.uv + hit.v * c.uv;
-    !is_cut_out(scene, material, uv)
+    let uvs = packed.vertices.map(|v| Vec2::new(v.u, v.v));
+    !is_cut_out(scene, material, uv_at(uvs, hit.u, hit.v))
+}
+
+/// The texture coordinates at barycentrics `(u, v)` of a triangle whose corners have `uvs`.
+fn uv_at(uvs: [Vec2; 3], u: f32, v: f32) -> Vec2 {
+    (1.0 - u - v) * uvs[0] + u * uvs[1] + v * uvs[2]
 }
 
 /// Where a ray leaving `hit` in `direction` starts: off the surface on the side it goes.

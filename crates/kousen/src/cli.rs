@@ -485,14 +485,6 @@ pub struct RenderArgs {
     /// full lists or the kd-tree; at most 2²⁰).
     #[arg(long, value_name = "N")]
     pub photons: Option<u32>,
-    /// SPPM's radius reduction α, in (0, 1), of the caustic photons (those at their first
-    /// diffuse surface).
-    #[arg(long, default_value_t = render::settings::DEFAULT_ALPHA)]
-    pub alpha: f32,
-    /// SPPM's α of the indirect photons (those that bounced off a diffuse surface before):
-    /// indirect light is smooth, so its radius may shrink slower, for less noise.
-    #[arg(long, value_name = "ALPHA", default_value_t = render::settings::MEASURED_INDIRECT_ALPHA)]
-    pub indirect_alpha: f32,
     /// An eye pass (new visible points, and a light sample for each) every this many photon
     /// passes (default on CPU cores, the CPU backend or a CPU-type adapter such as lavapipe:
     /// 4 × pixels per photon slot, to a power of two from 1 to 8; on a GPU every 8th;
@@ -502,17 +494,8 @@ pub struct RenderArgs {
     /// Hash table entries per photon slot (1 = 1:1, 0.125 = 1:8).
     #[arg(long, value_name = "RATIO", default_value_t = 1.0)]
     pub hash_ratio: f32,
-    /// Every pixel's first gather radius, in pixel footprints on the surfaces the camera sees
-    /// (smaller: sharper caustics sooner, more noise).
-    #[arg(long, value_name = "FOOTPRINTS", default_value_t = render::settings::INITIAL_RADIUS_FOOTPRINTS)]
-    pub radius: f32,
-    /// The caustic photons' first gather radius as a share of --radius, in (0, 1]. Smaller:
-    /// sharper rims of glass caustics sooner, noisier broad caustics such as flat mirrors
-    /// throw. With sampled direct light, 0.5 lowered the error inside cornell-caustics' glass
-    /// caustic by 17-30 % at equal time and raised cornell-metal's by 56 % (docs/BENCHMARKS.md
-    /// §3); with --direct-light photons it also shrinks the direct light's radius.
-    #[arg(long, value_name = "SHARE", default_value_t = 1.0)]
-    pub caustic_radius: f32,
+    #[command(flatten)]
+    pub gather: GatherArgs,
     /// Bounces before a photon or eye path is cut off.
     #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH)]
     pub max_depth: u32,
@@ -527,6 +510,43 @@ pub struct RenderArgs {
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
+}
+
+/// The gather radii and how they shrink, for `kousen render` and `kousen view` alike.
+#[derive(Args, Clone, Copy, Debug)]
+pub struct GatherArgs {
+    /// SPPM's radius reduction α, in (0, 1), of the caustic photons (those at their first
+    /// diffuse surface).
+    #[arg(long, default_value_t = render::settings::DEFAULT_ALPHA)]
+    pub alpha: f32,
+    /// SPPM's α of the indirect photons (those that bounced off a diffuse surface before):
+    /// indirect light is smooth, so its radius may shrink slower, for less noise.
+    #[arg(long, value_name = "ALPHA", default_value_t = render::settings::MEASURED_INDIRECT_ALPHA)]
+    pub indirect_alpha: f32,
+    /// Every pixel's first gather radius, in pixel footprints on the surfaces the camera sees
+    /// (smaller: sharper caustics sooner, more noise).
+    #[arg(long, value_name = "FOOTPRINTS", default_value_t = render::settings::INITIAL_RADIUS_FOOTPRINTS)]
+    pub radius: f32,
+    /// The caustic photons' first gather radius as a share of --radius, in (0, 1]. Smaller:
+    /// sharper rims of glass caustics sooner, noisier broad caustics such as flat mirrors
+    /// throw. With sampled direct light, 0.5 lowered the error inside cornell-caustics' glass
+    /// caustic by 17-30 % at equal time and raised cornell-metal's by 56 % (docs/BENCHMARKS.md
+    /// §3); with --direct-light photons it also shrinks the direct light's radius.
+    #[arg(long, value_name = "SHARE", default_value_t = 1.0)]
+    pub caustic_radius: f32,
+}
+
+impl GatherArgs {
+    /// The first radius in pixel footprints, checked (the α and the share are checked with
+    /// the rest of the settings, by `render::Settings::validate`).
+    pub fn radius_footprints(&self) -> anyhow::Result<f32> {
+        anyhow::ensure!(
+            self.radius.is_finite() && self.radius > 0.0 && self.radius <= 1e6,
+            "--radius must be a positive number of pixel footprints, got {}",
+            self.radius
+        );
+        Ok(self.radius)
+    }
 }
 
 #[derive(Args)]
@@ -549,9 +569,8 @@ pub struct ViewArgs {
     /// Exposure in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
-    /// SPPM's radius reduction α, in (0, 1).
-    #[arg(long, default_value_t = render::settings::DEFAULT_ALPHA)]
-    pub alpha: f32,
+    #[command(flatten)]
+    pub gather: GatherArgs,
     /// An eye pass every this many photon passes.
     #[arg(long, value_name = "K", default_value_t = render::settings::DEFAULT_EYE_EVERY)]
     pub eye_every: u32,

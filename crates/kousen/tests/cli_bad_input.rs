@@ -270,4 +270,11 @@ fn view_bad_arguments_are_clean_errors() {
         "render-scale",
     );
     assert_clean_error(&kousen(&["view", &scene, "--alpha", "1.5"]), "alpha");
+    // The gather options `kousen render` takes, checked the same way.
+    assert_clean_error(&kousen(&["view", &scene, "--indirect-alpha", "1"]), "alpha");
+    assert_clean_error(&kousen(&["view", &scene, "--radius", "0"]), "--radius");
+    assert_clean_error(
+        &kousen(&["view", &scene, "--caustic-radius", "1.5"]),
+        "caustic",
+    );
 }

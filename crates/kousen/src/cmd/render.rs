@@ -160,14 +160,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
 
-    if !(args.radius.is_finite() && args.radius > 0.0 && args.radius <= 1e6) {
-        bail!(
-            "--radius must be a positive number of pixel footprints, got {}",
-            args.radius
-        );
-    }
+    let footprints = args.gather.radius_footprints()?;
     let initial_radius =
-        render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, args.radius);
+        render::integrator::initial_radius_in_footprints(&bvh, &camera, width, height, footprints);
     let pixels = u64::from(width) * u64::from(height);
     let settings = |on_cpu_cores: bool, eye_every: fn(u64, u32) -> u32| {
         let density = args.estimator.density.density(on_cpu_cores);
@@ -176,9 +171,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             .unwrap_or(default_slots(width, height, density));
         Settings {
             initial_radius,
-            caustic_radius_share: args.caustic_radius,
-            alpha: args.alpha,
-            indirect_alpha: args.indirect_alpha,
+            caustic_radius_share: args.gather.caustic_radius,
+            alpha: args.gather.alpha,
+            indirect_alpha: args.gather.indirect_alpha,
             eye_every: args.eye_every.unwrap_or(eye_every(pixels, photons)),
             hash_ratio: args.hash_ratio,
             max_depth: args.max_depth,

@@ -757,14 +757,19 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
     anyhow::ensure!(args.photons != Some(0), "--photons must be at least 1");
     let controls = RenderControls {
         photons: args.photons.unwrap_or(1 << 16),
-        alpha: args.alpha,
+        alpha: args.gather.alpha,
         eye_every: args.eye_every,
+        indirect_alpha: args.gather.indirect_alpha,
+        radius_footprints: args.gather.radius_footprints()?,
+        caustic_radius_share: args.gather.caustic_radius,
         density: args.estimator.density,
         precision: args.estimator.precision.precision(),
         direct: args.estimator.direct_light.direct(),
     };
     render::Settings {
         alpha: controls.alpha,
+        indirect_alpha: controls.indirect_alpha,
+        caustic_radius_share: controls.caustic_radius_share,
         eye_every: controls.eye_every,
         ..render::Settings::new(1, 1, controls.photons)
     }

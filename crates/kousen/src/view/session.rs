@@ -49,7 +49,11 @@ pub struct RenderControls {
     pub photons: u32,
     pub alpha: f32,
     pub eye_every: u32,
-    /// Fixed for the window's life (`--density`, `--precision`, `--direct-light`).
+    /// Fixed for the window's life (`--indirect-alpha`, `--radius`, `--caustic-radius`,
+    /// `--density`, `--precision`, `--direct-light`).
+    pub indirect_alpha: f32,
+    pub radius_footprints: f32,
+    pub caustic_radius_share: f32,
     pub density: crate::cli::DensityChoice,
     pub precision: render::half_storage::Precision,
     pub direct: render::direct::DirectLight,
@@ -112,13 +116,18 @@ impl Session {
         let (width, height) = size;
         let settings = Settings {
             alpha: controls.alpha,
-            indirect_alpha: render::settings::MEASURED_INDIRECT_ALPHA,
+            indirect_alpha: controls.indirect_alpha,
+            caustic_radius_share: controls.caustic_radius_share,
             eye_every: controls.eye_every,
             density: controls.density.for_view(),
             precision: controls.precision,
             direct: controls.direct,
-            initial_radius: render::integrator::initial_radius_from_view(
-                &self.bvh, camera, width, height,
+            initial_radius: render::integrator::initial_radius_in_footprints(
+                &self.bvh,
+                camera,
+                width,
+                height,
+                controls.radius_footprints,
             ),
             ..Settings::new(width, height, controls.photons)
         };

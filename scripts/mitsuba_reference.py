@@ -24,10 +24,13 @@ not used, so nothing about the mapping is hidden):
   transmission > 0 and metallic < 0.5 -> smooth dielectric, ior from KHR_materials_ior (1.5),
   exterior ior exactly 1, transmittance tinted by baseColor; `dielectric` when
   KHR_materials_volume thicknessFactor > 0, else `thindielectric`.
-  metallic >= 0.5 and roughness <= 0.2 -> perfect mirror: `conductor` with material "none"
+  metallic >= 0.5 and roughness < 0.01 -> perfect mirror: `conductor` with material "none"
   (reflectance 1 at every angle) times specular_reflectance = baseColor.
+  metallic >= 0.5 and roughness < 0.5 -> `roughconductor`, GGX of alpha = roughness^2 (visible
+  normals sampled; Mitsuba's Smith term is the separable one, as kousen's), material "none"
+  times specular_reflectance = baseColor.
   Everything else -> Lambertian `diffuse`, reflectance = baseColor.
-  Diffuse and mirror are wrapped in `twosided`, since kousen's rays hit and scatter off both
+  Diffuse and the conductors are wrapped in `twosided`, since kousen's rays hit and scatter off both
   faces of every triangle (Mitsuba's opaque BSDFs are black from behind by default).
 - Emission: emissiveFactor x KHR_materials_emissive_strength, as an `area` emitter. Mitsuba's
   area light emits to the side of the surface normal only, so emissive primitives are given no
@@ -62,7 +65,8 @@ import time
 import numpy as np
 
 MIRROR_MIN_METALLIC = 0.5
-MIRROR_MAX_ROUGHNESS = 0.2
+MIRROR_MAX_ROUGHNESS = 0.01
+DIFFUSE_MIN_ROUGHNESS = 0.5
 DEFAULT_IOR = 1.5
 
 COMPONENT_DTYPES = {5120: "i1", 5121: "u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
@@ -208,8 +212,10 @@ def material_info(doc, index):
             kind, params = "mirror", {"color": base}
         else:
             kind, params = "dielectric", {"color": base, "ior": ior, "thin": thickness == 0.0}
-    elif metallic >= MIRROR_MIN_METALLIC and roughness <= MIRROR_MAX_ROUGHNESS:
+    elif metallic >= MIRROR_MIN_METALLIC and roughness < MIRROR_MAX_ROUGHNESS:
         kind, params = "mirror", {"color": base}
+    elif metallic >= MIRROR_MIN_METALLIC and roughness < DIFFUSE_MIN_ROUGHNESS:
+        kind, params = "rough", {"color": base, "alpha": roughness * roughness}
     else:
         kind, params = "diffuse", {"color": base}
     strength = float(ext.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
@@ -223,6 +229,11 @@ def mitsuba_bsdf(kind, params):
         return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(params["color"])}}
     if kind == "mirror":
         return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
+                                             "specular_reflectance": rgb(params["color"])}}
+    if kind == "rough":
+        return {"type": "twosided", "bsdf": {"type": "roughconductor", "material": "none",
+                                             "distribution": "ggx", "alpha": params["alpha"],
+                                             "sample_visible": True,
                                              "specular_reflectance": rgb(params["color"])}}
     if kind == "dielectric":
         return {"type": "thindielectric" if params["thin"] else "dielectric",

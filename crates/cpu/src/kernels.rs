@@ -116,17 +116,17 @@ pub fn photon_pass_with<R: StreamRng>(
         let local = cosine_hemisphere(u_direction[0], u_direction[1]);
         let next = t * local.x + b * local.y + hit.shading * local.z;
         // A bounce below the geometric surface would leak light through it.
-        (next.dot(hit.geometric) > 0.0).then_some(next)
+        (next.dot(hit.geometric) > 0.0).then_some((next, 1.0))
     } else {
-        specular_direction(material, &hit, direction, u_direction[0])
+        specular_direction(material, &hit, direction, u_direction)
     };
     let survival = tint.max_element().min(1.0);
     slot.depth += 1;
     match next {
-        Some(next) if u_roulette < survival && slot.depth < params.max_depth => {
+        Some((next, weight)) if u_roulette < survival && slot.depth < params.max_depth => {
             slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
             slot.direction = next.to_array();
-            slot.flux = (flux * tint / survival).to_array();
+            slot.flux = (flux * tint * (weight / survival)).to_array();
         }
         _ => slot.depth = SLOT_IDLE,
     }
@@ -229,7 +229,7 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
         direct += throughput * emitted(scene, material, &hit);
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
-        let Some(next) = specular_direction(material, &hit, direction, u) else {
+        if matches!(material.surface, Surface::Diffuse) {
             let weight = throughput * tint * FRAC_1_PI;
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
@@ -244,8 +244,18 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
                 }
             }
             break;
+        }
+        // Rough metal draws its micro-normal with a second number.
+        let u_second = if matches!(material.surface, Surface::RoughConductor { .. }) {
+            rng.next_f32()
+        } else {
+            0.0
         };
-        throughput *= tint;
+        let Some((next, weight)) = specular_direction(material, &hit, direction, [u, u_second])
+        else {
+            break;
+        };
+        throughput *= tint * weight;
         if throughput.max_element() <= 0.0 {
             break;
         }

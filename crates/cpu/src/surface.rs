@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
+use render::microfacet::rough_reflection;
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
@@ -151,18 +152,25 @@ pub fn emitted(scene: &SceneData, material: &Material, hit: &SurfaceHit) -> Vec3
     material.emission * texture(&scene.textures, material.emission_texture, hit.uv).truncate()
 }
 
-/// The direction a specular surface sends `incoming` on, choosing reflection or refraction
-/// of a dielectric by Fresnel with the uniform number `u`. `None` for a diffuse surface.
+/// The direction a non-diffuse surface sends `incoming` on and its weight (the tint aside):
+/// a dielectric chooses reflection or refraction by Fresnel with `u[0]`; rough metal draws
+/// a micro-normal with both numbers (`render::microfacet`). `None` for a diffuse surface, or
+/// where rough metal's micro-normal sends the path below the surface (it ends).
 pub fn specular_direction(
     material: &Material,
     hit: &SurfaceHit,
     incoming: Vec3,
-    u: f32,
-) -> Option<Vec3> {
+    u: [f32; 2],
+) -> Option<(Vec3, f32)> {
     let normal = hit.shading;
-    match material.surface {
-        Surface::Diffuse => None,
-        Surface::Mirror => Some(reflect(incoming, normal)),
+    let direction = match material.surface {
+        Surface::Diffuse => return None,
+        Surface::RoughConductor { alpha } => {
+            let (next, weight) = rough_reflection(incoming, normal, alpha, u[0], u[1])?;
+            // Bent below the geometric surface by the shading normal: it would leak through.
+            return (next.dot(hit.geometric) > 0.0).then_some((next, weight));
+        }
+        Surface::Mirror => reflect(incoming, normal),
         Surface::Dielectric { ior, thin_walled } => {
             let eta = if hit.front || thin_walled {
                 1.0 / ior
@@ -174,13 +182,14 @@ pub fn specular_direction(
                 // A sheet: light bounces between its two faces; the total reflectance.
                 reflectance = 2.0 * reflectance / (1.0 + reflectance);
             }
-            if u < reflectance {
-                Some(reflect(incoming, normal))
+            if u[0] < reflectance {
+                reflect(incoming, normal)
             } else if thin_walled {
-                Some(incoming)
+                incoming
             } else {
-                Some(refract(incoming, normal, eta).unwrap_or_else(|| reflect(incoming, normal)))
+                refract(incoming, normal, eta).unwrap_or_else(|| reflect(incoming, normal))
             }
         }
-    }
+    };
+    Some((direction, 1.0))
 }

@@ -41,6 +41,10 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("SURFACE_DIFFUSE", U32(types::SURFACE_DIFFUSE)),
         ("SURFACE_MIRROR", U32(types::SURFACE_MIRROR)),
         ("SURFACE_DIELECTRIC", U32(types::SURFACE_DIELECTRIC)),
+        (
+            "SURFACE_ROUGH_CONDUCTOR",
+            U32(types::SURFACE_ROUGH_CONDUCTOR),
+        ),
         ("NO_TEXTURE", U32(types::NO_TEXTURE)),
         ("MATERIAL_DOUBLE_SIDED", U32(types::MATERIAL_DOUBLE_SIDED)),
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),

@@ -114,13 +114,14 @@ impl SceneInfo {
 pub const SURFACE_DIFFUSE: u32 = 0;
 pub const SURFACE_MIRROR: u32 = 1;
 pub const SURFACE_DIELECTRIC: u32 = 2;
+pub const SURFACE_ROUGH_CONDUCTOR: u32 = 3;
 /// A texture index meaning "none".
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// `GpuMaterial::flags` bits.
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 
-/// One material (48 bytes).
+/// One material (64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -138,14 +139,18 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
     /// `MATERIAL_*` bits.
     pub flags: u32,
+    /// GGX width α (rough conductors; 0 otherwise).
+    pub roughness_alpha: f32,
+    pub pad: [u32; 3],
 }
 
 impl GpuMaterial {
     pub fn new(material: &Material) -> GpuMaterial {
-        let (surface, ior, thin_walled) = match material.surface {
-            Surface::Diffuse => (SURFACE_DIFFUSE, 1.0, false),
-            Surface::Mirror => (SURFACE_MIRROR, 1.0, false),
-            Surface::Dielectric { ior, thin_walled } => (SURFACE_DIELECTRIC, ior, thin_walled),
+        let (surface, ior, thin_walled, roughness_alpha) = match material.surface {
+            Surface::Diffuse => (SURFACE_DIFFUSE, 1.0, false, 0.0),
+            Surface::Mirror => (SURFACE_MIRROR, 1.0, false, 0.0),
+            Surface::Dielectric { ior, thin_walled } => (SURFACE_DIELECTRIC, ior, thin_walled, 0.0),
+            Surface::RoughConductor { alpha } => (SURFACE_ROUGH_CONDUCTOR, 1.0, false, alpha),
         };
         let alpha_cutoff = match material.alpha_mode {
             AlphaMode::Opaque => -1.0,
@@ -166,6 +171,8 @@ impl GpuMaterial {
             emission_texture: material.emission_texture.unwrap_or(NO_TEXTURE),
             alpha_cutoff,
             flags,
+            roughness_alpha,
+            pad: [0; 3],
         }
     }
 }

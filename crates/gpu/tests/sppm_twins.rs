@@ -541,18 +541,25 @@ fn punctual_lights_emit_like_their_cpu_twin() {
 /// from one pass or kernel to the next, so these agree more tightly than two whole renders.
 #[test]
 fn every_kernel_matches_its_twin_on_the_gpu_state() {
-    every_kernel_matches_its_twin(DirectLight::Photons);
+    every_kernel_matches_its_twin(scene::testing::cornell_caustics(), DirectLight::Photons);
 }
 
 /// The same with light sampled at the visible points: the eye pass's light samples and shadow
 /// rays in the direct sums, and photons stored from their second hit on.
 #[test]
 fn every_kernel_matches_its_twin_with_sampled_direct_light() {
-    every_kernel_matches_its_twin(DirectLight::Sampled);
+    every_kernel_matches_its_twin(scene::testing::cornell_caustics(), DirectLight::Sampled);
 }
 
-fn every_kernel_matches_its_twin(direct: DirectLight) {
-    let fixture = Fixture::new(scene::testing::cornell_caustics());
+/// The same through rough metal: eye and photon paths draw GGX micro-normals
+/// (`render::microfacet` and its WGSL twin) and carry their shadowing weights.
+#[test]
+fn every_kernel_matches_its_twin_through_rough_metal() {
+    every_kernel_matches_its_twin(scene::testing::cornell_rough(), DirectLight::Sampled);
+}
+
+fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
+    let fixture = Fixture::new(scene);
     let settings = Settings {
         eye_every: 2,
         direct,

@@ -325,6 +325,13 @@ impl<'a> PathTracer<'a> {
             shading = geometric;
         }
         let direction = match material.surface {
+            Surface::RoughConductor { alpha } => {
+                let (u1, u2) = (rng.next_f32(), rng.next_f32());
+                let (next, weight) =
+                    render::microfacet::rough_reflection(incoming, shading, alpha, u1, u2)?;
+                // Bent below the geometric surface by the shading normal: it would leak.
+                return (next.dot(geometric) > 0.0).then_some((next, tint * weight));
+            }
             Surface::Diffuse => {
                 let (t, b) = orthonormal_basis(shading);
                 let local = cosine_hemisphere(rng.next_f32(), rng.next_f32());

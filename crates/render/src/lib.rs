@@ -13,6 +13,7 @@ pub mod image;
 pub mod integrator;
 pub mod kdtree;
 pub mod light_sampling;
+pub mod microfacet;
 pub mod optics;
 pub mod packing;
 pub mod random;

@@ -15,6 +15,9 @@ pub enum Surface {
     /// interior (light passes straight through, glTF transmission without a volume); otherwise
     /// a solid whose inside has index `ior`.
     Dielectric { ior: f32, thin_walled: bool },
+    /// Rough metal: GGX microfacets of width `alpha` (glTF's roughness squared) reflecting
+    /// `base_color` at every angle, as the mirror does (`render::microfacet`).
+    RoughConductor { alpha: f32 },
 }
 
 /// Whether a surface can be seen through where its texture says so.
@@ -68,6 +71,7 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
+    /// Whether paths go on through it (everything but Lambertian, where SPPM gathers).
     pub fn is_specular(&self) -> bool {
         !matches!(self.surface, Surface::Diffuse)
     }

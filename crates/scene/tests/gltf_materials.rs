@@ -18,10 +18,12 @@ fn pbr(metallic: f32, roughness: f32) -> Value {
 }
 
 #[test]
-fn smooth_metal_is_a_mirror_and_everything_else_diffuse() {
+fn smooth_metal_is_a_mirror_rough_metal_a_conductor_and_everything_else_diffuse() {
     let cases = [
         ((1.0, 0.0), Surface::Mirror),
-        ((0.5, 0.2), Surface::Mirror),
+        ((0.5, 0.005), Surface::Mirror),
+        ((0.5, 0.2), Surface::RoughConductor { alpha: 0.2 * 0.2 }),
+        ((1.0, 0.4), Surface::RoughConductor { alpha: 0.4 * 0.4 }),
         ((1.0, 0.5), Surface::Diffuse),
         ((0.4, 0.0), Surface::Diffuse),
     ];

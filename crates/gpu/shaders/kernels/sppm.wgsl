@@ -264,7 +264,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let u_direction0 = next_f32(&rng);
     let u_direction1 = next_f32(&rng);
     var next = vec3<f32>(0.0);
-    var scattered = true;
+    var weight = 1.0;
     if material.surface == SURFACE_DIFFUSE {
         // Straight from the light it is direct light, which eye passes sample themselves.
         if slot.depth > 0u || params.sample_lights == 0u {
@@ -273,16 +273,18 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         // Its later photons are indirect (if it goes on; an ended slot's is not read).
         slot.bounced = 1u;
         next = cosine_direction(hit.shading, u_direction0, u_direction1);
-        scattered = dot(next, hit.geometric) > 0.0;
+        weight = select(0.0, 1.0, dot(next, hit.geometric) > 0.0);
     } else {
-        next = specular_direction(material, hit, direction, u_direction0);
+        let bounce = specular_direction(material, hit, direction, u_direction0, u_direction1);
+        next = bounce.direction;
+        weight = bounce.weight;
     }
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
-    if scattered && u_roulette < survival && slot.depth < params.max_depth {
+    if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
-        slot.flux = slot.flux * tint / survival;
+        slot.flux = slot.flux * tint * (weight / survival);
     } else {
         slot.depth = SLOT_IDLE;
     }
@@ -364,13 +366,18 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             }
             break;
         }
-        let next = specular_direction(material, hit, direction, u);
-        throughput *= tint;
+        // Rough metal draws its micro-normal with a second number.
+        var u_second = 0.0;
+        if material.surface == SURFACE_ROUGH_CONDUCTOR {
+            u_second = next_f32(&rng);
+        }
+        let bounce = specular_direction(material, hit, direction, u, u_second);
+        throughput *= tint * bounce.weight;
         if max3(throughput) <= 0.0 {
             break;
         }
-        origin = offset_origin(hit, next, params.epsilon);
-        direction = next;
+        origin = offset_origin(hit, bounce.direction, params.epsilon);
+        direction = bounce.direction;
         depth += 1u;
     }
     store_visible_point(index, point);

@@ -28,8 +28,9 @@ struct SceneInfo {
     mtbvh_roots: array<u32, 6>,
 }
 
-// One material (48 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
-// alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED.
+// One material (64 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED;
+// roughness_alpha: GGX width of rough conductors.
 struct GpuMaterial {
     base_color: vec3<f32>,
     surface: u32,
@@ -39,4 +40,6 @@ struct GpuMaterial {
     emission_texture: u32,
     alpha_cutoff: f32,
     flags: u32,
+    roughness_alpha: f32,
+    pad: array<u32, 3>,
 }

@@ -188,11 +188,68 @@ fn emitted(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {
     return material.emission * sample_texture(material.emission_texture, hit.uv).xyz;
 }
 
-// cpu::surface::specular_direction; only called for mirrors and dielectrics.
-fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32) -> vec3<f32> {
+// ---- render::microfacet ----
+fn sample_visible_normal(view: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let stretched = normalize(vec3<f32>(alpha * view.x, alpha * view.y, view.z));
+    let length_sq = stretched.x * stretched.x + stretched.y * stretched.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if length_sq > 0.0 {
+        t1 = vec3<f32>(-stretched.y, stretched.x, 0.0) / sqrt(length_sq);
+    }
+    let t2 = cross(stretched, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + stretched.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let p3 = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    let normal = p1 * t1 + p2 * t2 + p3 * stretched;
+    return normalize(vec3<f32>(alpha * normal.x, alpha * normal.y, max(normal.z, 0.0)));
+}
+
+fn smith_g1(w: vec3<f32>, alpha: f32) -> f32 {
+    if w.z <= 0.0 {
+        return 0.0;
+    }
+    let tan2 = (w.x * w.x + w.y * w.y) / (w.z * w.z);
+    return 2.0 / (1.0 + sqrt(1.0 + alpha * alpha * tan2));
+}
+
+// A bounce off a non-diffuse surface: where it goes and its weight (the tint aside); weight 0
+// where the path ends (cpu::surface::specular_direction's None).
+struct Scattered {
+    direction: vec3<f32>,
+    weight: f32,
+}
+
+// render::microfacet::rough_reflection, with specular_direction's check against the
+// geometric normal.
+fn rough_reflection(hit: SurfaceHit, incoming: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> Scattered {
     let normal = hit.shading;
+    let t = basis_tangent(normal);
+    let b = basis_bitangent(normal);
+    let view = vec3<f32>(dot(-incoming, t), dot(-incoming, b), dot(-incoming, normal));
+    if view.z <= 0.0 {
+        return Scattered(vec3<f32>(0.0), 0.0);
+    }
+    let micro = sample_visible_normal(view, alpha, u1, u2);
+    let out = reflect_about(-view, micro);
+    let weight = smith_g1(out, alpha);
+    let next = normalize(t * out.x + b * out.y + normal * out.z);
+    if weight <= 0.0 || dot(next, hit.geometric) <= 0.0 {
+        return Scattered(vec3<f32>(0.0), 0.0);
+    }
+    return Scattered(next, weight);
+}
+
+// cpu::surface::specular_direction; only called for non-diffuse surfaces.
+fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32, u_second: f32) -> Scattered {
+    let normal = hit.shading;
+    if material.surface == SURFACE_ROUGH_CONDUCTOR {
+        return rough_reflection(hit, incoming, material.roughness_alpha, u, u_second);
+    }
     if material.surface == SURFACE_MIRROR {
-        return reflect_about(incoming, normal);
+        return Scattered(reflect_about(incoming, normal), 1.0);
     }
     let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
     let eta = select(material.ior, 1.0 / material.ior, hit.front || thin_walled);
@@ -201,12 +258,12 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
         reflectance = 2.0 * reflectance / (1.0 + reflectance);
     }
     if u < reflectance {
-        return reflect_about(incoming, normal);
+        return Scattered(reflect_about(incoming, normal), 1.0);
     }
     if thin_walled {
-        return incoming;
+        return Scattered(incoming, 1.0);
     }
-    return refract_or_reflect(incoming, normal, eta);
+    return Scattered(refract_or_reflect(incoming, normal, eta), 1.0);
 }
 
 // ---- render::hash ----

@@ -3,7 +3,8 @@
 //! One mesh with one primitive per material (vertices de-duplicated within a primitive,
 //! u16 or u32 indices), one node per camera, and the binary data in an external `.bin` beside
 //! the `.gltf`. Materials follow DESIGN.md's mapping in reverse:
-//! - diffuse → metallic 0, roughness 1; mirror → metallic 1, roughness 0;
+//! - diffuse → metallic 0, roughness 1; mirror → metallic 1, roughness 0; rough conductor →
+//!   metallic 1, roughness √α;
 //! - dielectric → `KHR_materials_transmission` 1 and `KHR_materials_ior`, with
 //!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid;
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
@@ -26,9 +27,10 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 3] = [
+pub const SHIPPED: [(&str, Fixture); 4] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
+    ("cornell-rough", scene::testing::cornell_rough),
     ("cornell-spot", scene::testing::cornell_spot),
 ];
 
@@ -232,6 +234,7 @@ impl Document {
             Surface::Mirror | Surface::Dielectric { .. } => {
                 (f32::from(m.surface == Surface::Mirror), 0.0)
             }
+            Surface::RoughConductor { alpha } => (1.0, alpha.sqrt()),
         };
         let [r, g, b] = m.base_color.to_array();
         let mut value = json!({

@@ -4,9 +4,11 @@
 //!   metal does not transmit) → smooth dielectric of `KHR_materials_ior` (default 1.5); solid
 //!   when `KHR_materials_volume` gives `thicknessFactor > 0`, thin-walled otherwise. An ior of
 //!   0 (the extension's "F0 = 1" special case) reflects everything → mirror.
-//! - `metallicFactor ≥ 0.5` and `roughnessFactor ≤ 0.2` → perfect mirror tinted by the base
-//!   colour: kousen has no rough conductor yet, and below roughness 0.2 a GGX lobe is narrow
-//!   enough that a mirror is the closer picture; half-metallic is where the metal lobe wins.
+//! - `metallicFactor ≥ 0.5` (half-metallic is where the metal lobe wins), reflecting the base
+//!   colour: `roughnessFactor` < 0.01 → perfect mirror; below 0.5 → rough conductor, GGX of
+//!   width α = roughness²; from 0.5 → Lambertian diffuse: so broad a lobe sends light out
+//!   nearly as a diffuse surface does, and SPPM gathers at diffuse points where it would
+//!   otherwise trace eye paths on through the metal.
 //! - everything else → Lambertian diffuse with the base colour (× `baseColorTexture`).
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
@@ -31,8 +33,10 @@ use crate::{AlphaMode, Material, SceneBuilder, SceneError, Surface, Texture, Tex
 
 /// The least `metallicFactor` mapped onto a mirror.
 pub const MIRROR_MIN_METALLIC: f32 = 0.5;
-/// The largest `roughnessFactor` mapped onto a mirror.
-pub const MIRROR_MAX_ROUGHNESS: f32 = 0.2;
+/// Metal smoother than this (`roughnessFactor`) is a mirror.
+pub const MIRROR_MAX_ROUGHNESS: f32 = 0.01;
+/// Metal at least this rough is diffuse.
+pub const DIFFUSE_MIN_ROUGHNESS: f32 = 0.5;
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
 pub const DEFAULT_IOR: f32 = 1.5;
 /// glTF's default `alphaCutoff`, also used for BLEND.
@@ -235,8 +239,12 @@ fn surface(
                 thin_walled: thickness == 0.0,
             }
         }
-    } else if metallic >= MIRROR_MIN_METALLIC && roughness <= MIRROR_MAX_ROUGHNESS {
+    } else if metallic >= MIRROR_MIN_METALLIC && roughness < MIRROR_MAX_ROUGHNESS {
         Surface::Mirror
+    } else if metallic >= MIRROR_MIN_METALLIC && roughness < DIFFUSE_MIN_ROUGHNESS {
+        Surface::RoughConductor {
+            alpha: roughness * roughness,
+        }
     } else {
         Surface::Diffuse
     };

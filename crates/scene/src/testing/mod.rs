@@ -103,6 +103,26 @@ pub fn cornell_caustics() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_caustics`] with two rough metal spheres in place of its glass and
+/// mirror: gold of glTF roughness 0.3 (GGX α 0.09) and silver of roughness 0.45 (α 0.2025).
+pub fn cornell_rough() -> Scene {
+    let mut f = Fixture::new("testing::cornell_rough");
+    cornell_room(&mut f);
+    let gold = f.material(
+        "rough gold",
+        Surface::RoughConductor { alpha: 0.3 * 0.3 },
+        Vec3::new(0.95, 0.75, 0.4),
+    );
+    let silver = f.material(
+        "rough silver",
+        Surface::RoughConductor { alpha: 0.45 * 0.45 },
+        Vec3::splat(0.9),
+    );
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, gold, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, silver, false);
+    f.finish()
+}
+
 /// A unit sphere at the origin facing inwards, every point emitting [`FURNACE_EMISSION`] and
 /// reflecting with albedo [`FURNACE_ALBEDO`]; the camera sits at the centre. Every pixel's
 /// radiance is [`FURNACE_RADIANCE`] (the triangulation does not matter: any closed surface

@@ -82,6 +82,8 @@ fn info_json_keeps_the_contract_for_scripts() {
     let per_triangle = number("/memory/mtbvh4_bytes_per_triangle");
     assert!((per_triangle * number("/triangles") - wide).abs() < 1e-6 * wide);
     assert!(number("/memory/mtbvh4_nodes") >= 1.0 && number("/memory/mtbvh4_ms") >= 0.0);
+    // Every ray through the root tests the root node, and every triangle is in a leaf.
+    assert!(number("/memory/mtbvh4_sah_cost") > 1.0, "{info}");
     assert!(
         info.pointer("/memory/mtbvh4_error")
             .is_some_and(|v| v.is_null())

@@ -6,8 +6,8 @@
 //! the nodes' parent links bring it back up, as Laine's restart trail does for binary trees.
 //! Leaves of up to four triangles are tested at once too ([`Tri4`]).
 //!
-//! Built from a [`PackedBvh`] by collapsing it (each wide node opens its binary children with
-//! the largest boxes until it has four), it tests the same triangles with
+//! Built from a [`PackedBvh`] by collapsing it at least SAH cost ([`collapse`]: which binary
+//! nodes become wide nodes, slots and leaves), it tests the same triangles with
 //! [`intersect_triangle`]'s arithmetic operation for operation, so it returns the same hits
 //! as [`crate::traverse::trace_mtbvh`] (but for a fragile hit, see
 //! [`crate::testing::is_fragile_hit`], which a box the binary tree has and this one skips may
@@ -17,9 +17,12 @@
 //!
 //! [`intersect_triangle`]: crate::intersect::intersect_triangle
 
+pub mod collapse;
 mod simd;
 
 use bytemuck::{Pod, Zeroable};
+
+use collapse::Plan;
 
 use crate::intersect::{Hit, Ray, SlabRay, intersect_box};
 use crate::pack::{BvhNode, PackedBvh, direction_index};
@@ -113,6 +116,9 @@ pub struct WideMtbvh {
     /// Depth-first pre-order; 0 is the root.
     pub nodes: Vec<WideNode>,
     pub leaves: Vec<Tri4>,
+    /// The tree's SAH cost in [`collapse`]'s units (a wide node test 1, a [`Tri4`] test
+    /// [`collapse::LEAF_COST`]), per ray through the root's box.
+    pub sah_cost: f64,
 }
 
 /// Why a [`PackedBvh`] has no wide form.
@@ -138,8 +144,9 @@ impl std::fmt::Display for WideError {
 impl std::error::Error for WideError {}
 
 impl WideMtbvh {
-    /// Collapses `bvh`. A binary subtree of at most [`LEAF_WIDTH`] triangles stored
-    /// contiguously becomes one leaf; larger binary leaves span several [`Tri4`]s.
+    /// Collapses `bvh` at least SAH cost ([`collapse`]). A binary subtree of at most
+    /// [`LEAF_WIDTH`] triangles stored contiguously may become one leaf; larger binary leaves
+    /// span several [`Tri4`]s.
     pub fn new(bvh: &PackedBvh) -> Result<WideMtbvh, WideError> {
         let mut wide = WideMtbvh::default();
         if let Some(n) = bvh
@@ -152,7 +159,9 @@ impl WideMtbvh {
         }
         if !bvh.nodes.is_empty() {
             let ranges = triangle_ranges(bvh);
-            wide.collapse(bvh, &ranges, 0);
+            let plan = Plan::new(bvh, &ranges);
+            wide.sah_cost = plan.root_cost(bvh);
+            wide.collapse(bvh, &ranges, &plan, 0);
         }
         Ok(wide)
     }
@@ -173,30 +182,18 @@ impl WideMtbvh {
         words
     }
 
-    /// Appends the node for binary node `b` (its children, or `b` itself if it makes one leaf)
-    /// and its subtree; returns its index.
-    fn collapse(&mut self, bvh: &PackedBvh, ranges: &[(u32, u32, u32)], b: u32) -> u32 {
-        let as_leaf = |b: u32| leaf_range(bvh, ranges, b);
+    /// Appends the wide node made for binary node `b` (its slots as `plan` spends them, or
+    /// `b` itself as the only slot if it makes one leaf) and its subtree; returns its index.
+    fn collapse(
+        &mut self,
+        bvh: &PackedBvh,
+        ranges: &[(u32, u32, u32)],
+        plan: &Plan,
+        b: u32,
+    ) -> u32 {
         let index = self.nodes.len() as u32;
         self.nodes.push(WideNode::default());
-        let mut children: Vec<u32> = if as_leaf(b).is_some() {
-            vec![b]
-        } else {
-            vec![b + 1, bvh.nodes[b as usize].first_or_right]
-        };
-        // Open the inner child with the largest box until there are four.
-        while children.len() < WIDTH {
-            let largest = (0..children.len())
-                .filter(|&i| as_leaf(children[i]).is_none())
-                .max_by(|&x, &y| {
-                    let area = |i: usize| half_area(&bvh.nodes[children[i] as usize]);
-                    area(x).total_cmp(&area(y))
-                });
-            let Some(i) = largest else { break };
-            let c = children[i];
-            children[i] = c + 1;
-            children.insert(i + 1, bvh.nodes[c as usize].first_or_right);
-        }
+        let children = plan.node_slots(bvh, b);
         let mut node = WideNode {
             parent: NONE,
             valid: (1u8 << children.len()) - 1,
@@ -208,12 +205,13 @@ impl WideMtbvh {
                 node.planes[axis][slot] = bounds.min[axis];
                 node.planes[3 + axis][slot] = bounds.max[axis];
             }
-            if let Some((first, count)) = as_leaf(c) {
+            if plan.is_leaf(c) {
+                let (first, count) = leaf_range(bvh, ranges, c).expect("planned as a leaf");
                 node.child[slot] = self.push_leaf(bvh, first, count);
                 // At most 255: checked in new.
                 node.count[slot] = count as u8;
             } else {
-                let child = self.collapse(bvh, ranges, c);
+                let child = self.collapse(bvh, ranges, plan, c);
                 self.nodes[child as usize].parent = index;
                 node.child[slot] = child;
             }
@@ -249,7 +247,7 @@ impl WideMtbvh {
 
 /// Per binary node, the range of triangles its leaves hold, `(first, end, total)`: the
 /// subtree's triangles are contiguous when `end − first == total`.
-fn triangle_ranges(bvh: &PackedBvh) -> Vec<(u32, u32, u32)> {
+pub fn triangle_ranges(bvh: &PackedBvh) -> Vec<(u32, u32, u32)> {
     let mut ranges = vec![(0, 0, 0); bvh.nodes.len()];
     // Children follow their parents in pre-order: fill from the back.
     for index in (0..bvh.nodes.len()).rev() {

@@ -81,21 +81,33 @@ fn trace_stack(ray: GpuRay, stop_at_first: bool) -> GpuHit {
 }
 
 // Stackless traversal along the links at bvh_links[link_base + node], from `root`.
+// The walk over boxes and the leaf test are two loops, not one (Aila & Laine's while-while):
+// where lanes of a SIMD group run in lockstep (lavapipe, GPUs), a leaf's triangle test then
+// runs once per leaf entered rather than on every box step of the group (lavapipe runs an
+// `if` body whether or not a lane takes it). The nodes visited and the answer are
+// bvh::traverse's, the CPU twin's.
 fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -> GpuHit {
     let slab = make_slab_ray(ray);
     var best = no_hit(ray);
     var node = root;
     loop {
-        if node == LINK_END {
+        var leaf = LINK_END;
+        loop {
+            if node == LINK_END || leaf != LINK_END {
+                break;
+            }
+            let current = bvh_nodes[node];
+            let links = bvh_links[link_base + node];
+            let entered = intersect_box(current, slab, best.t) < NO_DISTANCE;
+            leaf = select(LINK_END, node, entered && current.triangle_count > 0u);
+            node = select(links.miss, links.hit, entered);
+        }
+        if leaf == LINK_END {
             break;
         }
-        let current = bvh_nodes[node];
-        let links = bvh_links[link_base + node];
-        let entered = intersect_box(current, slab, best.t) < NO_DISTANCE;
-        if entered && current.triangle_count > 0u && test_leaf(current, ray, &best, stop_at_first) && stop_at_first {
+        if test_leaf(bvh_nodes[leaf], ray, &best, stop_at_first) && stop_at_first {
             break;
         }
-        node = select(links.miss, links.hit, entered);
     }
     return best;
 }

@@ -18,13 +18,15 @@ use crate::pack::PackedBvh;
 /// Cost of testing one wide node (its four boxes at once), the unit.
 pub const NODE_COST: f64 = 1.0;
 /// Cost of testing one [`super::Tri4`] record (four triangles at once), against a wide node's
-/// 1: the four-lane triangle test does about 1.5 times a four-box test's arithmetic.
+/// 1: the four-lane triangle test does more arithmetic than the four-box test (three
+/// divisions among it). Chosen, then checked: 2.5 tested ~2 % fewer triangles again and was
+/// no faster (docs/BENCHMARKS.md §2, session 14).
 pub const LEAF_COST: f64 = 1.5;
 
 /// How a binary node's subtree is spent on a budget of slots.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 enum Spend {
-    /// One slot: the subtree is a wide leaf (`leaf`) or a wide node of its own.
+    /// One slot: the subtree is a wide leaf (see [`Plan::is_leaf`]) or a wide node of its own.
     #[default]
     One,
     /// Its left child's subtree on `.0` slots and its right child's on `.1`.

@@ -271,6 +271,17 @@ pub fn is_fragile_hit(bvh: &PackedBvh, ray: &Ray, hit: &Hit) -> bool {
     intersect_box(&own_box, &SlabRay::new(ray), hit.t) == f32::INFINITY
 }
 
+/// Whether two traversals' different answers are explained by rounding: the nearer of them
+/// (a miss counting as farthest) is a fragile hit, which one tree's boxes may reach and
+/// another's, visited in another order, may rightly cull.
+pub fn nearer_is_fragile(bvh: &PackedBvh, ray: &Ray, a: Option<Hit>, b: Option<Hit>) -> bool {
+    let nearer = match (a, b) {
+        (Some(a), Some(b)) => Some(if b.t < a.t { b } else { a }),
+        (a, b) => a.or(b),
+    };
+    nearer.is_some_and(|h| is_fragile_hit(bvh, ray, &h))
+}
+
 /// Whether two traversals' answers are the same hit: equal, or at exactly the same `t` (a
 /// split triangle is packed once per piece, and triangles meeting at an edge or at the ray's
 /// origin tie; traversals that reach boxes in different orders may find a different one of

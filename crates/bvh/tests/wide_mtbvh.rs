@@ -7,7 +7,7 @@
 //! ([`is_fragile_hit`]) one tree may reach it and the other rightly cull it: then the nearer
 //! of the two answers is that fragile hit. Such cases are counted and must be rare.
 
-use bvh::testing::{is_fragile_hit, random_rays, random_soup, same_hit};
+use bvh::testing::{is_fragile_hit, nearer_is_fragile, random_rays, random_soup, same_hit};
 use bvh::traverse::{Query, TraversalCounters, trace_mtbvh};
 use bvh::wide::{WideMtbvh, any_hit_wide, trace_wide};
 use bvh::{
@@ -36,13 +36,8 @@ fn check_ray(bvh: &PackedBvh, wide: &WideMtbvh, ray: &Ray, brute: bool, tally: &
     tally.wide_boxes += wide_work.boxes;
     tally.hits += usize::from(got.is_some());
     if !same_hit(bvh, got, binary) {
-        // The nearer answer must be one that a box may rightly cull in the other tree.
-        let nearer = match (got, binary) {
-            (Some(g), Some(b)) => Some(if g.t < b.t { g } else { b }),
-            (g, b) => g.or(b),
-        };
         assert!(
-            nearer.is_some_and(|h| is_fragile_hit(bvh, ray, &h)),
+            nearer_is_fragile(bvh, ray, got, binary),
             "wide {got:?}, binary {binary:?}, {ray:?}"
         );
         tally.fragile += 1;

@@ -105,14 +105,8 @@ fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &
             let (e, o) = (e.to_hit(), o.to_hit());
             if !bvh::testing::same_hit(bvh, e, o) {
                 let ray = rays[i].to_ray();
-                // The nearer answer must be one a box may rightly cull in the other tree.
-                let nearer = match (e, o) {
-                    (Some(e), Some(o)) => Some(if o.t < e.t { o } else { e }),
-                    (e, o) => e.or(o),
-                };
-                let fragile = nearer.is_some_and(|h| bvh::testing::is_fragile_hit(bvh, &ray, &h));
                 assert!(
-                    fragile,
+                    bvh::testing::nearer_is_fragile(bvh, &ray, e, o),
                     "{name}: ray {i} {ray:?}: gpu mtbvh {e:?}, gpu {} {o:?}",
                     other.name()
                 );

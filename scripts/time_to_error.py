@@ -65,7 +65,10 @@ def main():
     ap.add_argument("--mitsuba-spp", default="64,256,1024")
     ap.add_argument("--config", action="append", required=True,
                     help="NAME=kousen render arguments (may be given several times)")
-    ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--seed", type=int, default=7, help="Mitsuba's seed")
+    ap.add_argument("--seeds", default="7",
+                    help="kousen's seeds: each budget is rendered once per seed and its error is "
+                         "the mean over them (one seed's error moves ~15 %% between seeds)")
     ap.add_argument("--json")
     args = ap.parse_args()
     log = lambda s: print(s, file=sys.stderr, flush=True)
@@ -87,19 +90,21 @@ def main():
         for config in args.config:
             name, extra = config.split("=", 1)
             for budget in [float(t) for t in args.times.split(",")]:
-                out = os.path.join(tmp, "kousen-%s-%g.pfm" % (name, budget))
-                stats = out + ".json"
-                subprocess.run(
-                    [args.kousen, "render", args.scene, "-o", out, "--width", str(args.width),
-                     "--time", str(budget), "--seed", str(args.seed), "--stats", stats]
-                    + shlex.split(extra), check=True, capture_output=True)
-                with open(stats) as f:
-                    st = json.load(f)
-                rows.append({"renderer": "kousen", "config": name, "arguments": extra,
-                             "budget": "%d passes" % st["passes"], "seconds": st["seconds"],
-                             "photon_slots": st["photon_slots"], "density": st.get("density"),
-                             "image": out})
-                log("kousen %s %g s: %d passes" % (name, budget, st["passes"]))
+                for seed in [int(x) for x in args.seeds.split(",")]:
+                    out = os.path.join(tmp, "kousen-%s-%g-%d.pfm" % (name, budget, seed))
+                    stats = out + ".json"
+                    subprocess.run(
+                        [args.kousen, "render", args.scene, "-o", out, "--width", str(args.width),
+                         "--time", str(budget), "--seed", str(seed), "--stats", stats]
+                        + shlex.split(extra), check=True, capture_output=True)
+                    with open(stats) as f:
+                        st = json.load(f)
+                    rows.append({"renderer": "kousen", "config": name, "arguments": extra,
+                                 "budget": "%d passes" % st["passes"], "seconds": st["seconds"],
+                                 "seed": seed, "photon_slots": st["photon_slots"],
+                                 "eye_every": st.get("eye_every"), "density": st.get("density"),
+                                 "time_budget": budget, "image": out})
+                    log("kousen %s %g s seed %d: %d passes" % (name, budget, seed, st["passes"]))
         for row in rows:
             row["rel_mse_whole"] = diff(args.kousen, row["image"], args.reference)
             row["rel_mse_window"] = diff(args.kousen, row["image"], args.reference, args.window)
@@ -110,10 +115,18 @@ def main():
     summary = []
     for name in dict.fromkeys(r["config"] for r in rows if r["renderer"] == "kousen"):
         own = [r for r in rows if r["config"] == name]
-        entry = {"config": name}
+        budgets = {}
+        for r in own:
+            budgets.setdefault(r["time_budget"], []).append(r)
+        means = [{key: sum(r[key] for r in group) / len(group)
+                  for key in ["seconds", "rel_mse_whole", "rel_mse_window"]}
+                 for group in budgets.values()]
+        entry = {"config": name, "seeds": len(own) // max(len(budgets), 1),
+                 "mean_per_budget": means}
         for region in ["whole", "window"]:
             target = last["rel_mse_" + region]
-            seconds, how = time_to_reach([(r["seconds"], r["rel_mse_" + region]) for r in own], target)
+            seconds, how = time_to_reach([(m["seconds"], m["rel_mse_" + region]) for m in means],
+                                         target)
             entry[region] = {"target_rel_mse": target, "mitsuba_seconds": last["seconds"],
                              "kousen_seconds": seconds, "how": how,
                              "speedup": last["seconds"] / seconds}
@@ -125,6 +138,10 @@ def main():
         print("%-8s %-12s %-12s %8.2f %12.5f %12.5f" % (r["renderer"], r["config"], r["budget"],
               r["seconds"], r["rel_mse_whole"], r["rel_mse_window"]))
     print()
+    for s in summary:
+        for m in s["mean_per_budget"]:
+            print("%-12s mean of %d seeds: %8.2f s %12.5f %12.5f" % (
+                s["config"], s["seeds"], m["seconds"], m["rel_mse_whole"], m["rel_mse_window"]))
     for s in summary:
         for region in ["whole", "window"]:
             e = s[region]

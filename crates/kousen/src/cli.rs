@@ -529,14 +529,24 @@ pub struct GatherArgs {
     pub radius: f32,
     /// The caustic photons' first gather radius as a share of --radius, in (0, 1]. Smaller:
     /// sharper rims of glass caustics sooner, noisier broad caustics such as flat mirrors
-    /// throw. With sampled direct light, 0.5 lowered the error inside cornell-caustics' glass
-    /// caustic by 17-30 % at equal time and raised cornell-metal's by 56 % (docs/BENCHMARKS.md
-    /// §3); with --direct-light photons it also shrinks the direct light's radius.
-    #[arg(long, value_name = "SHARE", default_value_t = 1.0)]
-    pub caustic_radius: f32,
+    /// throw. Default: 0.7 with sampled direct light, 1 with --direct-light photons (whose
+    /// caustic photons carry the direct light too). 0.7 against 1 (four seeds each,
+    /// docs/BENCHMARKS.md §3, session 15): inside cornell-caustics' glass caustic Mitsuba's
+    /// 4096-spp error reached 1.9× sooner, cornell-metal's whole-image error about a fifth
+    /// higher, scenes without mirrors or glass unchanged.
+    #[arg(long, value_name = "SHARE")]
+    pub caustic_radius: Option<f32>,
 }
 
 impl GatherArgs {
+    /// `--caustic-radius`, or its default for this direct-light mode.
+    pub fn caustic_radius_share(&self, direct: render::direct::DirectLight) -> f32 {
+        self.caustic_radius.unwrap_or(match direct {
+            render::direct::DirectLight::Sampled => render::settings::MEASURED_CAUSTIC_RADIUS_SHARE,
+            render::direct::DirectLight::Photons => 1.0,
+        })
+    }
+
     /// The first radius in pixel footprints, checked (the α and the share are checked with
     /// the rest of the settings, by `render::Settings::validate`).
     pub fn radius_footprints(&self) -> anyhow::Result<f32> {

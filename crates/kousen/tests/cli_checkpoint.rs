@@ -101,7 +101,7 @@ fn checkpoint_that_does_not_fit_is_refused() {
         ),
         (
             format!("--passes 4 --resume {ck} --caustic-radius 0.5"),
-            "--caustic-radius 1",
+            "--caustic-radius 0.7",
         ),
     ];
     for (extra, needle) in cases {

@@ -171,7 +171,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             .unwrap_or(default_slots(width, height, density));
         Settings {
             initial_radius,
-            caustic_radius_share: args.gather.caustic_radius,
+            caustic_radius_share: args
+                .gather
+                .caustic_radius_share(args.estimator.direct_light.direct()),
             alpha: args.gather.alpha,
             indirect_alpha: args.gather.indirect_alpha,
             eye_every: args.eye_every.unwrap_or(eye_every(pixels, photons)),

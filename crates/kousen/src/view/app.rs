@@ -761,7 +761,9 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         eye_every: args.eye_every,
         indirect_alpha: args.gather.indirect_alpha,
         radius_footprints: args.gather.radius_footprints()?,
-        caustic_radius_share: args.gather.caustic_radius,
+        caustic_radius_share: args
+            .gather
+            .caustic_radius_share(args.estimator.direct_light.direct()),
         density: args.estimator.density,
         precision: args.estimator.precision.precision(),
         direct: args.estimator.direct_light.direct(),

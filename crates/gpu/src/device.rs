@@ -5,6 +5,7 @@
 //! everything the adapter offers and check each buffer against it (see [`crate::limits`]).
 
 use crate::GpuError;
+use crate::scene_upload::SceneStorage;
 
 /// Timestamp features we take when the adapter has them (per-kernel timings in `bench`).
 const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
@@ -29,6 +30,9 @@ pub struct GpuContext {
     pub limits: wgpu::Limits,
     /// The features enabled on the device.
     pub features: wgpu::Features,
+    /// How scenes uploaded to it store nodes, triangles and links, and so which kernels run
+    /// ([`SceneStorage::preferred`] for the adapter unless changed before the upload).
+    pub scene_storage: SceneStorage,
 }
 
 impl GpuContext {
@@ -90,6 +94,7 @@ impl GpuContext {
                 adapter: info.name.clone(),
                 reason: e.to_string(),
             })?;
+        let scene_storage = SceneStorage::preferred(info.device_type);
         let context = GpuContext {
             device,
             queue,
@@ -97,6 +102,7 @@ impl GpuContext {
             info,
             limits,
             features,
+            scene_storage,
         };
         log::info!("gpu: {}", context.description());
         Ok(context)

@@ -29,7 +29,7 @@ pub mod types;
 
 pub use device::{GpuContext, instance_descriptor};
 pub use limits::check_buffer_fits;
-pub use scene_upload::GpuScene;
+pub use scene_upload::{GpuScene, SceneStorage};
 pub use traversal::{RayBatch, TraversalKernels, Variant};
 
 /// What can go wrong opening or using the device. Display is one line.
@@ -65,6 +65,22 @@ pub enum GpuError {
         limit_name: &'static str,
         /// The limit in words.
         limit: String,
+    },
+    /// Scene records stored as texels need more texture rows than the device allows.
+    #[error(
+        "texture {label} needs {size}: {rows} rows of {row} texels, but the device allows max_texture_dimension_2d = {limit}"
+    )]
+    TexelsTooLarge {
+        /// The texture's label.
+        label: String,
+        /// Its size in words.
+        size: String,
+        /// Rows it needs.
+        rows: u64,
+        /// Texels a row.
+        row: u32,
+        /// The device's limit on a texture's side.
+        limit: u32,
     },
     /// The kernels bind more storage buffers than the device allows per shader stage.
     #[error(

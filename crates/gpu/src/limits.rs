@@ -25,6 +25,28 @@ pub fn check_buffer_fits(label: &str, bytes: u64, limits: &wgpu::Limits) -> Resu
     }
 }
 
+/// Checks that `bytes` fit one rgba32uint texture of `row` texels a row (16 bytes a texel) on a
+/// device with `limits`: its rows within `max_texture_dimension_2d`.
+pub fn check_texels_fit(
+    label: &str,
+    bytes: u64,
+    row: u32,
+    limits: &wgpu::Limits,
+) -> Result<(), GpuError> {
+    let rows = bytes.div_ceil(16).div_ceil(u64::from(row));
+    let side = u64::from(limits.max_texture_dimension_2d);
+    if row as u64 <= side && rows <= side {
+        return Ok(());
+    }
+    Err(GpuError::TexelsTooLarge {
+        label: label.to_owned(),
+        size: in_mib(bytes),
+        rows,
+        row,
+        limit: limits.max_texture_dimension_2d,
+    })
+}
+
 /// "1.5 MiB (1572864 bytes)": MiB to read, bytes to be exact.
 fn in_mib(bytes: u64) -> String {
     format!(
@@ -36,6 +58,26 @@ fn in_mib(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn texels_past_the_texture_side_are_an_error_in_words() {
+        let limits = wgpu::Limits {
+            max_texture_dimension_2d: 8,
+            ..wgpu::Limits::default()
+        };
+        // 8 rows of 8 texels of 16 bytes fit; one byte more needs a ninth row.
+        assert!(check_texels_fit("bvh_nodes", 8 * 8 * 16, 8, &limits).is_ok());
+        let message = check_texels_fit("bvh_nodes", 8 * 8 * 16 + 1, 8, &limits)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("bvh_nodes"), "{message}");
+        assert!(message.contains("9 rows"), "{message}");
+        assert!(
+            message.contains("max_texture_dimension_2d = 8"),
+            "{message}"
+        );
+        assert!(check_texels_fit("wide", 16, 16, &limits).is_err());
+    }
 
     const MIB: u64 = 1 << 20;
 

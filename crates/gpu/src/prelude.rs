@@ -31,6 +31,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("COMPACT_FAR", U32(bvh::compact::COMPACT_FAR)),
         ("COMPACT_COUNT_MASK", U32(bvh::compact::COMPACT_COUNT_MASK)),
         ("NO_HIT", U32(types::NO_HIT)),
+        ("TEXEL_ROW", U32(crate::scene_upload::TEXEL_ROW)),
         ("ROBUST_EXIT", F32(bvh::intersect::ROBUST_EXIT)),
         ("PARALLEL_LIMIT", F32(bvh::intersect::PARALLEL_LIMIT)),
         ("NO_DISTANCE", F32(types::NO_DISTANCE)),

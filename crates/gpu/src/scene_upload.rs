@@ -1,6 +1,7 @@
-//! The packed scene in storage buffers (bind group 0 of every kernel): BVH nodes (boxes shared
-//! by all threadings), triangles (vertices as two vec4 each), the six MTBVH link sets followed
-//! by the TBVH's, where each threading starts, and the materials. On request
+//! The packed scene on the device (bind group 0 of every kernel): BVH nodes (boxes shared by
+//! all threadings), triangles (vertices as two vec4 each), the six MTBVH link sets followed by
+//! the TBVH's, where each threading starts, and the materials. Nodes, triangles and links are
+//! in storage buffers or, the same bytes, in integer textures ([`SceneStorage`]). On request
 //! ([`GpuScene::upload_compact`]) also the compact MTBVH, bind group 2 of its trace kernels,
 //! and ([`GpuScene::upload_wide`]) the four-wide MTBVH, binding 2 of group 2 of its.
 
@@ -9,6 +10,7 @@ use wgpu::util::DeviceExt;
 use bvh::{BvhNode, CompactMtbvh, CompactNode, Links, PackedBvh, PackedTriangle, WideMtbvh};
 use scene::Material;
 
+use crate::limits::check_texels_fit;
 use crate::traversal::uniform_entry;
 use crate::types::{GpuMaterial, SceneInfo};
 use crate::{GpuContext, GpuError, check_buffer_fits};
@@ -31,12 +33,80 @@ fn check_group_2_fits(limits: &wgpu::Limits) -> Result<(), GpuError> {
     Ok(())
 }
 
-/// The scene's buffers on the device.
+/// Where the kernels read nodes, triangles and links from (`shaders/shared/scene_bindings.wgsl`
+/// or `scene_texels.wgsl`; the kernels are the same otherwise).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneStorage {
+    /// Storage buffers.
+    Buffers,
+    /// rgba32uint textures of [`TEXEL_ROW`] texels a row, 16 bytes a texel: on CPU-type adapters
+    /// (lavapipe) a texel fetch is a gather, where a storage-buffer load with a different
+    /// index per lane is a loop over the lanes (docs/BENCHMARKS.md §2, session 15).
+    Texels,
+}
+
+impl SceneStorage {
+    /// Texels on a CPU-type adapter, where they were measured faster; buffers on GPUs, where
+    /// they have not been compared.
+    pub fn preferred(device_type: wgpu::DeviceType) -> SceneStorage {
+        match device_type {
+            wgpu::DeviceType::Cpu => SceneStorage::Texels,
+            _ => SceneStorage::Buffers,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneStorage::Buffers => "buffers",
+            SceneStorage::Texels => "texels",
+        }
+    }
+}
+
+/// Where nodes, triangles and links live, by [`SceneStorage`].
+#[derive(Debug)]
+enum SceneRecords {
+    Buffers([wgpu::Buffer; 3]),
+    Texels([wgpu::TextureView; 3]),
+}
+
+/// `bytes` as rgba32uint texels, [`TEXEL_ROW`] a row, the last row padded with zeros.
+fn texels(context: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Texture {
+    let row = TEXEL_ROW as usize;
+    let rows = bytes.len().div_ceil(16).div_ceil(row).max(1);
+    let mut padded = bytes.to_vec();
+    padded.resize(rows * row * 16, 0);
+    context.device.create_texture_with_data(
+        &context.queue,
+        &wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: TEXEL_ROW,
+                height: rows as u32,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Uint,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &padded,
+    )
+}
+
+/// Texels a row of the scene's textures (a power of two; `TEXEL_ROW` in the WGSL prelude).
+pub const TEXEL_ROW: u32 = 4096;
+
+/// The scene on the device.
 #[derive(Debug)]
 pub struct GpuScene {
-    pub nodes: wgpu::Buffer,
-    pub triangles: wgpu::Buffer,
-    pub links: wgpu::Buffer,
+    /// How nodes, triangles and links are stored.
+    pub storage: SceneStorage,
+    /// Bytes of the nodes and links (the BVH).
+    pub bvh_bytes: u64,
     pub info_buffer: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     /// Group 0 of every kernel, made with [`scene_layout`].
@@ -44,6 +114,8 @@ pub struct GpuScene {
     pub info: SceneInfo,
     /// Bytes uploaded.
     pub bytes: u64,
+    /// Nodes, triangles and links, kept alive for the bind group.
+    _records: SceneRecords,
     /// The compact MTBVH, once [`GpuScene::upload_compact`] has put it there.
     pub compact: Option<GpuCompact>,
     /// The four-wide MTBVH, once [`GpuScene::upload_wide`] has put it there.
@@ -124,11 +196,13 @@ fn buffer_sizes(bvh: &PackedBvh, material_count: usize) -> [(&'static str, u64);
 }
 
 /// Checks, before anything is allocated, that a scene fits a device with `limits`: every
-/// buffer within the binding and buffer sizes, enough storage buffers per shader stage.
+/// buffer within the binding and buffer sizes (every texture within the texture side, with
+/// [`SceneStorage::Texels`]), enough storage buffers per shader stage.
 pub fn check_scene_fits(
     bvh: &PackedBvh,
     material_count: usize,
     limits: &wgpu::Limits,
+    storage: SceneStorage,
 ) -> Result<(), GpuError> {
     if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_PER_STAGE {
         return Err(GpuError::TooFewStorageBuffers {
@@ -137,14 +211,35 @@ pub fn check_scene_fits(
         });
     }
     for (label, bytes) in buffer_sizes(bvh, material_count) {
-        check_buffer_fits(label, bytes, limits)?;
+        match storage {
+            SceneStorage::Texels if label != "materials" => {
+                check_texels_fit(label, bytes, TEXEL_ROW, limits)?
+            }
+            _ => check_buffer_fits(label, bytes, limits)?,
+        }
     }
     Ok(())
 }
 
-/// The layout of bind group 0 (see `shaders/shared/scene_bindings.wgsl`).
-pub fn scene_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let entries: Vec<_> = (0..5).map(|binding| storage_entry(binding, true)).collect();
+/// The layout of bind group 0 (see `shaders/shared/scene_bindings.wgsl` and
+/// `scene_texels.wgsl`): nodes, triangles and links at 0–2, the scene's info and materials at
+/// 3 and 4.
+pub fn scene_layout(device: &wgpu::Device, storage: SceneStorage) -> wgpu::BindGroupLayout {
+    let entries: Vec<_> = (0..5)
+        .map(|binding| match storage {
+            SceneStorage::Texels if binding < 3 => wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            _ => storage_entry(binding, true),
+        })
+        .collect();
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("scene"),
         entries: &entries,
@@ -188,15 +283,17 @@ pub fn bind_buffers(
 }
 
 impl GpuScene {
-    /// Uploads `bvh` and `materials`, after [`check_scene_fits`].
+    /// Uploads `bvh` and `materials` stored as the context prefers
+    /// ([`GpuContext::scene_storage`]), after [`check_scene_fits`].
     pub fn upload(
         context: &GpuContext,
         bvh: &PackedBvh,
         materials: &[Material],
     ) -> Result<GpuScene, GpuError> {
-        check_scene_fits(bvh, materials.len(), &context.limits)?;
+        let storage = context.scene_storage;
+        check_scene_fits(bvh, materials.len(), &context.limits, storage)?;
         let device = &context.device;
-        let storage = |label: &str, contents: &[u8]| {
+        let storage_buffer = |label: &str, contents: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
                 contents,
@@ -209,23 +306,65 @@ impl GpuScene {
             gpu_materials.push(GpuMaterial::new(&Material::default()));
         }
         let info = SceneInfo::new(bvh);
-        let nodes = storage("bvh_nodes", bytemuck::cast_slice(&bvh.nodes));
-        let triangles = storage("bvh_triangles", bytemuck::cast_slice(&bvh.triangles));
-        let links = storage("bvh_links", bytemuck::cast_slice(&all_links(bvh)));
-        let info_buffer = storage("scene_info", bytemuck::bytes_of(&info));
-        let materials = storage("materials", bytemuck::cast_slice(&gpu_materials));
-        let buffers = [&nodes, &triangles, &links, &info_buffer, &materials];
-        let bind_group = bind_buffers(device, "scene", &scene_layout(device), &buffers);
-        let bytes = buffers.iter().map(|b| b.size()).sum();
+        let links = all_links(bvh);
+        let records: [(&str, &[u8]); 3] = [
+            ("bvh_nodes", bytemuck::cast_slice(&bvh.nodes)),
+            ("bvh_triangles", bytemuck::cast_slice(&bvh.triangles)),
+            ("bvh_links", bytemuck::cast_slice(&links)),
+        ];
+        let info_buffer = storage_buffer("scene_info", bytemuck::bytes_of(&info));
+        let materials = storage_buffer("materials", bytemuck::cast_slice(&gpu_materials));
+        let (records, sizes) = match storage {
+            SceneStorage::Buffers => {
+                let buffers = records.map(|(label, contents)| storage_buffer(label, contents));
+                let sizes = buffers.each_ref().map(|b| b.size());
+                (SceneRecords::Buffers(buffers), sizes)
+            }
+            SceneStorage::Texels => {
+                let textures = records.map(|(label, contents)| texels(context, label, contents));
+                let sizes = textures
+                    .each_ref()
+                    .map(|t| u64::from(t.width()) * u64::from(t.height()) * 16);
+                // A view keeps its texture alive.
+                let views = textures.map(|t| t.create_view(&Default::default()));
+                (SceneRecords::Texels(views), sizes)
+            }
+        };
+        let record_resources: Vec<_> = match &records {
+            SceneRecords::Buffers(buffers) => {
+                buffers.iter().map(|b| b.as_entire_binding()).collect()
+            }
+            SceneRecords::Texels(views) => views
+                .iter()
+                .map(wgpu::BindingResource::TextureView)
+                .collect(),
+        };
+        let entries: Vec<_> = record_resources
+            .into_iter()
+            .chain([
+                info_buffer.as_entire_binding(),
+                materials.as_entire_binding(),
+            ])
+            .enumerate()
+            .map(|(binding, resource)| wgpu::BindGroupEntry {
+                binding: binding as u32,
+                resource,
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout: &scene_layout(device, storage),
+            entries: &entries,
+        });
         Ok(GpuScene {
-            nodes,
-            triangles,
-            links,
+            storage,
+            bvh_bytes: sizes[0] + sizes[2],
+            bytes: sizes.iter().sum::<u64>() + info_buffer.size() + materials.size(),
+            _records: records,
             info_buffer,
             materials,
             bind_group,
             info,
-            bytes,
             compact: None,
             wide: None,
         })
@@ -328,14 +467,39 @@ mod tests {
             max_storage_buffer_binding_size: triangle_bytes - 1,
             ..wgpu::Limits::default()
         };
-        let message = check_scene_fits(&bvh, 1, &limits).unwrap_err().to_string();
+        let message = check_scene_fits(&bvh, 1, &limits, SceneStorage::Buffers)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("bvh_triangles"), "{message}");
         assert!(
             message.contains("max_storage_buffer_binding_size"),
             "{message}"
         );
         assert!(!message.contains('\n'));
-        assert!(check_scene_fits(&bvh, 1, &wgpu::Limits::default()).is_ok());
+        assert!(check_scene_fits(&bvh, 1, &wgpu::Limits::default(), SceneStorage::Buffers).is_ok());
+    }
+
+    #[test]
+    fn oversize_texels_name_the_texture_and_the_limit() {
+        let bvh = small_bvh();
+        let triangle_rows = (bvh.triangles.len() * size_of::<PackedTriangle>())
+            .div_ceil(16 * TEXEL_ROW as usize) as u32;
+        let limits = wgpu::Limits {
+            max_texture_dimension_2d: TEXEL_ROW,
+            ..wgpu::Limits::default()
+        };
+        assert!(check_scene_fits(&bvh, 1, &limits, SceneStorage::Texels).is_ok());
+        // Buffers are not held to the texture side.
+        let limits = wgpu::Limits {
+            max_texture_dimension_2d: triangle_rows.max(1) - 1,
+            ..wgpu::Limits::default()
+        };
+        assert!(check_scene_fits(&bvh, 1, &limits, SceneStorage::Buffers).is_ok());
+        let message = check_scene_fits(&bvh, 1, &limits, SceneStorage::Texels)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("max_texture_dimension_2d"), "{message}");
+        assert!(!message.contains('\n'));
     }
 
     #[test]
@@ -344,7 +508,7 @@ mod tests {
             max_storage_buffers_per_shader_stage: 4,
             ..wgpu::Limits::default()
         };
-        let message = check_scene_fits(&small_bvh(), 1, &limits)
+        let message = check_scene_fits(&small_bvh(), 1, &limits, SceneStorage::Texels)
             .unwrap_err()
             .to_string();
         assert!(

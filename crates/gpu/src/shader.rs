@@ -5,11 +5,13 @@ use std::borrow::Cow;
 
 use crate::prelude;
 use crate::random_variants::{self, Generator};
+use crate::scene_upload::SceneStorage;
 
 const DISPATCH: &str = include_str!("../shaders/shared/dispatch.wgsl");
 const BVH_TYPES: &str = include_str!("../shaders/shared/bvh_types.wgsl");
 const GPU_TYPES: &str = include_str!("../shaders/shared/gpu_types.wgsl");
 const SCENE_BINDINGS: &str = include_str!("../shaders/shared/scene_bindings.wgsl");
+const SCENE_TEXELS: &str = include_str!("../shaders/shared/scene_texels.wgsl");
 const INTERSECT: &str = include_str!("../shaders/shared/intersect.wgsl");
 const TRAVERSE: &str = include_str!("../shaders/shared/traverse.wgsl");
 const TRAVERSE_COMPACT: &str = include_str!("../shaders/shared/traverse_compact.wgsl");
@@ -35,6 +37,20 @@ const DENSITY_KDTREE: &str = include_str!("../shaders/shared/density_kdtree.wgsl
 const KDTREE: &str = include_str!("../shaders/shared/kdtree.wgsl");
 const DISPLAY: &str = include_str!("../shaders/kernels/display.wgsl");
 const PHOTON_TRACE_NAIVE: &str = include_str!("../shaders/kernels/photon_trace_naive.wgsl");
+
+/// The files that can stand as a module's scene bindings ([`with_scene_storage`]).
+pub const SCENE_PARTS: [&str; 2] = ["shared/scene_bindings.wgsl", "shared/scene_texels.wgsl"];
+
+/// `source` (a module's, as [`Module::source`] and its kin make it, which read the scene from
+/// storage buffers) reading the scene from `storage`: with texels, `scene_texels.wgsl` stands
+/// in for `scene_bindings.wgsl`, which defines the same load functions. Sources without the
+/// scene's bindings (the display's) are returned as they are.
+pub fn with_scene_storage(source: String, storage: SceneStorage) -> String {
+    match storage {
+        SceneStorage::Buffers => source,
+        SceneStorage::Texels => source.replacen(SCENE_BINDINGS, SCENE_TEXELS, 1),
+    }
+}
 
 /// A shader module of kousen's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -171,11 +187,14 @@ impl Module {
         self.source_with_precision(render::half_storage::Precision::F32)
     }
 
-    /// Compiles it on `device`.
-    pub fn create(self, device: &wgpu::Device) -> wgpu::ShaderModule {
+    /// Compiles it on `device`, reading the scene from `storage`.
+    pub fn create(self, device: &wgpu::Device, storage: SceneStorage) -> wgpu::ShaderModule {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.label()),
-            source: wgpu::ShaderSource::Wgsl(Cow::Owned(self.source())),
+            source: wgpu::ShaderSource::Wgsl(Cow::Owned(with_scene_storage(
+                self.source(),
+                storage,
+            ))),
         })
     }
 

@@ -97,25 +97,29 @@ enum Kernels {
 
 /// The SPPM kernels' pipelines, in [`KERNELS`] order, compiled from `source`.
 fn compile_kernels(
-    device: &wgpu::Device,
+    context: &GpuContext,
     state_layout: &wgpu::BindGroupLayout,
     label: &str,
     source: String,
 ) -> Vec<wgpu::ComputePipeline> {
-    compile_pipelines(device, state_layout, None, label, source, &KERNELS)
+    compile_pipelines(context, state_layout, None, label, source, &KERNELS)
 }
 
 /// Pipelines for `entry_points` of `source`, laid out as every SPPM kernel is (group 0 the
-/// scene, 1 the render's state, 2 the textures) and, given `extra`, with it as group 3.
+/// scene, stored as `context.scene_storage` says; 1 the render's state, 2 the textures) and,
+/// given `extra`, with it as group 3.
 pub(crate) fn compile_pipelines(
-    device: &wgpu::Device,
+    context: &GpuContext,
     state_layout: &wgpu::BindGroupLayout,
     extra: Option<&wgpu::BindGroupLayout>,
     label: &str,
     source: String,
     entry_points: &[&str],
 ) -> Vec<wgpu::ComputePipeline> {
-    let scene = scene_layout(device);
+    let device = &context.device;
+    let storage = context.scene_storage;
+    let source = crate::shader::with_scene_storage(source, storage);
+    let scene = scene_layout(device, storage);
     let textures = textures_layout(device);
     let mut groups = vec![Some(&scene), Some(state_layout), Some(&textures)];
     groups.extend(extra.map(Some));
@@ -209,7 +213,7 @@ impl GpuBackend {
                 resource: wgpu::BindingResource::TextureView(&textures.view),
             }],
         });
-        let pipelines = compile_kernels(device, &layout, label, source);
+        let pipelines = compile_kernels(&context, &layout, label, source);
         Ok(GpuBackend {
             scene_bytes: gpu_scene.bytes,
             context,
@@ -235,9 +239,8 @@ impl GpuBackend {
             Kernels::Standard(compiled) if compiled == precision => Ok(()),
             Kernels::Standard(_) => {
                 let source = Module::Sppm.source_with_precision(precision);
-                let device = &self.context.device;
                 self.pipelines =
-                    compile_kernels(device, &self.layout, Module::Sppm.label(), source);
+                    compile_kernels(&self.context, &self.layout, Module::Sppm.label(), source);
                 self.kernels = Kernels::Standard(precision);
                 Ok(())
             }
@@ -351,11 +354,8 @@ impl GpuBackend {
             ],
         );
         let mut memory: Vec<(&'static str, u64)> = vec![
-            (
-                "scene",
-                self.scene_bytes - self.scene.nodes.size() - self.scene.links.size(),
-            ),
-            ("bvh", self.scene.nodes.size() + self.scene.links.size()),
+            ("scene", self.scene_bytes - self.scene.bvh_bytes),
+            ("bvh", self.scene.bvh_bytes),
             ("textures", self.textures.bytes),
         ];
         for (_, kind, bytes) in sizes {

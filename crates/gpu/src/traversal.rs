@@ -202,7 +202,7 @@ pub fn workgroups(count: u32, max_per_dimension: u32) -> (u32, u32) {
 impl TraversalKernels {
     pub fn new(context: &GpuContext) -> TraversalKernels {
         let device = &context.device;
-        let scene = scene_layout(device);
+        let scene = scene_layout(device, context.scene_storage);
         let trace_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("trace batch"),
             entries: &[
@@ -233,8 +233,8 @@ impl TraversalKernels {
         // Only the compact kernels bind group 2, so the others keep their two groups.
         let compact_pipeline_layout = layout(&[Some(&scene), Some(&trace_layout), Some(&compact)]);
         let wide_pipeline_layout = layout(&[Some(&scene), Some(&trace_layout), Some(&wide)]);
-        let trace = Module::Trace.create(device);
-        let raygen = Module::Raygen.create(device);
+        let trace = Module::Trace.create(device, context.scene_storage);
+        let raygen = Module::Raygen.create(device, context.scene_storage);
         let kernels = |query| {
             Variant::ALL.map(|v| {
                 let layout = match v {

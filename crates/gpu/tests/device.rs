@@ -42,17 +42,31 @@ fn gpu_context_with_unmatched_filter_is_no_adapter() {
     assert!(!message.contains('\n'), "{message}");
 }
 
-#[test]
-fn scene_over_a_lowered_binding_limit_is_refused_in_words() {
+/// The error of uploading cornell-caustics stored as `storage` once `lower` has shrunk the
+/// device's limits (simulating a smaller device), with its message, checked to be one line.
+fn refused_upload(
+    storage: gpu::SceneStorage,
+    lower: impl FnOnce(&mut wgpu::Limits, &bvh::PackedBvh),
+) -> (GpuError, String) {
     let mut context = context();
+    context.scene_storage = storage;
     let triangles = scene::testing::cornell_caustics().triangles;
     let bvh = bvh::PackedBvh::build(&triangles, &bvh::BuildOptions::default());
-    // Simulate a smaller device: the triangles no longer fit one binding.
-    let triangle_bytes = std::mem::size_of_val(bvh.triangles.as_slice()) as u64;
-    context.limits.max_storage_buffer_binding_size = triangle_bytes / 2;
+    lower(&mut context.limits, &bvh);
     let error = gpu::GpuScene::upload(&context, &bvh, &[scene::Material::default()])
-        .expect_err("scene larger than the binding limit");
+        .expect_err("a scene past the lowered limit");
     let message = error.to_string();
+    assert!(!message.contains('\n'), "{message}");
+    (error, message)
+}
+
+#[test]
+fn scene_over_a_lowered_binding_limit_is_refused_in_words() {
+    // The triangles no longer fit one binding.
+    let (error, message) = refused_upload(gpu::SceneStorage::Buffers, |limits, bvh| {
+        let triangle_bytes = std::mem::size_of_val(bvh.triangles.as_slice()) as u64;
+        limits.max_storage_buffer_binding_size = triangle_bytes / 2;
+    });
     assert!(
         matches!(error, GpuError::BufferTooLarge { .. }),
         "{error:?}"
@@ -62,7 +76,23 @@ fn scene_over_a_lowered_binding_limit_is_refused_in_words() {
         message.contains("max_storage_buffer_binding_size"),
         "{message}"
     );
-    assert!(!message.contains('\n'), "{message}");
+}
+
+#[test]
+fn scene_texels_over_a_lowered_texture_side_are_refused_in_words() {
+    // A texture's row no longer fits its side.
+    let (error, message) = refused_upload(gpu::SceneStorage::Texels, |limits, _| {
+        limits.max_texture_dimension_2d = 64;
+    });
+    assert!(
+        matches!(error, GpuError::TexelsTooLarge { .. }),
+        "{error:?}"
+    );
+    assert!(message.contains("bvh_nodes"), "{message}");
+    assert!(
+        message.contains("max_texture_dimension_2d = 64"),
+        "{message}"
+    );
 }
 
 #[test]

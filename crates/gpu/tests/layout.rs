@@ -6,6 +6,7 @@ use std::mem::{offset_of, size_of};
 use std::path::{Path, PathBuf};
 
 use bvh::{BvhNode, CompactFrame, CompactNode, Links, PackedTriangle, PackedVertex};
+use gpu::SceneStorage;
 use gpu::prelude;
 use gpu::shader::Module;
 use gpu::types::{BenchCameraUniform, GpuHit, GpuMaterial, GpuRay, SceneInfo};
@@ -170,10 +171,26 @@ fn validate(module: &naga::Module, source: &str, name: &str) {
 fn every_shader_module_parses_and_validates() {
     for module in Module::ALL {
         for precision in [Precision::F32, Precision::F16] {
-            let source = module.source_with_precision(precision);
-            let label = format!("{} ({})", module.label(), precision.name());
-            let parsed = parse(&source, &label);
-            validate(&parsed, &source, &label);
+            for storage in [SceneStorage::Buffers, SceneStorage::Texels] {
+                let buffers = module.source_with_precision(precision);
+                let source = gpu::shader::with_scene_storage(buffers.clone(), storage);
+                // Every module but the display's reads the scene, so texels change it.
+                let binds_scene = module != Module::Display;
+                assert_eq!(
+                    source != buffers,
+                    binds_scene && storage == SceneStorage::Texels,
+                    "{}",
+                    module.label()
+                );
+                let label = format!(
+                    "{} ({}, {})",
+                    module.label(),
+                    precision.name(),
+                    storage.name()
+                );
+                let parsed = parse(&source, &label);
+                validate(&parsed, &source, &label);
+            }
         }
     }
 }
@@ -189,6 +206,7 @@ fn every_shader_file_belongs_to_a_module() {
         .map(|(name, _)| name)
         .collect();
     used.extend(gpu::shader::STORAGE_PARTS);
+    used.extend(gpu::shader::SCENE_PARTS);
     used.extend(gpu::kdtree::parts().into_iter().map(|(name, _)| name));
     for path in files {
         let relative = path.strip_prefix(&root).expect("under shaders/");

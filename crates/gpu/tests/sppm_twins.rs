@@ -551,6 +551,19 @@ fn every_kernel_matches_its_twin_with_sampled_direct_light() {
     every_kernel_matches_its_twin(scene::testing::cornell_caustics(), DirectLight::Sampled);
 }
 
+/// The same with the scene in storage buffers, as on GPUs (on a CPU-type adapter, the CI's
+/// lavapipe, the other tests read it from texels).
+#[test]
+fn every_kernel_matches_its_twin_with_the_scene_in_buffers() {
+    let mut context = context();
+    context.scene_storage = gpu::SceneStorage::Buffers;
+    every_kernel_matches_its_twin_on(
+        context,
+        scene::testing::cornell_caustics(),
+        DirectLight::Sampled,
+    );
+}
+
 /// The same through rough metal: eye and photon paths draw GGX micro-normals
 /// (`render::microfacet` and its WGSL twin) and carry their shadowing weights.
 #[test]
@@ -559,6 +572,10 @@ fn every_kernel_matches_its_twin_through_rough_metal() {
 }
 
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
+    every_kernel_matches_its_twin_on(context(), scene, direct);
+}
+
+fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, direct: DirectLight) {
     let fixture = Fixture::new(scene);
     let settings = Settings {
         eye_every: 2,
@@ -568,7 +585,7 @@ fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     let data = fixture.scene_data();
     let params = fixture.params(&settings);
     let d = fixture.diagonal;
-    let mut g = fixture.gpu(context(), &settings);
+    let mut g = fixture.gpu(context, &settings);
     let mut specular_slots = 0;
     for pass in 0..4u32 {
         let gpu = g.backend();

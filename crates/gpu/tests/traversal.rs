@@ -12,7 +12,7 @@ use bvh::{BuildOptions, CompactMtbvh, PackedBvh, Ray, WideMtbvh};
 use glam::Vec3;
 use gpu::traversal::RayKind;
 use gpu::types::{GpuHit, GpuRay};
-use gpu::{GpuContext, GpuScene, TraversalKernels, Variant};
+use gpu::{GpuContext, GpuScene, SceneStorage, TraversalKernels, Variant};
 use scene::Material;
 
 /// Relative tolerance on t between a GPU kernel and its twin.
@@ -53,10 +53,19 @@ fn disagreements(
     found
 }
 
+/// [`assert_twins_agree_from`] with the scene in storage buffers and in texels.
+fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &[GpuRay]) {
+    for storage in [SceneStorage::Buffers, SceneStorage::Texels] {
+        let mut context = context.clone();
+        context.scene_storage = storage;
+        assert_twins_agree_from(&context, &format!("{name} ({})", storage.name()), bvh, rays);
+    }
+}
+
 /// Traces `rays` with every GPU variant and query and compares with the twins; the compact
 /// and wide MTBVHs' closest hits must also be the MTBVH's on the GPU (`same_hit`), except
 /// where they reach a closer fragile hit (`bvh::testing::is_fragile_hit`).
-fn assert_twins_agree(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &[GpuRay]) {
+fn assert_twins_agree_from(context: &GpuContext, name: &str, bvh: &PackedBvh, rays: &[GpuRay]) {
     let kernels = TraversalKernels::new(context);
     let mut scene = GpuScene::upload(context, bvh, &vec![Material::default(); 8]).expect("upload");
     let compact = CompactMtbvh::new(bvh).expect("compactable");

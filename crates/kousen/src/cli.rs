@@ -345,8 +345,30 @@ pub struct TraversalArgs {
     /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
     #[arg(long, value_name = "SUBSTRING")]
     pub adapter: Option<String>,
+    /// Where the GPU kernels read nodes, triangles and links from (default: texels on a
+    /// CPU-type adapter such as lavapipe, where they were measured faster; buffers on a GPU).
+    #[arg(long, value_enum)]
+    pub scene_storage: Option<SceneStorageChoice>,
     #[command(flatten)]
     pub bvh: BvhArgs,
+}
+
+/// `--scene-storage`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SceneStorageChoice {
+    /// Storage buffers.
+    Buffers,
+    /// Integer textures (rgba32uint), 16 bytes a texel.
+    Texels,
+}
+
+impl SceneStorageChoice {
+    pub fn storage(self) -> gpu::SceneStorage {
+        match self {
+            SceneStorageChoice::Buffers => gpu::SceneStorage::Buffers,
+            SceneStorageChoice::Texels => gpu::SceneStorage::Texels,
+        }
+    }
 }
 
 #[derive(Args)]

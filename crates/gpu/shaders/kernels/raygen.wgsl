@@ -47,9 +47,9 @@ fn diffuse_rays(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
         rays[i] = GpuRay(primary.origin, 0.0, primary.direction, 0u);
         return;
     }
-    let p0 = bvh_triangles[hit.triangle].vertices[0].position;
-    let p1 = bvh_triangles[hit.triangle].vertices[1].position;
-    let p2 = bvh_triangles[hit.triangle].vertices[2].position;
+    let p0 = load_position(hit.triangle, 0u);
+    let p1 = load_position(hit.triangle, 1u);
+    let p2 = load_position(hit.triangle, 2u);
     var n = normalize(cross(p1 - p0, p2 - p0));
     if dot(n, primary.direction) > 0.0 {
         n = -n;

@@ -45,9 +45,9 @@ struct TriangleHit {
 }
 
 fn intersect_triangle(triangle: u32, origin: vec3<f32>, direction: vec3<f32>, t_best: f32) -> TriangleHit {
-    let p0 = bvh_triangles[triangle].vertices[0].position;
-    let p1 = bvh_triangles[triangle].vertices[1].position;
-    let p2 = bvh_triangles[triangle].vertices[2].position;
+    let p0 = load_position(triangle, 0u);
+    let p1 = load_position(triangle, 1u);
+    let p2 = load_position(triangle, 2u);
     return intersect_edges(p0, p1 - p0, p2 - p0, origin, direction, t_best);
 }
 

@@ -141,7 +141,7 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
         result.found = false;
         return result;
     }
-    let triangle = bvh_triangles[hit.triangle];
+    let triangle = load_triangle(hit.triangle);
     let a = triangle.vertices[0];
     let b = triangle.vertices[1];
     let c = triangle.vertices[2];

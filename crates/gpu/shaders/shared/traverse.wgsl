@@ -39,14 +39,14 @@ fn direction_index(direction: vec3<f32>) -> u32 {
 fn trace_stack(ray: GpuRay, stop_at_first: bool) -> GpuHit {
     let slab = make_slab_ray(ray);
     var best = no_hit(ray);
-    if intersect_box(bvh_nodes[0], slab, ray.t_max) >= NO_DISTANCE {
+    if intersect_box(load_node(0u), slab, ray.t_max) >= NO_DISTANCE {
         return best;
     }
     var stack: array<u32, MAX_DEPTH>;
     var stack_len = 0u;
     var node = 0u;
     loop {
-        let current = bvh_nodes[node];
+        let current = load_node(node);
         var next = LINK_END;
         if current.triangle_count > 0u {
             if test_leaf(current, ray, &best, stop_at_first) && stop_at_first {
@@ -55,8 +55,8 @@ fn trace_stack(ray: GpuRay, stop_at_first: bool) -> GpuHit {
         } else {
             let left = node + 1u;
             let right = current.first_or_right;
-            let t_left = intersect_box(bvh_nodes[left], slab, best.t);
-            let t_right = intersect_box(bvh_nodes[right], slab, best.t);
+            let t_left = intersect_box(load_node(left), slab, best.t);
+            let t_right = intersect_box(load_node(right), slab, best.t);
             let swap = t_right < t_left;
             let near = select(left, right, swap);
             let far = select(right, left, swap);
@@ -80,7 +80,7 @@ fn trace_stack(ray: GpuRay, stop_at_first: bool) -> GpuHit {
     return best;
 }
 
-// Stackless traversal along the links at bvh_links[link_base + node], from `root`.
+// Stackless traversal along the links at link_base + node, from `root`.
 // The walk over boxes and the leaf test are two loops, not one (Aila & Laine's while-while):
 // where lanes of a SIMD group run in lockstep (lavapipe, GPUs), a leaf's triangle test then
 // runs once per leaf entered rather than on every box step of the group (lavapipe runs an
@@ -96,8 +96,8 @@ fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -
             if node == LINK_END || leaf != LINK_END {
                 break;
             }
-            let current = bvh_nodes[node];
-            let links = bvh_links[link_base + node];
+            let current = load_node(node);
+            let links = load_links(link_base + node);
             let entered = intersect_box(current, slab, best.t) < NO_DISTANCE;
             leaf = select(LINK_END, node, entered && current.triangle_count > 0u);
             node = select(links.miss, links.hit, entered);
@@ -105,7 +105,7 @@ fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -
         if leaf == LINK_END {
             break;
         }
-        if test_leaf(bvh_nodes[leaf], ray, &best, stop_at_first) && stop_at_first {
+        if test_leaf(load_node(leaf), ray, &best, stop_at_first) && stop_at_first {
             break;
         }
     }

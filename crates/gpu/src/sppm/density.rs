@@ -141,7 +141,7 @@ fn compile(
         entries: &[storage_entry(0, read_only), storage_entry(1, read_only)],
     });
     let pipelines = compile_pipelines(
-        device,
+        &backend.context,
         &backend.layout,
         Some(&layout),
         module.label(),

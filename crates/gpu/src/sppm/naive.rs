@@ -43,7 +43,7 @@ impl NaiveTracer {
             entries: &[storage_entry(0, false)],
         });
         let pipeline = compile_pipelines(
-            device,
+            &backend.context,
             &backend.layout,
             Some(&layout),
             Module::PhotonTraceNaive.label(),

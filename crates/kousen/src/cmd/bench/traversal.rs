@@ -31,6 +31,8 @@ struct Report {
     cpu_threads: usize,
     /// "timestamp" (GPU timestamp queries) or "wall" (submit and wait), null without a GPU.
     gpu_timing: Option<&'static str>,
+    /// "buffers" or "texels": where the GPU kernels read the scene from; null without a GPU.
+    scene_storage: Option<&'static str>,
     view: &'static str,
     image_side: u32,
     runs: u32,
@@ -103,6 +105,7 @@ pub fn run(args: &TraversalArgs) -> anyhow::Result<()> {
                 "wall"
             }
         }),
+        scene_storage: gpu.as_ref().map(|g| g.context.scene_storage.name()),
         view: match view {
             View::Outside => "outside",
             View::Inside => "inside",
@@ -133,7 +136,10 @@ pub fn run(args: &TraversalArgs) -> anyhow::Result<()> {
 /// The GPU when `--devices` includes it, with the traversal kernels compiled.
 fn open_gpu(args: &TraversalArgs) -> anyhow::Result<Option<Gpu>> {
     let context = super::host::open_gpu(&args.devices, args.adapter.as_deref())?;
-    Ok(context.map(|context| {
+    Ok(context.map(|mut context| {
+        if let Some(storage) = args.scene_storage {
+            context.scene_storage = storage.storage();
+        }
         let kernels = TraversalKernels::new(&context);
         Gpu { context, kernels }
     }))
@@ -142,9 +148,10 @@ fn open_gpu(args: &TraversalArgs) -> anyhow::Result<Option<Gpu>> {
 fn print_header(report: &Report, gpu: Option<&Gpu>) {
     match gpu {
         Some(g) => println!(
-            "gpu: {} (timing: {})",
+            "gpu: {} (timing: {}, scene in {})",
             g.context.description(),
-            report.gpu_timing.unwrap_or("none")
+            report.gpu_timing.unwrap_or("none"),
+            g.context.scene_storage.name()
         ),
         None => println!("gpu: none"),
     }

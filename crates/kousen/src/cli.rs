@@ -552,10 +552,10 @@ pub struct GatherArgs {
     /// The caustic photons' first gather radius as a share of --radius, in (0, 1]. Smaller:
     /// sharper rims of glass caustics sooner, noisier broad caustics such as flat mirrors
     /// throw. Default: 0.7 with sampled direct light, 1 with --direct-light photons (whose
-    /// caustic photons carry the direct light too). 0.7 against 1 (four seeds each,
+    /// caustic photons carry the direct light too). 0.7 against 1 (eight seeds each,
     /// docs/BENCHMARKS.md §3, session 15): inside cornell-caustics' glass caustic Mitsuba's
-    /// 4096-spp error reached 1.9× sooner, cornell-metal's whole-image error about a fifth
-    /// higher, scenes without mirrors or glass unchanged.
+    /// errors reached 1.4–1.6× sooner, cornell-metal's whole-image error about a fifth higher,
+    /// scenes without mirrors or glass unchanged.
     #[arg(long, value_name = "SHARE")]
     pub caustic_radius: Option<f32>,
 }

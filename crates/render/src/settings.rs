@@ -14,9 +14,10 @@ pub const DEFAULT_ALPHA: f32 = 2.0 / 3.0;
 pub const MEASURED_INDIRECT_ALPHA: f32 = 0.8;
 /// The caustic photons' first radius as a share of the indirect ones' that `kousen render`
 /// and `kousen view` use with sampled direct light, where only scenes with mirrors or glass
-/// have caustic photons; averaged over four seeds, 0.7 reached Mitsuba's 4096-spp error inside
-/// cornell-caustics' glass caustic 1.9× sooner than 1, and raised cornell-metal's whole-image
-/// error (broad caustics of flat mirrors) by about a fifth (docs/BENCHMARKS.md §3, session 15).
+/// have caustic photons; over eight seeds, 0.7 reached Mitsuba's errors inside
+/// cornell-caustics' glass caustic 1.4–1.6× sooner than 1, and raised cornell-metal's
+/// whole-image error (broad caustics of flat mirrors) by about a fifth (docs/BENCHMARKS.md §3,
+/// session 15).
 /// [`Settings::new`] keeps 1.
 pub const MEASURED_CAUSTIC_RADIUS_SHARE: f32 = 0.7;
 /// Photon passes per eye pass. Measured on lavapipe with the Cornell scenes (docs/BENCHMARKS.md

@@ -97,6 +97,16 @@ run() {
         step "$kousen" bench traversal "$scenes/crytek-sponza/sponza.obj" \
             "$scenes/sponza-dabrovic/sponza.obj" --view inside --size "$size" \
             --runs "$runs" --json "$results/traversal-inside.json"
+        # The scene in textures too (the default on CPU-type adapters only): measured on a GPU,
+        # it decides whether GPUs should read the scene from texels as well.
+        step "$kousen" bench traversal "$scenes/bunny/bunny.obj" \
+            "$scenes/cornell-metal/cornell_metal.obj" --view outside --size "$size" \
+            --runs "$runs" --devices gpu --scene-storage texels \
+            --json "$results/traversal-outside-texels.json"
+        step "$kousen" bench traversal "$scenes/crytek-sponza/sponza.obj" \
+            "$scenes/sponza-dabrovic/sponza.obj" --view inside --size "$size" \
+            --runs "$runs" --devices gpu --scene-storage texels \
+            --json "$results/traversal-inside-texels.json"
     fi
     if [ "$stage" = all ] || [ "$stage" = render ]; then
         step "$kousen" bench photons scenes/cornell-caustics.gltf "$lit/sponza.obj" \
@@ -130,7 +140,8 @@ import glob, json, os, sys
 results = sys.argv[1]
 for path in sorted(glob.glob(os.path.join(results, "traversal-*.json"))):
     data = json.load(open(path))
-    print(os.path.basename(path), data["adapter"]["name"], "| cpu:", data.get("cpu_model"))
+    print(os.path.basename(path), data["adapter"]["name"], "| scene in",
+          data.get("scene_storage"), "| cpu:", data.get("cpu_model"))
     rows = {}
     for r in data["results"]:
         scene = "/".join(r["path"].split("/")[-2:])

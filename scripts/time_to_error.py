@@ -74,6 +74,7 @@ def main():
     log = lambda s: print(s, file=sys.stderr, flush=True)
     here = os.path.dirname(os.path.abspath(__file__))
     rows = []
+    seeds = [int(x) for x in args.seeds.split(",")]
     with tempfile.TemporaryDirectory() as tmp:
         for spp in [int(s) for s in args.mitsuba_spp.split(",")]:
             out = os.path.join(tmp, "mitsuba-%d.exr" % spp)
@@ -90,7 +91,7 @@ def main():
         for config in args.config:
             name, extra = config.split("=", 1)
             for budget in [float(t) for t in args.times.split(",")]:
-                for seed in [int(x) for x in args.seeds.split(",")]:
+                for seed in seeds:
                     out = os.path.join(tmp, "kousen-%s-%g-%d.pfm" % (name, budget, seed))
                     stats = out + ".json"
                     subprocess.run(

@@ -33,14 +33,15 @@ fn ENTRY(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 "#;
 
-/// Entry points and what each loads.
-const VARIANTS: [(&str, &str); 4] = [
-    ("no_load", "vec4<f32>(f32(j))"),
-    ("storage_load", "data_storage[j]"),
-    ("uniform_load", "data_uniform[j & 4095u]"),
+/// Entry points, what each loads, and the binding it loads from (besides `out`'s 3).
+const VARIANTS: [(&str, &str, Option<u32>); 4] = [
+    ("no_load", "vec4<f32>(f32(j))", None),
+    ("storage_load", "data_storage[j]", Some(0)),
+    ("uniform_load", "data_uniform[j & 4095u]", Some(1)),
     (
         "texture_load",
         "textureLoad(data_texture, vec2<u32>(j & 1023u, j >> 10u), 0)",
+        Some(2),
     ),
 ];
 
@@ -89,7 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         mapped_at_creation: false,
     });
     let mut source = BINDINGS.to_string();
-    for (entry, load) in VARIANTS {
+    for (entry, load, _) in VARIANTS {
         source += &KERNEL
             .replace("ENTRY", entry)
             .replace("LOAD", load)
@@ -100,14 +101,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         source: wgpu::ShaderSource::Wgsl(source.into()),
     });
     let view = texture.create_view(&Default::default());
-    for entry in [
-        "no_load",
-        "storage_load",
-        "uniform_load",
-        "texture_load",
-        "storage_load",
-        "texture_load",
-    ] {
+    // Each load twice, to see the run-to-run spread.
+    for &(entry, _, binding) in VARIANTS.iter().chain(&VARIANTS[1..]) {
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: None,
             layout: None,
@@ -117,25 +112,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             cache: None,
         });
         let layout = pipeline.get_bind_group_layout(0);
-        let mut entries = Vec::new();
-        let used: &[u32] = match entry {
-            "storage_load" => &[0, 3],
-            "uniform_load" => &[1, 3],
-            "texture_load" => &[2, 3],
-            _ => &[3],
-        };
-        for &b in used {
-            let resource = match b {
-                0 => storage.as_entire_binding(),
-                1 => uniform.as_entire_binding(),
-                2 => wgpu::BindingResource::TextureView(&view),
-                _ => out.as_entire_binding(),
-            };
-            entries.push(wgpu::BindGroupEntry {
+        let entries: Vec<_> = binding
+            .into_iter()
+            .chain([3])
+            .map(|b| wgpu::BindGroupEntry {
                 binding: b,
-                resource,
-            });
-        }
+                resource: match b {
+                    0 => storage.as_entire_binding(),
+                    1 => uniform.as_entire_binding(),
+                    2 => wgpu::BindingResource::TextureView(&view),
+                    _ => out.as_entire_binding(),
+                },
+            })
+            .collect();
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &layout,

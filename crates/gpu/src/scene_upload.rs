@@ -172,8 +172,8 @@ fn all_links(bvh: &PackedBvh) -> Vec<Links> {
     links
 }
 
-/// (label, bytes) of each scene buffer.
-fn buffer_sizes(bvh: &PackedBvh, material_count: usize) -> [(&'static str, u64); 4] {
+/// (label, bytes) of the nodes, triangles and links: buffers or textures, by [`SceneStorage`].
+fn record_sizes(bvh: &PackedBvh) -> [(&'static str, u64); 3] {
     let bytes = |count: usize, size: usize| (count * size) as u64;
     [
         ("bvh_nodes", bytes(bvh.nodes.len(), size_of::<BvhNode>())),
@@ -187,10 +187,6 @@ fn buffer_sizes(bvh: &PackedBvh, material_count: usize) -> [(&'static str, u64);
                 bvh.mtbvh_links.len() + bvh.tbvh_links.len(),
                 size_of::<Links>(),
             ),
-        ),
-        (
-            "materials",
-            bytes(material_count.max(1), size_of::<GpuMaterial>()),
         ),
     ]
 }
@@ -210,15 +206,14 @@ pub fn check_scene_fits(
             limit: limits.max_storage_buffers_per_shader_stage,
         });
     }
-    for (label, bytes) in buffer_sizes(bvh, material_count) {
+    for (label, bytes) in record_sizes(bvh) {
         match storage {
-            SceneStorage::Texels if label != "materials" => {
-                check_texels_fit(label, bytes, TEXEL_ROW, limits)?
-            }
-            _ => check_buffer_fits(label, bytes, limits)?,
+            SceneStorage::Buffers => check_buffer_fits(label, bytes, limits)?,
+            SceneStorage::Texels => check_texels_fit(label, bytes, TEXEL_ROW, limits)?,
         }
     }
-    Ok(())
+    let material_bytes = (material_count.max(1) * size_of::<GpuMaterial>()) as u64;
+    check_buffer_fits("materials", material_bytes, limits)
 }
 
 /// The layout of bind group 0 (see `shaders/shared/scene_bindings.wgsl` and

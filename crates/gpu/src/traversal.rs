@@ -11,7 +11,7 @@ use bvh::{CompactMtbvh, Hit, PackedBvh, Ray, WideMtbvh};
 use crate::prelude::WORKGROUP_SIZE;
 use crate::readback::{read_buffer, wait_idle};
 use crate::scene_upload::{
-    GpuScene, bind_buffers, compact_layout, scene_layout, storage_entry, wide_layout,
+    GpuScene, SceneStorage, bind_buffers, compact_layout, scene_layout, storage_entry, wide_layout,
 };
 use crate::shader::Module;
 use crate::types::{BenchCameraUniform, GpuHit, GpuRay};
@@ -146,6 +146,8 @@ pub struct RayBatch {
 /// Compiled traversal and ray-generation pipelines.
 #[derive(Debug)]
 pub struct TraversalKernels {
+    /// Where the kernels read the scene from: a scene uploaded otherwise cannot be bound.
+    storage: SceneStorage,
     trace_layout: wgpu::BindGroupLayout,
     raygen_layout: wgpu::BindGroupLayout,
     closest: [wgpu::ComputePipeline; Variant::ALL.len()],
@@ -263,6 +265,7 @@ impl TraversalKernels {
                 period_ns: f64::from(context.queue.get_timestamp_period()),
             });
         TraversalKernels {
+            storage: context.scene_storage,
             closest: kernels(Query::Closest),
             any: kernels(Query::Any),
             primary: pipeline(device, &raygen_pipeline_layout, &raygen, "primary_rays"),
@@ -354,6 +357,7 @@ impl TraversalKernels {
         camera: &BenchCamera,
         diagonal: f32,
     ) -> Result<(), GpuError> {
+        self.check_storage(scene)?;
         let pipeline = match kind {
             RayKind::Primary => &self.primary,
             RayKind::Diffuse => &self.diffuse,
@@ -399,6 +403,7 @@ impl TraversalKernels {
         variant: Variant,
         query: Query,
     ) -> Result<f64, GpuError> {
+        self.check_storage(scene)?;
         let pipelines = match query {
             Query::Closest => &self.closest,
             Query::Any => &self.any,
@@ -430,6 +435,19 @@ impl TraversalKernels {
         let mut groups = vec![&scene.bind_group, &batch.trace_group];
         groups.extend(group_2);
         self.run(context, pipeline, &groups, batch.count, true)
+    }
+
+    /// An error in words unless `scene` is stored as these kernels read it (both follow the
+    /// context's `scene_storage` when they are made).
+    fn check_storage(&self, scene: &GpuScene) -> Result<(), GpuError> {
+        if scene.storage == self.storage {
+            return Ok(());
+        }
+        Err(GpuError::Device(format!(
+            "the scene was uploaded in {} but the traversal kernels read it from {}",
+            scene.storage.name(),
+            self.storage.name()
+        )))
     }
 
     /// One pass of `pipeline` over `count` invocations with `groups` bound at 0, 1, ...; its

@@ -209,20 +209,31 @@ fn ray_generation_matches_bench_rays() {
     let triangles = &cornell.triangles;
     let bvh = PackedBvh::build(triangles, &BuildOptions::default());
     let scene = GpuScene::upload(&context, &bvh, &[Material::default()]).expect("upload");
-    // Without the compact upload its kernels refuse in words.
-    let none = kernels
-        .batch(&context, 1)
-        .and_then(|b| kernels.trace(&context, &scene, &b, Variant::MtbvhCompact, Query::Closest));
-    assert!(
-        none.is_err_and(|e| e.to_string().contains("upload_compact")),
-        "compact trace without its upload"
-    );
-    let none = kernels
-        .batch(&context, 1)
-        .and_then(|b| kernels.trace(&context, &scene, &b, Variant::Mtbvh4, Query::Closest));
-    assert!(
-        none.is_err_and(|e| e.to_string().contains("upload_wide")),
-        "wide trace without its upload"
+    // A trace that cannot run is refused in words, containing `needle`.
+    let assert_refused = |scene: &GpuScene, variant: Variant, needle: &str| {
+        let refused = kernels
+            .batch(&context, 1)
+            .and_then(|b| kernels.trace(&context, scene, &b, variant, Query::Closest));
+        assert!(
+            refused.is_err_and(|e| e.to_string().contains(needle)),
+            "{} expected to be refused with {needle:?}",
+            variant.name()
+        );
+    };
+    // Without their uploads the compact and wide kernels refuse.
+    assert_refused(&scene, Variant::MtbvhCompact, "upload_compact");
+    assert_refused(&scene, Variant::Mtbvh4, "upload_wide");
+    // So do the kernels a scene stored otherwise than they read it.
+    let mut other = context.clone();
+    other.scene_storage = match context.scene_storage {
+        SceneStorage::Buffers => SceneStorage::Texels,
+        SceneStorage::Texels => SceneStorage::Buffers,
+    };
+    let other_scene = GpuScene::upload(&other, &bvh, &[Material::default()]).expect("upload");
+    assert_refused(
+        &other_scene,
+        Variant::Mtbvh,
+        "traversal kernels read it from",
     );
     let bounds = cornell.bounds();
     let diagonal = bounds.extent().length();

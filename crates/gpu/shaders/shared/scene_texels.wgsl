@@ -27,16 +27,21 @@ fn load_links(i: u32) -> Links {
     return Links(select(pair.x, pair.z, odd), select(pair.y, pair.w, odd));
 }
 
-// A vertex is two texels: position and u, then normal_xy, signed_material and v.
+// A triangle is six texels, a vertex two: position and u, then normal_xy, signed_material, v.
+fn vertex_texel(triangle: u32, vertex: u32) -> u32 {
+    return 6u * triangle + 2u * vertex;
+}
+
 fn load_vertex(triangle: u32, vertex: u32) -> PackedVertex {
-    let first = 6u * triangle + 2u * vertex;
+    let first = vertex_texel(triangle, vertex);
     let a = bitcast<vec4<f32>>(textureLoad(bvh_triangle_texels, texel_at(first), 0));
     let b = bitcast<vec4<f32>>(textureLoad(bvh_triangle_texels, texel_at(first + 1u), 0));
     return PackedVertex(a.xyz, a.w, b.xy, b.z, b.w);
 }
 
 fn load_position(triangle: u32, vertex: u32) -> vec3<f32> {
-    return bitcast<vec3<f32>>(textureLoad(bvh_triangle_texels, texel_at(6u * triangle + 2u * vertex), 0).xyz);
+    // The first texel only: a traversal needs no normal or uv.
+    return bitcast<vec3<f32>>(textureLoad(bvh_triangle_texels, texel_at(vertex_texel(triangle, vertex)), 0).xyz);
 }
 
 fn load_triangle(triangle: u32) -> PackedTriangle {

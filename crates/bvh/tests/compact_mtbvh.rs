@@ -4,10 +4,14 @@
 //! tests and more.
 //!
 //! The one allowed difference: a hit that rounding places outside its own triangle's box
-//! ([`is_fragile_hit`]) may be culled by the exact boxes and reached through the larger ones;
-//! the compact answer is then the closer, fragile hit. Such cases are counted and must be rare.
+//! ([`is_fragile_hit`]) may be culled by the exact boxes and reached through the larger ones.
+//! The compact answer is then either that closer, fragile hit, or a farther one: a fragile hit
+//! the larger boxes reached first can cull the box of the fragile hit the exact MTBVH found
+//! (seen on a sliver triangle whose computed `t` lies 6e-4 before its box). Either way the
+//! nearer of the two answers is fragile ([`nearer_is_fragile`]). Such cases are counted and
+//! must be rare.
 
-use bvh::testing::{is_fragile_hit, random_rays, random_soup};
+use bvh::testing::{is_fragile_hit, nearer_is_fragile, random_rays, random_soup};
 use bvh::traverse::{Query, TraversalCounters, trace_mtbvh};
 use bvh::{
     BuildOptions, CompactMtbvh, Hit, PackedBvh, Ray, any_hit_brute_force, any_hit_mtbvh,
@@ -34,10 +38,11 @@ fn check_ray(bvh: &PackedBvh, compact: &CompactMtbvh, ray: &Ray, brute: bool, ta
     tally.exact_boxes += exact_work.boxes;
     tally.compact_boxes += compact_work.boxes;
     if !bvh::testing::same_hit(bvh, got, exact) {
-        // Only a closer hit the exact boxes cannot be relied on to reach.
-        let g = got.unwrap_or_else(|| panic!("compact misses, exact {exact:?}, {ray:?}"));
+        // A compact miss visited a superset of the exact MTBVH's boxes: never allowed.
+        assert!(got.is_some(), "compact misses, exact {exact:?}, {ray:?}");
+        // Otherwise only rounding, through a hit the exact boxes cannot be relied on to reach.
         assert!(
-            is_fragile_hit(bvh, ray, &g) && exact.is_none_or(|e| g.t < e.t),
+            nearer_is_fragile(bvh, ray, got, exact),
             "compact {got:?}, exact {exact:?}, {ray:?}"
         );
         tally.fragile += 1;

@@ -1,5 +1,9 @@
 //! Wall time of each SPPM kernel on the default adapter (a development aid):
-//! `cargo run --release -p gpu --example sppm_kernel_times -- SCENE [WIDTH] [SLOTS]`.
+//! `cargo run --release -p gpu --example sppm_kernel_times -- SCENE [WIDTH] [SLOTS] [WARMUP]
+//! [talk|render]`, timing five passes after WARMUP whole passes (default 1; later passes
+//! gather with smaller, more varied radii). `talk` (the default): the stochastic hash and
+//! photon-gathered direct light; `render`: what `kousen render` runs on CPU-type adapters at
+//! glslppm's α (full per-cell lists, sampled direct light, α 0.7 for both photon classes).
 
 use std::time::Instant;
 
@@ -10,12 +14,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = scene::load(std::path::Path::new(&args[1]))?;
     let width: u32 = args.get(2).map_or(Ok(512), |s| s.parse())?;
     let slots: u32 = args.get(3).map_or(Ok(1 << 18), |s| s.parse())?;
+    let warmup: u32 = args.get(4).map_or(Ok(1), |s| s.parse())?;
     let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
     let camera = scene.camera(None).ok_or("no camera")?;
     let backend = gpu::sppm::GpuBackend::new(gpu::GpuContext::new(None)?, &scene, bvh)?;
-    let settings = render::Settings::new(width, width, slots);
+    let talk = render::Settings::new(width, width, slots);
+    let settings = match args.get(5).map_or("talk", String::as_str) {
+        "talk" => talk,
+        "render" => render::Settings {
+            density: render::Density::FullHash,
+            direct: render::direct::DirectLight::Sampled,
+            alpha: 0.7,
+            indirect_alpha: 0.7,
+            caustic_radius_share: render::settings::MEASURED_CAUSTIC_RADIUS_SHARE,
+            ..talk
+        },
+        other => return Err(format!("unknown settings {other:?} (talk or render)").into()),
+    };
     let mut sppm = render::Sppm::new(backend, &scene, &camera, settings)?;
-    sppm.pass();
+    for _ in 0..warmup {
+        sppm.pass();
+    }
     sppm.backend().synchronize()?;
     let mut totals = [0.0f64; 4];
     let passes = 5;

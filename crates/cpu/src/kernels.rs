@@ -436,52 +436,70 @@ pub fn stochastic_query(
 }
 
 /// Gather and update with any density method: `query` finds the photons around the visible
-/// point; the statistics update is the same for all.
+/// point; the statistics update is the same for all. Lit pixels then offer their radius to the
+/// pass's maximum.
 pub fn gather_with(
+    counters: &[AtomicU32],
+    params: &SppmParams,
+    visible_point: &VisiblePoint,
+    stats: PixelStats,
+    query: impl FnOnce(&GatherQuery) -> GatherSum,
+) -> PixelStats {
+    let (stats, lit_radius) = gather_update(counters, params, visible_point, stats, query);
+    counters[counter::MAX_RADIUS].fetch_max(lit_radius, Relaxed);
+    stats
+}
+
+/// [`gather_with`] without its atomic: the new statistics, and the bits of the largest radius
+/// that has met photons (0 for none), which a caller gathering many pixels can reduce itself
+/// before one `fetch_max` (positive floats order as their bits do).
+pub fn gather_update(
     counters: &[AtomicU32],
     params: &SppmParams,
     visible_point: &VisiblePoint,
     mut stats: PixelStats,
     query: impl FnOnce(&GatherQuery) -> GatherSum,
-) -> PixelStats {
+) -> (PixelStats, u32) {
     let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
     // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
     let largest = largest_radius(cell_size);
     shrink_to_fit(&mut stats.tau, &mut stats.radius, largest);
     shrink_to_fit(&mut stats.caustic_tau, &mut stats.caustic_radius, largest);
-    if visible_point.is_valid() {
-        let sum = query(&GatherQuery {
-            position: vec3(visible_point.position),
-            normal: unpack_normal(visible_point.normal),
-            radius: stats.radius,
-            caustic_radius: stats.caustic_radius,
-            cell_size,
-        });
-        let weight = vec3(visible_point.weight);
-        let s = &mut stats;
-        let indirect = (sum.found, weight * sum.flux, params.indirect_alpha);
-        update(&mut s.tau, &mut s.photon_count, &mut s.radius, indirect);
-        let caustic = (sum.caustic_found, weight * sum.caustic_flux, params.alpha);
-        update(
-            &mut s.caustic_tau,
-            &mut s.caustic_count,
-            &mut s.caustic_radius,
-            caustic,
-        );
-        // Only radii that have met photons size the cells: the others would hold them at the
-        // initial radius for ever, and one photon kept per cell would then serve ever more
-        // pixels.
-        for (count, radius) in [
-            (stats.photon_count, stats.radius),
-            (stats.caustic_count, stats.caustic_radius),
-        ] {
-            if count > 0.0 {
-                counters[counter::MAX_RADIUS].fetch_max(radius.to_bits(), Relaxed);
-            }
-        }
+    if !visible_point.is_valid() {
+        return (stats, 0);
     }
-    stats
+    let sum = query(&GatherQuery {
+        position: vec3(visible_point.position),
+        normal: unpack_normal(visible_point.normal),
+        radius: stats.radius,
+        caustic_radius: stats.caustic_radius,
+        cell_size,
+    });
+    let weight = vec3(visible_point.weight);
+    let s = &mut stats;
+    let indirect = (sum.found, weight * sum.flux, params.indirect_alpha);
+    update(&mut s.tau, &mut s.photon_count, &mut s.radius, indirect);
+    let caustic = (sum.caustic_found, weight * sum.caustic_flux, params.alpha);
+    update(
+        &mut s.caustic_tau,
+        &mut s.caustic_count,
+        &mut s.caustic_radius,
+        caustic,
+    );
+    // Only radii that have met photons size the cells: the others would hold them at the
+    // initial radius for ever, and one photon kept per cell would then serve ever more
+    // pixels.
+    let lit_radius = [
+        (stats.photon_count, stats.radius),
+        (stats.caustic_count, stats.caustic_radius),
+    ]
+    .into_iter()
+    .filter(|&(count, _)| count > 0.0)
+    .map(|(_, radius)| radius.to_bits())
+    .max()
+    .unwrap_or(0);
+    (stats, lit_radius)
 }
 
 /// A radius larger than the cells allow shrinks to `largest`, its flux scaled with the area.

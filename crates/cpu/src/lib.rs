@@ -203,23 +203,24 @@ impl Backend for CpuBackend {
         let (scene, state) = (&self.scene, &mut self.state);
         let params = state.params;
         let (precision, origin) = (state.precision, vec3(params.storage_origin));
-        let counters = &state.counters;
-        state
+        // Counted per thread and added once: one shared atomic per emitted path would bounce
+        // its cache line between the cores.
+        let emitted: u32 = state
             .slots
             .par_iter_mut()
             .zip(state.photons.par_iter_mut())
             .enumerate()
-            .for_each(|(index, (slot, photon))| {
+            .map(|(index, (slot, photon))| {
                 let step = kernels::photon_pass(scene, &params, pass, index as u32, *slot);
                 *slot = step.slot;
                 *photon = match precision {
                     Precision::F32 => step.photon,
                     Precision::F16 => round_photon(&step.photon, origin, params.storage_flux_scale),
                 };
-                if step.emitted {
-                    counters[counter::EMITTED_PASS].fetch_add(1, Relaxed);
-                }
-            });
+                u32::from(step.emitted)
+            })
+            .sum();
+        state.counters[counter::EMITTED_PASS].fetch_add(emitted, Relaxed);
     }
 
     fn build_hash(&mut self) {
@@ -266,35 +267,43 @@ impl Backend for CpuBackend {
             state.kd_tree.as_ref(),
         );
         let density = state.density;
-        state
+        // The pass's largest lit radius, reduced per thread and offered once (as with the
+        // emitted paths: no shared atomic per pixel).
+        let lit_radius = state
             .pixels
             .par_iter_mut()
             .zip(state.visible_points.par_iter())
-            .for_each(|(stats, point)| {
-                *stats = kernels::gather_with(counters, params, point, *stats, |query| {
-                    match (density, tree) {
-                        (Density::FullHash, _) => {
-                            density::full_query_listed(params, hash, offsets, listed, query)
-                        }
-                        // No tree: no hash was built this pass, so no photon is found.
-                        (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
-                            let radii = [query.caustic_radius, query.radius];
-                            let [(caustic_found, caustic_flux), (found, flux)] =
-                                tree.query_classes(query.position, radii, query.normal);
-                            kernels::GatherSum {
-                                found,
-                                flux,
-                                caustic_found,
-                                caustic_flux,
+            .map(|(stats, point)| {
+                let (next, lit_radius) =
+                    kernels::gather_update(counters, params, point, *stats, |query| {
+                        match (density, tree) {
+                            (Density::FullHash, _) => {
+                                density::full_query_listed(params, hash, offsets, listed, query)
                             }
-                        }),
-                        (Density::StochasticHash, _) => {
-                            kernels::stochastic_query(params, hash, photons, query)
+                            // No tree: no hash was built this pass, so no photon is found.
+                            (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
+                                let radii = [query.caustic_radius, query.radius];
+                                let [(caustic_found, caustic_flux), (found, flux)] =
+                                    tree.query_classes(query.position, radii, query.normal);
+                                kernels::GatherSum {
+                                    found,
+                                    flux,
+                                    caustic_found,
+                                    caustic_flux,
+                                }
+                            }),
+                            (Density::StochasticHash, _) => {
+                                kernels::stochastic_query(params, hash, photons, query)
+                            }
                         }
-                    }
-                });
-            });
-        kernels::finish_pass(&state.counters);
+                    });
+                *stats = next;
+                lit_radius
+            })
+            .max()
+            .unwrap_or(0);
+        counters[counter::MAX_RADIUS].fetch_max(lit_radius, Relaxed);
+        kernels::finish_pass(counters);
     }
 
     fn synchronize(&mut self) -> Result<(), BackendError> {

@@ -261,11 +261,7 @@ impl GpuBackend {
         let limits = &self.context.limits;
         let pixels = params.pixel_count() as u64;
         let slots = params.slot_count as u64;
-        // A photon or visible point: 32 bytes of f32, or 16 of f16.
-        let point_bytes = match setup.precision {
-            Precision::F32 => size_of::<Photon>() as u64,
-            Precision::F16 => size_of::<HalfPoint>() as u64,
-        };
+        let point_bytes = setup.precision.point_bytes();
         let sizes: [(&'static str, &'static str, u64); 6] = [
             (
                 "photon_slots",

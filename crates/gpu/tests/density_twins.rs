@@ -4,8 +4,9 @@
 //! - full spatial hash: the prefix sum over the GPU's counts equals `render::density::
 //!   scan_counts` word for word; the scatter lists every stored photon exactly once, under the
 //!   entry the CPU hashes it to, each list sorted by photon index; the gather over the GPU's
-//!   lists equals `cpu::density::full_query`'s; two renders with the same seed give the same
-//!   image, bit for bit;
+//!   lists (which reads the photons the sort copied into list order, stored in f32 or f16)
+//!   equals `cpu::density::full_query`'s; two renders with the same seed give the same image,
+//!   bit for bit;
 //! - kd-tree: the gather over the tree uploaded from the GPU's photons equals the CPU's query
 //!   of the same tree.
 //!
@@ -20,6 +21,7 @@ use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::buffers::{HASH_ENTRY_WORDS, Photon, PixelStats, VisiblePoint};
 use render::density::{SCAN_BLOCK, full_word, scan_counts};
+use render::half_storage::Precision;
 use render::integrator::Phase;
 use render::kdtree::PhotonKdTree;
 use render::{Backend, Density, Settings, Sppm};
@@ -54,6 +56,10 @@ struct BeforeGather {
 }
 
 fn render(density: Density) -> (Sppm<GpuBackend>, Settings) {
+    render_in(density, Precision::F32)
+}
+
+fn render_in(density: Density, precision: Precision) -> (Sppm<GpuBackend>, Settings) {
     let scene = scene::testing::cornell_caustics();
     let bvh = PackedBvh::build(&scene.triangles, &BuildOptions::default());
     let camera = scene.camera(None).expect("a camera");
@@ -61,6 +67,7 @@ fn render(density: Density) -> (Sppm<GpuBackend>, Settings) {
         seed: 3,
         eye_every: 2,
         density,
+        precision,
         // 1,000 entries: four scan blocks, the last one partial.
         hash_ratio: 1000.0 / 4096.0,
         ..Settings::new(24, 24, 4096)
@@ -132,7 +139,17 @@ fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) {
 
 #[test]
 fn full_hash_matches_its_cpu_twin_on_the_gpu_state() {
-    let (mut sppm, _) = render(Density::FullHash);
+    full_hash_matches_its_cpu_twin(Precision::F32);
+}
+
+/// With f16 photons the sort copies packed records into list order, which the gather unpacks.
+#[test]
+fn full_hash_matches_its_cpu_twin_with_f16_photons() {
+    full_hash_matches_its_cpu_twin(Precision::F16);
+}
+
+fn full_hash_matches_its_cpu_twin(precision: Precision) {
+    let (mut sppm, _) = render_in(Density::FullHash, precision);
     let params = {
         let scene = scene::testing::cornell_caustics();
         let camera = scene.camera(None).unwrap();

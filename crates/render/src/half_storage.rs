@@ -29,6 +29,14 @@ impl Precision {
             Precision::F16 => "f16",
         }
     }
+
+    /// Bytes of one stored photon or visible point: 32 of f32, or 16 of f16.
+    pub fn point_bytes(self) -> u64 {
+        match self {
+            Precision::F32 => size_of::<Photon>() as u64,
+            Precision::F16 => size_of::<HalfPoint>() as u64,
+        }
+    }
 }
 
 /// [`crate::buffers::SppmParams::storage_flux_scale`] for a light table.

@@ -1,7 +1,8 @@
 // The full spatial hash (cpu::density): every photon listed under the table entry it hashes
 // to, the lists built by a counting sort — count per entry (full_count), an exclusive prefix
 // sum over the counts (full_scan_blocks, then full_scan_totals over the blocks' totals), a
-// scatter (full_scatter), and a sort of each list by photon index (full_sort_lists). Table
+// scatter (full_scatter), and a sort of each list by photon index that then copies the
+// list's photons into list order for the gather (full_sort_lists). Table
 // words per entry: FULL_START (list start within its scan block), FULL_COUNT, FULL_FILL (the
 // scatter's cursor). `kousen render --density full` and `kousen bench density` run it.
 
@@ -9,6 +10,8 @@
 @group(3) @binding(0) var<storage, read_write> photon_order: array<u32>;
 // Per scan block: its total, then (after full_scan_totals) the offset of its first list.
 @group(3) @binding(1) var<storage, read_write> block_sums: array<u32>;
+// The photons in list order: listed_photons[place] is photons[photon_order[place]].
+@group(3) @binding(2) var<storage, read_write> listed_photons: array<StoredPhoton>;
 
 var<workgroup> scan_lanes: array<u32, SCAN_BLOCK>;
 
@@ -110,7 +113,9 @@ fn full_scatter(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
 // photon index the lists are the same every run, so the gather adds the same numbers in the
 // same order and the image is reproducible; they then also equal the CPU twin's lists (filled
 // in photon order). Shell sort with Ciura's gaps, one invocation per entry: most lists hold
-// a photon or two, a focused caustic's can hold thousands.
+// a photon or two, a focused caustic's can hold thousands. The sorted list's photons are then
+// copied into list order (cpu::density::list_photons), so that the gather reads each list
+// from consecutive memory instead of through the order's indirection.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let entry = invocation_index(id, groups);
@@ -119,12 +124,9 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     }
     let word = entry * HASH_ENTRY_WORDS;
     let count = atomicLoad(&hash[word + FULL_COUNT]);
-    if count < 2u {
-        return;
-    }
     let start = list_start(word);
     var gaps = array<u32, 8>(701u, 301u, 132u, 57u, 23u, 10u, 4u, 1u);
-    for (var g = 0u; g < 8u; g += 1u) {
+    for (var g = 0u; g < 8u && count >= 2u; g += 1u) {
         let gap = gaps[g];
         for (var i = gap; i < count; i += 1u) {
             let value = photon_order[start + i];
@@ -139,9 +141,12 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
             photon_order[start + j] = value;
         }
     }
+    for (var place = start; place < start + count; place += 1u) {
+        listed_photons[place] = photons[photon_order[place]];
+    }
 }
 
-// cpu::density::full_query: every photon listed in each distinct entry the sphere touches.
+// cpu::density::full_query_listed: every photon listed in each distinct entry the sphere touches.
 fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
     var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
     let touched = query_entries(position, reach(radii), cell_size);
@@ -150,7 +155,7 @@ fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_
         let start = list_start(word);
         let listed = atomicLoad(&hash[word + FULL_COUNT]);
         for (var place = start; place < start + listed; place += 1u) {
-            add_if_near(&sum, position, normal, radii, load_photon(photon_order[place]), 1u);
+            add_if_near(&sum, position, normal, radii, unpack_photon(listed_photons[place]), 1u);
         }
     }
     return sum;

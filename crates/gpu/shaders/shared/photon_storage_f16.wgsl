@@ -31,11 +31,17 @@ fn unpack_half_point(h: HalfPoint) -> UnpackedPoint {
     return UnpackedPoint(vec3<f32>(xy, z_r.x) + storage_origin(), vec3<f32>(z_r.y, g_b));
 }
 
+// A photon as it lies in memory (the full hash copies them into list order as they are).
+alias StoredPhoton = HalfPoint;
+
 // Fluxes are stored × params.flux_scale (render::half_storage::round_photon).
+fn unpack_photon(stored: StoredPhoton) -> Photon {
+    let u = unpack_half_point(stored);
+    return Photon(u.position, stored.normal, u.value / params.flux_scale, 0u);
+}
+
 fn load_photon(index: u32) -> Photon {
-    let h = photons[index];
-    let u = unpack_half_point(h);
-    return Photon(u.position, h.normal, u.value / params.flux_scale, 0u);
+    return unpack_photon(photons[index]);
 }
 
 fn store_photon(index: u32, photon: Photon) {

@@ -3,6 +3,13 @@
 @group(1) @binding(3) var<storage, read_write> photons: array<Photon>;
 @group(1) @binding(4) var<storage, read_write> visible_points: array<VisiblePoint>;
 
+// A photon as it lies in memory (the full hash copies them into list order as they are).
+alias StoredPhoton = Photon;
+
+fn unpack_photon(stored: StoredPhoton) -> Photon {
+    return stored;
+}
+
 fn load_photon(index: u32) -> Photon {
     return photons[index];
 }

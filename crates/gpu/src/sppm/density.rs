@@ -1,8 +1,9 @@
 //! The density-estimation methods besides the stochastic hash (`kousen render --density`,
 //! `kousen bench density`), on the GPU backend's state: the full spatial hash built by a
 //! counting sort on the GPU, its lists then sorted by photon index so images are reproducible
-//! (`shaders/shared/density_full.wgsl`), and a kd-tree built on the CPU from the pass's photons
-//! read back, queried on the GPU (`density_kdtree.wgsl`). Their extra buffers are bind group 3;
+//! and the photons copied into list order for the gather (`shaders/shared/density_full.wgsl`),
+//! and a kd-tree built on the CPU from the pass's photons read back, queried on the GPU
+//! (`density_kdtree.wgsl`). Their extra buffers are bind group 3;
 //! renders with the stochastic hash never make any of this.
 
 use render::Density;
@@ -18,8 +19,9 @@ use crate::shader::Module;
 use crate::traversal::workgroups;
 use crate::{GpuError, check_buffer_fits};
 
-/// Storage buffers the density variants bind per stage: the SPPM kernels' and their two.
-pub const DENSITY_STORAGE_BUFFERS: u32 = SPPM_STORAGE_BUFFERS + 2;
+/// Storage buffers the density variants bind per stage: the SPPM kernels' and at most three
+/// of their own (the full hash's).
+pub const DENSITY_STORAGE_BUFFERS: u32 = SPPM_STORAGE_BUFFERS + 3;
 
 /// The full hash's entry points, in the order a pass runs them.
 const FULL_KERNELS: [&str; 6] = [
@@ -40,9 +42,9 @@ pub(super) struct DensityKernels {
     /// The method's pipelines by entry point (the full hash's six, or the kd-tree's gather).
     pipelines: Vec<wgpu::ComputePipeline>,
     bind_group: wgpu::BindGroup,
-    /// Group 3's two buffers: the full hash's photon order and scan-block sums, or the
-    /// kd-tree's nodes and node count.
-    buffers: [wgpu::Buffer; 2],
+    /// Group 3's buffers: the full hash's photon order, scan-block sums and photons in list
+    /// order, or the kd-tree's nodes and node count.
+    buffers: Vec<wgpu::Buffer>,
     /// Bytes of group 3's buffers.
     pub(super) bytes: u64,
 }
@@ -72,23 +74,27 @@ impl DensityKernels {
     ) -> Result<Option<DensityKernels>, GpuError> {
         let context = &backend.context;
         let limit = context.limits.max_storage_buffers_per_shader_stage;
-        let (module, entry_points, buffers): (Module, &[&str], [(&str, u64); 2]) = match method {
+        let (module, entry_points, buffers): (Module, &[&str], Vec<(&str, u64)>) = match method {
             Density::StochasticHash => return Ok(None),
             Density::FullHash => (
                 Module::SppmFullHash,
                 &FULL_KERNELS,
-                [
+                vec![
                     ("photon_order", u64::from(params.slot_count) * 4),
                     (
                         "scan_block_sums",
                         u64::from(scan_blocks(params.hash_size)) * 4,
+                    ),
+                    (
+                        "listed_photons",
+                        u64::from(params.slot_count) * precision.point_bytes(),
                     ),
                 ],
             ),
             Density::KdTree => (
                 Module::SppmKdTree,
                 &["gather"],
-                [
+                vec![
                     (
                         "kd_nodes",
                         u64::from(params.slot_count) * size_of::<KdNode>() as u64,
@@ -97,22 +103,33 @@ impl DensityKernels {
                 ],
             ),
         };
-        if limit < DENSITY_STORAGE_BUFFERS {
+        let needed = SPPM_STORAGE_BUFFERS + buffers.len() as u32;
+        if limit < needed {
             return Err(GpuError::TooFewStorageBuffers {
-                needed: DENSITY_STORAGE_BUFFERS,
+                needed,
                 limit,
             });
         }
-        for (label, bytes) in buffers {
+        for &(label, bytes) in &buffers {
             check_buffer_fits(label, bytes, &context.limits)?;
         }
         let device = &context.device;
         let (layout, pipelines) = match previous {
             Some(p) if p.method == method && p.precision == precision => (p.layout, p.pipelines),
-            _ => compile(backend, module, entry_points, method, precision),
+            _ => compile(
+                backend,
+                module,
+                entry_points,
+                buffers.len(),
+                method,
+                precision,
+            ),
         };
-        let made = buffers.map(|(label, bytes)| storage_buffer(device, label, bytes));
-        let bind_group = bind_buffers(device, "density", &layout, &[&made[0], &made[1]]);
+        let made: Vec<_> = buffers
+            .iter()
+            .map(|&(label, bytes)| storage_buffer(device, label, bytes))
+            .collect();
+        let bind_group = bind_buffers(device, "density", &layout, &made.iter().collect::<Vec<_>>());
         let bytes = buffers.iter().map(|(_, b)| b).sum();
         Ok(Some(DensityKernels {
             method,
@@ -126,19 +143,24 @@ impl DensityKernels {
     }
 }
 
-/// Group 3's layout and the method's pipelines, one per entry point.
+/// Group 3's layout (`buffer_count` storage buffers) and the method's pipelines, one per entry
+/// point.
 fn compile(
     backend: &GpuBackend,
     module: Module,
     entry_points: &[&str],
+    buffer_count: usize,
     method: Density,
     precision: Precision,
 ) -> (wgpu::BindGroupLayout, Vec<wgpu::ComputePipeline>) {
     let device = &backend.context.device;
     let read_only = method == Density::KdTree;
+    let entries: Vec<_> = (0..buffer_count as u32)
+        .map(|binding| storage_entry(binding, read_only))
+        .collect();
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("density"),
-        entries: &[storage_entry(0, read_only), storage_entry(1, read_only)],
+        entries: &entries,
     });
     let pipelines = compile_pipelines(
         &backend.context,
@@ -204,7 +226,7 @@ impl GpuBackend {
     fn upload_kd_tree(&mut self) -> Result<(), render::BackendError> {
         let photons: Vec<Photon> = self.read_photons()?;
         let tree = PhotonKdTree::build(&photons);
-        let Some([nodes, count]) = self.density.as_ref().map(|d| &d.buffers) else {
+        let Some([nodes, count]) = self.density.as_ref().map(|d| d.buffers.as_slice()) else {
             return Ok(());
         };
         let queue = &self.context.queue;

@@ -172,24 +172,53 @@ pub fn specular_direction(
         }
         Surface::Mirror => reflect(incoming, normal),
         Surface::Dielectric { ior, thin_walled } => {
-            let eta = if hit.front || thin_walled {
-                1.0 / ior
+            let branches = dielectric_branches(hit, incoming, ior, thin_walled);
+            if u[0] < branches.reflectance {
+                branches.reflected
             } else {
-                ior
-            };
-            let mut reflectance = fresnel_dielectric(-incoming.dot(normal), eta);
-            if thin_walled {
-                // A sheet: light bounces between its two faces; the total reflectance.
-                reflectance = 2.0 * reflectance / (1.0 + reflectance);
-            }
-            if u[0] < reflectance {
-                reflect(incoming, normal)
-            } else if thin_walled {
-                incoming
-            } else {
-                refract(incoming, normal, eta).unwrap_or_else(|| reflect(incoming, normal))
+                branches.transmitted
             }
         }
     };
     Some((direction, 1.0))
+}
+
+/// A smooth dielectric's two ways on: reflected with probability `reflectance` (Fresnel),
+/// else transmitted (refracted; straight on through a thin-walled sheet; reflected where
+/// total internal reflection leaves no refracted ray).
+#[derive(Clone, Copy, Debug)]
+pub struct DielectricBranches {
+    pub reflectance: f32,
+    pub reflected: Vec3,
+    pub transmitted: Vec3,
+}
+
+pub fn dielectric_branches(
+    hit: &SurfaceHit,
+    incoming: Vec3,
+    ior: f32,
+    thin_walled: bool,
+) -> DielectricBranches {
+    let normal = hit.shading;
+    let eta = if hit.front || thin_walled {
+        1.0 / ior
+    } else {
+        ior
+    };
+    let mut reflectance = fresnel_dielectric(-incoming.dot(normal), eta);
+    if thin_walled {
+        // A sheet: light bounces between its two faces; the total reflectance.
+        reflectance = 2.0 * reflectance / (1.0 + reflectance);
+    }
+    let reflected = reflect(incoming, normal);
+    let transmitted = if thin_walled {
+        incoming
+    } else {
+        refract(incoming, normal, eta).unwrap_or(reflected)
+    };
+    DielectricBranches {
+        reflectance,
+        reflected,
+        transmitted,
+    }
 }

@@ -575,3 +575,34 @@ fn sampled_direct_light_matches_every_analytic_case() {
     let radiance = testing::LIT_PLANE_ALBEDO * sky;
     assert_matches("sampled, sky", &image, |_| radiance, 0.01, 0.005);
 }
+
+/// Eye paths meeting glass count what both of its ways see at once, each weighted by its
+/// Fresnel probability, whichever way the path goes on: through the glass pane every pixel's
+/// emission is then exact after a single eye pass (R'·3 + (1 − R')·1 = 1.154 at normal
+/// incidence), where choosing one way alone gives 3 or 1 at random. The 2° field of view
+/// keeps every ray within 1.5° of the axis, where Fresnel's reflectance moves by less than
+/// 1e-6; tolerance 1e-4 (f32 arithmetic along the path).
+#[test]
+fn glass_pane_shows_both_ways_in_every_eye_pass() {
+    let scene = testing::glass_pane();
+    let camera = scene.camera(None).unwrap();
+    let expected = testing::glass_pane_radiance(1.0, render::optics::fresnel_dielectric);
+    for seed in 1..=3 {
+        let settings = Settings {
+            seed,
+            eye_every: 1,
+            ..Settings::new(8, 8, 256)
+        };
+        let mut sppm = Sppm::new(backend(&scene), &scene, &camera, settings).unwrap();
+        sppm.pass();
+        let Statistics { pixels, .. } = sppm.backend().read_statistics().unwrap();
+        for (i, p) in pixels.iter().enumerate() {
+            for value in p.direct {
+                assert!(
+                    (value / expected - 1.0).abs() < 1e-4,
+                    "seed {seed}, pixel {i}: {value} against {expected}"
+                );
+            }
+        }
+    }
+}

@@ -725,6 +725,49 @@ fn resolved_images_match_after_eight_passes() {
 
 /// The check: GPU and CPU renders of the Cornell box at the same budget differ by no
 /// more than their own noise, estimated from two seeds of the CPU backend.
+/// The eye pass at glass on both backends: through the glass pane each pixel's emission after
+/// one pass is what both of the sheet's ways see, weighted by Fresnel (the analytic value of
+/// cpu's `glass_pane_shows_both_ways_in_every_eye_pass`), on the GPU as on the CPU; behind
+/// three sheets, where only the first splits the path and the others choose, the GPU's
+/// emission equals the CPU's pixel for pixel.
+#[test]
+fn eye_paths_at_glass_count_both_ways_like_the_cpu_twin() {
+    let settings = Settings {
+        eye_every: 1,
+        ..Settings::new(8, 8, 256)
+    };
+    let direct = |sheets: u32| {
+        let fixture = Fixture::new(scene::testing::glass_panes(sheets));
+        let mut g = fixture.gpu(context(), &settings);
+        let mut c = fixture.cpu(&settings);
+        g.pass();
+        c.pass();
+        let gpu = g.backend().read_statistics().expect("statistics").pixels;
+        let cpu = c.backend().read_statistics().expect("statistics").pixels;
+        for (i, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
+            for k in 0..3 {
+                let (g, c) = (g.direct[k], c.direct[k]);
+                assert!(
+                    (g - c).abs() <= 1e-5 * c.abs(),
+                    "{sheets} sheets, pixel {i}: GPU {g}, CPU {c}"
+                );
+            }
+        }
+        gpu.iter().map(|s| s.direct[0]).collect::<Vec<f32>>()
+    };
+    let expected = scene::testing::glass_pane_radiance(1.0, render::optics::fresnel_dielectric);
+    for (i, g) in direct(1).iter().enumerate() {
+        assert!(
+            (g / expected - 1.0).abs() < 1e-4,
+            "pixel {i}: GPU {g} against {expected}"
+        );
+    }
+    assert!(
+        direct(3).iter().any(|g| (g / expected - 1.0).abs() > 0.01),
+        "three sheets look like one"
+    );
+}
+
 #[test]
 fn gpu_and_cpu_renders_differ_by_no_more_than_their_noise() {
     let fixture = Fixture::new(scene::testing::cornell_box());

@@ -334,11 +334,37 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     var point = VisiblePoint(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     var depth = 0u;
     var pass_throughs = 0u;
+    // cpu::kernels::eye_pass's share of the next surface's emission still to count, whether
+    // the path has met glass, and the glass branch not taken (cpu::kernels::emission_seen),
+    // traced by the iteration after the glass surface's so that the kernel keeps one
+    // traversal: its ray, the weight of what it sees, and the holes it has passed.
+    var emission_share = 1.0;
+    var met_glass = false;
+    var probing = false;
+    var probe_origin = vec3<f32>(0.0);
+    var probe_direction = vec3<f32>(0.0);
+    var probe_weight = vec3<f32>(0.0);
+    var probe_pass_throughs = 0u;
+    let sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
     while depth < params.max_depth {
-        let hit = trace_surface(origin, direction);
+        let hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
+        if probing {
+            if !hit.found {
+                direct += probe_weight * sky;
+                probing = false;
+            } else if is_cut_out(materials[hit.material], hit.uv) {
+                probe_pass_throughs += 1u;
+                probe_origin = hit.position + params.epsilon * probe_direction;
+                probing = probe_pass_throughs <= MAX_PASS_THROUGHS;
+            } else {
+                direct += probe_weight * emitted(materials[hit.material], hit);
+                probing = false;
+            }
+            continue;
+        }
         if !hit.found {
             // Out of the scene: the sky (zero without one).
-            direct += throughput * vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
+            direct += throughput * emission_share * sky;
             break;
         }
         let material = materials[hit.material];
@@ -350,7 +376,8 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        direct += throughput * emitted(material, hit);
+        direct += throughput * emission_share * emitted(material, hit);
+        emission_share = 1.0;
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
         let u = next_f32(&rng);
         if material.surface == SURFACE_DIFFUSE {
@@ -376,9 +403,29 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         if max3(throughput) <= 0.0 {
             break;
         }
+        depth += 1u;
+        // cpu::kernels::eye_pass: at the first glass surface, the branch not taken is probed
+        // next.
+        if material.surface == SURFACE_DIELECTRIC && !met_glass && depth < params.max_depth {
+            met_glass = true;
+            let branches = dielectric_branches(material, hit, direction);
+            var other = branches.reflected;
+            var other_share = branches.reflectance;
+            if u < branches.reflectance {
+                other = branches.transmitted;
+                other_share = 1.0 - branches.reflectance;
+            }
+            if any(other != bounce.direction) && other_share > 0.0 {
+                probing = true;
+                probe_origin = offset_origin(hit, other, params.epsilon);
+                probe_direction = other;
+                probe_weight = throughput * other_share;
+                probe_pass_throughs = 0u;
+                emission_share = 1.0 - other_share;
+            }
+        }
         origin = offset_origin(hit, bounce.direction, params.epsilon);
         direction = bounce.direction;
-        depth += 1u;
     }
     store_visible_point(index, point);
     pixels[index].direct += direct;

@@ -251,19 +251,37 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
     if material.surface == SURFACE_MIRROR {
         return Scattered(reflect_about(incoming, normal), 1.0);
     }
+    let branches = dielectric_branches(material, hit, incoming);
+    if u < branches.reflectance {
+        return Scattered(branches.reflected, 1.0);
+    }
+    return Scattered(branches.transmitted, 1.0);
+}
+
+// cpu::surface::DielectricBranches: reflected with probability `reflectance`, else
+// transmitted (refracted; straight on through a thin-walled sheet; reflected at total
+// internal reflection).
+struct DielectricBranches {
+    reflectance: f32,
+    reflected: vec3<f32>,
+    transmitted: vec3<f32>,
+}
+
+// cpu::surface::dielectric_branches.
+fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>) -> DielectricBranches {
+    let normal = hit.shading;
     let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
     let eta = select(material.ior, 1.0 / material.ior, hit.front || thin_walled);
     var reflectance = fresnel_dielectric(-dot(incoming, normal), eta);
     if thin_walled {
         reflectance = 2.0 * reflectance / (1.0 + reflectance);
     }
-    if u < reflectance {
-        return Scattered(reflect_about(incoming, normal), 1.0);
+    let reflected = reflect_about(incoming, normal);
+    var transmitted = incoming;
+    if !thin_walled {
+        transmitted = refract_or_reflect(incoming, normal, eta);
     }
-    if thin_walled {
-        return Scattered(incoming, 1.0);
-    }
-    return Scattered(refract_or_reflect(incoming, normal, eta), 1.0);
+    return DielectricBranches(reflectance, reflected, transmitted);
 }
 
 // ---- render::hash ----

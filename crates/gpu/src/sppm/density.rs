@@ -105,10 +105,7 @@ impl DensityKernels {
         };
         let needed = SPPM_STORAGE_BUFFERS + buffers.len() as u32;
         if limit < needed {
-            return Err(GpuError::TooFewStorageBuffers {
-                needed,
-                limit,
-            });
+            return Err(GpuError::TooFewStorageBuffers { needed, limit });
         }
         for &(label, bytes) in &buffers {
             check_buffer_fits(label, bytes, &context.limits)?;

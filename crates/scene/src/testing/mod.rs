@@ -12,6 +12,8 @@
 //! - [`cornell_box_punctual`]: the Cornell box with a point, a spot and a directional light
 //!   and a sky besides its own.
 //! - [`cornell_spot`]: [`cornell_caustics`] with a spot light on the glass sphere.
+//! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
+//!   emission is [`glass_pane_radiance`]; [`glass_panes`] has more sheets.
 //!
 //! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
 //! these by `cargo run -p scene --example make_scenes -- scenes/`.
@@ -121,6 +123,69 @@ pub fn cornell_rough() -> Scene {
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, gold, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, silver, false);
     f.finish()
+}
+
+/// Glass pane: a thin-walled glass sheet (ior [`GLASS_PANE_IOR`]) at z = 1, an emitter of
+/// radiance [`GLASS_PANE_FRONT_EMISSION`] behind it at z = 2 facing the camera, and one of
+/// [`GLASS_PANE_BACK_EMISSION`] at z = −1 facing the sheet, behind the camera (which sits at
+/// the origin looking +z with a 2° field of view, so it sees only the sheet).
+pub const GLASS_PANE_IOR: f32 = 1.5;
+pub const GLASS_PANE_FRONT_EMISSION: f32 = 1.0;
+pub const GLASS_PANE_BACK_EMISSION: f32 = 3.0;
+
+/// The scene of [`GLASS_PANE_IOR`] and the constants after it. Both emitters are black, so
+/// what reaches the camera is the back emitter reflected by the sheet and the front one seen
+/// through it: [`glass_pane_radiance`].
+pub fn glass_pane() -> Scene {
+    glass_panes(1)
+}
+
+/// [`glass_pane`] with `count` sheets, 0.2 apart from z = 1 on (at most 4, before the front
+/// emitter): a camera ray meets glass again after the first sheet.
+pub fn glass_panes(count: u32) -> Scene {
+    assert!((1..=4).contains(&count), "1 to 4 sheets");
+    let mut f = Fixture::new("testing::glass_pane");
+    let glass = f.material(
+        "sheet",
+        Surface::Dielectric {
+            ior: GLASS_PANE_IOR,
+            thin_walled: true,
+        },
+        Vec3::ONE,
+    );
+    let mut emitter = |name: &str, radiance: f32| {
+        f.builder.add_material(Material {
+            name: name.into(),
+            base_color: Vec3::ZERO,
+            emission: Vec3::splat(radiance),
+            ..Material::default()
+        })
+    };
+    let (front, back) = (
+        emitter("front", GLASS_PANE_FRONT_EMISSION),
+        emitter("back", GLASS_PANE_BACK_EMISSION),
+    );
+    let square = |half: f32, z: f32| {
+        [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+            .map(|[x, y]| Vec3::new(x * half, y * half, z))
+    };
+    for sheet in 0..count {
+        f.quad(square(1.0, 1.0 + 0.2 * sheet as f32), glass, Vec3::NEG_Z);
+    }
+    f.quad(square(2.0, 2.0), front, Vec3::NEG_Z);
+    f.quad(square(4.0, -1.0), back, Vec3::Z);
+    f.camera(Vec3::ZERO, Vec3::Z, 2f32.to_radians(), None, "head-on");
+    f.finish()
+}
+
+/// What a camera ray of [`glass_pane`] meeting the sheet at `cos_incident` sees: the back
+/// emitter reflected with the sheet's total reflectance R' = 2R/(1 + R) (R: Fresnel's) and
+/// the front one through it with 1 − R'. `fresnel` is Fresnel's reflectance of a smooth
+/// dielectric for (cos θ, η), which this crate does not define.
+pub fn glass_pane_radiance(cos_incident: f32, fresnel: impl Fn(f32, f32) -> f32) -> f32 {
+    let r = fresnel(cos_incident, 1.0 / GLASS_PANE_IOR);
+    let sheet = 2.0 * r / (1.0 + r);
+    sheet * GLASS_PANE_BACK_EMISSION + (1.0 - sheet) * GLASS_PANE_FRONT_EMISSION
 }
 
 /// A unit sphere at the origin facing inwards, every point emitting [`FURNACE_EMISSION`] and

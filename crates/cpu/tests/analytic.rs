@@ -579,7 +579,8 @@ fn sampled_direct_light_matches_every_analytic_case() {
 /// Eye paths meeting glass count what both of its ways see at once, each weighted by its
 /// Fresnel probability, whichever way the path goes on: through the glass pane every pixel's
 /// emission is then exact after a single eye pass (R'·3 + (1 − R')·1 = 1.154 at normal
-/// incidence), where choosing one way alone gives 3 or 1 at random. The 2° field of view
+/// incidence), where choosing one way alone gives 3 or 1 at random; the reflected way reaches
+/// the back emitter through an alpha cut-out's hole, as the eye path would. The 2° field of view
 /// keeps every ray within 1.5° of the axis, where Fresnel's reflectance moves by less than
 /// 1e-6; tolerance 1e-4 (f32 arithmetic along the path).
 #[test]

@@ -128,7 +128,9 @@ pub fn cornell_rough() -> Scene {
 /// Glass pane: a thin-walled glass sheet (ior [`GLASS_PANE_IOR`]) at z = 1, an emitter of
 /// radiance [`GLASS_PANE_FRONT_EMISSION`] behind it at z = 2 facing the camera, and one of
 /// [`GLASS_PANE_BACK_EMISSION`] at z = −1 facing the sheet, behind the camera (which sits at
-/// the origin looking +z with a 2° field of view, so it sees only the sheet).
+/// the origin looking +z with a 2° field of view, so it sees only the sheet). Between the
+/// camera and the back emitter, at z = −0.5, hangs an alpha cut-out that is all hole: camera
+/// rays start past it, and what the sheet reflects passes through it.
 pub const GLASS_PANE_IOR: f32 = 1.5;
 pub const GLASS_PANE_FRONT_EMISSION: f32 = 1.0;
 pub const GLASS_PANE_BACK_EMISSION: f32 = 3.0;
@@ -172,6 +174,14 @@ pub fn glass_panes(count: u32) -> Scene {
     for sheet in 0..count {
         f.quad(square(1.0, 1.0 + 0.2 * sheet as f32), glass, Vec3::NEG_Z);
     }
+    let veil = f.builder.add_material(Material {
+        name: "veil".into(),
+        base_color: Vec3::ONE,
+        alpha: 0.0,
+        alpha_mode: crate::AlphaMode::Mask { cutoff: 0.5 },
+        ..Material::default()
+    });
+    f.quad(square(4.0, -0.5), veil, Vec3::Z);
     f.quad(square(2.0, 2.0), front, Vec3::NEG_Z);
     f.quad(square(4.0, -1.0), back, Vec3::Z);
     f.camera(Vec3::ZERO, Vec3::Z, 2f32.to_radians(), None, "head-on");

@@ -51,16 +51,12 @@ pub fn query_entries(
 ) -> ([u32; 8], usize) {
     let lo = cell_of(position - Vec3::splat(radius), cell_size);
     let hi = cell_of(position + Vec3::splat(radius), cell_size).min(lo + IVec3::ONE);
-    let table = TableSize::new(table_size);
     let mut entries = [0u32; 8];
     let mut count = 0;
-    // entry_of, with each row's and layer's part of the hash made once.
     for z in lo.z..=hi.z {
-        let hz = pcg_hash(z as u32);
         for y in lo.y..=hi.y {
-            let hy = pcg_hash(y as u32 ^ hz);
             for x in lo.x..=hi.x {
-                let entry = table.reduce(pcg_hash(x as u32 ^ hy));
+                let entry = entry_of(IVec3::new(x, y, z), table_size);
                 if !entries[..count].contains(&entry) {
                     entries[count] = entry;
                     count += 1;
@@ -69,30 +65,6 @@ pub fn query_entries(
         }
     }
     (entries, count)
-}
-
-/// `h % size` without a division per hash (Lemire, Kaser & Kurz 2019, "Faster remainder by
-/// direct computation"): the gather reduces eight hashes a query by the same table size, and
-/// a 32-bit division costs as much as the hashing.
-struct TableSize {
-    size: u64,
-    /// ⌈2⁶⁴ / size⌉.
-    magic: u64,
-}
-
-impl TableSize {
-    fn new(size: u32) -> TableSize {
-        let size = u64::from(size.max(1));
-        TableSize {
-            size,
-            magic: (u64::MAX / size).wrapping_add(1),
-        }
-    }
-
-    fn reduce(&self, h: u32) -> u32 {
-        let low_bits = self.magic.wrapping_mul(u64::from(h));
-        ((u128::from(low_bits) * u128::from(self.size)) >> 64) as u32
-    }
 }
 
 #[cfg(test)]
@@ -112,32 +84,6 @@ mod tests {
             let lo = cell_of(p - Vec3::splat(radius), cell);
             let hi = cell_of(p + Vec3::splat(radius), cell);
             assert!((hi - lo).max_element() <= 1, "{p}");
-        }
-    }
-
-    #[test]
-    fn table_size_reduces_as_the_remainder_does() {
-        let mut h = 0x9e37_79b9u32;
-        for size in [
-            1,
-            2,
-            3,
-            7,
-            1000,
-            65_536,
-            1 << 20,
-            1_000_003,
-            u32::MAX - 1,
-            u32::MAX,
-        ] {
-            let table = TableSize::new(size);
-            for _ in 0..10_000 {
-                h = pcg_hash(h);
-                assert_eq!(table.reduce(h), h % size, "{h} % {size}");
-            }
-            for h in [0, 1, size - 1, size, u32::MAX] {
-                assert_eq!(table.reduce(h), h % size, "{h} % {size}");
-            }
         }
     }
 

@@ -267,6 +267,24 @@ impl Backend for CpuBackend {
             state.kd_tree.as_ref(),
         );
         let density = state.density;
+        let query = |query: &kernels::GatherQuery| match (density, tree) {
+            (Density::FullHash, _) => {
+                density::full_query_listed(params, hash, offsets, listed, query)
+            }
+            // No tree: no hash was built this pass, so no photon is found.
+            (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
+                let radii = [query.caustic_radius, query.radius];
+                let [(caustic_found, caustic_flux), (found, flux)] =
+                    tree.query_classes(query.position, radii, query.normal);
+                kernels::GatherSum {
+                    found,
+                    flux,
+                    caustic_found,
+                    caustic_flux,
+                }
+            }),
+            (Density::StochasticHash, _) => kernels::stochastic_query(params, hash, photons, query),
+        };
         // The pass's largest lit radius, reduced per thread and offered once (as with the
         // emitted paths: no shared atomic per pixel).
         let lit_radius = state
@@ -275,28 +293,7 @@ impl Backend for CpuBackend {
             .zip(state.visible_points.par_iter())
             .map(|(stats, point)| {
                 let (next, lit_radius) =
-                    kernels::gather_update(counters, params, point, *stats, |query| {
-                        match (density, tree) {
-                            (Density::FullHash, _) => {
-                                density::full_query_listed(params, hash, offsets, listed, query)
-                            }
-                            // No tree: no hash was built this pass, so no photon is found.
-                            (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
-                                let radii = [query.caustic_radius, query.radius];
-                                let [(caustic_found, caustic_flux), (found, flux)] =
-                                    tree.query_classes(query.position, radii, query.normal);
-                                kernels::GatherSum {
-                                    found,
-                                    flux,
-                                    caustic_found,
-                                    caustic_flux,
-                                }
-                            }),
-                            (Density::StochasticHash, _) => {
-                                kernels::stochastic_query(params, hash, photons, query)
-                            }
-                        }
-                    });
+                    kernels::gather_update(counters, params, point, *stats, query);
                 *stats = next;
                 lit_radius
             })

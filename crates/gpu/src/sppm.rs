@@ -8,7 +8,6 @@ mod naive;
 
 use std::collections::VecDeque;
 
-pub use density::DENSITY_STORAGE_BUFFERS;
 pub use naive::NAIVE_STORAGE_BUFFERS;
 
 use render::backend::{Backend, BackendError, Setup, Snapshot, Statistics};

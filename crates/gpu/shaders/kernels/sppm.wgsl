@@ -420,7 +420,6 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
                 probe_origin = offset_origin(hit, other, params.epsilon);
                 probe_direction = other;
                 probe_weight = throughput * other_share;
-                probe_pass_throughs = 0u;
                 emission_share = 1.0 - other_share;
             }
         }

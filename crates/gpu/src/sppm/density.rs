@@ -19,10 +19,6 @@ use crate::shader::Module;
 use crate::traversal::workgroups;
 use crate::{GpuError, check_buffer_fits};
 
-/// Storage buffers the density variants bind per stage: the SPPM kernels' and at most three
-/// of their own (the full hash's).
-pub const DENSITY_STORAGE_BUFFERS: u32 = SPPM_STORAGE_BUFFERS + 3;
-
 /// The full hash's entry points, in the order a pass runs them.
 const FULL_KERNELS: [&str; 6] = [
     "full_count",

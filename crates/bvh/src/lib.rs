@@ -6,6 +6,8 @@
 //! - [`mtbvh`]: hit/miss links for the TBVH (one order) and the MTBVH (six directions).
 //! - [`pack`]: `#[repr(C)]` Pod nodes, links and triangles ([`PackedBvh`]).
 //! - [`traverse`]: stack, TBVH and MTBVH traversal, closest and any hit, and brute force.
+//! - [`threaded`]: one threading's nodes in its own pre-order, box and miss link a record
+//!   (what the GPU's stackless kernels walk).
 //! - [`compact`]: the MTBVH in 32-byte records with 16-bit boxes and links, and its traversal.
 //! - [`probe`]: keeping split triangles only where sample rays say they pay.
 //! - [`wide`]: the MTBVH four-wide with a stackless trail traversal, for the CPU backend.
@@ -28,6 +30,7 @@ mod presplit;
 pub mod probe;
 pub mod sbvh;
 pub mod testing;
+pub mod threaded;
 pub mod traverse;
 pub mod tree;
 pub mod wide;
@@ -40,6 +43,7 @@ pub use compact::{
 pub use intersect::{Hit, Ray, SlabRay};
 pub use mtbvh::{DIRECTION_COUNT, LINK_END, Order, Threading, Threadings};
 pub use pack::{BvhNode, Links, Memory, PackedBvh, PackedTriangle, PackedVertex, direction_index};
+pub use threaded::{ThreadedNode, threaded_nodes};
 pub use traverse::{
     Query, TraversalCounters, Uncounted, WorkTally, any_hit_brute_force, any_hit_mtbvh,
     any_hit_mtbvh_where, any_hit_stack, any_hit_tbvh, closest_hit_brute_force, closest_hit_mtbvh,

@@ -2,7 +2,9 @@
 //!
 //! Memory, as the talk counts it: every triangle is 3 vertices × 2 vec4 (96 bytes); every node
 //! a 32-byte box shared by all threadings, plus 8 bytes of links per threading. The TBVH keeps
-//! one link set, the MTBVH six. See [`PackedBvh::memory`].
+//! one link set, the MTBVH six. See [`PackedBvh::memory`]. The GPU kernels walk the threadings
+//! as [`crate::threaded`] records instead (32 bytes a node per threading, one load a step),
+//! counted apart as [`Memory::gpu_threaded_bytes`].
 
 use std::mem::size_of;
 
@@ -16,6 +18,7 @@ pub use crate::packed_triangle::{PackedTriangle, PackedVertex};
 use crate::build_sah::BuildOptions;
 use crate::mtbvh::{DIRECTION_COUNT, thread_all};
 use crate::probe::build_chosen;
+use crate::threaded::ThreadedNode;
 use crate::tree::Bvh;
 
 /// One node's box and contents, shared by the stack traversal and all seven threadings.
@@ -99,6 +102,10 @@ pub struct Memory {
     pub tbvh_bytes: usize,
     /// Triangles + nodes + six link sets + six roots.
     pub mtbvh_bytes: usize,
+    /// What the GPU's stack, TBVH and MTBVH kernels read: triangles + nodes + the seven
+    /// threadings as threaded records ([`crate::threaded`], 32 bytes a node each), which trade
+    /// the links' 8 bytes for one load a traversal step.
+    pub gpu_threaded_bytes: usize,
 }
 
 impl PackedBvh {
@@ -161,6 +168,9 @@ impl PackedBvh {
                 + node_bytes
                 + DIRECTION_COUNT * link_set_bytes
                 + size_of::<[u32; DIRECTION_COUNT]>(),
+            gpu_threaded_bytes: triangle_bytes
+                + node_bytes
+                + (DIRECTION_COUNT + 1) * self.nodes.len() * size_of::<ThreadedNode>(),
         }
     }
 }
@@ -213,6 +223,10 @@ mod tests {
             triangles * 96 + nodes * 32 + 6 * nodes * 8 + 24
         );
         assert_eq!(packed.mtbvh_links.len(), 6 * nodes);
+        assert_eq!(
+            m.gpu_threaded_bytes,
+            triangles * 96 + nodes * 32 + 7 * nodes * 32
+        );
     }
 
     #[test]

@@ -30,7 +30,7 @@ pub struct GpuContext {
     pub limits: wgpu::Limits,
     /// The features enabled on the device.
     pub features: wgpu::Features,
-    /// How scenes uploaded to it store nodes, triangles and links, and so which kernels run
+    /// How scenes uploaded to it store nodes, triangles and threaded records, and so which kernels run
     /// ([`SceneStorage::preferred`] for the adapter unless changed before the upload).
     pub scene_storage: SceneStorage,
 }

@@ -1,13 +1,18 @@
-//! The packed scene on the device (bind group 0 of every kernel): BVH nodes (boxes shared by
-//! all threadings), triangles (vertices as two vec4 each), the six MTBVH link sets followed by
-//! the TBVH's, where each threading starts, and the materials. Nodes, triangles and links are
-//! in storage buffers or, the same bytes, in integer textures ([`SceneStorage`]). On request
+//! The packed scene on the device (bind group 0 of every kernel): BVH nodes (boxes and
+//! contents, read by the stack traversal and for leaves' triangles), triangles (vertices as
+//! two vec4 each), the threaded records of the six MTBVH threadings followed by the TBVH's
+//! (each node's box and miss link in that threading's pre-order, [`bvh::threaded`]), the
+//! scene's sizes, and the materials. Nodes, triangles and threaded records are in storage
+//! buffers or, the same bytes, in integer textures ([`SceneStorage`]). On request
 //! ([`GpuScene::upload_compact`]) also the compact MTBVH, bind group 2 of its trace kernels,
 //! and ([`GpuScene::upload_wide`]) the four-wide MTBVH, binding 2 of group 2 of its.
 
 use wgpu::util::DeviceExt;
 
-use bvh::{BvhNode, CompactMtbvh, CompactNode, Links, PackedBvh, PackedTriangle, WideMtbvh};
+use bvh::{
+    BvhNode, CompactMtbvh, CompactNode, PackedBvh, PackedTriangle, ThreadedNode, WideMtbvh,
+    threaded_nodes,
+};
 use scene::Material;
 
 use crate::limits::check_texels_fit;
@@ -33,7 +38,7 @@ fn check_group_2_fits(limits: &wgpu::Limits) -> Result<(), GpuError> {
     Ok(())
 }
 
-/// Where the kernels read nodes, triangles and links from (`shaders/shared/scene_bindings.wgsl`
+/// Where the kernels read nodes, triangles and threaded records from (`shaders/shared/scene_bindings.wgsl`
 /// or `scene_texels.wgsl`; the kernels are the same otherwise).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SceneStorage {
@@ -63,7 +68,7 @@ impl SceneStorage {
     }
 }
 
-/// Where nodes, triangles and links live, by [`SceneStorage`].
+/// Where nodes, triangles and threaded records live, by [`SceneStorage`].
 #[derive(Debug)]
 enum SceneRecords {
     Buffers([wgpu::Buffer; 3]),
@@ -103,9 +108,9 @@ pub const TEXEL_ROW: u32 = 4096;
 /// The scene on the device.
 #[derive(Debug)]
 pub struct GpuScene {
-    /// How nodes, triangles and links are stored.
+    /// How nodes, triangles and threaded records are stored.
     pub storage: SceneStorage,
-    /// Bytes of the nodes and links (the BVH).
+    /// Bytes of the nodes and threaded records (the BVH).
     pub bvh_bytes: u64,
     pub info_buffer: wgpu::Buffer,
     pub materials: wgpu::Buffer,
@@ -114,7 +119,7 @@ pub struct GpuScene {
     pub info: SceneInfo,
     /// Bytes uploaded.
     pub bytes: u64,
-    /// Nodes, triangles and links, kept alive for the bind group.
+    /// Nodes, triangles and threaded records, kept alive for the bind group.
     _records: SceneRecords,
     /// The compact MTBVH, once [`GpuScene::upload_compact`] has put it there.
     pub compact: Option<GpuCompact>,
@@ -164,15 +169,27 @@ pub fn compact_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     })
 }
 
-/// The links buffer's contents: the six MTBVH sets (direction-major), then the TBVH's.
-fn all_links(bvh: &PackedBvh) -> Vec<Links> {
-    let mut links = Vec::with_capacity(bvh.mtbvh_links.len() + bvh.tbvh_links.len());
-    links.extend_from_slice(&bvh.mtbvh_links);
-    links.extend_from_slice(&bvh.tbvh_links);
-    links
+/// The threaded records' contents ([`bvh::threaded`]): the six MTBVH threadings
+/// (direction-major), then the TBVH's, each in its own pre-order.
+fn all_threaded(bvh: &PackedBvh) -> Vec<ThreadedNode> {
+    let mut records = Vec::with_capacity(threaded_record_count(bvh));
+    for d in 0..bvh::DIRECTION_COUNT {
+        records.extend(threaded_nodes(
+            &bvh.nodes,
+            bvh.direction_links(d),
+            bvh.mtbvh_roots[d],
+        ));
+    }
+    records.extend(threaded_nodes(&bvh.nodes, &bvh.tbvh_links, bvh.tbvh_root));
+    records
 }
 
-/// (label, bytes) of the nodes, triangles and links: buffers or textures, by [`SceneStorage`].
+/// One record a node for each of the seven threadings.
+fn threaded_record_count(bvh: &PackedBvh) -> usize {
+    (bvh::DIRECTION_COUNT + 1) * bvh.nodes.len()
+}
+
+/// (label, bytes) of the nodes, triangles and threaded records: buffers or textures, by [`SceneStorage`].
 fn record_sizes(bvh: &PackedBvh) -> [(&'static str, u64); 3] {
     let bytes = |count: usize, size: usize| (count * size) as u64;
     [
@@ -182,11 +199,8 @@ fn record_sizes(bvh: &PackedBvh) -> [(&'static str, u64); 3] {
             bytes(bvh.triangles.len(), size_of::<PackedTriangle>()),
         ),
         (
-            "bvh_links",
-            bytes(
-                bvh.mtbvh_links.len() + bvh.tbvh_links.len(),
-                size_of::<Links>(),
-            ),
+            "bvh_threaded",
+            bytes(threaded_record_count(bvh), size_of::<ThreadedNode>()),
         ),
     ]
 }
@@ -217,7 +231,7 @@ pub fn check_scene_fits(
 }
 
 /// The layout of bind group 0 (see `shaders/shared/scene_bindings.wgsl` and
-/// `scene_texels.wgsl`): nodes, triangles and links at 0–2, the scene's info and materials at
+/// `scene_texels.wgsl`): nodes, triangles and threaded records at 0–2, the scene's info and materials at
 /// 3 and 4.
 pub fn scene_layout(device: &wgpu::Device, storage: SceneStorage) -> wgpu::BindGroupLayout {
     let entries: Vec<_> = (0..5)
@@ -301,11 +315,11 @@ impl GpuScene {
             gpu_materials.push(GpuMaterial::new(&Material::default()));
         }
         let info = SceneInfo::new(bvh);
-        let links = all_links(bvh);
+        let threaded = all_threaded(bvh);
         let records: [(&str, &[u8]); 3] = [
             ("bvh_nodes", bytemuck::cast_slice(&bvh.nodes)),
             ("bvh_triangles", bytemuck::cast_slice(&bvh.triangles)),
-            ("bvh_links", bytemuck::cast_slice(&links)),
+            ("bvh_threaded", bytemuck::cast_slice(&threaded)),
         ];
         let info_buffer = storage_buffer("scene_info", bytemuck::bytes_of(&info));
         let materials = storage_buffer("materials", bytemuck::cast_slice(&gpu_materials));
@@ -444,14 +458,20 @@ mod tests {
     }
 
     #[test]
-    fn links_hold_six_mtbvh_sets_then_the_tbvh() {
+    fn threaded_records_hold_six_mtbvh_sets_then_the_tbvh() {
         let bvh = small_bvh();
-        let links = all_links(&bvh);
+        let records = all_threaded(&bvh);
         let n = bvh.nodes.len();
-        assert_eq!(links.len(), 7 * n);
-        assert_eq!(&links[..6 * n], &bvh.mtbvh_links[..]);
-        assert_eq!(&links[6 * n..], &bvh.tbvh_links[..]);
-        assert_eq!(SceneInfo::new(&bvh).tbvh_link_base as usize, 6 * n);
+        assert_eq!(records.len(), 7 * n);
+        for d in 0..bvh::DIRECTION_COUNT {
+            let set = threaded_nodes(&bvh.nodes, bvh.direction_links(d), bvh.mtbvh_roots[d]);
+            assert_eq!(&records[d * n..][..n], &set[..]);
+        }
+        // The TBVH's pre-order is the stored node order.
+        for (record, node) in records[6 * n..].iter().zip(&bvh.nodes) {
+            assert_eq!((record.min, record.max), (node.min, node.max));
+        }
+        assert_eq!(SceneInfo::new(&bvh).tbvh_record_base as usize, 6 * n);
     }
 
     #[test]

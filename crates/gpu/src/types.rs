@@ -85,16 +85,16 @@ impl GpuHit {
     }
 }
 
-/// Where each threading of the uploaded BVH starts (40 bytes).
+/// The uploaded BVH's sizes and where the TBVH's threaded records start (16 bytes). Every
+/// threading's records begin at its root, so no root is stored.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct SceneInfo {
     pub node_count: u32,
     pub triangle_count: u32,
-    pub tbvh_root: u32,
-    /// Index of the TBVH's first link in the links buffer (after the six MTBVH sets).
-    pub tbvh_link_base: u32,
-    pub mtbvh_roots: [u32; bvh::DIRECTION_COUNT],
+    /// Index of the TBVH's first threaded record (after the six MTBVH sets).
+    pub tbvh_record_base: u32,
+    pub pad: u32,
 }
 
 impl SceneInfo {
@@ -103,9 +103,8 @@ impl SceneInfo {
         SceneInfo {
             node_count,
             triangle_count: bvh.triangles.len() as u32,
-            tbvh_root: bvh.tbvh_root,
-            tbvh_link_base: bvh::DIRECTION_COUNT as u32 * node_count,
-            mtbvh_roots: bvh.mtbvh_roots,
+            tbvh_record_base: bvh::DIRECTION_COUNT as u32 * node_count,
+            pad: 0,
         }
     }
 }

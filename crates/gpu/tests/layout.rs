@@ -5,7 +5,7 @@
 use std::mem::{offset_of, size_of};
 use std::path::{Path, PathBuf};
 
-use bvh::{BvhNode, CompactFrame, CompactNode, Links, PackedTriangle, PackedVertex};
+use bvh::{BvhNode, CompactFrame, CompactNode, PackedTriangle, PackedVertex, ThreadedNode};
 use gpu::SceneStorage;
 use gpu::prelude;
 use gpu::shader::Module;
@@ -63,15 +63,17 @@ fn bvh_node_layout_matches_rust() {
 }
 
 #[test]
-fn links_layout_matches_rust() {
+fn threaded_node_layout_matches_rust() {
     let module = parse(BVH_TYPES, "bvh_types.wgsl");
     assert_layout(
         &module,
-        "Links",
-        size_of::<Links>(),
+        "ThreadedNode",
+        size_of::<ThreadedNode>(),
         &[
-            ("hit", offset_of!(Links, hit)),
-            ("miss", offset_of!(Links, miss)),
+            ("min", offset_of!(ThreadedNode, min)),
+            ("miss", offset_of!(ThreadedNode, miss)),
+            ("max", offset_of!(ThreadedNode, max)),
+            ("leaf", offset_of!(ThreadedNode, leaf)),
         ],
     );
 }
@@ -277,9 +279,8 @@ fn gpu_types_layout_matches_rust() {
         &[
             ("node_count", offset_of!(SceneInfo, node_count)),
             ("triangle_count", offset_of!(SceneInfo, triangle_count)),
-            ("tbvh_root", offset_of!(SceneInfo, tbvh_root)),
-            ("tbvh_link_base", offset_of!(SceneInfo, tbvh_link_base)),
-            ("mtbvh_roots", offset_of!(SceneInfo, mtbvh_roots)),
+            ("tbvh_record_base", offset_of!(SceneInfo, tbvh_record_base)),
+            ("pad", offset_of!(SceneInfo, pad)),
         ],
     );
     assert_layout(

@@ -345,7 +345,7 @@ pub struct TraversalArgs {
     /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
     #[arg(long, value_name = "SUBSTRING")]
     pub adapter: Option<String>,
-    /// Where the GPU kernels read nodes, triangles and links from (default: texels on a
+    /// Where the GPU kernels read nodes, triangles and threaded records from (default: texels on a
     /// CPU-type adapter such as lavapipe, where they were measured faster; buffers on a GPU).
     #[arg(long, value_enum)]
     pub scene_storage: Option<SceneStorageChoice>,

@@ -10,11 +10,14 @@ struct BvhNode {
     triangle_count: u32,
 }
 
-// A node's next node when the ray hits / misses its box, in one threading (8 bytes).
-// LINK_END ends the traversal.
-struct Links {
-    hit: u32,
+// One node in one threading's pre-order (bvh::threaded, 32 bytes): entering the box goes on at
+// the next record, missing it at `miss` (LINK_END ends); `leaf` is a leaf's index in the shared
+// nodes (its triangles), LINK_END for an internal node.
+struct ThreadedNode {
+    min: vec3<f32>,
     miss: u32,
+    max: vec3<f32>,
+    leaf: u32,
 }
 
 // One vertex (32 bytes). signed_material = sign(normal.z) * (material + 1); the normal's z is

@@ -18,14 +18,14 @@ struct GpuHit {
     v: f32,
 }
 
-// Where each threading starts (40 bytes). Link set d (0..5, see direction_index) occupies
-// bvh_links[d * node_count ..][..node_count]; the TBVH's set follows at tbvh_link_base.
+// The BVH's sizes and where the TBVH's threaded records start (16 bytes). Record set d (0..5,
+// see direction_index) occupies bvh_threaded[d * node_count ..][..node_count], each set in its
+// own pre-order from its root; the TBVH's set follows at tbvh_record_base.
 struct SceneInfo {
     node_count: u32,
     triangle_count: u32,
-    tbvh_root: u32,
-    tbvh_link_base: u32,
-    mtbvh_roots: array<u32, 6>,
+    tbvh_record_base: u32,
+    pad: u32,
 }
 
 // One material (64 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;

@@ -1,4 +1,4 @@
-// Group 0 with nodes, triangles and links in rgba32uint textures (SceneStorage::Texels): the
+// Group 0 with nodes, triangles and threaded records in rgba32uint textures (SceneStorage::Texels): the
 // same bytes as scene_bindings.wgsl's buffers, 16 per texel, TEXEL_ROW texels a row
 // (gpu::scene_upload). Through lavapipe a texel fetch is a branch-free gather, where a
 // storage-buffer load with a different index per lane is a scalar loop over the lanes
@@ -6,7 +6,7 @@
 
 @group(0) @binding(0) var bvh_node_texels: texture_2d<u32>;
 @group(0) @binding(1) var bvh_triangle_texels: texture_2d<u32>;
-@group(0) @binding(2) var bvh_link_texels: texture_2d<u32>;
+@group(0) @binding(2) var bvh_threaded_texels: texture_2d<u32>;
 @group(0) @binding(3) var<storage, read> scene_info: SceneInfo;
 @group(0) @binding(4) var<storage, read> materials: array<GpuMaterial>;
 
@@ -20,11 +20,10 @@ fn load_node(i: u32) -> BvhNode {
     return BvhNode(bitcast<vec3<f32>>(lo.xyz), lo.w, bitcast<vec3<f32>>(hi.xyz), hi.w);
 }
 
-// Two links a texel.
-fn load_links(i: u32) -> Links {
-    let pair = textureLoad(bvh_link_texels, texel_at(i / 2u), 0);
-    let odd = (i & 1u) == 1u;
-    return Links(select(pair.x, pair.z, odd), select(pair.y, pair.w, odd));
+fn load_threaded(i: u32) -> ThreadedNode {
+    let lo = textureLoad(bvh_threaded_texels, texel_at(2u * i), 0);
+    let hi = textureLoad(bvh_threaded_texels, texel_at(2u * i + 1u), 0);
+    return ThreadedNode(bitcast<vec3<f32>>(lo.xyz), lo.w, bitcast<vec3<f32>>(hi.xyz), hi.w);
 }
 
 // A triangle is six texels, a vertex two: position and u, then normal_xy, signed_material, v.

@@ -80,27 +80,29 @@ fn trace_stack(ray: GpuRay, stop_at_first: bool) -> GpuHit {
     return best;
 }
 
-// Stackless traversal along the links at link_base + node, from `root`.
+// Stackless traversal over one threading's records (bvh::threaded) at record_base: the next
+// record when the ray enters a box, the miss position when it does not; a position past the
+// last record (LINK_END included) ends. One record a step, where nodes and links were two.
 // The walk over boxes and the leaf test are two loops, not one (Aila & Laine's while-while):
 // where lanes of a SIMD group run in lockstep (lavapipe, GPUs), a leaf's triangle test then
 // runs once per leaf entered rather than on every box step of the group (lavapipe runs an
 // `if` body whether or not a lane takes it). The nodes visited and the answer are
 // bvh::traverse's, the CPU twin's.
-fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -> GpuHit {
+fn trace_threaded(ray: GpuRay, record_base: u32, stop_at_first: bool) -> GpuHit {
     let slab = make_slab_ray(ray);
+    let count = scene_info.node_count;
     var best = no_hit(ray);
-    var node = root;
+    var position = 0u;
     loop {
         var leaf = LINK_END;
         loop {
-            if node == LINK_END || leaf != LINK_END {
+            if position >= count || leaf != LINK_END {
                 break;
             }
-            let current = load_node(node);
-            let links = load_links(link_base + node);
-            let entered = intersect_box(current, slab, best.t) < NO_DISTANCE;
-            leaf = select(LINK_END, node, entered && current.triangle_count > 0u);
-            node = select(links.miss, links.hit, entered);
+            let record = load_threaded(record_base + position);
+            let entered = intersect_box(BvhNode(record.min, 0u, record.max, 0u), slab, best.t) < NO_DISTANCE;
+            leaf = select(LINK_END, record.leaf, entered);
+            position = select(record.miss, position + 1u, entered);
         }
         if leaf == LINK_END {
             break;
@@ -113,11 +115,11 @@ fn trace_threaded(ray: GpuRay, link_base: u32, root: u32, stop_at_first: bool) -
 }
 
 fn trace_tbvh(ray: GpuRay, stop_at_first: bool) -> GpuHit {
-    return trace_threaded(ray, scene_info.tbvh_link_base, scene_info.tbvh_root, stop_at_first);
+    return trace_threaded(ray, scene_info.tbvh_record_base, stop_at_first);
 }
 
 // MTBVH: the threading of the ray's major direction, so boxes come roughly front to back.
 fn trace_mtbvh(ray: GpuRay, stop_at_first: bool) -> GpuHit {
     let d = direction_index(ray.direction);
-    return trace_threaded(ray, d * scene_info.node_count, scene_info.mtbvh_roots[d], stop_at_first);
+    return trace_threaded(ray, d * scene_info.node_count, stop_at_first);
 }

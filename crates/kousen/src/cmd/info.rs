@@ -90,6 +90,10 @@ struct MemoryInfo {
     tbvh_bytes_per_triangle: f64,
     mtbvh_bytes_per_triangle: f64,
     mtbvh_over_tbvh: f64,
+    /// What the GPU's stack, TBVH and MTBVH kernels read (`bvh::threaded`: every threading's
+    /// nodes again in its own pre-order, one load a traversal step).
+    gpu_threaded_bytes: usize,
+    gpu_threaded_bytes_per_triangle: f64,
     /// The compact MTBVH ("mtbvh16": 16-bit boxes and links, `bvh::compact`) with its
     /// triangles; the `mtbvh_compact_*` keys are null where it could not be made.
     mtbvh_compact_bytes: Option<usize>,
@@ -194,6 +198,8 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             tbvh_bytes_per_triangle: per_triangle(memory.tbvh_bytes),
             mtbvh_bytes_per_triangle: per_triangle(memory.mtbvh_bytes),
             mtbvh_over_tbvh: memory.mtbvh_bytes as f64 / memory.tbvh_bytes as f64,
+            gpu_threaded_bytes: memory.gpu_threaded_bytes,
+            gpu_threaded_bytes_per_triangle: per_triangle(memory.gpu_threaded_bytes),
             mtbvh_compact_bytes: compact_bytes,
             mtbvh_compact_bytes_per_triangle: compact_bytes.map(per_triangle),
             mtbvh_compact_over_tbvh: compact_bytes.map(|b| b as f64 / memory.tbvh_bytes as f64),
@@ -312,6 +318,13 @@ fn print_table(info: &Info) {
         (
             "MTBVH / TBVH",
             format!("{:.3}×", info.memory.mtbvh_over_tbvh),
+        ),
+        (
+            "GPU threaded layout",
+            bytes(
+                info.memory.gpu_threaded_bytes,
+                info.memory.gpu_threaded_bytes_per_triangle,
+            ),
         ),
         ("compact MTBVH", compact_row(info, bytes)),
         ("four-wide MTBVH", wide_row(info, bytes)),

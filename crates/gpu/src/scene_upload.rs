@@ -230,6 +230,30 @@ pub fn check_scene_fits(
     check_buffer_fits("materials", material_bytes, limits)
 }
 
+/// The storage to upload `bvh` in: `preferred` where the scene fits it, else the other one
+/// where it fits that (the threaded records take 224 bytes a node in one binding, more than
+/// some adapters' 128 MiB bindings hold for scenes of ~450 k triangles, where textures of
+/// [`TEXEL_ROW`] texels a row still take them). The error is `preferred`'s when neither fits.
+pub fn fitting_storage(
+    bvh: &PackedBvh,
+    material_count: usize,
+    limits: &wgpu::Limits,
+    preferred: SceneStorage,
+) -> Result<SceneStorage, GpuError> {
+    let error = match check_scene_fits(bvh, material_count, limits, preferred) {
+        Ok(()) => return Ok(preferred),
+        Err(error) => error,
+    };
+    let other = match preferred {
+        SceneStorage::Buffers => SceneStorage::Texels,
+        SceneStorage::Texels => SceneStorage::Buffers,
+    };
+    match check_scene_fits(bvh, material_count, limits, other) {
+        Ok(()) => Ok(other),
+        Err(_) => Err(error),
+    }
+}
+
 /// The layout of bind group 0 (see `shaders/shared/scene_bindings.wgsl` and
 /// `scene_texels.wgsl`): nodes, triangles and threaded records at 0–2, the scene's info and materials at
 /// 3 and 4.
@@ -455,6 +479,40 @@ mod tests {
     fn small_bvh() -> PackedBvh {
         let triangles = scene::testing::cornell_box().triangles;
         PackedBvh::build(&triangles, &bvh::BuildOptions::default())
+    }
+
+    #[test]
+    fn fitting_storage_falls_back_to_the_other_storage_only_when_needed() {
+        let bvh = small_bvh();
+        let roomy = wgpu::Limits::default();
+        for preferred in [SceneStorage::Buffers, SceneStorage::Texels] {
+            assert_eq!(
+                fitting_storage(&bvh, 1, &roomy, preferred).unwrap(),
+                preferred
+            );
+        }
+        // Bindings too small for the threaded records, textures large enough.
+        let small_bindings = wgpu::Limits {
+            max_storage_buffer_binding_size: 64,
+            ..wgpu::Limits::default()
+        };
+        assert_eq!(
+            fitting_storage(&bvh, 1, &small_bindings, SceneStorage::Buffers).unwrap(),
+            SceneStorage::Texels
+        );
+        // Neither fits: the preferred storage's error, naming its limit.
+        let neither = wgpu::Limits {
+            max_storage_buffer_binding_size: 64,
+            max_texture_dimension_2d: 0,
+            ..wgpu::Limits::default()
+        };
+        let message = fitting_storage(&bvh, 1, &neither, SceneStorage::Buffers)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("max_storage_buffer_binding_size"),
+            "{message}"
+        );
     }
 
     #[test]

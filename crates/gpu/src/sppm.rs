@@ -20,7 +20,7 @@ use wgpu::util::DeviceExt;
 
 use crate::display::DisplaySource;
 use crate::readback::{read_buffer, wait_idle};
-use crate::scene_upload::{bind_buffers, scene_layout, storage_entry};
+use crate::scene_upload::{bind_buffers, fitting_storage, scene_layout, storage_entry};
 use crate::shader::Module;
 use crate::textures::GpuTextures;
 use crate::traversal::{uniform_entry, workgroups};
@@ -182,7 +182,7 @@ impl GpuBackend {
     /// entry points of `sppm.wgsl`, e.g. with another random generator): for benchmarks that
     /// compare variants of one kernel.
     pub fn with_kernels(
-        context: GpuContext,
+        mut context: GpuContext,
         scene: &scene::Scene,
         bvh: bvh::PackedBvh,
         label: &str,
@@ -200,6 +200,20 @@ impl GpuBackend {
         );
         let textures = GpuTextures::upload(&context, &array)?;
         drop(array);
+        let storage = fitting_storage(
+            &bvh,
+            scene.materials.len(),
+            &context.limits,
+            context.scene_storage,
+        )?;
+        if storage != context.scene_storage {
+            log::warn!(
+                "gpu: the scene does not fit this adapter's {} (see its limits); reading it from {} instead",
+                context.scene_storage.name(),
+                storage.name()
+            );
+            context.scene_storage = storage;
+        }
         let gpu_scene = GpuScene::upload(&context, &bvh, &scene.materials)?;
         let device = &context.device;
         let layout = state_layout(device);

@@ -11,6 +11,8 @@
 //!   input, pass after pass, so no divergence carries over;
 //! - `resolved_images_match_after_eight_passes`: the images of both backends, same seed;
 //! - `gpu_and_cpu_renders_differ_by_no_more_than_their_noise`: different seeds, the Cornell box.
+//! - `a_scene_past_the_binding_limit_renders_from_texels`: the storage fallback of
+//!   `gpu::scene_upload::fitting_storage`, end to end.
 
 use std::fmt::Debug;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
@@ -562,6 +564,48 @@ fn every_kernel_matches_its_twin_with_the_scene_in_buffers() {
         scene::testing::cornell_caustics(),
         DirectLight::Sampled,
     );
+}
+
+/// A scene whose threaded records are past the adapter's storage binding (224 bytes a node in
+/// one binding; simulated by lowering the limit) renders from texels instead of failing, and
+/// gives the image the texels give when chosen outright (the two storages render alike).
+#[test]
+fn a_scene_past_the_binding_limit_renders_from_texels() {
+    let fixture = Fixture::new(scene::testing::cornell_caustics());
+    let settings = Settings {
+        seed: 5,
+        ..Settings::new(4, 4, 64)
+    };
+    let records = fixture.bvh.nodes.len() as u64 * (bvh::DIRECTION_COUNT as u64 + 1) * 32;
+    let mut cramped = context();
+    cramped.scene_storage = gpu::SceneStorage::Buffers;
+    cramped.limits.max_storage_buffer_binding_size = records - 1;
+    let materials = fixture.scene.materials.len();
+    let refused = gpu::scene_upload::check_scene_fits(
+        &fixture.bvh,
+        materials,
+        &cramped.limits,
+        cramped.scene_storage,
+    );
+    assert!(
+        refused.is_err(),
+        "the lowered limit must refuse the records in buffers"
+    );
+    let mut fallen_back = fixture.gpu(cramped, &settings);
+    let mut chosen = context();
+    chosen.scene_storage = gpu::SceneStorage::Texels;
+    let mut texels = fixture.gpu(chosen, &settings);
+    for _ in 0..3 {
+        fallen_back.pass();
+        texels.pass();
+    }
+    let a = fallen_back.image().expect("image");
+    let b = texels.image().expect("image");
+    assert!(
+        a.pixels.iter().any(|p| p.max_element() > 0.0),
+        "a lit image"
+    );
+    assert_eq!(a.pixels, b.pixels);
 }
 
 /// The same through rough metal: eye and photon paths draw GGX micro-normals

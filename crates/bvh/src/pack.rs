@@ -18,7 +18,7 @@ pub use crate::packed_triangle::{PackedTriangle, PackedVertex};
 use crate::build_sah::BuildOptions;
 use crate::mtbvh::{DIRECTION_COUNT, thread_all};
 use crate::probe::build_chosen;
-use crate::threaded::ThreadedNode;
+use crate::threaded::{self, ThreadedNode};
 use crate::tree::Bvh;
 
 /// One node's box and contents, shared by the stack traversal and all seven threadings.
@@ -170,7 +170,7 @@ impl PackedBvh {
                 + size_of::<[u32; DIRECTION_COUNT]>(),
             gpu_threaded_bytes: triangle_bytes
                 + node_bytes
-                + (DIRECTION_COUNT + 1) * self.nodes.len() * size_of::<ThreadedNode>(),
+                + threaded::record_count(self.nodes.len()) * size_of::<ThreadedNode>(),
         }
     }
 }

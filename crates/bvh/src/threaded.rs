@@ -37,6 +37,12 @@ pub struct ThreadedNode {
 
 const _: () = assert!(size_of::<ThreadedNode>() == 32);
 
+/// Records of all seven threadings (the six MTBVH directions and the TBVH) over `node_count`
+/// nodes: one a node each.
+pub fn record_count(node_count: usize) -> usize {
+    (crate::DIRECTION_COUNT + 1) * node_count
+}
+
 /// The records of the threading with `links` over `nodes`, starting at `root`
 /// ([`LINK_END`] for an empty tree): record `p` is the `p`-th node the order's pre-order meets.
 ///

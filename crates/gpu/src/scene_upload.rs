@@ -60,6 +60,14 @@ impl SceneStorage {
         }
     }
 
+    /// The storage that is not this one.
+    pub fn other(self) -> SceneStorage {
+        match self {
+            SceneStorage::Buffers => SceneStorage::Texels,
+            SceneStorage::Texels => SceneStorage::Buffers,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             SceneStorage::Buffers => "buffers",
@@ -172,7 +180,7 @@ pub fn compact_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 /// The threaded records' contents ([`bvh::threaded`]): the six MTBVH threadings
 /// (direction-major), then the TBVH's, each in its own pre-order.
 fn all_threaded(bvh: &PackedBvh) -> Vec<ThreadedNode> {
-    let mut records = Vec::with_capacity(threaded_record_count(bvh));
+    let mut records = Vec::with_capacity(bvh::threaded::record_count(bvh.nodes.len()));
     for d in 0..bvh::DIRECTION_COUNT {
         records.extend(threaded_nodes(
             &bvh.nodes,
@@ -182,11 +190,6 @@ fn all_threaded(bvh: &PackedBvh) -> Vec<ThreadedNode> {
     }
     records.extend(threaded_nodes(&bvh.nodes, &bvh.tbvh_links, bvh.tbvh_root));
     records
-}
-
-/// One record a node for each of the seven threadings.
-fn threaded_record_count(bvh: &PackedBvh) -> usize {
-    (bvh::DIRECTION_COUNT + 1) * bvh.nodes.len()
 }
 
 /// (label, bytes) of the nodes, triangles and threaded records: buffers or textures, by [`SceneStorage`].
@@ -200,7 +203,10 @@ fn record_sizes(bvh: &PackedBvh) -> [(&'static str, u64); 3] {
         ),
         (
             "bvh_threaded",
-            bytes(threaded_record_count(bvh), size_of::<ThreadedNode>()),
+            bytes(
+                bvh::threaded::record_count(bvh.nodes.len()),
+                size_of::<ThreadedNode>(),
+            ),
         ),
     ]
 }
@@ -244,10 +250,7 @@ pub fn fitting_storage(
         Ok(()) => return Ok(preferred),
         Err(error) => error,
     };
-    let other = match preferred {
-        SceneStorage::Buffers => SceneStorage::Texels,
-        SceneStorage::Texels => SceneStorage::Buffers,
-    };
+    let other = preferred.other();
     match check_scene_fits(bvh, material_count, limits, other) {
         Ok(()) => Ok(other),
         Err(_) => Err(error),

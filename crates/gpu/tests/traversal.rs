@@ -225,10 +225,7 @@ fn ray_generation_matches_bench_rays() {
     assert_refused(&scene, Variant::Mtbvh4, "upload_wide");
     // So do the kernels a scene stored otherwise than they read it.
     let mut other = context.clone();
-    other.scene_storage = match context.scene_storage {
-        SceneStorage::Buffers => SceneStorage::Texels,
-        SceneStorage::Texels => SceneStorage::Buffers,
-    };
+    other.scene_storage = context.scene_storage.other();
     let other_scene = GpuScene::upload(&other, &bvh, &[Material::default()]).expect("upload");
     assert_refused(
         &other_scene,

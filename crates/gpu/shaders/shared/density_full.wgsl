@@ -13,8 +13,6 @@
 // The photons in list order: listed_photons[place] is photons[photon_order[place]].
 @group(3) @binding(2) var<storage, read_write> listed_photons: array<StoredPhoton>;
 
-var<workgroup> scan_lanes: array<u32, SCAN_BLOCK>;
-
 // cpu::density::photon_entry: the stored photon's first table word, or NO_ENTRY.
 const NO_ENTRY: u32 = 0xffffffffu;
 
@@ -38,54 +36,78 @@ fn full_count(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
     }
 }
 
-// Inclusive scan of `value` across the workgroup's SCAN_BLOCK lanes (Hillis–Steele).
-fn workgroup_inclusive_scan(lane: u32, value: u32) -> u32 {
-    scan_lanes[lane] = value;
+// The prefix sum runs SCAN_LANES invocations a block, each over SCAN_PER_LANE consecutive
+// entries, so a block takes two workgroup barriers: on CPU-type adapters (lavapipe) a barrier
+// switches between all of a workgroup's lane groups, and a tree scan over SCAN_BLOCK lanes
+// took two per step (the scan was a third of the hash build there).
+const SCAN_LANES: u32 = 64u;
+const SCAN_PER_LANE: u32 = SCAN_BLOCK / SCAN_LANES;
+
+var<workgroup> lane_totals: array<u32, SCAN_LANES>;
+var<workgroup> block_total: u32;
+
+// Each lane's exclusive prefix of `value` across the workgroup, and the workgroup's total:
+// one lane adds the lanes' values in order.
+fn workgroup_exclusive_scan(lane: u32, value: u32) -> vec2<u32> {
+    lane_totals[lane] = value;
     workgroupBarrier();
-    for (var step = 1u; step < SCAN_BLOCK; step *= 2u) {
-        var add = 0u;
-        if lane >= step {
-            add = scan_lanes[lane - step];
+    if lane == 0u {
+        var running = 0u;
+        for (var l = 0u; l < SCAN_LANES; l += 1u) {
+            let total = lane_totals[l];
+            lane_totals[l] = running;
+            running += total;
         }
-        workgroupBarrier();
-        scan_lanes[lane] += add;
-        workgroupBarrier();
+        block_total = running;
     }
-    return scan_lanes[lane];
+    workgroupBarrier();
+    return vec2<u32>(lane_totals[lane], block_total);
+}
+
+fn entry_count(entry: u32) -> u32 {
+    if entry >= params.hash_size {
+        return 0u;
+    }
+    return atomicLoad(&hash[entry * HASH_ENTRY_WORDS + FULL_COUNT]);
 }
 
 // render::density::scan_counts, first half: each block's counts scanned into the entries'
 // FULL_START (block-local), the block's total into block_sums.
-@compute @workgroup_size(SCAN_BLOCK)
+@compute @workgroup_size(SCAN_LANES)
 fn full_scan_blocks(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let block = group.x + group.y * groups.x;
-    let entry = block * SCAN_BLOCK + lane;
-    var count = 0u;
-    if entry < params.hash_size {
-        count = atomicLoad(&hash[entry * HASH_ENTRY_WORDS + FULL_COUNT]);
+    let first = block * SCAN_BLOCK + lane * SCAN_PER_LANE;
+    var total = 0u;
+    for (var k = 0u; k < SCAN_PER_LANE; k += 1u) {
+        total += entry_count(first + k);
     }
-    let inclusive = workgroup_inclusive_scan(lane, count);
-    if entry < params.hash_size {
-        atomicStore(&hash[entry * HASH_ENTRY_WORDS + FULL_START], inclusive - count);
+    let scanned = workgroup_exclusive_scan(lane, total);
+    var start = scanned.x;
+    for (var k = 0u; k < SCAN_PER_LANE; k += 1u) {
+        let entry = first + k;
+        if entry < params.hash_size {
+            atomicStore(&hash[entry * HASH_ENTRY_WORDS + FULL_START], start);
+            start += entry_count(entry);
+        }
     }
-    if lane == SCAN_BLOCK - 1u && block < arrayLength(&block_sums) {
-        block_sums[block] = inclusive;
+    if lane == 0u && block < arrayLength(&block_sums) {
+        block_sums[block] = scanned.y;
     }
 }
 
 // render::density::scan_counts, second half (one workgroup): the blocks' totals scanned into
 // their offsets, each lane taking a run of blocks.
-@compute @workgroup_size(SCAN_BLOCK)
+@compute @workgroup_size(SCAN_LANES)
 fn full_scan_totals(@builtin(local_invocation_index) lane: u32) {
     let blocks = (params.hash_size + SCAN_BLOCK - 1u) / SCAN_BLOCK;
-    let run = (blocks + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let run = (blocks + SCAN_LANES - 1u) / SCAN_LANES;
     let first = min(lane * run, blocks);
     let last = min(first + run, blocks);
     var total = 0u;
     for (var b = first; b < last; b += 1u) {
         total += block_sums[b];
     }
-    var offset = workgroup_inclusive_scan(lane, total) - total;
+    var offset = workgroup_exclusive_scan(lane, total).x;
     for (var b = first; b < last; b += 1u) {
         let sum = block_sums[b];
         block_sums[b] = offset;
@@ -150,8 +172,12 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
 fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
     var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
     let touched = query_entries(position, reach(radii), cell_size);
-    for (var k = 0u; k < touched.count; k += 1u) {
-        let word = touched.entries[k] * HASH_ENTRY_WORDS;
+    for (var slot = 0u; slot < 8u; slot += 1u) {
+        let entry = query_entry(touched, slot);
+        if entry == NO_CELL {
+            continue;
+        }
+        let word = entry * HASH_ENTRY_WORDS;
         let start = list_start(word);
         let listed = atomicLoad(&hash[word + FULL_COUNT]);
         for (var place = start; place < start + listed; place += 1u) {

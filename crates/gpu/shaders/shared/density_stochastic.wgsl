@@ -4,8 +4,12 @@
 fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
     var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
     let touched = query_entries(position, reach(radii), cell_size);
-    for (var k = 0u; k < touched.count; k += 1u) {
-        let word = touched.entries[k] * HASH_ENTRY_WORDS;
+    for (var slot = 0u; slot < 8u; slot += 1u) {
+        let entry = query_entry(touched, slot);
+        if entry == NO_CELL {
+            continue;
+        }
+        let word = entry * HASH_ENTRY_WORDS;
         let in_entry = atomicLoad(&hash[word + HASH_COUNT]);
         if in_entry != 0u {
             let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));

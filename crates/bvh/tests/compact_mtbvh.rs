@@ -35,9 +35,12 @@ fn check_ray(bvh: &PackedBvh, compact: &CompactMtbvh, ray: &Ray, brute: bool, ta
     let mut compact_work = TraversalCounters::default();
     let exact = trace_mtbvh(bvh, ray, Query::Closest, &mut exact_work);
     let got = trace_mtbvh_compact(bvh, compact, ray, Query::Closest, &mut compact_work);
-    tally.exact_boxes += exact_work.boxes;
-    tally.compact_boxes += compact_work.boxes;
-    if !bvh::testing::same_hit(bvh, got, exact) {
+    if bvh::testing::same_hit(bvh, got, exact) {
+        // Box counts compare only where the answers agree: a fragile hit that the larger
+        // boxes reach first culls boxes the exact traversal still tests.
+        tally.exact_boxes += exact_work.boxes;
+        tally.compact_boxes += compact_work.boxes;
+    } else {
         // A compact miss visited a superset of the exact MTBVH's boxes: never allowed.
         assert!(got.is_some(), "compact misses, exact {exact:?}, {ray:?}");
         // Otherwise only rounding, through a hit the exact boxes cannot be relied on to reach.
@@ -80,7 +83,7 @@ fn check_soup(seed: u64, triangle_count: usize, ray_count: usize, brute_every: u
             check_ray(&bvh, &compact, ray, i % brute_every == 0, &mut tally);
         }
     }
-    // Superset of boxes: never fewer tests than the exact boxes on the same rays.
+    // Superset of boxes: never fewer tests than the exact boxes on the rays both answer alike.
     assert!(tally.compact_boxes >= tally.exact_boxes, "{tally:?}");
     tally
 }

@@ -194,21 +194,88 @@ pub fn photon_trace_naive(
 pub struct EyeStep {
     pub visible_point: VisiblePoint,
     pub direct: Vec3,
+    /// Whether the camera ray's first surface was a mirror, glass or metal: the pixel then
+    /// traces [`render::buffers::SPECULAR_EXTRA_PATHS`] more paths in later eye passes.
+    pub specular_first: bool,
+}
+
+/// The eye pass on pixel `index` with its statistics: [`eye_pass`] with the extra paths its
+/// flag asks for, its direct sum added and its flag updated; the new visible point.
+pub fn eye_pass_pixel(
+    scene: &SceneData,
+    params: &SppmParams,
+    pass: u32,
+    index: u32,
+    stats: &mut PixelStats,
+) -> VisiblePoint {
+    let extra = if stats.specular_seen != 0 {
+        render::buffers::SPECULAR_EXTRA_PATHS
+    } else {
+        0
+    };
+    let step = eye_pass(scene, params, pass, index, extra);
+    stats.direct = (vec3(stats.direct) + step.direct).to_array();
+    stats.specular_seen |= step.specular_first as u32;
+    step.visible_point
 }
 
 /// Eye pass, pixel `index`: a jittered camera ray through mirror and glass chains to the
 /// first diffuse surface, where it leaves a visible point (and, with `sample_lights`, adds the
-/// direct light of one light sample there).
-pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -> EyeStep {
+/// direct light of one light sample there). `extra` more jittered paths, each adding what it
+/// sees but leaving no visible point, are averaged with the first: their count must not
+/// depend on this pass's paths (the caller takes it from earlier passes), so that each pass's
+/// average keeps the expectation.
+pub fn eye_pass(
+    scene: &SceneData,
+    params: &SppmParams,
+    pass: u32,
+    index: u32,
+    extra: u32,
+) -> EyeStep {
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
-    let (x, y) = (index % params.width, index / params.width);
     let [jx, jy] = pixel_jitter(params.seed, index, pass / params.eye_every.max(1));
+    let first = eye_path(scene, params, &mut rng, index, [jx, jy]);
+    let mut direct = first.emission + first.direct_light;
+    for _ in 0..extra {
+        let jitter = [rng.next_f32(), rng.next_f32()];
+        let path = eye_path(scene, params, &mut rng, index, jitter);
+        direct += path.emission + path.direct_light;
+    }
+    EyeStep {
+        visible_point: first.visible_point,
+        direct: direct / (1 + extra) as f32,
+        specular_first: first.specular_first,
+    }
+}
+
+/// One camera path of an eye pass.
+struct EyePath {
+    visible_point: VisiblePoint,
+    /// Emission met on the way (and the sky).
+    emission: Vec3,
+    /// The sampled direct light at the visible point.
+    direct_light: Vec3,
+    /// Whether its first surface was specular.
+    specular_first: bool,
+}
+
+/// A camera path through pixel `index` at sub-pixel `jitter`.
+fn eye_path(
+    scene: &SceneData,
+    params: &SppmParams,
+    rng: &mut KernelRng,
+    index: u32,
+    [jx, jy]: [f32; 2],
+) -> EyePath {
+    let (x, y) = (index % params.width, index / params.width);
     let sx = (x as f32 + jx) / params.width as f32 * 2.0 - 1.0;
     let sy = 1.0 - (y as f32 + jy) / params.height as f32 * 2.0;
     let mut origin = vec3(params.eye);
     let mut direction = camera_direction(params, sx, sy);
+    let mut direct_light = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     let mut direct = Vec3::ZERO;
+    let mut specular_first = false;
     let mut visible_point = VisiblePoint::default();
     let (mut depth, mut pass_throughs) = (0, 0);
     // The share of the next surface's emission (or the sky's) still to count: less than 1
@@ -245,11 +312,12 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
                 };
                 if params.sample_lights != 0 {
                     let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                    direct += weight * direct_light(scene, params, &hit, u);
+                    direct_light = weight * self::direct_light(scene, params, &hit, u);
                 }
             }
             break;
         }
+        specular_first |= depth == 0;
         // Rough metal draws its micro-normal with a second number.
         let u_second = if matches!(material.surface, Surface::RoughConductor { .. }) {
             rng.next_f32()
@@ -297,9 +365,11 @@ pub fn eye_pass(scene: &SceneData, params: &SppmParams, pass: u32, index: u32) -
         origin = offset_origin(&hit, next, params.epsilon);
         direction = next;
     }
-    EyeStep {
+    EyePath {
         visible_point,
-        direct,
+        emission: direct,
+        direct_light,
+        specular_first,
     }
 }
 

@@ -187,14 +187,12 @@ impl Backend for CpuBackend {
             .zip(state.pixels.par_iter_mut())
             .enumerate()
             .for_each(|(index, (point, stats))| {
-                let step = kernels::eye_pass(scene, &params, pass, index as u32);
+                let visible_point =
+                    kernels::eye_pass_pixel(scene, &params, pass, index as u32, stats);
                 *point = match precision {
-                    Precision::F32 => step.visible_point,
-                    Precision::F16 => round_visible_point(&step.visible_point, origin),
+                    Precision::F32 => visible_point,
+                    Precision::F16 => round_visible_point(&visible_point, origin),
                 };
-                for (d, s) in stats.direct.iter_mut().zip(step.direct.to_array()) {
-                    *d += s;
-                }
             });
     }
 

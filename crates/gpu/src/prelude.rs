@@ -56,6 +56,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("LIGHT_DIRECTIONAL", U32(buffers::LIGHT_DIRECTIONAL)),
         ("LIGHT_SKY", U32(buffers::LIGHT_SKY)),
         ("MAX_PASS_THROUGHS", U32(buffers::MAX_PASS_THROUGHS)),
+        ("SPECULAR_EXTRA_PATHS", U32(buffers::SPECULAR_EXTRA_PATHS)),
         ("SHADOW_SHORTENING", F32(render::direct::SHADOW_SHORTENING)),
         ("PHOTON_STREAM", U32(rng::PHOTON_STREAM)),
         ("EYE_STREAM", U32(rng::EYE_STREAM)),

@@ -375,9 +375,9 @@ fn sppm_types_layout_matches_render_buffers() {
             ("caustic_tau", offset_of!(PixelStats, caustic_tau)),
             ("caustic_count", offset_of!(PixelStats, caustic_count)),
             ("caustic_radius", offset_of!(PixelStats, caustic_radius)),
-            ("pad0", offset_of!(PixelStats, pad)),
-            ("pad1", offset_of!(PixelStats, pad) + 4),
-            ("pad2", offset_of!(PixelStats, pad) + 8),
+            ("specular_seen", offset_of!(PixelStats, specular_seen)),
+            ("pad1", offset_of!(PixelStats, pad)),
+            ("pad2", offset_of!(PixelStats, pad) + 4),
         ],
     );
     assert_layout(
@@ -505,9 +505,12 @@ fn display_params_layout_matches_rust() {
                 "caustic_radius",
                 offset_of!(render::buffers::PixelStats, caustic_radius),
             ),
-            ("pad0", offset_of!(render::buffers::PixelStats, pad)),
-            ("pad1", offset_of!(render::buffers::PixelStats, pad) + 4),
-            ("pad2", offset_of!(render::buffers::PixelStats, pad) + 8),
+            (
+                "specular_seen",
+                offset_of!(render::buffers::PixelStats, specular_seen),
+            ),
+            ("pad1", offset_of!(render::buffers::PixelStats, pad)),
+            ("pad2", offset_of!(render::buffers::PixelStats, pad) + 4),
         ],
     );
 }

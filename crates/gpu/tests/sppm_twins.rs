@@ -191,6 +191,10 @@ fn stats_errors(g: &PixelStats, c: &PixelStats) -> Vec<(&'static str, f32)> {
             "caustic_radius",
             relative_scalar(g.caustic_radius, c.caustic_radius),
         ),
+        (
+            "specular_seen",
+            (g.specular_seen != c.specular_seen) as u32 as f32,
+        ),
     ]
 }
 
@@ -631,6 +635,7 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
     let d = fixture.diagonal;
     let mut g = fixture.gpu(context, &settings);
     let mut specular_slots = 0;
+    let mut flagged = 0;
     for pass in 0..4u32 {
         let gpu = g.backend();
         let slots_before = gpu.read_slots().expect("slots");
@@ -652,9 +657,7 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
         let mut twin_stats = stats_before;
         if pass.is_multiple_of(settings.eye_every) {
             for (i, (point, s)) in twin_points.iter_mut().zip(&mut twin_stats).enumerate() {
-                let step = kernels::eye_pass(&data, &params, pass, i as u32);
-                *point = step.visible_point;
-                s.direct = (vec3(s.direct) + step.direct).to_array();
+                *point = kernels::eye_pass_pixel(&data, &params, pass, i as u32, s);
             }
         }
         Comparison::new(
@@ -734,9 +737,17 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
             loads(&twin_counters),
             "pass {pass}: counters after finish_pass"
         );
+        if pass == 0 {
+            flagged = stats.iter().filter(|s| s.specular_seen != 0).count();
+        }
     }
     // The later passes continued paths past specular and diffuse bounces.
     assert!(specular_slots > 1000, "{specular_slots} continued paths");
+    // The second eye pass traced extra paths in the pixels showing the spheres.
+    assert!(
+        flagged > 20,
+        "{flagged} pixels flagged after the first eye pass"
+    );
 }
 
 #[test]

@@ -98,7 +98,10 @@ pub struct PixelStats {
     pub caustic_tau: [f32; 3],
     pub caustic_count: f32,
     pub caustic_radius: f32,
-    pub pad: [u32; 3],
+    /// 1 once an eye pass's camera ray met a mirror, glass or metal first in this pixel: later
+    /// eye passes trace it more paths ([`SPECULAR_EXTRA_PATHS`]).
+    pub specular_seen: u32,
+    pub pad: [u32; 2],
 }
 
 impl PixelStats {
@@ -111,6 +114,15 @@ impl PixelStats {
         }
     }
 }
+
+/// More camera paths an eye pass traces in a pixel where an earlier one met a specular surface
+/// first. Seen through glass or in a mirror, what a pixel shows moves far with the sub-pixel
+/// jitter (a light's small image, a caustic's edge, the floor or the wall), so one path a pass
+/// leaves such pixels far noisier than the rest; the extra paths count the emission they meet
+/// and a light sample at their diffuse surface, averaged with the first path's (the photons
+/// are still gathered at the first path's visible point only). One more path cut the error of
+/// cornell-caustics' caustic window by a fifth at 7 % more time (three: a fifth at 20 %).
+pub const SPECULAR_EXTRA_PATHS: u32 = 1;
 
 /// One light for photon emission (64 bytes), in a table ordered like its CDF. `kind` says
 /// which and what the shared fields hold:

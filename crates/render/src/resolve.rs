@@ -51,7 +51,7 @@ mod tests {
             caustic_tau: [std::f32::consts::PI * 2.0; 3],
             caustic_count: 1.0,
             caustic_radius: 1.0,
-            pad: [0; 3],
+            ..PixelStats::default()
         };
         // τ / (π·4·2) = 1; caustic τ / (π·1·2) = 1; direct / 3 = (1, 2, 3).
         let l = resolve_pixel(&stats, 3, 2);

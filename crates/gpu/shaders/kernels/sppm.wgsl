@@ -314,6 +314,9 @@ fn pixel_jitter(index: u32, eye_pass: u32) -> vec2<f32> {
     return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
 }
 
+// cpu::kernels::eye_pass_pixel and eye_pass: the first path leaves the visible point; where an
+// earlier eye pass met a specular surface first, SPECULAR_EXTRA_PATHS more paths add what they
+// see, averaged with the first path's.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let index = invocation_index(id, groups);
@@ -322,9 +325,35 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     }
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
     var rng = rng_start(params.seed, EYE_STREAM, pass_index, index);
+    var extra = 0u;
+    if pixels[index].specular_seen != 0u {
+        extra = SPECULAR_EXTRA_PATHS;
+    }
+    let first = eye_path(index, pixel_jitter(index, pass_index / max(params.eye_every, 1u)), &rng);
+    var direct = first.direct;
+    for (var k = 0u; k < extra; k += 1u) {
+        let jx = next_f32(&rng);
+        let jy = next_f32(&rng);
+        direct += eye_path(index, vec2<f32>(jx, jy), &rng).direct;
+    }
+    store_visible_point(index, first.point);
+    pixels[index].direct += direct / f32(1u + extra);
+    if first.specular_first {
+        pixels[index].specular_seen = 1u;
+    }
+}
+
+// cpu::kernels::EyePath: `direct` is its emission met and then its light sample added.
+struct EyePath {
+    point: VisiblePoint,
+    direct: vec3<f32>,
+    specular_first: bool,
+}
+
+// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`.
+fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
     let x = index % params.width;
     let y = index / params.width;
-    let jitter = pixel_jitter(index, pass_index / max(params.eye_every, 1u));
     let sx = (f32(x) + jitter.x) / f32(params.width) * 2.0 - 1.0;
     let sy = 1.0 - (f32(y) + jitter.y) / f32(params.height) * 2.0;
     var origin = params.eye;
@@ -334,6 +363,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     var point = VisiblePoint(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     var depth = 0u;
     var pass_throughs = 0u;
+    var specular_first = false;
     // cpu::kernels::eye_pass's share of the next surface's emission still to count, whether
     // the path has met glass, and the glass branch not taken (cpu::kernels::emission_seen),
     // traced by the iteration after the glass surface's so that the kernel keeps one
@@ -379,24 +409,25 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         direct += throughput * emission_share * emitted(material, hit);
         emission_share = 1.0;
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
-        let u = next_f32(&rng);
+        let u = next_f32(rng);
         if material.surface == SURFACE_DIFFUSE {
             let weight = throughput * tint * (1.0 / PI);
             if max3(weight) > 0.0 {
                 point = VisiblePoint(hit.position, pack_normal(hit.shading), weight, 0u);
                 if params.sample_lights != 0u {
-                    let u0 = next_f32(&rng);
-                    let u1 = next_f32(&rng);
-                    let u2 = next_f32(&rng);
+                    let u0 = next_f32(rng);
+                    let u1 = next_f32(rng);
+                    let u2 = next_f32(rng);
                     direct += weight * direct_light(hit, u0, u1, u2);
                 }
             }
             break;
         }
+        specular_first = specular_first || depth == 0u;
         // Rough metal draws its micro-normal with a second number.
         var u_second = 0.0;
         if material.surface == SURFACE_ROUGH_CONDUCTOR {
-            u_second = next_f32(&rng);
+            u_second = next_f32(rng);
         }
         let bounce = specular_direction(material, hit, direction, u, u_second);
         throughput *= tint * bounce.weight;
@@ -426,8 +457,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         origin = offset_origin(hit, bounce.direction, params.epsilon);
         direction = bounce.direction;
     }
-    store_visible_point(index, point);
-    pixels[index].direct += direct;
+    return EyePath(point, direct, specular_first);
 }
 
 // cpu::kernels::photon_key: slot `index`'s stored photon's first hash-entry word and its

@@ -31,7 +31,8 @@ struct PixelStats {
     caustic_tau: vec3<f32>,
     caustic_count: f32,
     caustic_radius: f32,
-    pad0: u32,
+    // render::buffers::PixelStats::specular_seen.
+    specular_seen: u32,
     pad1: u32,
     pad2: u32,
 }

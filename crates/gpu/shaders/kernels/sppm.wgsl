@@ -329,18 +329,26 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     if pixels[index].specular_seen != 0u {
         extra = SPECULAR_EXTRA_PATHS;
     }
-    let first = eye_path(index, pixel_jitter(index, pass_index / max(params.eye_every, 1u)), &rng);
-    var direct = first.direct;
-    for (var k = 0u; k < extra; k += 1u) {
-        let jx = next_f32(&rng);
-        let jy = next_f32(&rng);
-        direct += eye_path(index, vec2<f32>(jx, jy), &rng).direct;
+    // One call site in a loop over the paths: a second call of eye_path made the kernel a third
+    // slower through lavapipe even where no pixel took the extra path.
+    var jitter = pixel_jitter(index, pass_index / max(params.eye_every, 1u));
+    var direct = vec3<f32>(0.0);
+    for (var path_index = 0u; path_index <= extra; path_index += 1u) {
+        if path_index > 0u {
+            let jx = next_f32(&rng);
+            let jy = next_f32(&rng);
+            jitter = vec2<f32>(jx, jy);
+        }
+        let path = eye_path(index, jitter, &rng);
+        direct += path.direct;
+        if path_index == 0u {
+            store_visible_point(index, path.point);
+            if path.specular_first {
+                pixels[index].specular_seen = 1u;
+            }
+        }
     }
-    store_visible_point(index, first.point);
     pixels[index].direct += direct / f32(1u + extra);
-    if first.specular_first {
-        pixels[index].specular_seen = 1u;
-    }
 }
 
 // cpu::kernels::EyePath: `direct` is its emission met and then its light sample added.

@@ -274,7 +274,7 @@ fn eye_path(
     let mut direction = camera_direction(params, sx, sy);
     let mut direct_light = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
-    let mut direct = Vec3::ZERO;
+    let mut emission = Vec3::ZERO;
     let mut specular_first = false;
     let mut visible_point = VisiblePoint::default();
     let (mut depth, mut pass_throughs) = (0, 0);
@@ -285,7 +285,7 @@ fn eye_path(
     while depth < params.max_depth {
         let Some(hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one).
-            direct += throughput * emission_share * vec3(params.sky);
+            emission += throughput * emission_share * vec3(params.sky);
             break;
         };
         let material = &scene.materials[hit.material as usize];
@@ -297,7 +297,7 @@ fn eye_path(
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        direct += throughput * emission_share * emitted(scene, material, &hit);
+        emission += throughput * emission_share * emitted(scene, material, &hit);
         emission_share = 1.0;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
@@ -358,7 +358,7 @@ fn eye_path(
                     offset_origin(&hit, other, params.epsilon),
                     other,
                 );
-                direct += throughput * other_share * seen;
+                emission += throughput * other_share * seen;
                 emission_share = 1.0 - other_share;
             }
         }
@@ -367,7 +367,7 @@ fn eye_path(
     }
     EyePath {
         visible_point,
-        emission: direct,
+        emission,
         direct_light,
         specular_first,
     }

@@ -551,11 +551,12 @@ pub struct GatherArgs {
     pub radius: f32,
     /// The caustic photons' first gather radius as a share of --radius, in (0, 1]. Smaller:
     /// sharper rims of glass caustics sooner, noisier broad caustics such as flat mirrors
-    /// throw. Default: 0.7 with sampled direct light, 1 with --direct-light photons (whose
-    /// caustic photons carry the direct light too). 0.7 against 1 (eight seeds each,
-    /// docs/BENCHMARKS.md §3, session 15): inside cornell-caustics' glass caustic Mitsuba's
-    /// errors reached 1.4–1.6× sooner, cornell-metal's whole-image error about a fifth higher,
-    /// scenes without mirrors or glass unchanged.
+    /// throw. Default: 0.55 with sampled direct light, 1 with --direct-light photons (whose
+    /// caustic photons carry the direct light too). Measured (docs/BENCHMARKS.md §3): 0.7
+    /// against 1 reached Mitsuba's errors inside cornell-caustics' glass caustic 1.4–1.6×
+    /// sooner with cornell-metal's whole-image error about a fifth higher (session 15); 0.55
+    /// against 0.7, 1.16–1.19× sooner there, cornell-metal +8 % (session 19); scenes without
+    /// mirrors or glass unchanged.
     #[arg(long, value_name = "SHARE")]
     pub caustic_radius: Option<f32>,
 }

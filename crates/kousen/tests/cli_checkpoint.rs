@@ -77,6 +77,10 @@ fn checkpoint_that_does_not_fit_is_refused() {
         &format!("--passes 2 --checkpoint {ck}"),
     ));
     let out = dir.path().join("b.pfm");
+    let default_share = format!(
+        "--caustic-radius {}",
+        render::settings::MEASURED_CAUSTIC_RADIUS_SHARE
+    );
     let cases = [
         (format!("--passes 4 --resume {ck} --seed 5"), "--seed 0"),
         (
@@ -101,7 +105,7 @@ fn checkpoint_that_does_not_fit_is_refused() {
         ),
         (
             format!("--passes 4 --resume {ck} --caustic-radius 0.5"),
-            "--caustic-radius 0.7",
+            default_share.as_str(),
         ),
     ];
     for (extra, needle) in cases {

@@ -14,12 +14,14 @@ pub const DEFAULT_ALPHA: f32 = 2.0 / 3.0;
 pub const MEASURED_INDIRECT_ALPHA: f32 = 0.8;
 /// The caustic photons' first radius as a share of the indirect ones' that `kousen render`
 /// and `kousen view` use with sampled direct light, where only scenes with mirrors or glass
-/// have caustic photons; over eight seeds, 0.7 reached Mitsuba's errors inside
-/// cornell-caustics' glass caustic 1.4–1.6× sooner than 1, and raised cornell-metal's
-/// whole-image error (broad caustics of flat mirrors) by about a fifth (docs/BENCHMARKS.md §3,
-/// session 15).
-/// [`Settings::new`] keeps 1.
-pub const MEASURED_CAUSTIC_RADIUS_SHARE: f32 = 0.7;
+/// have caustic photons (docs/BENCHMARKS.md §3). Session 15, eight seeds: 0.7 reached
+/// Mitsuba's errors inside cornell-caustics' glass caustic 1.4–1.6× sooner than 1 and raised
+/// cornell-metal's whole-image error (broad caustics of flat mirrors) by about a fifth.
+/// Session 19, with the extra eye paths of specular pixels, which took much of the caustic
+/// window's variance away so that its rim's bias led: 0.55 reached Mitsuba's 4096-spp error
+/// there 1.16–1.19× sooner than 0.7 (two runs of eight seeds), cornell-metal's error +8 %
+/// (ten seeds), cornell-rough's level. [`Settings::new`] keeps 1.
+pub const MEASURED_CAUSTIC_RADIUS_SHARE: f32 = 0.55;
 /// Photon passes per eye pass. Measured on lavapipe with the Cornell scenes (docs/BENCHMARKS.md
 /// §3): fewer eye passes leave more time for photons, more anti-alias the edges sooner.
 pub const DEFAULT_EYE_EVERY: u32 = 8;

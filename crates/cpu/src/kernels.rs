@@ -235,11 +235,10 @@ pub fn eye_pass(
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
     let [jx, jy] = pixel_jitter(params.seed, index, pass / params.eye_every.max(1));
     let first = eye_path(scene, params, &mut rng, index, [jx, jy]);
-    let mut direct = first.emission + first.direct_light;
+    let mut direct = first.direct;
     for _ in 0..extra {
         let jitter = [rng.next_f32(), rng.next_f32()];
-        let path = eye_path(scene, params, &mut rng, index, jitter);
-        direct += path.emission + path.direct_light;
+        direct += eye_path(scene, params, &mut rng, index, jitter).direct;
     }
     EyeStep {
         visible_point: first.visible_point,
@@ -251,10 +250,8 @@ pub fn eye_pass(
 /// One camera path of an eye pass.
 struct EyePath {
     visible_point: VisiblePoint,
-    /// Emission met on the way (and the sky).
-    emission: Vec3,
-    /// The sampled direct light at the visible point.
-    direct_light: Vec3,
+    /// The emission met on the way (and the sky), then the light sample at the visible point.
+    direct: Vec3,
     /// Whether its first surface was specular.
     specular_first: bool,
 }
@@ -272,9 +269,8 @@ fn eye_path(
     let sy = 1.0 - (y as f32 + jy) / params.height as f32 * 2.0;
     let mut origin = vec3(params.eye);
     let mut direction = camera_direction(params, sx, sy);
-    let mut direct_light = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
-    let mut emission = Vec3::ZERO;
+    let mut direct = Vec3::ZERO;
     let mut specular_first = false;
     let mut visible_point = VisiblePoint::default();
     let (mut depth, mut pass_throughs) = (0, 0);
@@ -285,7 +281,7 @@ fn eye_path(
     while depth < params.max_depth {
         let Some(hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one).
-            emission += throughput * emission_share * vec3(params.sky);
+            direct += throughput * emission_share * vec3(params.sky);
             break;
         };
         let material = &scene.materials[hit.material as usize];
@@ -297,7 +293,7 @@ fn eye_path(
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        emission += throughput * emission_share * emitted(scene, material, &hit);
+        direct += throughput * emission_share * emitted(scene, material, &hit);
         emission_share = 1.0;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
@@ -312,7 +308,7 @@ fn eye_path(
                 };
                 if params.sample_lights != 0 {
                     let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                    direct_light = weight * self::direct_light(scene, params, &hit, u);
+                    direct += weight * direct_light(scene, params, &hit, u);
                 }
             }
             break;
@@ -358,7 +354,7 @@ fn eye_path(
                     offset_origin(&hit, other, params.epsilon),
                     other,
                 );
-                emission += throughput * other_share * seen;
+                direct += throughput * other_share * seen;
                 emission_share = 1.0 - other_share;
             }
         }
@@ -367,8 +363,7 @@ fn eye_path(
     }
     EyePath {
         visible_point,
-        emission,
-        direct_light,
+        direct,
         specular_first,
     }
 }

@@ -16,6 +16,7 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     end_quietly_on_closed_pipes();
+    quiet_mesa_device_select_without_session();
     let cli = cli::Cli::parse();
     let level = match cli.verbose {
         0 => "warn",
@@ -36,6 +37,23 @@ fn main() -> ExitCode {
             eprintln!("kousen: error: {error:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Mesa's Vulkan device-select layer, loaded implicitly with Mesa's drivers, asks Wayland for
+/// the session's display to order the devices, and where there is no user session (a server, a
+/// container, CI: no `XDG_RUNTIME_DIR`) libwayland prints two "error:" lines on every run that
+/// are no error of kousen's. kousen orders the adapters itself (`--adapter` picks one), so
+/// without a session the layer is turned off, unless the user set either of its variables.
+fn quiet_mesa_device_select_without_session() {
+    let set = |name| std::env::var_os(name).is_some();
+    if set("XDG_RUNTIME_DIR") || set("NODEVICE_SELECT") || set("MESA_VK_DEVICE_SELECT") {
+        return;
+    }
+    // SAFETY: called first thing in main, before any thread exists that could read the
+    // environment at the same time.
+    unsafe {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }
 

@@ -21,9 +21,11 @@ not used, so nothing about the mapping is hidden):
   front face (counter-clockwise winding) stays the front face. Vertex normals become Mitsuba's
   shading normals (missing ones are smoothed over the primitive, area-weighted).
 - Materials (kousen's rules, DESIGN.md "Materials", crates/scene/src/gltf/materials.rs):
-  transmission > 0 and metallic < 0.5 -> smooth dielectric, ior from KHR_materials_ior (1.5),
-  exterior ior exactly 1, transmittance tinted by baseColor; `dielectric` when
-  KHR_materials_volume thicknessFactor > 0, else `thindielectric`.
+  transmission > 0 and metallic < 0.5 -> dielectric, ior from KHR_materials_ior (1.5),
+  exterior ior exactly 1, reflectance and transmittance tinted by baseColor (kousen tints every
+  bounce off glass); roughness < 0.01 -> smooth: `dielectric` when KHR_materials_volume
+  thicknessFactor > 0, else `thindielectric`; rougher -> `roughdielectric`, GGX of alpha =
+  roughness^2, visible normals sampled (solid only: Mitsuba has no rough thin sheet).
   metallic >= 0.5 and roughness < 0.01 -> perfect mirror: `conductor` with material "none"
   (reflectance 1 at every angle) times specular_reflectance = baseColor.
   metallic >= 0.5 and roughness < 0.5 -> `roughconductor`, GGX of alpha = roughness^2 (visible
@@ -212,6 +214,12 @@ def material_info(doc, index):
             kind, params = "mirror", {"color": base}
         else:
             kind, params = "dielectric", {"color": base, "ior": ior, "thin": thickness == 0.0}
+            if roughness >= MIRROR_MAX_ROUGHNESS:
+                if params["thin"]:
+                    raise NotImplementedError("material %r: Mitsuba has no rough thin sheet"
+                                              % m.get("name"))
+                kind = "roughdielectric"
+                params["alpha"] = roughness * roughness
     elif metallic >= MIRROR_MIN_METALLIC and roughness < MIRROR_MAX_ROUGHNESS:
         kind, params = "mirror", {"color": base}
     elif metallic >= MIRROR_MIN_METALLIC and roughness < DIFFUSE_MIN_ROUGHNESS:
@@ -238,6 +246,12 @@ def mitsuba_bsdf(kind, params):
     if kind == "dielectric":
         return {"type": "thindielectric" if params["thin"] else "dielectric",
                 "int_ior": params["ior"], "ext_ior": 1.0,
+                "specular_reflectance": rgb(params["color"]),
+                "specular_transmittance": rgb(params["color"])}
+    if kind == "roughdielectric":
+        return {"type": "roughdielectric", "distribution": "ggx", "alpha": params["alpha"],
+                "sample_visible": True, "int_ior": params["ior"], "ext_ior": 1.0,
+                "specular_reflectance": rgb(params["color"]),
                 "specular_transmittance": rgb(params["color"])}
     raise ValueError(kind)
 
@@ -371,7 +385,7 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         scene["prim_%d" % k] = mesh
         ntri += len(tri)
         log("primitive %d: %s, %d triangles, %s%s" % (
-            k, name, len(tri), kind + ("" if kind != "dielectric" else
+            k, name, len(tri), kind + ("" if "dielectric" not in kind else
                                         " ior %g %s" % (params["ior"], "thin" if params["thin"] else "solid")),
             (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else ""))
     for k, light in enumerate(punctual_lights(doc, extra_points)):

@@ -99,6 +99,13 @@ pub fn photon_pass_with<R: StreamRng>(
     let tint = base_color(scene, material, hit.uv);
     let flux = vec3(slot.flux);
     let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
+    // Rough glass chooses its way with a third number; other surfaces draw none, so their
+    // streams stay as they were.
+    let u_choice = if matches!(material.surface, Surface::RoughDielectric { .. }) {
+        rng.next_f32()
+    } else {
+        0.0
+    };
     let next = if let Surface::Diffuse = material.surface {
         // Straight from the light, this photon is direct light, which eye passes sample
         // themselves when `sample_lights` is set.
@@ -118,7 +125,8 @@ pub fn photon_pass_with<R: StreamRng>(
         // A bounce below the geometric surface would leak light through it.
         (next.dot(hit.geometric) > 0.0).then_some((next, 1.0))
     } else {
-        specular_direction(material, &hit, direction, u_direction)
+        let [u0, u1] = u_direction;
+        specular_direction(material, &hit, direction, [u0, u1, u_choice])
     };
     let survival = tint.max_element().min(1.0);
     slot.depth += 1;
@@ -314,13 +322,20 @@ fn eye_path(
             break;
         }
         specular_first |= depth == 0;
-        // Rough metal draws its micro-normal with a second number.
-        let u_second = if matches!(material.surface, Surface::RoughConductor { .. }) {
+        // Rough metal and glass draw their micro-normal with a second number, and rough glass
+        // chooses its way with a third.
+        let rough = matches!(
+            material.surface,
+            Surface::RoughConductor { .. } | Surface::RoughDielectric { .. }
+        );
+        let u_second = if rough { rng.next_f32() } else { 0.0 };
+        let u_third = if matches!(material.surface, Surface::RoughDielectric { .. }) {
             rng.next_f32()
         } else {
             0.0
         };
-        let Some((next, weight)) = specular_direction(material, &hit, direction, [u, u_second])
+        let Some((next, weight)) =
+            specular_direction(material, &hit, direction, [u, u_second, u_third])
         else {
             break;
         };

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
-use render::microfacet::rough_reflection;
+use render::microfacet::{rough_dielectric, rough_reflection};
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
@@ -154,13 +154,14 @@ pub fn emitted(scene: &SceneData, material: &Material, hit: &SurfaceHit) -> Vec3
 
 /// The direction a non-diffuse surface sends `incoming` on and its weight (the tint aside):
 /// a dielectric chooses reflection or refraction by Fresnel with `u[0]`; rough metal draws
-/// a micro-normal with both numbers (`render::microfacet`). `None` for a diffuse surface, or
-/// where rough metal's micro-normal sends the path below the surface (it ends).
+/// a micro-normal with `u[0]` and `u[1]`, rough glass too and then chooses with `u[2]`
+/// (`render::microfacet`). `None` for a diffuse surface, or where a micro-normal sends the path
+/// to the wrong side of the surface (it ends).
 pub fn specular_direction(
     material: &Material,
     hit: &SurfaceHit,
     incoming: Vec3,
-    u: [f32; 2],
+    u: [f32; 3],
 ) -> Option<(Vec3, f32)> {
     let normal = hit.shading;
     let direction = match material.surface {
@@ -169,6 +170,22 @@ pub fn specular_direction(
             let (next, weight) = rough_reflection(incoming, normal, alpha, u[0], u[1])?;
             // Bent below the geometric surface by the shading normal: it would leak through.
             return (next.dot(hit.geometric) > 0.0).then_some((next, weight));
+        }
+        Surface::RoughDielectric {
+            ior,
+            thin_walled,
+            alpha,
+        } => {
+            let eta = if hit.front || thin_walled {
+                1.0 / ior
+            } else {
+                ior
+            };
+            let (next, weight) = rough_dielectric(incoming, normal, eta, thin_walled, alpha, u)?;
+            // On the other side of the geometric surface than of the shading normal: the
+            // shading normal bent it across, and it would leak.
+            let same_side = (next.dot(normal) > 0.0) == (next.dot(hit.geometric) > 0.0);
+            return same_side.then_some((next, weight));
         }
         Surface::Mirror => reflect(incoming, normal),
         Surface::Dielectric { ior, thin_walled } => {

@@ -77,8 +77,8 @@ fn render(scene: &scene::Scene, reference: &Image) -> Image {
     sppm.run(Budget::Passes(512), &mut |_| {}).unwrap().image
 }
 
-/// The 64² pixels whose centre sees a rough conductor first.
-fn rough_metal_pixels(scene: &scene::Scene) -> Vec<usize> {
+/// The 64² pixels whose centre sees first a surface that `wanted` picks.
+fn pixels_seeing(scene: &scene::Scene, wanted: impl Fn(&scene::Surface) -> bool) -> Vec<usize> {
     let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
     let camera = scene.camera(None).unwrap();
     (0..64 * 64)
@@ -91,13 +91,38 @@ fn rough_metal_pixels(scene: &scene::Scene) -> Vec<usize> {
             };
             bvh::closest_hit_mtbvh(&bvh, &ray).is_some_and(|hit| {
                 let material = bvh.triangles[hit.triangle as usize].material();
-                matches!(
-                    scene.materials[material as usize].surface,
-                    scene::Surface::RoughConductor { .. }
-                )
+                wanted(&scene.materials[material as usize].surface)
             })
         })
         .collect()
+}
+
+/// Renders `scene` against `reference` and checks the whole image (relMSE below 0.02, mean
+/// within 2 %) and the pixels that see a surface `wanted` picks (at least `least` of them,
+/// their sum within 2 %). `what` names them in the printout.
+fn check_against(
+    what: &str,
+    scene: &scene::Scene,
+    reference: &Image,
+    least: usize,
+    wanted: impl Fn(&scene::Surface) -> bool,
+) {
+    let image = render(scene, reference);
+    let (error, ratio) = (rel_mse(&image, reference), image.mean() / reference.mean());
+    let pixels = pixels_seeing(scene, wanted);
+    let sum = |image: &Image| pixels.iter().map(|&i| image.pixels[i]).sum::<Vec3>();
+    let pixel_ratio = sum(&image) / sum(reference);
+    println!(
+        "{what}: relMSE {error:.5}, mean ratio {ratio}; {} sphere pixels, mean ratio {pixel_ratio}",
+        pixels.len()
+    );
+    assert!(pixels.len() > least, "{} sphere pixels", pixels.len());
+    assert!(error < 0.02, "relMSE {error}");
+    assert!((ratio - Vec3::ONE).abs().max_element() < 0.02, "{ratio}");
+    assert!(
+        (pixel_ratio - Vec3::ONE).abs().max_element() < 0.02,
+        "{pixel_ratio}"
+    );
 }
 
 /// kousen's picture within relMSE 0.02 of Mitsuba's, and the mean within 2 %. The remaining
@@ -138,23 +163,25 @@ fn sppm_matches_mitsuba_with_a_point_light() {
 /// diffuse visible point, and whose photons throw rough caustics on the floor.
 #[test]
 fn sppm_matches_mitsuba_through_rough_metal() {
-    let reference = reference("cornell-rough-mitsuba-64.exr");
-    let scene = shipped("cornell-rough.gltf");
-    let image = render(&scene, &reference);
-    let (error, ratio) = (rel_mse(&image, &reference), image.mean() / reference.mean());
-    // On the spheres alone, where the BSDF shows: what the metal reflects.
-    let metal = rough_metal_pixels(&scene);
-    let sum = |image: &Image| metal.iter().map(|&i| image.pixels[i]).sum::<Vec3>();
-    let metal_ratio = sum(&image) / sum(&reference);
-    println!(
-        "rough metal: relMSE {error:.5}, mean ratio {ratio}; {} sphere pixels, mean ratio {metal_ratio}",
-        metal.len()
+    check_against(
+        "rough metal",
+        &shipped("cornell-rough.gltf"),
+        &reference("cornell-rough-mitsuba-64.exr"),
+        300,
+        |s| matches!(s, scene::Surface::RoughConductor { .. }),
     );
-    assert!(metal.len() > 300, "{} sphere pixels", metal.len());
-    assert!(error < 0.02, "relMSE {error}");
-    assert!((ratio - Vec3::ONE).abs().max_element() < 0.02, "{ratio}");
-    assert!(
-        (metal_ratio - Vec3::ONE).abs().max_element() < 0.02,
-        "{metal_ratio}"
+}
+
+/// Frosted glass (`render::microfacet::rough_dielectric`) against Mitsuba's `roughdielectric`:
+/// `scenes/cornell-frosted.gltf`, two solid rough glass spheres (GGX α 0.09 and 0.36) through
+/// which eye paths see the room blurred, and whose photons throw soft caustics.
+#[test]
+fn sppm_matches_mitsuba_through_frosted_glass() {
+    check_against(
+        "frosted glass",
+        &shipped("cornell-frosted.gltf"),
+        &reference("cornell-frosted-mitsuba-64.exr"),
+        300,
+        |s| matches!(s, scene::Surface::RoughDielectric { .. }),
     );
 }

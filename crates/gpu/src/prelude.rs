@@ -46,6 +46,10 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             "SURFACE_ROUGH_CONDUCTOR",
             U32(types::SURFACE_ROUGH_CONDUCTOR),
         ),
+        (
+            "SURFACE_ROUGH_DIELECTRIC",
+            U32(types::SURFACE_ROUGH_DIELECTRIC),
+        ),
         ("NO_TEXTURE", U32(types::NO_TEXTURE)),
         ("MATERIAL_DOUBLE_SIDED", U32(types::MATERIAL_DOUBLE_SIDED)),
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),

@@ -114,6 +114,7 @@ pub const SURFACE_DIFFUSE: u32 = 0;
 pub const SURFACE_MIRROR: u32 = 1;
 pub const SURFACE_DIELECTRIC: u32 = 2;
 pub const SURFACE_ROUGH_CONDUCTOR: u32 = 3;
+pub const SURFACE_ROUGH_DIELECTRIC: u32 = 4;
 /// A texture index meaning "none".
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// `GpuMaterial::flags` bits.
@@ -150,6 +151,11 @@ impl GpuMaterial {
             Surface::Mirror => (SURFACE_MIRROR, 1.0, false, 0.0),
             Surface::Dielectric { ior, thin_walled } => (SURFACE_DIELECTRIC, ior, thin_walled, 0.0),
             Surface::RoughConductor { alpha } => (SURFACE_ROUGH_CONDUCTOR, 1.0, false, alpha),
+            Surface::RoughDielectric {
+                ior,
+                thin_walled,
+                alpha,
+            } => (SURFACE_ROUGH_DIELECTRIC, ior, thin_walled, alpha),
         };
         let alpha_cutoff = match material.alpha_mode {
             AlphaMode::Opaque => -1.0,

@@ -619,6 +619,29 @@ fn every_kernel_matches_its_twin_through_rough_metal() {
     every_kernel_matches_its_twin(scene::testing::cornell_rough(), DirectLight::Sampled);
 }
 
+/// The same through frosted glass (`render::microfacet::rough_dielectric`): micro-normals,
+/// then reflection or refraction by their Fresnel reflectance with a third number; one
+/// sphere made a thin-walled sheet, so both kinds are compared.
+#[test]
+fn every_kernel_matches_its_twin_through_frosted_glass() {
+    let mut scene = scene::testing::cornell_frosted();
+    let sheets = scene
+        .materials
+        .iter_mut()
+        .filter_map(|m| match &mut m.surface {
+            scene::Surface::RoughDielectric {
+                thin_walled, alpha, ..
+            } if *alpha > 0.2 => {
+                *thin_walled = true;
+                Some(())
+            }
+            _ => None,
+        })
+        .count();
+    assert_eq!(sheets, 1, "the milky sphere made a sheet");
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     every_kernel_matches_its_twin_on(context(), scene, direct);
 }

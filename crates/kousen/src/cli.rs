@@ -390,8 +390,8 @@ pub struct PhotonsArgs {
     /// Timed runs per scheme (after a warm-up, the schemes alternating); the median is reported.
     #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
-    /// Bounces before a photon path is cut off.
-    #[arg(long, value_name = "N", default_value_t = render::settings::DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    /// Bounces before a photon path is cut off (default glslppm's, as the talk's figures).
+    #[arg(long, value_name = "N", default_value_t = render::settings::GLSLPPM_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub max_depth: u32,
     /// Where to run, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,cpu")]

@@ -332,6 +332,25 @@ impl<'a> PathTracer<'a> {
                 // Bent below the geometric surface by the shading normal: it would leak.
                 return (next.dot(geometric) > 0.0).then_some((next, tint * weight));
             }
+            Surface::RoughDielectric {
+                ior,
+                thin_walled,
+                alpha,
+            } => {
+                let eta = if front || thin_walled { 1.0 / ior } else { ior };
+                let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                let (next, weight) = render::microfacet::rough_dielectric(
+                    incoming,
+                    shading,
+                    eta,
+                    thin_walled,
+                    alpha,
+                    u,
+                )?;
+                // Sent across the geometric surface by the shading normal: it would leak.
+                let same_side = (next.dot(shading) > 0.0) == (next.dot(geometric) > 0.0);
+                return same_side.then_some((next, tint * weight));
+            }
             Surface::Diffuse => {
                 let (t, b) = orthonormal_basis(shading);
                 let local = cosine_hemisphere(rng.next_f32(), rng.next_f32());

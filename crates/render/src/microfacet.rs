@@ -1,4 +1,4 @@
-//! The rough conductor: a GGX (Trowbridge–Reitz) microfacet reflector with width `α`, its
+//! Rough surfaces: GGX microfacets. The rough conductor: a GGX (Trowbridge–Reitz) microfacet reflector with width `α`, its
 //! normals drawn from the distribution of normals the incoming direction sees (Heitz 2018,
 //! "Sampling the GGX distribution of visible normals"), and the separable Smith shadowing
 //! (Mitsuba 3's `roughconductor` uses the same pair, which keeps its renders a reference).
@@ -8,10 +8,16 @@
 //! With visible-normal sampling, BSDF·cos / pdf reduces to the shadowing of the outgoing
 //! direction, `G1(ω_o)`: a weight in [0, 1], so photon and eye paths through rough metal stay
 //! as well behaved as through a mirror.
+//!
+//! The rough dielectric (Walter et al. 2007, "Microfacet models for refraction through rough
+//! surfaces"; Mitsuba 3's `roughdielectric` again): the same visible normal, then reflection
+//! or refraction about it chosen by its Fresnel reflectance. Both ways the weight is again the
+//! outgoing direction's shadowing `G1(ω_o)`; as for kousen's smooth glass, the radiance's
+//! η² change across the boundary is left out (it cancels on every path that enters and leaves).
 
 use glam::Vec3;
 
-use crate::optics::reflect;
+use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::sampling::orthonormal_basis;
 
 /// Below this `α` a conductor is a mirror: the lobe is narrower than f32 directions resolve.
@@ -60,22 +66,94 @@ pub fn rough_reflection(
     u1: f32,
     u2: f32,
 ) -> Option<(Vec3, f32)> {
-    let (t, b) = orthonormal_basis(normal);
-    let to_local = |v: Vec3| Vec3::new(v.dot(t), v.dot(b), v.dot(normal));
-    let view = to_local(-incoming);
+    let frame = Frame::about(normal);
+    let view = frame.to_local(-incoming);
     if view.z <= 0.0 {
         return None;
     }
     let micro = sample_visible_normal(view, alpha, u1, u2);
     let out = reflect(-view, micro);
     let weight = smith_g1(out, alpha);
-    (weight > 0.0).then(|| ((t * out.x + b * out.y + normal * out.z).normalize(), weight))
+    (weight > 0.0).then(|| (frame.to_world(out), weight))
+}
+
+/// The frame about a unit normal (+Z) that the microfacet functions work in.
+struct Frame {
+    t: Vec3,
+    b: Vec3,
+    n: Vec3,
+}
+
+impl Frame {
+    fn about(n: Vec3) -> Frame {
+        let (t, b) = orthonormal_basis(n);
+        Frame { t, b, n }
+    }
+
+    fn to_local(&self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
+    }
+
+    fn to_world(&self, v: Vec3) -> Vec3 {
+        (self.t * v.x + self.b * v.y + self.n * v.z).normalize()
+    }
+}
+
+/// A rough dielectric's bounce of `incoming` at a surface with unit `normal` (facing the ray),
+/// `eta` = n_incident / n_transmitted: a visible micro-normal drawn with `u[0]`, `u[1]`, then
+/// reflection about it with `u[2]` < its Fresnel reflectance, refraction otherwise; a
+/// `thin_walled` sheet (no interior) reflects with the sheet's total reflectance `2F / (1 + F)`
+/// and otherwise lets the path through as the reflection mirrored across the surface (straight
+/// on as the lobe narrows). The direction and its weight `G1(ω_o)`, or `None` where the
+/// micro-normal sends the path to the wrong side of the surface (it ends).
+pub fn rough_dielectric(
+    incoming: Vec3,
+    normal: Vec3,
+    eta: f32,
+    thin_walled: bool,
+    alpha: f32,
+    u: [f32; 3],
+) -> Option<(Vec3, f32)> {
+    let frame = Frame::about(normal);
+    let view = frame.to_local(-incoming);
+    if view.z <= 0.0 {
+        return None;
+    }
+    let micro = sample_visible_normal(view, alpha, u[0], u[1]);
+    let mut reflectance = fresnel_dielectric(view.dot(micro), eta);
+    if thin_walled {
+        reflectance = 2.0 * reflectance / (1.0 + reflectance);
+    }
+    let reflected = reflect(-view, micro);
+    let out = if u[2] < reflectance {
+        reflected
+    } else if thin_walled {
+        Vec3::new(reflected.x, reflected.y, -reflected.z)
+    } else {
+        refract(-view, micro, eta)?
+    };
+    // Reflections leave above the surface, transmissions below; the shadowing is the same
+    // function on either side.
+    let reflects = u[2] < reflectance;
+    let side = if reflects { out.z } else { -out.z };
+    let weight = smith_g1(Vec3::new(out.x, out.y, side), alpha);
+    (weight > 0.0).then(|| (frame.to_world(out), weight))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::rng::{KernelRng, PHOTON_STREAM};
+
+    /// The unit direction at polar cosine `cos_theta` and azimuth `phi` about +Z.
+    fn direction(cos_theta: f64, phi: f64) -> Vec3 {
+        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+        Vec3::new(
+            (sin_theta * phi.cos()) as f32,
+            (sin_theta * phi.sin()) as f32,
+            cos_theta as f32,
+        )
+    }
 
     /// GGX's distribution of normals.
     fn ggx_d(m: Vec3, alpha: f32) -> f64 {
@@ -97,14 +175,9 @@ mod tests {
             let x = (i as f64 + 0.5) / n_theta as f64;
             let cos_theta = 1.0 - x * x;
             let d_cos = 2.0 * x / n_theta as f64;
-            let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
             for j in 0..n_phi {
                 let phi = (j as f64 + 0.5) / n_phi as f64 * std::f64::consts::TAU;
-                let l = Vec3::new(
-                    (sin_theta * phi.cos()) as f32,
-                    (sin_theta * phi.sin()) as f32,
-                    cos_theta as f32,
-                );
+                let l = direction(cos_theta, phi);
                 let h = (view + l).normalize();
                 let f = ggx_d(h, alpha) * (smith_g1(view, alpha) * smith_g1(l, alpha)) as f64
                     / (4.0 * view.z as f64 * cos_theta);
@@ -168,12 +241,7 @@ mod tests {
             let cos = (1.0 - x).sqrt();
             for j in 0..400 {
                 let phi = (j as f64 + 0.5) / 400.0 * std::f64::consts::TAU;
-                let sin = x.sqrt();
-                let m = Vec3::new(
-                    (sin * phi.cos()) as f32,
-                    (sin * phi.sin()) as f32,
-                    cos as f32,
-                );
+                let m = direction(cos, phi);
                 let density = ggx_d(m, alpha)
                     * f64::from(smith_g1(view, alpha))
                     * f64::from(view.dot(m).max(0.0))
@@ -191,6 +259,167 @@ mod tests {
             .sum();
         // 19 degrees of freedom: the 0.999 quantile is 43.8.
         assert!(chi_square < 43.8, "chi-square {chi_square}: {counts:?}");
+    }
+
+    /// Walter et al.'s rough dielectric BSDF·cos for `view` (about +Z) and `light`, with `eta`
+    /// = n_view_side / n_other_side; a thin-walled sheet's transmission is its reflection lobe
+    /// mirrored across the surface. The model the sampler claims to draw from.
+    fn rough_dielectric_bsdf_cos(view: Vec3, light: Vec3, eta: f32, thin: bool, alpha: f32) -> f64 {
+        let fresnel = |cos: f32| {
+            let f = fresnel_dielectric(cos, eta) as f64;
+            if thin { 2.0 * f / (1.0 + f) } else { f }
+        };
+        let g1 = |w: Vec3| smith_g1(Vec3::new(w.x, w.y, w.z.abs()), alpha) as f64;
+        let reflection = |l: Vec3, weight: &dyn Fn(f32) -> f64| {
+            let h = (view + l).normalize();
+            ggx_d(h, alpha) * weight(view.dot(h)) * g1(view) * g1(l) / (4.0 * view.z as f64)
+        };
+        if light.z > 0.0 {
+            return reflection(light, &fresnel);
+        }
+        if thin {
+            let mirrored = Vec3::new(light.x, light.y, -light.z);
+            return reflection(mirrored, &|c| 1.0 - fresnel(c));
+        }
+        // Refraction: the half vector of Walter's eq. 16, turned to +Z.
+        let eta_out = 1.0 / eta;
+        let mut h = -(view + eta_out * light);
+        if h.length_squared() == 0.0 {
+            return 0.0;
+        }
+        h = h.normalize();
+        if h.z < 0.0 {
+            h = -h;
+        }
+        let (vh, lh) = (view.dot(h), light.dot(h));
+        if vh <= 0.0 || lh >= 0.0 {
+            return 0.0;
+        }
+        let denominator = (vh + eta_out * lh) as f64;
+        (vh as f64 * -lh as f64)
+            * (eta_out * eta_out) as f64
+            * (1.0 - fresnel(vh))
+            * ggx_d(h, alpha)
+            * g1(view)
+            * g1(light)
+            / (view.z as f64 * denominator * denominator)
+    }
+
+    /// ∫ BSDF·cos over the upper (reflection) and lower (transmission) hemispheres, by
+    /// quadrature in (cosθ, φ), finer where the lobes of a narrow α live.
+    fn rough_dielectric_albedo(view: Vec3, eta: f32, thin: bool, alpha: f32) -> (f64, f64) {
+        let (n_cos, n_phi) = (1200, 720);
+        let (mut up, mut down) = (0.0, 0.0);
+        for i in 0..n_cos {
+            let cos_theta = -1.0 + 2.0 * (i as f64 + 0.5) / n_cos as f64;
+            for j in 0..n_phi {
+                let phi = (j as f64 + 0.5) / n_phi as f64 * std::f64::consts::TAU;
+                let light = direction(cos_theta, phi);
+                let d_omega = (2.0 / n_cos as f64) * (std::f64::consts::TAU / n_phi as f64);
+                let value = rough_dielectric_bsdf_cos(view, light, eta, thin, alpha) * d_omega;
+                if cos_theta > 0.0 {
+                    up += value;
+                } else {
+                    down += value;
+                }
+            }
+        }
+        (up, down)
+    }
+
+    /// The sampled weights, split by the side they leave on, average to Walter's BSDF·cos
+    /// integrated over that side: the sampler draws reflection and refraction in proportion
+    /// to the model with the weight it claims. Into glass (η 1/1.5), out of it (1.5, with total
+    /// internal reflection) and a thin sheet; mean of 200,000 draws against quadrature within
+    /// 1 % of the total plus 0.002.
+    #[test]
+    fn rough_dielectric_weights_average_to_walters_model() {
+        for (eta, thin) in [(1.0 / 1.5, false), (1.5, false), (1.0 / 1.5, true)] {
+            for alpha in [0.1f32, 0.3, 0.8] {
+                for theta in [0.2f32, 0.9, 1.3] {
+                    let view = Vec3::new(theta.sin(), 0.0, theta.cos());
+                    let mut rng =
+                        KernelRng::new(9, PHOTON_STREAM, 0, alpha.to_bits() ^ theta.to_bits());
+                    let n = 200_000;
+                    let (mut up, mut down) = (0.0f64, 0.0f64);
+                    for _ in 0..n {
+                        let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                        if let Some((out, weight)) =
+                            rough_dielectric(-view, Vec3::Z, eta, thin, alpha, u)
+                        {
+                            assert!(
+                                (out.length() - 1.0).abs() < 1e-4 && weight > 0.0 && weight <= 1.0
+                            );
+                            if out.z > 0.0 {
+                                up += f64::from(weight);
+                            } else {
+                                down += f64::from(weight);
+                            }
+                        }
+                    }
+                    let (up, down) = (up / n as f64, down / n as f64);
+                    let (want_up, want_down) = rough_dielectric_albedo(view, eta, thin, alpha);
+                    let tolerance = 0.01 * (want_up + want_down) + 2e-3;
+                    let case = format!("η {eta}, thin {thin}, α {alpha}, θ {theta}");
+                    assert!(
+                        (up - want_up).abs() < tolerance,
+                        "{case}: reflected {up}, model {want_up}"
+                    );
+                    assert!(
+                        (down - want_down).abs() < tolerance,
+                        "{case}: transmitted {down}, model {want_down}"
+                    );
+                    assert!(
+                        want_up + want_down <= 1.0 + 1e-2,
+                        "{case}: albedo {}",
+                        want_up + want_down
+                    );
+                }
+            }
+        }
+    }
+
+    /// As the lobe narrows, the rough dielectric chooses as the smooth one does: reflection
+    /// about the normal with Fresnel's probability, else Snell's refraction (or straight on
+    /// through a sheet).
+    #[test]
+    fn rough_dielectric_narrows_to_smooth_glass() {
+        let normal = Vec3::new(0.2, 0.9, -0.1).normalize();
+        let incoming = Vec3::new(0.5, -0.7, 0.3).normalize();
+        let mirror = reflect(incoming, normal);
+        for (eta, thin) in [(1.0 / 1.5, false), (1.5, false), (1.0 / 1.5, true)] {
+            let refracted = if thin {
+                Some(incoming)
+            } else {
+                refract(incoming, normal, eta)
+            };
+            let mut reflectance = fresnel_dielectric(-incoming.dot(normal), eta);
+            if thin {
+                reflectance = 2.0 * reflectance / (1.0 + reflectance);
+            }
+            let mut rng = KernelRng::new(2, PHOTON_STREAM, 0, 0);
+            let n = 20_000;
+            let mut reflected = 0;
+            for _ in 0..n {
+                let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                // GGX's tails are long: at α 1e-6 a normal 0.01 off is a 1e-8 chance.
+                let (out, weight) = rough_dielectric(incoming, normal, eta, thin, 1e-6, u).unwrap();
+                assert!(weight > 0.99 && weight <= 1.0);
+                if out.dot(normal) > 0.0 {
+                    reflected += 1;
+                    assert!(out.dot(mirror) > 0.9999, "{out} against {mirror}");
+                } else {
+                    let refracted =
+                        refracted.expect("no refraction under total internal reflection");
+                    assert!(out.dot(refracted) > 0.9999, "{out} against {refracted}");
+                }
+            }
+            let share = reflected as f32 / n as f32;
+            assert!(
+                (share - reflectance).abs() < 0.01,
+                "η {eta}: {share} against {reflectance}"
+            );
+        }
     }
 
     /// Narrow lobes reflect like a mirror; a bounce always leaves on the ray's side.

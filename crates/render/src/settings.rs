@@ -25,8 +25,16 @@ pub const MEASURED_CAUSTIC_RADIUS_SHARE: f32 = 0.55;
 /// Photon passes per eye pass. Measured on lavapipe with the Cornell scenes (docs/BENCHMARKS.md
 /// §3): fewer eye passes leave more time for photons, more anti-alias the edges sooner.
 pub const DEFAULT_EYE_EVERY: u32 = 8;
-/// Bounces before a photon or eye path is cut off (glslppm's limit).
-pub const DEFAULT_MAX_DEPTH: u32 = 10;
+/// Bounces before a photon or eye path is cut off. Well past glslppm's 10
+/// ([`GLSLPPM_MAX_DEPTH`]): light that enters glass can reflect inside it many times, and a
+/// frosted (rough) glass sphere scatters much of it back inward, so a cut at 10 lost 4 % of
+/// what `scenes/cornell-frosted.gltf`'s frosted sphere shows (1 % at 32, against Mitsuba's
+/// unlimited path tracer). Paths that end sooner pay nothing for it (renders of the glass
+/// scenes 0–10 % slower on the CPU and through lavapipe, docs/BENCHMARKS.md §3).
+pub const DEFAULT_MAX_DEPTH: u32 = 32;
+/// glslppm's path length, the setting its figures were measured with (and `kousen bench
+/// photons`' default, which compares against the talk's).
+pub const GLSLPPM_MAX_DEPTH: u32 = 10;
 /// Initial gather radius in pixel footprints (glslppm's choice).
 pub const INITIAL_RADIUS_FOOTPRINTS: f32 = 2.5;
 

@@ -18,6 +18,13 @@ pub enum Surface {
     /// Rough metal: GGX microfacets of width `alpha` (glTF's roughness squared) reflecting
     /// `base_color` at every angle, as the mirror does (`render::microfacet`).
     RoughConductor { alpha: f32 },
+    /// Rough glass (frosted): GGX microfacets of width `alpha` (glTF's roughness squared) on
+    /// the [`Surface::Dielectric`] of `ior` and `thin_walled` (`render::microfacet`).
+    RoughDielectric {
+        ior: f32,
+        thin_walled: bool,
+        alpha: f32,
+    },
 }
 
 /// Whether a surface can be seen through where its texture says so.

@@ -65,6 +65,65 @@ fn transmission_without_volume_is_a_thin_walled_dielectric() {
     );
 }
 
+/// Transmission with roughness from 0.01 is frosted glass, GGX of width roughness², solid or
+/// a sheet as smooth glass is; glTF's default roughness (1) makes it very frosted.
+#[test]
+fn rough_transmission_is_a_rough_dielectric() {
+    let cases = [
+        (
+            Some(0.005),
+            false,
+            Surface::Dielectric {
+                ior: 1.5,
+                thin_walled: false,
+            },
+        ),
+        (
+            Some(0.3),
+            false,
+            Surface::RoughDielectric {
+                ior: 1.5,
+                thin_walled: false,
+                alpha: 0.3 * 0.3,
+            },
+        ),
+        (
+            Some(0.5),
+            true,
+            Surface::RoughDielectric {
+                ior: 1.5,
+                thin_walled: true,
+                alpha: 0.5 * 0.5,
+            },
+        ),
+        (
+            None,
+            true,
+            Surface::RoughDielectric {
+                ior: 1.5,
+                thin_walled: true,
+                alpha: 1.0,
+            },
+        ),
+    ];
+    for (roughness, thin, surface) in cases {
+        let mut material = json!({ "pbrMetallicRoughness": { "metallicFactor": 0.0 } });
+        if let Some(r) = roughness {
+            material["pbrMetallicRoughness"]["roughnessFactor"] = json!(r);
+        }
+        material["extensions"] =
+            json!({ "KHR_materials_transmission": { "transmissionFactor": 1.0 } });
+        if !thin {
+            material["extensions"]["KHR_materials_volume"] = json!({ "thicknessFactor": 0.1 });
+        }
+        assert_eq!(
+            material_of(material).surface,
+            surface,
+            "roughness {roughness:?}"
+        );
+    }
+}
+
 #[test]
 fn transmission_with_volume_is_a_solid_dielectric_with_the_khr_ior() {
     let mut material = pbr(0.0, 0.0);

@@ -263,6 +263,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let u_roulette = next_f32(&rng);
     let u_direction0 = next_f32(&rng);
     let u_direction1 = next_f32(&rng);
+    // cpu::kernels: rough glass chooses its way with a third number.
+    var u_choice = 0.0;
+    if material.surface == SURFACE_ROUGH_DIELECTRIC {
+        u_choice = next_f32(&rng);
+    }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
     if material.surface == SURFACE_DIFFUSE {
@@ -275,7 +280,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         next = cosine_direction(hit.shading, u_direction0, u_direction1);
         weight = select(0.0, 1.0, dot(next, hit.geometric) > 0.0);
     } else {
-        let bounce = specular_direction(material, hit, direction, u_direction0, u_direction1);
+        let bounce = specular_direction(material, hit, direction, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
         weight = bounce.weight;
     }
@@ -432,12 +437,17 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             break;
         }
         specular_first = specular_first || depth == 0u;
-        // Rough metal draws its micro-normal with a second number.
+        // Rough metal and glass draw their micro-normal with a second number, and rough glass
+        // chooses its way with a third.
         var u_second = 0.0;
-        if material.surface == SURFACE_ROUGH_CONDUCTOR {
+        var u_third = 0.0;
+        if material.surface == SURFACE_ROUGH_CONDUCTOR || material.surface == SURFACE_ROUGH_DIELECTRIC {
             u_second = next_f32(rng);
         }
-        let bounce = specular_direction(material, hit, direction, u, u_second);
+        if material.surface == SURFACE_ROUGH_DIELECTRIC {
+            u_third = next_f32(rng);
+        }
+        let bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         throughput *= tint * bounce.weight;
         if max3(throughput) <= 0.0 {
             break;

@@ -222,31 +222,89 @@ struct Scattered {
     weight: f32,
 }
 
+// A frame about the shading normal, as render::microfacet works in (orthonormal_basis).
+struct Frame {
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+}
+
+fn frame_about(normal: vec3<f32>) -> Frame {
+    return Frame(basis_tangent(normal), basis_bitangent(normal), normal);
+}
+
+fn to_local(f: Frame, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(v, f.t), dot(v, f.b), dot(v, f.n));
+}
+
+fn to_world(f: Frame, v: vec3<f32>) -> vec3<f32> {
+    return normalize(f.t * v.x + f.b * v.y + f.n * v.z);
+}
+
 // render::microfacet::rough_reflection, with specular_direction's check against the
 // geometric normal.
 fn rough_reflection(hit: SurfaceHit, incoming: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> Scattered {
-    let normal = hit.shading;
-    let t = basis_tangent(normal);
-    let b = basis_bitangent(normal);
-    let view = vec3<f32>(dot(-incoming, t), dot(-incoming, b), dot(-incoming, normal));
+    let frame = frame_about(hit.shading);
+    let view = to_local(frame, -incoming);
     if view.z <= 0.0 {
         return Scattered(vec3<f32>(0.0), 0.0);
     }
     let micro = sample_visible_normal(view, alpha, u1, u2);
     let out = reflect_about(-view, micro);
     let weight = smith_g1(out, alpha);
-    let next = normalize(t * out.x + b * out.y + normal * out.z);
+    let next = to_world(frame, out);
     if weight <= 0.0 || dot(next, hit.geometric) <= 0.0 {
         return Scattered(vec3<f32>(0.0), 0.0);
     }
     return Scattered(next, weight);
 }
 
+// render::microfacet::rough_dielectric, with specular_direction's check against the
+// geometric normal. (Under total internal reflection Fresnel is 1 and u_third < 1 reflects,
+// so the refraction below always exists, as the twin's `?` assumes.)
+fn rough_dielectric(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u1: f32, u2: f32, u_third: f32) -> Scattered {
+    let normal = hit.shading;
+    let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
+    let eta = select(material.ior, 1.0 / material.ior, hit.front || thin_walled);
+    let alpha = material.roughness_alpha;
+    let frame = frame_about(normal);
+    let view = to_local(frame, -incoming);
+    if view.z <= 0.0 {
+        return Scattered(vec3<f32>(0.0), 0.0);
+    }
+    let micro = sample_visible_normal(view, alpha, u1, u2);
+    var reflectance = fresnel_dielectric(dot(view, micro), eta);
+    if thin_walled {
+        reflectance = 2.0 * reflectance / (1.0 + reflectance);
+    }
+    let reflects = u_third < reflectance;
+    let reflected = reflect_about(-view, micro);
+    var out = reflected;
+    if !reflects {
+        if thin_walled {
+            out = vec3<f32>(reflected.x, reflected.y, -reflected.z);
+        } else {
+            out = refract_or_reflect(-view, micro, eta);
+        }
+    }
+    let side = select(-out.z, out.z, reflects);
+    let weight = smith_g1(vec3<f32>(out.x, out.y, side), alpha);
+    let next = to_world(frame, out);
+    let same_side = (dot(next, normal) > 0.0) == (dot(next, hit.geometric) > 0.0);
+    if weight <= 0.0 || !same_side {
+        return Scattered(vec3<f32>(0.0), 0.0);
+    }
+    return Scattered(next, weight);
+}
+
 // cpu::surface::specular_direction; only called for non-diffuse surfaces.
-fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32, u_second: f32) -> Scattered {
+fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32, u_second: f32, u_third: f32) -> Scattered {
     let normal = hit.shading;
     if material.surface == SURFACE_ROUGH_CONDUCTOR {
         return rough_reflection(hit, incoming, material.roughness_alpha, u, u_second);
+    }
+    if material.surface == SURFACE_ROUGH_DIELECTRIC {
+        return rough_dielectric(material, hit, incoming, u, u_second, u_third);
     }
     if material.surface == SURFACE_MIRROR {
         return Scattered(reflect_about(incoming, normal), 1.0);

@@ -27,11 +27,12 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 4] = [
+pub const SHIPPED: [(&str, Fixture); 5] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
     ("cornell-spot", scene::testing::cornell_spot),
+    ("cornell-frosted", scene::testing::cornell_frosted),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -235,6 +236,7 @@ impl Document {
                 (f32::from(m.surface == Surface::Mirror), 0.0)
             }
             Surface::RoughConductor { alpha } => (1.0, alpha.sqrt()),
+            Surface::RoughDielectric { alpha, .. } => (0.0, alpha.sqrt()),
         };
         let [r, g, b] = m.base_color.to_array();
         let mut value = json!({
@@ -246,7 +248,11 @@ impl Document {
             },
         });
         let mut extensions = Map::new();
-        if let Surface::Dielectric { ior, thin_walled } = m.surface {
+        if let Surface::Dielectric { ior, thin_walled }
+        | Surface::RoughDielectric {
+            ior, thin_walled, ..
+        } = m.surface
+        {
             extensions.insert(
                 "KHR_materials_transmission".into(),
                 json!({ "transmissionFactor": 1 }),

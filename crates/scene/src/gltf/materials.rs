@@ -1,9 +1,12 @@
 //! glTF materials mapped onto kousen's uber-material (DESIGN.md, "Materials"):
 //!
 //! - `KHR_materials_transmission` with `transmissionFactor > 0` (and `metallicFactor < 0.5`:
-//!   metal does not transmit) → smooth dielectric of `KHR_materials_ior` (default 1.5); solid
-//!   when `KHR_materials_volume` gives `thicknessFactor > 0`, thin-walled otherwise. An ior of
-//!   0 (the extension's "F0 = 1" special case) reflects everything → mirror.
+//!   metal does not transmit) → dielectric of `KHR_materials_ior` (default 1.5); solid when
+//!   `KHR_materials_volume` gives `thicknessFactor > 0`, thin-walled otherwise; smooth where
+//!   `roughnessFactor` < 0.01, else rough (frosted) glass, GGX of width α = roughness² (glTF's
+//!   default roughness is 1: transmission without a roughness is very frosted glass, as glTF
+//!   viewers show it). An ior of 0 (the extension's "F0 = 1" special case) reflects
+//!   everything → mirror.
 //! - `metallicFactor ≥ 0.5` (half-metallic is where the metal lobe wins), reflecting the base
 //!   colour: `roughnessFactor` < 0.01 → perfect mirror; below 0.5 → rough conductor, GGX of
 //!   width α = roughness²; from 0.5 → Lambertian diffuse: so broad a lobe sends light out
@@ -33,7 +36,7 @@ use crate::{AlphaMode, Material, SceneBuilder, SceneError, Surface, Texture, Tex
 
 /// The least `metallicFactor` mapped onto a mirror.
 pub const MIRROR_MIN_METALLIC: f32 = 0.5;
-/// Metal smoother than this (`roughnessFactor`) is a mirror.
+/// Metal smoother than this (`roughnessFactor`) is a mirror, glass smoother than this smooth.
 pub const MIRROR_MAX_ROUGHNESS: f32 = 0.01;
 /// Metal at least this rough is diffuse.
 pub const DIFFUSE_MIN_ROUGHNESS: f32 = 0.5;
@@ -231,12 +234,16 @@ fn surface(
         .map_or(0.0, |v| v.thickness_factor.0);
     let thickness = check.non_negative(thickness, "thicknessFactor")?;
     let surface = if transmission > 0.0 && metallic < MIRROR_MIN_METALLIC {
+        let thin_walled = thickness == 0.0;
         if ior == 0.0 {
             Surface::Mirror
+        } else if roughness < MIRROR_MAX_ROUGHNESS {
+            Surface::Dielectric { ior, thin_walled }
         } else {
-            Surface::Dielectric {
+            Surface::RoughDielectric {
                 ior,
-                thin_walled: thickness == 0.0,
+                thin_walled,
+                alpha: roughness * roughness,
             }
         }
     } else if metallic >= MIRROR_MIN_METALLIC && roughness < MIRROR_MAX_ROUGHNESS {

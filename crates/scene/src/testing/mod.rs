@@ -125,6 +125,35 @@ pub fn cornell_rough() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_caustics`] with two frosted (rough) glass spheres in place of its
+/// glass and mirror, solid, ior 1.5: front right of glTF roughness 0.3 (GGX α 0.09), back left
+/// of roughness 0.6 (α 0.36), slightly blue. Blurred refractions and soft caustics.
+pub fn cornell_frosted() -> Scene {
+    let mut f = Fixture::new("testing::cornell_frosted");
+    cornell_room(&mut f);
+    let frosted = f.material(
+        "frosted glass",
+        Surface::RoughDielectric {
+            ior: 1.5,
+            thin_walled: false,
+            alpha: 0.3 * 0.3,
+        },
+        Vec3::ONE,
+    );
+    let milky = f.material(
+        "milky glass",
+        Surface::RoughDielectric {
+            ior: 1.5,
+            thin_walled: false,
+            alpha: 0.6 * 0.6,
+        },
+        Vec3::new(0.85, 0.9, 1.0),
+    );
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, frosted, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, milky, false);
+    f.finish()
+}
+
 /// Glass pane: a thin-walled glass sheet (ior [`GLASS_PANE_IOR`]) at z = 1, an emitter of
 /// radiance [`GLASS_PANE_FRONT_EMISSION`] behind it at z = 2 facing the camera, and one of
 /// [`GLASS_PANE_BACK_EMISSION`] at z = −1 facing the sheet, behind the camera (which sits at

@@ -25,7 +25,10 @@ not used, so nothing about the mapping is hidden):
   exterior ior exactly 1, reflectance and transmittance tinted by baseColor (kousen tints every
   bounce off glass); roughness < 0.01 -> smooth: `dielectric` when KHR_materials_volume
   thicknessFactor > 0, else `thindielectric`; rougher -> `roughdielectric`, GGX of alpha =
-  roughness^2, visible normals sampled (solid only: Mitsuba has no rough thin sheet).
+  roughness^2, visible normals sampled (solid only: Mitsuba has no rough thin sheet). A solid's
+  KHR_materials_volume attenuation (colour after distance) -> a `homogeneous` interior medium of
+  albedo 0 and sigma_t = -ln(colour) / distance, rendered with `volpath` (kousen's Beer-Lambert
+  absorption).
   metallic >= 0.5 and roughness < 0.01 -> perfect mirror: `conductor` with material "none"
   (reflectance 1 at every angle) times specular_reflectance = baseColor.
   metallic >= 0.5 and roughness < 0.5 -> `roughconductor`, GGX of alpha = roughness^2 (visible
@@ -214,6 +217,13 @@ def material_info(doc, index):
             kind, params = "mirror", {"color": base}
         else:
             kind, params = "dielectric", {"color": base, "ior": ior, "thin": thickness == 0.0}
+            volume = ext.get("KHR_materials_volume", {})
+            distance = float(volume.get("attenuationDistance", math.inf))
+            color = [float(c) for c in volume.get("attenuationColor", [1.0, 1.0, 1.0])]
+            if not params["thin"] and math.isfinite(distance):
+                # kousen's absorption_from_attenuation: -ln(colour) / distance, colour >= e^-20.
+                params["absorption"] = [-math.log(max(c, math.exp(-20.0))) / distance
+                                        for c in color]
             if roughness >= MIRROR_MAX_ROUGHNESS:
                 if params["thin"]:
                     raise NotImplementedError("material %r: Mitsuba has no rough thin sheet"
@@ -356,6 +366,7 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         },
     }
     ntri = 0
+    media = False
     for k, (p, n, tri, mat) in enumerate(gather_primitives(doc, buffers)):
         kind, params, emission, double_sided, name = material_info(doc, mat)
         emissive = max(emission) > 0.0
@@ -367,6 +378,12 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
                 % (k, name, int((~agree).sum()), len(tri)))
         props = mi.Properties()
         props["bsdf"] = mi.load_dict(mitsuba_bsdf(kind, params))
+        if "absorption" in params:
+            # Absorption only: a medium that scatters nothing (albedo 0) inside the shape.
+            props["interior"] = mi.load_dict({
+                "type": "homogeneous", "albedo": 0.0,
+                "sigma_t": {"type": "rgb", "value": params["absorption"]}})
+            media = True
         if emissive:
             if double_sided:
                 raise NotImplementedError("material %r: double-sided emission" % name)
@@ -387,13 +404,19 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         log("primitive %d: %s, %d triangles, %s%s" % (
             k, name, len(tri), kind + ("" if "dielectric" not in kind else
                                         " ior %g %s" % (params["ior"], "thin" if params["thin"] else "solid")),
-            (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else ""))
+            (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else "")
+            + (", absorbs %s per unit" % [round(a, 6) for a in params["absorption"]]
+               if "absorption" in params else ""))
     for k, light in enumerate(punctual_lights(doc, extra_points)):
         scene["light_%d" % k] = light
         log("light %d: %s" % (k, light))
     log("%d triangles; camera eye %s forward %s up %s, yfov %.4f deg"
         % (ntri, eye.round(4).tolist(), forward.round(6).tolist(), up.round(6).tolist(),
            math.degrees(yfov)))
+    if media:
+        # The path tracer ignores media; its volumetric twin absorbs inside them.
+        scene["integrator"]["type"] = "volpath"
+        log("absorbing glass: volpath integrator")
     return mi.load_dict(scene)
 
 

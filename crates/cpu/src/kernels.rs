@@ -23,7 +23,7 @@ use scene::Surface;
 use crate::SceneData;
 use crate::surface::{
     SurfaceHit, base_color, dielectric_branches, emitted, is_cut_out, offset_origin,
-    specular_direction, trace, unoccluded,
+    specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -97,7 +97,7 @@ pub fn photon_pass_with<R: StreamRng>(
         };
     }
     let tint = base_color(scene, material, hit.uv);
-    let flux = vec3(slot.flux);
+    let flux = vec3(slot.flux) * transmittance_to(material, &hit);
     let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
     // Rough glass chooses its way with a third number; other surfaces draw none, so their
     // streams stay as they were.
@@ -301,6 +301,7 @@ fn eye_path(
             origin = hit.position + params.epsilon * direction;
             continue;
         }
+        throughput *= transmittance_to(material, &hit);
         direct += throughput * emission_share * emitted(scene, material, &hit);
         emission_share = 1.0;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);

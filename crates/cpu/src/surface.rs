@@ -152,6 +152,16 @@ pub fn emitted(scene: &SceneData, material: &Material, hit: &SurfaceHit) -> Vec3
     material.emission * texture(&scene.textures, material.emission_texture, hit.uv).truncate()
 }
 
+/// What a path keeps of its light over the segment that ended at `hit`: Beer–Lambert over
+/// the segment's length where it ends at a solid dielectric's back face (it ran inside the
+/// solid), all of it elsewhere.
+pub fn transmittance_to(material: &Material, hit: &SurfaceHit) -> Vec3 {
+    if hit.front {
+        return Vec3::ONE;
+    }
+    (-material.interior_absorption() * hit.distance).exp()
+}
+
 /// The direction a non-diffuse surface sends `incoming` on and its weight (the tint aside):
 /// a dielectric chooses reflection or refraction by Fresnel with `u[0]`; rough metal draws
 /// a micro-normal with `u[0]` and `u[1]`, rough glass too and then chooses with `u[2]`

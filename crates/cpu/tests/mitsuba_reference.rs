@@ -185,3 +185,23 @@ fn sppm_matches_mitsuba_through_frosted_glass() {
         |s| matches!(s, scene::Surface::RoughDielectric { .. }),
     );
 }
+
+/// Tinted glass (Beer–Lambert absorption inside solid dielectrics, glTF's
+/// `KHR_materials_volume` attenuation) against Mitsuba's `volpath` through `homogeneous`
+/// interior media that scatter nothing: `scenes/cornell-tinted.gltf`, a smooth teal sphere
+/// and a frosted amber one, coloured by how far light travels inside them.
+#[test]
+fn sppm_matches_mitsuba_through_absorbing_glass() {
+    check_against(
+        "tinted glass",
+        &shipped("cornell-tinted.gltf"),
+        &reference("cornell-tinted-mitsuba-64.exr"),
+        300,
+        |s| {
+            matches!(
+                s,
+                scene::Surface::Dielectric { .. } | scene::Surface::RoughDielectric { .. }
+            )
+        },
+    );
+}

@@ -139,9 +139,11 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
     /// `MATERIAL_*` bits.
     pub flags: u32,
-    /// GGX width α (rough conductors; 0 otherwise).
+    /// Beer–Lambert absorption inside a solid dielectric, per unit length
+    /// (`Material::interior_absorption`; 0 otherwise).
+    pub absorption: [f32; 3],
+    /// GGX width α (rough conductors and dielectrics; 0 otherwise).
     pub roughness_alpha: f32,
-    pub pad: [u32; 3],
 }
 
 impl GpuMaterial {
@@ -176,8 +178,8 @@ impl GpuMaterial {
             emission_texture: material.emission_texture.unwrap_or(NO_TEXTURE),
             alpha_cutoff,
             flags,
+            absorption: material.interior_absorption().to_array(),
             roughness_alpha,
-            pad: [0; 3],
         }
     }
 }

@@ -302,8 +302,8 @@ fn gpu_types_layout_matches_rust() {
             ),
             ("alpha_cutoff", offset_of!(GpuMaterial, alpha_cutoff)),
             ("flags", offset_of!(GpuMaterial, flags)),
+            ("absorption", offset_of!(GpuMaterial, absorption)),
             ("roughness_alpha", offset_of!(GpuMaterial, roughness_alpha)),
-            ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );
     assert_layout(

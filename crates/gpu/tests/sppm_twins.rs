@@ -642,6 +642,13 @@ fn every_kernel_matches_its_twin_through_frosted_glass() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same through tinted glass: Beer–Lambert absorption over the segments that run inside
+/// the solid spheres (`cpu::surface::transmittance_to` and its WGSL twin), smooth and rough.
+#[test]
+fn every_kernel_matches_its_twin_through_absorbing_glass() {
+    every_kernel_matches_its_twin(scene::testing::cornell_tinted(), DirectLight::Sampled);
+}
+
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     every_kernel_matches_its_twin_on(context(), scene, direct);
 }

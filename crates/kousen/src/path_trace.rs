@@ -138,6 +138,11 @@ impl<'a> PathTracer<'a> {
                 origin = point.position + direction * self.epsilon;
                 continue;
             }
+            if !front {
+                // The segment ran inside a solid dielectric: Beer–Lambert over its length.
+                let length = (point.position - origin).length();
+                throughput *= (-material.interior_absorption() * length).exp();
+            }
             if front || material.double_sided {
                 let weight = self.emission_weight(&arrival, &point, direction);
                 radiance += throughput * weight * self.emission(material, point.uv);

@@ -55,7 +55,26 @@ pub struct Material {
     /// Emits from both faces when true; from the front face only otherwise. (Rays hit both
     /// faces of every triangle whatever this says.)
     pub double_sided: bool,
+    /// Beer–Lambert absorption inside a solid dielectric, per unit of length and colour
+    /// channel ([`absorption_from_attenuation`]): a path that crosses the solid over a length
+    /// `d` keeps `exp(−absorption·d)` of its light. Zero: clear. Read where a ray meets the
+    /// solid's back face (the segment ran inside), so volumes are closed and not nested.
+    pub absorption: Vec3,
 }
+
+/// glTF's `KHR_materials_volume` attenuation as an absorption coefficient: white light turns
+/// `color` after `distance` (> 0; infinite: no absorption), so `−ln(color) / distance`. A
+/// channel of 0 absorbs all but a trace (e⁻²⁰ over the distance) rather than being infinite.
+pub fn absorption_from_attenuation(color: Vec3, distance: f32) -> Vec3 {
+    if distance.is_infinite() {
+        return Vec3::ZERO;
+    }
+    let color = color.max(Vec3::splat(MIN_ATTENUATION_COLOR));
+    -Vec3::from_array(color.to_array().map(f32::ln)) / distance
+}
+
+/// The least attenuation colour [`absorption_from_attenuation`] reads: e⁻²⁰.
+pub const MIN_ATTENUATION_COLOR: f32 = 2.061_153_6e-9;
 
 impl Default for Material {
     fn default() -> Self {
@@ -69,6 +88,7 @@ impl Default for Material {
             alpha: 1.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
+            absorption: Vec3::ZERO,
         }
     }
 }
@@ -78,8 +98,84 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
+    /// The absorption a path inside this material suffers: [`Material::absorption`] for a
+    /// solid dielectric, zero for every other surface (none of them has an inside).
+    pub fn interior_absorption(&self) -> Vec3 {
+        match self.surface {
+            Surface::Dielectric {
+                thin_walled: false, ..
+            }
+            | Surface::RoughDielectric {
+                thin_walled: false, ..
+            } => self.absorption,
+            _ => Vec3::ZERO,
+        }
+    }
+
     /// Whether paths go on through it (everything but Lambertian, where SPPM gathers).
     pub fn is_specular(&self) -> bool {
         !matches!(self.surface, Surface::Diffuse)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Light crossing the attenuation distance keeps the attenuation colour; twice as far, its
+    /// square; an infinite distance absorbs nothing and a black channel nearly everything.
+    #[test]
+    fn absorption_turns_white_into_the_attenuation_colour_at_its_distance() {
+        let color = Vec3::new(0.35, 0.75, 0.95);
+        let sigma = absorption_from_attenuation(color, 100.0);
+        let kept = |d: f32| (-sigma * d).exp();
+        assert!(
+            (kept(100.0) - color).abs().max_element() < 1e-6,
+            "{}",
+            kept(100.0)
+        );
+        assert!((kept(200.0) - color * color).abs().max_element() < 1e-6);
+        assert_eq!(
+            absorption_from_attenuation(color, f32::INFINITY),
+            Vec3::ZERO
+        );
+        let black = absorption_from_attenuation(Vec3::new(0.0, 1.0, 1.0), 2.0);
+        assert!((black.x - 10.0).abs() < 1e-4 && black.y == 0.0 && black.z == 0.0);
+    }
+
+    /// Only solid glass has an inside to absorb in.
+    #[test]
+    fn only_solid_dielectrics_absorb() {
+        let absorbing = |surface| Material {
+            surface,
+            absorption: Vec3::splat(0.5),
+            ..Material::default()
+        };
+        let solid = Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: false,
+        };
+        let rough = Surface::RoughDielectric {
+            ior: 1.5,
+            thin_walled: false,
+            alpha: 0.1,
+        };
+        assert_eq!(absorbing(solid).interior_absorption(), Vec3::splat(0.5));
+        assert_eq!(absorbing(rough).interior_absorption(), Vec3::splat(0.5));
+        for other in [
+            Surface::Dielectric {
+                ior: 1.5,
+                thin_walled: true,
+            },
+            Surface::Diffuse,
+            Surface::Mirror,
+            Surface::RoughConductor { alpha: 0.1 },
+        ] {
+            assert_eq!(
+                absorbing(other).interior_absorption(),
+                Vec3::ZERO,
+                "{other:?}"
+            );
+        }
     }
 }

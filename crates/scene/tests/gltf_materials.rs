@@ -124,6 +124,48 @@ fn rough_transmission_is_a_rough_dielectric() {
     }
 }
 
+/// A solid's `KHR_materials_volume` attenuation becomes Beer–Lambert absorption; thin sheets
+/// have no volume to absorb in; a distance that is not above 0 is refused in words.
+#[test]
+fn volume_attenuation_is_absorption_in_solids() {
+    let glass = |volume: Value| {
+        let mut material = pbr(0.0, 0.0);
+        material["extensions"] = json!({
+            "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+            "KHR_materials_volume": volume,
+        });
+        material
+    };
+    let m = material_of(glass(json!({
+        "thicknessFactor": 1.0, "attenuationColor": [0.5, 0.25, 1.0], "attenuationDistance": 2.0
+    })));
+    let want = Vec3::new(0.5f32.ln(), 0.25f32.ln(), 0.0) / -2.0;
+    assert!(
+        (m.absorption - want).abs().max_element() < 1e-6,
+        "{}",
+        m.absorption
+    );
+    let clear = material_of(glass(json!({ "thicknessFactor": 1.0 })));
+    assert_eq!(
+        clear.absorption,
+        Vec3::ZERO,
+        "no attenuation distance: clear"
+    );
+    let sheet = material_of(glass(json!({
+        "thicknessFactor": 0.0, "attenuationColor": [0.5, 0.5, 0.5], "attenuationDistance": 2.0
+    })));
+    assert_eq!(sheet.absorption, Vec3::ZERO, "a thin sheet has no volume");
+    let error = quad_doc(Some(glass(json!({
+        "thicknessFactor": 1.0, "attenuationDistance": 0.0
+    }))))
+    .load()
+    .expect_err("a zero distance is refused");
+    assert!(
+        error.to_string().contains("attenuationDistance 0"),
+        "{error}"
+    );
+}
+
 #[test]
 fn transmission_with_volume_is_a_solid_dielectric_with_the_khr_ior() {
     let mut material = pbr(0.0, 0.0);

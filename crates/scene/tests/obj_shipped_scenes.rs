@@ -158,6 +158,12 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             (x.alpha, x.alpha_mode, x.double_sided),
             (y.alpha, y.alpha_mode, y.double_sided)
         );
+        assert!(
+            close(x.absorption, y.absorption, 1e-5),
+            "{stem}: absorption {} vs {}",
+            x.absorption,
+            y.absorption
+        );
     }
     assert_eq!(loaded.cameras.len(), fixture.cameras.len());
     for (x, y) in loaded.cameras.iter().zip(&fixture.cameras) {

@@ -289,7 +289,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
-        slot.flux = slot.flux * tint * (weight / survival);
+        slot.flux = slot.flux * transmittance_to(material, hit) * tint * (weight / survival);
     } else {
         slot.depth = SLOT_IDLE;
     }
@@ -419,6 +419,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             origin = hit.position + params.epsilon * direction;
             continue;
         }
+        throughput *= transmittance_to(material, hit);
         direct += throughput * emission_share * emitted(material, hit);
         emission_share = 1.0;
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));

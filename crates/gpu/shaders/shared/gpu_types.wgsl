@@ -40,6 +40,6 @@ struct GpuMaterial {
     emission_texture: u32,
     alpha_cutoff: f32,
     flags: u32,
+    absorption: vec3<f32>,
     roughness_alpha: f32,
-    pad: array<u32, 3>,
 }

@@ -188,6 +188,15 @@ fn emitted(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {
     return material.emission * sample_texture(material.emission_texture, hit.uv).xyz;
 }
 
+// cpu::surface::transmittance_to: Beer–Lambert over a segment that ended at a solid
+// dielectric's back face (absorption is 0 for every other material).
+fn transmittance_to(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {
+    if hit.front {
+        return vec3<f32>(1.0);
+    }
+    return exp(-material.absorption * hit.distance);
+}
+
 // ---- render::microfacet ----
 fn sample_visible_normal(view: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
     let stretched = normalize(vec3<f32>(alpha * view.x, alpha * view.y, view.z));

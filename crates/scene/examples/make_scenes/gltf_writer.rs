@@ -27,12 +27,13 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 5] = [
+pub const SHIPPED: [(&str, Fixture); 6] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
     ("cornell-spot", scene::testing::cornell_spot),
     ("cornell-frosted", scene::testing::cornell_frosted),
+    ("cornell-tinted", scene::testing::cornell_tinted),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -259,10 +260,17 @@ impl Document {
             );
             extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
             if !thin_walled {
-                extensions.insert(
-                    "KHR_materials_volume".into(),
-                    json!({ "thicknessFactor": number(thickness) }),
-                );
+                let mut volume = json!({ "thicknessFactor": number(thickness) });
+                let strongest = m.absorption.max_element();
+                if strongest > 0.0 {
+                    // The distance over which the most absorbed channel falls to 1/e, and the
+                    // colours there: numbers of a size that read back close.
+                    let distance = 1.0 / strongest;
+                    let color = (-m.absorption * distance).exp();
+                    volume["attenuationDistance"] = number(distance);
+                    volume["attenuationColor"] = numbers(&color.to_array());
+                }
+                extensions.insert("KHR_materials_volume".into(), volume);
             }
         }
         let strength = m.emission.max_element();

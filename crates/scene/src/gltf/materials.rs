@@ -17,8 +17,11 @@
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
 //!   warning (kousen has no partial transparency).
 //!
+//! - a solid dielectric's `KHR_materials_volume` attenuation (colour after distance) →
+//!   Beer–Lambert absorption inside it.
+//!
 //! Ignored: metallic-roughness, normal, occlusion, transmission and thickness textures,
-//! volume attenuation, samplers (the renderer wraps with repeat). Colour textures are decoded
+//! samplers (the renderer wraps with repeat). Colour textures are decoded
 //! as sRGB, each image once however many materials use it.
 
 use std::borrow::Cow;
@@ -32,7 +35,10 @@ use json::validation::Checked;
 use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
-use crate::{AlphaMode, Material, SceneBuilder, SceneError, Surface, Texture, TextureId};
+use crate::{
+    AlphaMode, Material, SceneBuilder, SceneError, Surface, Texture, TextureId,
+    absorption_from_attenuation as scene_absorption,
+};
 
 /// The least `metallicFactor` mapped onto a mirror.
 pub const MIRROR_MIN_METALLIC: f32 = 0.5;
@@ -116,6 +122,7 @@ impl Materials {
         let metallic = check.unit(pbr.metallic_factor.0, "metallicFactor")?;
         let roughness = check.unit(pbr.roughness_factor.0, "roughnessFactor")?;
         let surface = surface(&check, m, metallic, roughness)?;
+        let absorption = absorption(&check, m, surface)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
         let mut texture = |info: &Option<json::texture::Info>, slot: &str| {
@@ -135,6 +142,7 @@ impl Materials {
             alpha: base[3],
             alpha_mode,
             double_sided: m.double_sided,
+            absorption,
         })
     }
 
@@ -256,6 +264,37 @@ fn surface(
         Surface::Diffuse
     };
     Ok(surface)
+}
+
+/// A solid dielectric's absorption from `KHR_materials_volume`'s attenuation colour (each in
+/// [0, 1]) and distance (> 0, infinite by default); zero for every other surface (the
+/// extension describes a volume, which thin-walled and opaque surfaces do not have).
+fn absorption(check: &Check, m: &json::Material, surface: Surface) -> Result<Vec3, SceneError> {
+    let solid = matches!(
+        surface,
+        Surface::Dielectric {
+            thin_walled: false,
+            ..
+        } | Surface::RoughDielectric {
+            thin_walled: false,
+            ..
+        }
+    );
+    let Some(volume) = m.extensions.as_ref().and_then(|e| e.volume.as_ref()) else {
+        return Ok(Vec3::ZERO);
+    };
+    if !solid {
+        return Ok(Vec3::ZERO);
+    }
+    let color = volume.attenuation_color.0;
+    for (c, name) in color.iter().zip(["red", "green", "blue"]) {
+        check.unit(*c, &format!("attenuationColor's {name}"))?;
+    }
+    let distance = volume.attenuation_distance.0;
+    if distance.is_nan() || distance <= 0.0 {
+        return Err(check.error(format!("attenuationDistance {distance} is not above 0")));
+    }
+    Ok(scene_absorption(Vec3::from_array(color), distance))
 }
 
 /// Emitted radiance: emissiveFactor (finite, ≥ 0) × emissive strength (finite, ≥ 0).

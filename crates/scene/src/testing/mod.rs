@@ -154,6 +154,40 @@ pub fn cornell_frosted() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_caustics`] with two tinted solid glass spheres (ior 1.5) whose colour
+/// is absorption inside them (glTF's `KHR_materials_volume` attenuation, Beer–Lambert), not a
+/// tint at their surfaces: front right smooth teal glass (white light turns (0.35, 0.75, 0.95)
+/// after 100), back left frosted amber glass, roughness 0.2 (α 0.04), turning (0.95, 0.6, 0.2)
+/// after 150. Thicker paths through them are deeper in colour, and so are their caustics.
+pub fn cornell_tinted() -> Scene {
+    let mut f = Fixture::new("testing::cornell_tinted");
+    cornell_room(&mut f);
+    let teal = f.builder.add_material(Material {
+        name: "teal glass".into(),
+        surface: Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: false,
+        },
+        base_color: Vec3::ONE,
+        absorption: crate::absorption_from_attenuation(Vec3::new(0.35, 0.75, 0.95), 100.0),
+        ..Material::default()
+    });
+    let amber = f.builder.add_material(Material {
+        name: "amber glass".into(),
+        surface: Surface::RoughDielectric {
+            ior: 1.5,
+            thin_walled: false,
+            alpha: 0.2 * 0.2,
+        },
+        base_color: Vec3::ONE,
+        absorption: crate::absorption_from_attenuation(Vec3::new(0.95, 0.6, 0.2), 150.0),
+        ..Material::default()
+    });
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, teal, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, amber, false);
+    f.finish()
+}
+
 /// Glass pane: a thin-walled glass sheet (ior [`GLASS_PANE_IOR`]) at z = 1, an emitter of
 /// radiance [`GLASS_PANE_FRONT_EMISSION`] behind it at z = 2 facing the camera, and one of
 /// [`GLASS_PANE_BACK_EMISSION`] at z = −1 facing the sheet, behind the camera (which sits at

@@ -123,7 +123,7 @@ pub fn offset_origin(hit: &SurfaceHit, direction: Vec3, epsilon: f32) -> Vec3 {
     hit.position + side * epsilon * hit.geometric
 }
 
-/// A texture's linear RGBA at `uv` (nearest, repeat), white for none: `sample_texture` of
+/// A texture's linear RGBA at `uv` (bilinear, repeat), white for none: `sample_texture` of
 /// `textures.wgsl`.
 pub fn texture(textures: &TextureArray, id: Option<u32>, uv: Vec2) -> Vec4 {
     id.map_or(Vec4::ONE, |t| textures.sample(t, uv))

@@ -289,7 +289,7 @@ impl<'a> PathTracer<'a> {
 
     fn texture(&self, id: Option<u32>, uv: Vec2) -> glam::Vec4 {
         id.map_or(glam::Vec4::ONE, |t| {
-            self.scene.textures[t as usize].sample_nearest(uv.x, uv.y)
+            self.scene.textures[t as usize].sample_bilinear(uv.x, uv.y)
         })
     }
 

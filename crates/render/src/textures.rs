@@ -1,11 +1,11 @@
 //! The scene's textures as both backends read them (DESIGN.md, "Textures live in one texture
-//! array"): every texture resampled (nearest) to one common power-of-two side and stacked as a
+//! array"): every texture resampled (bilinearly) to one common power-of-two side and stacked as a
 //! layer of one RGBA8 array, colour channels sRGB-encoded, alpha linear. The GPU backend uploads
 //! [`TextureArray::texels`] as a `texture_2d_array` and reads it in `textures.wgsl` with the
 //! arithmetic of [`TextureArray::sample`], which the CPU backend calls.
 
 use glam::{Vec2, Vec4};
-use scene::textures::srgb_to_linear;
+use scene::textures::{bilinear_pair, lerp, srgb_to_linear};
 use scene::{Texels, Texture};
 
 /// The largest common side unless a caller asks for less: 2048² RGBA8 is 16 MiB a layer. The
@@ -61,28 +61,21 @@ impl TextureArray {
     /// The texel at integer coordinates in linear RGBA (colour decoded from sRGB).
     pub fn texel(&self, layer: u32, x: u32, y: u32) -> Vec4 {
         let side = self.side as usize;
-        let [r, g, b, a] = self.texels[(layer as usize * side + y as usize) * side + x as usize];
-        Vec4::new(
-            srgb_to_linear(r),
-            srgb_to_linear(g),
-            srgb_to_linear(b),
-            a as f32 / 255.0,
-        )
+        decode(self.texels[(layer as usize * side + y as usize) * side + x as usize])
     }
 
-    /// Nearest-texel lookup with repeat wrapping, v = 0 the top row, in linear RGBA; white for
-    /// a layer past the last (`NO_TEXTURE`, u32::MAX, among them). `sample_texture` in
-    /// `textures.wgsl` does the same arithmetic.
+    /// Bilinear lookup with repeat wrapping, v = 0 the top row, in linear RGBA (the four
+    /// texels decoded, then blended); white for a layer past the last (`NO_TEXTURE`, u32::MAX,
+    /// among them). `sample_texture` in `textures.wgsl` does the same arithmetic.
     pub fn sample(&self, layer: u32, uv: Vec2) -> Vec4 {
         if layer >= self.layers {
             return Vec4::ONE;
         }
         let side = self.side;
-        let wrap = |c: f32| {
-            let f = c - c.floor();
-            ((f * side as f32) as u32).min(side - 1)
-        };
-        self.texel(layer, wrap(uv.x), wrap(uv.y))
+        let ((x0, x1, tx), (y0, y1, ty)) = (bilinear_pair(uv.x, side), bilinear_pair(uv.y, side));
+        let top = lerp(self.texel(layer, x0, y0), self.texel(layer, x1, y0), tx);
+        let bottom = lerp(self.texel(layer, x0, y1), self.texel(layer, x1, y1), tx);
+        lerp(top, bottom, ty)
     }
 }
 
@@ -101,23 +94,40 @@ pub fn common_side(textures: &[Texture], max_side: u32) -> u32 {
         .min(max_side.max(1))
 }
 
-/// Appends `texture` resampled to `side`² by nearest texel: destination texel centre
-/// (x + ½) / side maps to source texel ⌊(x + ½)·width / side⌋, in exact integer arithmetic.
+/// Appends `texture` resampled to `side`²: each destination texel is the source's bilinear
+/// lookup (repeat-wrapped, in linear colour, as [`TextureArray::sample`] blends) at the
+/// destination texel's centre, so a small texture stretched over a large layer stays as smooth
+/// as it would be sampled at its own size. A texture already `side`² is copied as it is.
 fn resample_into(texture: &Texture, side: u32, out: &mut Vec<[u8; 4]>) {
     let (width, height) = (texture.width, texture.height);
     if width == 0 || height == 0 || texture.texel_count() == 0 {
         out.extend(std::iter::repeat_n([255; 4], side as usize * side as usize));
         return;
     }
-    let source = |d: u32, n: u32| ((2 * d as u64 + 1) * n as u64 / (2 * side as u64)) as usize;
-    let columns: Vec<usize> = (0..side).map(|x| source(x, width)).collect();
-    for y in 0..side {
-        let row = source(y, height) * width as usize;
+    if (width, height) == (side, side) {
         match &texture.texels {
-            Texels::Srgb8(t) => out.extend(columns.iter().map(|&x| t[row + x])),
-            Texels::LinearF32(t) => out.extend(columns.iter().map(|&x| encode_linear(t[row + x]))),
+            Texels::Srgb8(t) => out.extend_from_slice(t),
+            Texels::LinearF32(t) => out.extend(t.iter().map(|&c| encode_linear(c))),
         }
+        return;
     }
+    let centre = |i: u32| (i as f32 + 0.5) / side as f32;
+    for y in 0..side {
+        out.extend(
+            (0..side)
+                .map(|x| encode_linear(texture.sample_bilinear(centre(x), centre(y)).to_array())),
+        );
+    }
+}
+
+/// An RGBA8 texel in linear RGBA: colour decoded from sRGB, alpha linear.
+fn decode([r, g, b, a]: [u8; 4]) -> Vec4 {
+    Vec4::new(
+        srgb_to_linear(r),
+        srgb_to_linear(g),
+        srgb_to_linear(b),
+        a as f32 / 255.0,
+    )
 }
 
 /// A linear RGBA float texel as RGBA8: colour sRGB-encoded, alpha linear, both clamped to
@@ -220,18 +230,98 @@ mod tests {
         assert_eq!(array.sample(0, Vec2::new(1.75, -1.75)), white);
         assert_eq!(array.sample(0, Vec2::new(-1.25, -1.25)), black);
         assert_eq!(array.sample(0, Vec2::new(3.25, -0.25)), white);
-        // Edges: u = 1 wraps to 0, a tiny negative to the last texel.
-        assert_eq!(array.sample(0, Vec2::new(1.0, 0.0)), black);
-        assert_eq!(array.sample(0, Vec2::new(-1e-9, 0.0)), white);
-        // Agrees with the scene's own nearest lookup.
+        // Between centres the four texels blend in linear colour: at a corner, and at u = 1
+        // (wrapping to 0) or a tiny negative, half black and half white.
+        let grey = (black + white) * 0.5;
+        for uv in [
+            Vec2::ZERO,
+            Vec2::new(1.0, 0.0),
+            Vec2::new(-1e-9, 0.0),
+            Vec2::new(0.5, 0.5),
+        ] {
+            assert!(
+                (array.sample(0, uv) - grey).abs().max_element() < 1e-6,
+                "{uv}"
+            );
+        }
+        // A quarter of the way from a black centre to the white one beside it.
+        let quarter = array.sample(0, Vec2::new(0.375, 0.25));
+        assert!(
+            (quarter - (black * 0.75 + white * 0.25))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        // Agrees with the scene's own bilinear lookup on the texture (the array holds it at its
+        // own size, so the two read the same texels).
         let texture = checker();
         for i in -8..8 {
             for j in -8..8 {
                 let uv = Vec2::new(i as f32 * 0.23 + 0.01, j as f32 * 0.31 + 0.02);
                 assert_eq!(
                     array.sample(0, uv),
-                    texture.sample_nearest(uv.x, uv.y),
+                    texture.sample_bilinear(uv.x, uv.y),
                     "{uv}"
+                );
+            }
+        }
+    }
+
+    /// An independent bilinear lookup in f64 (repeat wrapping, linear colour) of a texture
+    /// `width` × `height` of sRGB8 `texels`: what the resampling should produce, before
+    /// its 8-bit encoding.
+    fn bilinear_reference(
+        texels: &[[u8; 4]],
+        width: usize,
+        height: usize,
+        u: f64,
+        v: f64,
+    ) -> [f64; 4] {
+        let decode = |c: u8, channel: usize| {
+            let c = c as f64 / 255.0;
+            if channel == 3 {
+                c
+            } else if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let axis = |c: f64, n: usize| {
+            let p = c.rem_euclid(1.0) * n as f64 - 0.5;
+            let i = p.floor();
+            let first = (i as i64).rem_euclid(n as i64) as usize;
+            (first, (first + 1) % n, p - i)
+        };
+        let (x0, x1, tx) = axis(u, width);
+        let (y0, y1, ty) = axis(v, height);
+        std::array::from_fn(|ch| {
+            let at = |x: usize, y: usize| decode(texels[y * width + x][ch], ch);
+            let top = at(x0, y0) * (1.0 - tx) + at(x1, y0) * tx;
+            let bottom = at(x0, y1) * (1.0 - tx) + at(x1, y1) * tx;
+            top * (1.0 - ty) + bottom * ty
+        })
+    }
+
+    /// `layer`'s texels against [`bilinear_reference`] of `texels` at each destination centre,
+    /// within one 8-bit step.
+    fn assert_resampled(
+        array: &TextureArray,
+        layer: u32,
+        texels: &[[u8; 4]],
+        width: usize,
+        height: usize,
+    ) {
+        let side = array.side as usize;
+        for (i, got) in array.layer(layer).iter().enumerate() {
+            let (u, v) = ((i % side) as f64 + 0.5, (i / side) as f64 + 0.5);
+            let want = bilinear_reference(texels, width, height, u / side as f64, v / side as f64);
+            let got = linear(*got);
+            for (ch, (g, w)) in got.to_array().into_iter().zip(want).enumerate() {
+                // An 8-bit sRGB step is at most ~0.0055 in linear terms (near white).
+                assert!(
+                    (g as f64 - w).abs() < 6e-3,
+                    "texel {i} channel {ch}: {g} vs {w}"
                 );
             }
         }
@@ -240,29 +330,14 @@ mod tests {
     #[test]
     fn textures_resample_non_square_to_common_power_of_two() {
         // 3 wide, 2 high: the common side is 4 (next power of two of 3).
-        let a = [10, 0, 0, 255];
-        let b = [20, 0, 0, 255];
-        let c = [30, 0, 0, 255];
-        let d = [40, 0, 0, 255];
-        let e = [50, 0, 0, 255];
-        let f = [60, 0, 0, 255];
-        let wide = srgb8("wide", 3, 2, vec![a, b, c, d, e, f]);
+        let texels: Vec<[u8; 4]> = (1..=6).map(|i| [i * 10, 255 - i * 30, 0, 40 * i]).collect();
+        let wide = srgb8("wide", 3, 2, texels.clone());
         let small = srgb8("small", 1, 1, vec![WHITE]);
         let array = TextureArray::build(&[wide, small], DEFAULT_MAX_SIDE);
         assert_eq!((array.side, array.layers), (4, 2));
         assert_eq!(array.bytes(), 2 * 16 * 4);
-        // Columns: centres 1/8, 3/8, 5/8, 7/8 of 3 texels → 0, 1, 1, 2; rows of 2 → 0, 0, 1, 1.
-        #[rustfmt::skip]
-        let expected = vec![
-            a, b, b, c,
-            a, b, b, c,
-            d, e, e, f,
-            d, e, e, f,
-        ];
-        assert_eq!(array.layer(0), expected.as_slice());
+        assert_resampled(&array, 0, &texels, 3, 2);
         assert!(array.layer(1).iter().all(|&t| t == WHITE));
-        assert_eq!(array.sample(0, Vec2::new(0.9, 0.9)), linear(f));
-        assert_eq!(array.sample(0, Vec2::new(0.1, 0.6)), linear(d));
         assert_eq!(array.sample(1, Vec2::new(0.9, 0.9)), Vec4::ONE);
     }
 
@@ -271,16 +346,22 @@ mod tests {
         let texels = (0..64u32)
             .map(|i| [(i * 4) as u8, 0, 0, 255])
             .collect::<Vec<_>>();
-        let big = srgb8("big", 8, 8, texels);
+        let big = srgb8("big", 8, 8, texels.clone());
         assert_eq!(common_side(std::slice::from_ref(&big), 2048), 8);
         let array = TextureArray::build(&[big], 2);
         assert_eq!(array.side, 2);
-        // Centres 1/4 and 3/4 of 8 texels: columns and rows 2 and 6.
-        let red = |x: u32, y: u32| [((y * 8 + x) * 4) as u8, 0, 0, 255];
-        assert_eq!(
-            array.texels,
-            vec![red(2, 2), red(6, 2), red(2, 6), red(6, 6)]
-        );
+        // Centres 1/4 and 3/4 of 8 texels fall between texels 1 and 2, and 5 and 6.
+        assert_resampled(&array, 0, &texels, 8, 8);
+    }
+
+    /// A texture at the common side is kept byte for byte (no re-encoding).
+    #[test]
+    fn textures_at_the_common_side_are_copied() {
+        let texels: Vec<[u8; 4]> = (0..16u8)
+            .map(|i| [i * 16, 255 - i, i, 255 - i * 16])
+            .collect();
+        let array = TextureArray::build(&[srgb8("exact", 4, 4, texels.clone())], DEFAULT_MAX_SIDE);
+        assert_eq!(array.texels, texels);
     }
 
     #[test]

@@ -83,13 +83,14 @@ impl Texture {
         }
     }
 
-    /// Nearest-texel lookup with repeat wrapping; v = 0 is the top row.
-    pub fn sample_nearest(&self, u: f32, v: f32) -> Vec4 {
-        let wrap = |c: f32, n: u32| {
-            let f = c - c.floor();
-            ((f * n as f32) as u32).min(n - 1)
-        };
-        self.texel_linear(wrap(u, self.width), wrap(v, self.height))
+    /// Bilinear lookup with repeat wrapping, in linear RGBA; v = 0 is the top row. The
+    /// arithmetic of the renderers' texture array (`render::textures`).
+    pub fn sample_bilinear(&self, u: f32, v: f32) -> Vec4 {
+        let (x0, x1, tx) = bilinear_pair(u, self.width);
+        let (y0, y1, ty) = bilinear_pair(v, self.height);
+        let top = lerp(self.texel_linear(x0, y0), self.texel_linear(x1, y0), tx);
+        let bottom = lerp(self.texel_linear(x0, y1), self.texel_linear(x1, y1), tx);
+        lerp(top, bottom, ty)
     }
 
     /// The mean linear RGBA over all texels (used to estimate a textured light's power).
@@ -102,6 +103,20 @@ impl Texture {
         }
         (sum / self.texel_count().max(1) as f64).as_vec4()
     }
+}
+
+/// The two texels (repeat-wrapped) whose centres enclose texture coordinate `c` on an axis of
+/// `n` (≥ 1) texels, and the weight of the second: texel `i`'s centre lies at `(i + ½) / n`.
+pub fn bilinear_pair(c: f32, n: u32) -> (u32, u32, f32) {
+    let p = (c - c.floor()) * n as f32 - 0.5;
+    let base = p.floor();
+    let first = (base as i32).rem_euclid(n as i32) as u32;
+    (first, (first + 1) % n, p - base)
+}
+
+/// `a` blended towards `b` by `t`, written out as the WGSL twin (`textures.wgsl`) writes it.
+pub fn lerp(a: Vec4, b: Vec4, t: f32) -> Vec4 {
+    a * (1.0 - t) + b * t
 }
 
 /// The sRGB transfer function's inverse (IEC 61966-2-1).

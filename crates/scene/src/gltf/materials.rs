@@ -21,7 +21,7 @@
 //!   Beer–Lambert absorption inside it.
 //!
 //! Ignored: metallic-roughness, normal, occlusion, transmission and thickness textures,
-//! samplers (the renderer wraps with repeat). Colour textures are decoded
+//! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
 //! as sRGB, each image once however many materials use it.
 
 use std::borrow::Cow;

@@ -2,7 +2,7 @@
 
 mod gltf_support;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use gltf_support::*;
 use scene::{AlphaMode, Material, Scene, Surface, Texels};
 use serde_json::{Value, json};
@@ -332,7 +332,7 @@ fn an_emissive_quad_is_collected_as_a_light_with_its_area_and_power() {
 fn ignored_extensions_are_named_in_one_warning() {
     let mut doc = quad_doc(None);
     doc.json["extensionsUsed"] = json!([
-        "KHR_texture_transform",
+        "KHR_materials_clearcoat",
         "KHR_materials_ior",
         "KHR_materials_specular"
     ]);
@@ -345,9 +345,10 @@ fn ignored_extensions_are_named_in_one_warning() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert_mentions(
         warnings[0],
-        &["KHR_texture_transform", "KHR_materials_specular"],
+        &["KHR_materials_clearcoat", "KHR_materials_specular"],
     );
     assert!(!warnings[0].contains("KHR_materials_ior"));
+    assert!(!warnings[0].contains("KHR_texture_transform"));
 }
 
 #[test]
@@ -357,4 +358,102 @@ fn supported_extensions_may_be_required() {
     doc.json["extensionsUsed"] = json!(["KHR_materials_volume", "KHR_materials_transmission"]);
     let scene = doc.load().expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+/// A quad with texture coordinates (u, v) = (x, y) of its corners, whose material's base
+/// colour texture carries `transform` (a `KHR_texture_transform` object) and, if given, whose
+/// emissive texture carries `emissive_transform`.
+fn transformed_quad(transform: Value, emissive_transform: Option<Value>) -> Scene {
+    let mut doc = Doc::default();
+    let view = doc.view(&tiny_png());
+    doc.push(
+        "images",
+        json!({ "bufferView": view, "mimeType": "image/png" }),
+    );
+    doc.push("textures", json!({ "source": 0 }));
+    let mut material = json!({
+        "pbrMetallicRoughness": { "baseColorTexture": {
+            "index": 0, "extensions": { "KHR_texture_transform": transform } } },
+    });
+    if let Some(e) = emissive_transform {
+        material["emissiveTexture"] =
+            json!({ "index": 0, "extensions": { "KHR_texture_transform": e } });
+        material["emissiveFactor"] = json!([1, 1, 1]);
+    }
+    let material = doc.material(material);
+    let position = doc.vec3s(&QUAD);
+    let uv = doc.vec2s(&QUAD.map(|[x, y, _]| [x, y]));
+    let indices = doc.indices(&QUAD_INDICES, 5123);
+    let primitive = json!({
+        "attributes": { "POSITION": position, "TEXCOORD_0": uv },
+        "indices": indices, "material": material,
+    });
+    let mesh = doc.push("meshes", json!({ "primitives": [primitive] }));
+    doc.instance(mesh);
+    doc.load_as(Layout::Glb).expect("loads")
+}
+
+/// `KHR_texture_transform` moves the texture coordinates as the extension's
+/// `translation * rotation * scale` does: a corner (1, 0) scaled by (2, 3), turned a quarter
+/// counter-clockwise and offset by (0.5, 0.25) lands at (0.5, 2.25); the others follow.
+#[test]
+fn texture_transforms_move_the_texture_coordinates() {
+    let scene = transformed_quad(
+        json!({ "offset": [0.5, 0.25], "rotation": std::f32::consts::FRAC_PI_2, "scale": [2.0, 3.0] }),
+        None,
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let place = |[u, v]: [f32; 2]| {
+        let (su, sv) = (2.0 * u, 3.0 * v);
+        // Rotating (x, y) a quarter counter-clockwise gives (−y, x).
+        Vec2::new(-sv + 0.5, su + 0.25)
+    };
+    let mut seen = 0;
+    for triangle in &scene.triangles {
+        for vertex in &triangle.vertices {
+            let want = place([vertex.position.x, vertex.position.y]);
+            assert!(
+                (vertex.uv - want).abs().max_element() < 1e-5,
+                "{} vs {want}",
+                vertex.uv
+            );
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 6);
+    assert!(
+        scene
+            .triangles
+            .iter()
+            .flat_map(|t| t.vertices)
+            .any(|v| (v.uv - Vec2::new(0.5, 2.25)).length() < 1e-5),
+        "the corner (1, 0)"
+    );
+}
+
+/// One transform a material: the base colour's wins, and a different emissive one is named.
+#[test]
+fn a_different_emissive_texture_transform_is_warned_about() {
+    let scene = transformed_quad(
+        json!({ "offset": [0.5, 0.0] }),
+        Some(json!({ "scale": [2.0, 2.0] })),
+    );
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("emissiveTexture's KHR_texture_transform differs")),
+        "{:?}",
+        scene.warnings
+    );
+    let uvs: Vec<Vec2> = scene
+        .triangles
+        .iter()
+        .flat_map(|t| t.vertices.map(|v| v.uv))
+        .collect();
+    assert!(
+        uvs.iter()
+            .all(|uv| uv.x >= 0.5 && uv.x <= 1.5 && uv.y <= 1.0),
+        "{uvs:?}"
+    );
 }

@@ -20,13 +20,17 @@
 //! - a solid dielectric's `KHR_materials_volume` attenuation (colour after distance) →
 //!   Beer–Lambert absorption inside it.
 //!
+//! - `KHR_texture_transform` on the base colour texture (else the emissive one) → applied to
+//!   the texture coordinates of the material's primitives (one transform a material: kousen's
+//!   vertices keep one set of coordinates; a different emissive transform is warned about).
+//!
 //! Ignored: metallic-roughness, normal, occlusion, transmission and thickness textures,
 //! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
 //! as sRGB, each image once however many materials use it.
 
 use std::borrow::Cow;
 
-use glam::Vec3;
+use glam::{Affine2, Vec2, Vec3};
 
 use ::gltf::json;
 use json::material::AlphaMode as GltfAlphaMode;
@@ -62,6 +66,10 @@ pub(super) struct Materials {
     default_id: Option<u32>,
     /// Builder texture id of each glTF image decoded so far.
     images: Vec<Option<TextureId>>,
+    /// Each glTF material's `KHR_texture_transform` (of its base colour texture, else its
+    /// emissive one), once converted: applied to the texture coordinates of the primitives
+    /// that use it, since kousen's materials keep no transform of their own.
+    uv_transforms: Vec<Option<Affine2>>,
 }
 
 impl Materials {
@@ -70,7 +78,14 @@ impl Materials {
             ids: vec![None; root.materials.len()],
             default_id: None,
             images: vec![None; root.images.len()],
+            uv_transforms: vec![None; root.materials.len()],
         }
+    }
+
+    /// The texture-coordinate transform of glTF material `index` (after [`Materials::id`]
+    /// converted it); `None` for none or the default material.
+    pub fn uv_transform(&self, index: Option<usize>) -> Option<Affine2> {
+        index.and_then(|i| self.uv_transforms[i])
     }
 
     /// The builder's id for glTF material `index` (which must exist), or for the default
@@ -132,6 +147,12 @@ impl Materials {
         };
         let base_color_texture = texture(&pbr.base_color_texture, "baseColorTexture")?;
         let emission_texture = texture(&m.emissive_texture, "emissiveTexture")?;
+        self.uv_transforms[index] = uv_transform(
+            pbr.base_color_texture.as_ref(),
+            m.emissive_texture.as_ref(),
+            &label,
+            builder,
+        );
         Ok(Material {
             name: m.name.clone().unwrap_or_else(|| label.clone()),
             surface,
@@ -188,6 +209,54 @@ impl Materials {
         self.images[image] = Some(id);
         Ok(id)
     }
+}
+
+/// A texture slot's `KHR_texture_transform` as an affine map of texture coordinates: scale,
+/// then a counter-clockwise rotation about the origin, then the offset (the extension's
+/// `translation * rotation * scale`).
+fn slot_transform(info: &json::texture::Info) -> Option<Affine2> {
+    let t = info.extensions.as_ref()?.texture_transform.as_ref()?;
+    Some(Affine2::from_scale_angle_translation(
+        Vec2::from_array(t.scale.0),
+        t.rotation.0,
+        Vec2::from_array(t.offset.0),
+    ))
+}
+
+/// The material's one texture-coordinate transform: the base colour texture's, else the
+/// emissive texture's; a warning where the two differ (kousen keeps one set of coordinates a
+/// vertex) or where the transform asks for another coordinate set than TEXCOORD_0.
+fn uv_transform(
+    base: Option<&json::texture::Info>,
+    emissive: Option<&json::texture::Info>,
+    label: &str,
+    builder: &mut SceneBuilder,
+) -> Option<Affine2> {
+    for (info, slot) in [(base, "baseColorTexture"), (emissive, "emissiveTexture")] {
+        let texcoord = info
+            .and_then(|i| i.extensions.as_ref())
+            .and_then(|e| e.texture_transform.as_ref())
+            .and_then(|t| t.tex_coord)
+            .filter(|&n| n != 0);
+        if let Some(n) = texcoord {
+            builder.warn(format!(
+                "{label}: {slot}'s KHR_texture_transform uses TEXCOORD_{n}; only TEXCOORD_0 is read"
+            ));
+        }
+    }
+    let (base, emissive) = (
+        base.and_then(slot_transform),
+        emissive.and_then(slot_transform),
+    );
+    if let (Some(b), Some(e)) = (base, emissive)
+        && b != e
+    {
+        builder.warn(format!(
+            "{label}: emissiveTexture's KHR_texture_transform differs from baseColorTexture's; \
+             the base colour's is used for both"
+        ));
+    }
+    base.or(emissive)
 }
 
 /// Checks of a material's values against the ranges the spec sets.

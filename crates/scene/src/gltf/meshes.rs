@@ -4,7 +4,7 @@
 
 use std::borrow::Cow;
 
-use glam::{Affine3A, Mat3, Vec2, Vec3};
+use glam::{Affine2, Affine3A, Mat3, Vec2, Vec3};
 
 use ::gltf::json;
 use json::mesh::{Mode, Semantic as Attribute};
@@ -244,11 +244,13 @@ impl Primitive {
     /// Adds the primitive's triangles, placed by `world`, to `builder`. Positions go through
     /// `world`, normals through its inverse transpose (then renormalised); a mirroring
     /// `world` swaps two vertices of each triangle so its front face stays the front face.
-    /// Missing normals are smoothed over the placed triangles.
+    /// Missing normals are smoothed over the placed triangles. `uv_transform` is the
+    /// material's `KHR_texture_transform`, applied to the texture coordinates here.
     pub fn instantiate(
         &self,
         world: &Affine3A,
         material: u32,
+        uv_transform: Option<Affine2>,
         builder: &mut SceneBuilder,
     ) -> Result<(), SceneError> {
         let linear = Mat3::from(world.matrix3);
@@ -275,10 +277,11 @@ impl Primitive {
         };
         let vertex = |i: u32| {
             let i = i as usize;
+            let uv = self.uvs.as_ref().map_or(Vec2::ZERO, |uvs| uvs[i]);
             Vertex {
                 position: positions[i],
                 normal: normals[i],
-                uv: self.uvs.as_ref().map_or(Vec2::ZERO, |uvs| uvs[i]),
+                uv: uv_transform.map_or(uv, |t| t.transform_point2(uv)),
             }
         };
         for &[a, b, c] in triangles.iter() {

@@ -46,12 +46,13 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_volume",
+    "KHR_texture_transform",
 ];
 
 /// The most triangles a file may place in the world (and a third of the most vertices it may
@@ -301,9 +302,10 @@ impl Loader<'_> {
         };
         for primitive in &mesh.primitives {
             let material = materials.id(input, builder, primitive.material)?;
+            let uv_transform = materials.uv_transform(primitive.material);
             *triangles_placed += primitive.triangle_count();
             primitive
-                .instantiate(world, material, builder)
+                .instantiate(world, material, uv_transform, builder)
                 .context(|| format!("mesh {index} primitive {} (node {node})", primitive.index))?;
         }
         Ok(())

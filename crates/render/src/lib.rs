@@ -7,6 +7,7 @@ pub mod buffers;
 pub mod density;
 pub mod direct;
 pub mod emission;
+pub mod framing;
 pub mod half_storage;
 pub mod hash;
 pub mod image;

@@ -22,6 +22,9 @@ pub struct Camera {
 /// The field of view of framed views, as in ANCHORS.md's benchmark cameras.
 pub const DEFAULT_YFOV_DEGREES: f32 = 50.0;
 
+/// Where ANCHORS.md's outside camera sits from the bounding box's centre, in diagonals.
+pub const OUTSIDE_VIEW_OFFSET: Vec3 = Vec3::new(0.5, 0.35, 0.8);
+
 impl Camera {
     /// A camera at `eye` looking at `target`. `None` when the frame is degenerate (eye equals
     /// target, or `up` is parallel to the view direction) or the field of view is not in (0, π).
@@ -54,11 +57,20 @@ impl Camera {
     /// ANCHORS.md's "outside" camera: from `c + D·(0.5, 0.35, 0.8)` towards the centre `c`,
     /// where `D` is the diagonal's length. Also the auto-framed view of a scene without cameras.
     pub fn outside_view(bounds: Bounds) -> Camera {
+        Camera::outside_view_from(bounds, OUTSIDE_VIEW_OFFSET).named("auto (outside)")
+    }
+
+    /// A view of the bounding box's centre from `c + D·offset` (`offset` about unit length,
+    /// not parallel to +Y), at the default field of view; [`Camera::outside_view`]'s kind.
+    ///
+    /// # Panics
+    /// If `offset` is parallel to +Y (no frame).
+    pub fn outside_view_from(bounds: Bounds, offset: Vec3) -> Camera {
         let center = bounds.center();
         let diagonal = bounds.extent().length().max(f32::MIN_POSITIVE);
-        let eye = center + diagonal * Vec3::new(0.5, 0.35, 0.8);
+        let eye = center + diagonal * offset;
         Camera::look_at(eye, center, Vec3::Y, DEFAULT_YFOV_DEGREES.to_radians())
-            .expect("the outside view's direction is never parallel to +Y")
+            .expect("outside views look along no parallel of +Y")
             .named("auto (outside)")
     }
 

@@ -123,6 +123,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
     log::info!("BVH built in {:.2} s", started.elapsed().as_secs_f64());
+    let camera = if is_auto_camera(&scene, &args.camera) {
+        let framed = render::framing::framed_view(&bvh, scene.bounds());
+        log::info!("no camera in the scene: the view {}", framed.name);
+        framed
+    } else {
+        camera
+    };
     let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
         checkpoint_file::fingerprint(&bvh, &camera, &scene.lights)
     } else {
@@ -390,6 +397,14 @@ pub fn thread_cpu_seconds() -> f64 {
         }
     }
     0.0
+}
+
+/// Whether the camera is kousen's own choice: no --eye/--target, no --camera, and none in the
+/// file ([`render::framing::framed_view`] then frames the scene).
+pub fn is_auto_camera(scene: &scene::Scene, args: &CameraArgs) -> bool {
+    scene.cameras.is_empty()
+        && args.camera.is_none()
+        && (args.eye.is_none() || args.target.is_none())
 }
 
 /// The camera from --eye/--target, --camera I, or the scene's default.

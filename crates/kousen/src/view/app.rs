@@ -389,10 +389,7 @@ impl App {
         };
         match result.and_then(|loaded| Session::new(&gfx.context, loaded)) {
             Ok(session) => {
-                let camera = session
-                    .scene
-                    .camera(None)
-                    .unwrap_or_else(|| scene::Camera::outside_view(session.scene.bounds()));
+                let camera = session.default_camera();
                 self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
                 self.title = window_title(&path);
                 gfx.window.set_title(&self.title);

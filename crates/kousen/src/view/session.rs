@@ -83,6 +83,16 @@ pub struct Session {
 }
 
 impl Session {
+    /// The scene's first camera, or, when it has none, the view kousen frames it with
+    /// (`render::framing`).
+    pub fn default_camera(&self) -> scene::Camera {
+        self.scene
+            .cameras
+            .first()
+            .cloned()
+            .unwrap_or_else(|| render::framing::framed_view(&self.bvh, self.scene.bounds()))
+    }
+
     /// Uploads the scene to `context`'s device and compiles the kernels.
     pub fn new(context: &GpuContext, loaded: LoadedScene) -> anyhow::Result<Session> {
         let backend = GpuBackend::new(context.clone(), &loaded.scene, loaded.bvh.clone())?;

@@ -35,16 +35,60 @@ fn render_box(out: &Path, extra: &str) -> serde_json::Value {
     serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap()
 }
 
-#[test]
-fn info_json_keeps_the_contract_for_scripts() {
-    let scene = shipped("cornell-box.gltf");
+/// `kousen info SCENE --json`, which must succeed.
+fn info_json(scene: &Path) -> serde_json::Value {
     let output = kousen(&["info", scene.to_str().unwrap(), "--json"]);
     assert!(
         output.status.success(),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let info: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    serde_json::from_slice(&output.stdout).expect("JSON")
+}
+
+/// `kousen info` names what each material became: glass, frosted, tinted.
+#[test]
+fn info_names_the_kinds_of_material() {
+    for (stem, want) in [
+        ("cornell-box.gltf", vec![("diffuse", 4)]),
+        (
+            "cornell-frosted.gltf",
+            vec![("diffuse", 4), ("frosted glass", 2)],
+        ),
+        (
+            "cornell-tinted.gltf",
+            vec![
+                ("diffuse", 4),
+                ("tinted glass", 1),
+                ("tinted frosted glass", 1),
+            ],
+        ),
+    ] {
+        let scene = shipped(stem);
+        let info = info_json(&scene);
+        let kinds: Vec<(String, u64)> = info["material_kinds"]
+            .as_array()
+            .expect("material_kinds")
+            .iter()
+            .map(|k| {
+                (
+                    k["kind"].as_str().unwrap().to_owned(),
+                    k["count"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        let want: Vec<(String, u64)> = want.into_iter().map(|(k, n)| (k.to_owned(), n)).collect();
+        assert_eq!(kinds, want, "{stem}");
+        let table = kousen(&["info", scene.to_str().unwrap()]);
+        let text = String::from_utf8_lossy(&table.stdout);
+        let (kind, count) = &want[want.len() - 1];
+        assert!(text.contains(&format!("{count} {kind}")), "{stem}: {text}");
+    }
+}
+
+#[test]
+fn info_json_keeps_the_contract_for_scripts() {
+    let info = info_json(&shipped("cornell-box.gltf"));
     let number = |pointer: &str| {
         info.pointer(pointer)
             .and_then(|v| v.as_f64())

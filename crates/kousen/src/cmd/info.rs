@@ -14,6 +14,8 @@ struct Info {
     triangles: usize,
     degenerate_dropped: usize,
     materials: usize,
+    /// Materials by the surface kousen maps them onto (`scene::Surface`), in words.
+    material_kinds: Vec<MaterialKind>,
     textures: usize,
     cameras: usize,
     emissive_triangles: usize,
@@ -26,6 +28,47 @@ struct Info {
     bvh: BvhInfo,
     memory: MemoryInfo,
     warnings: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct MaterialKind {
+    kind: &'static str,
+    count: usize,
+}
+
+/// The kind of surface a material is, in a user's words (glass with absorption inside it is
+/// "tinted").
+fn material_kind(material: &scene::Material) -> &'static str {
+    use scene::Surface;
+    let tinted = material.interior_absorption() != glam::Vec3::ZERO;
+    match material.surface {
+        Surface::Diffuse => "diffuse",
+        Surface::Mirror => "mirror",
+        Surface::RoughConductor { .. } => "rough metal",
+        Surface::Dielectric {
+            thin_walled: true, ..
+        } => "glass sheet",
+        Surface::RoughDielectric {
+            thin_walled: true, ..
+        } => "frosted glass sheet",
+        Surface::Dielectric { .. } if tinted => "tinted glass",
+        Surface::Dielectric { .. } => "glass",
+        Surface::RoughDielectric { .. } if tinted => "tinted frosted glass",
+        Surface::RoughDielectric { .. } => "frosted glass",
+    }
+}
+
+/// Counts of each kind, in the order kinds first appear among the materials.
+fn material_kinds(materials: &[scene::Material]) -> Vec<MaterialKind> {
+    let mut kinds: Vec<MaterialKind> = Vec::new();
+    for material in materials {
+        let kind = material_kind(material);
+        match kinds.iter_mut().find(|k| k.kind == kind) {
+            Some(k) => k.count += 1,
+            None => kinds.push(MaterialKind { kind, count: 1 }),
+        }
+    }
+    kinds
 }
 
 #[derive(Serialize)]
@@ -169,6 +212,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         triangles,
         degenerate_dropped: scene.degenerate_dropped,
         materials: scene.materials.len(),
+        material_kinds: material_kinds(&scene.materials),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
         emissive_triangles: scene.lights.triangles.len(),
@@ -262,7 +306,19 @@ fn print_table(info: &Info) {
         ("load", format!("{:.1} ms", info.load_ms)),
         ("triangles", info.triangles.to_string()),
         ("degenerate dropped", info.degenerate_dropped.to_string()),
-        ("materials", info.materials.to_string()),
+        (
+            "materials",
+            if info.material_kinds.is_empty() {
+                info.materials.to_string()
+            } else {
+                let kinds: Vec<String> = info
+                    .material_kinds
+                    .iter()
+                    .map(|k| format!("{} {}", k.count, k.kind))
+                    .collect();
+                format!("{} ({})", info.materials, kinds.join(", "))
+            },
+        ),
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),
         ("emissive triangles", info.emissive_triangles.to_string()),

@@ -164,6 +164,15 @@ fn volume_attenuation_is_absorption_in_solids() {
         error.to_string().contains("attenuationDistance 0"),
         "{error}"
     );
+    let error = quad_doc(Some(glass(json!({
+        "thicknessFactor": 1.0, "attenuationColor": [0.5, 1.5, 0.5], "attenuationDistance": 1.0
+    }))))
+    .load()
+    .expect_err("a colour channel above 1 is refused");
+    assert!(
+        error.to_string().contains("attenuationColor's green"),
+        "{error}"
+    );
 }
 
 #[test]

@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3, Vec4};
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::microfacet::{rough_dielectric, rough_reflection};
-use render::optics::{fresnel_dielectric, reflect, refract};
+use render::optics::{fresnel_dielectric, reflect, refract, relative_eta};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
 
@@ -186,11 +186,7 @@ pub fn specular_direction(
             thin_walled,
             alpha,
         } => {
-            let eta = if hit.front || thin_walled {
-                1.0 / ior
-            } else {
-                ior
-            };
+            let eta = relative_eta(ior, hit.front, thin_walled);
             let (next, weight) = rough_dielectric(incoming, normal, eta, thin_walled, alpha, u)?;
             // On the other side of the geometric surface than of the shading normal: the
             // shading normal bent it across, and it would leak.
@@ -227,11 +223,7 @@ pub fn dielectric_branches(
     thin_walled: bool,
 ) -> DielectricBranches {
     let normal = hit.shading;
-    let eta = if hit.front || thin_walled {
-        1.0 / ior
-    } else {
-        ior
-    };
+    let eta = relative_eta(ior, hit.front, thin_walled);
     let mut reflectance = fresnel_dielectric(-incoming.dot(normal), eta);
     if thin_walled {
         // A sheet: light bounces between its two faces; the total reflectance.

@@ -342,7 +342,7 @@ impl<'a> PathTracer<'a> {
                 thin_walled,
                 alpha,
             } => {
-                let eta = if front || thin_walled { 1.0 / ior } else { ior };
+                let eta = render::optics::relative_eta(ior, front, thin_walled);
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
                 let (next, weight) = render::microfacet::rough_dielectric(
                     incoming,
@@ -363,7 +363,7 @@ impl<'a> PathTracer<'a> {
             }
             Surface::Mirror => reflect(incoming, shading),
             Surface::Dielectric { ior, thin_walled } => {
-                let eta = if front || thin_walled { 1.0 / ior } else { ior };
+                let eta = render::optics::relative_eta(ior, front, thin_walled);
                 let cos_i = -incoming.dot(shading);
                 let reflectance = fresnel_dielectric(cos_i, eta);
                 let reflectance = if thin_walled {

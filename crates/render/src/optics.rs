@@ -19,6 +19,13 @@ pub fn refract(incoming: Vec3, normal: Vec3, eta: f32) -> Option<Vec3> {
     Some((eta * incoming + (eta * cos_i - cos_t) * normal).normalize())
 }
 
+/// `eta` = n_incident / n_transmitted where a ray meets a dielectric of `ior` from its `front`
+/// (from outside) or from inside; a `thin_walled` sheet has air on both sides of its surface
+/// as the ray meets it, so it is always entered from outside.
+pub fn relative_eta(ior: f32, front: bool, thin_walled: bool) -> f32 {
+    if front || thin_walled { 1.0 / ior } else { ior }
+}
+
 /// Unpolarised Fresnel reflectance of a smooth dielectric; 1 under total internal reflection.
 pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_i = cos_i.clamp(0.0, 1.0);

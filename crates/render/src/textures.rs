@@ -5,7 +5,7 @@
 //! arithmetic of [`TextureArray::sample`], which the CPU backend calls.
 
 use glam::{Vec2, Vec4};
-use scene::textures::{bilinear_pair, lerp, srgb_to_linear};
+use scene::textures::{bilinear_pair, decode_srgb8, lerp};
 use scene::{Texels, Texture};
 
 /// The largest common side unless a caller asks for less: 2048² RGBA8 is 16 MiB a layer. The
@@ -61,7 +61,7 @@ impl TextureArray {
     /// The texel at integer coordinates in linear RGBA (colour decoded from sRGB).
     pub fn texel(&self, layer: u32, x: u32, y: u32) -> Vec4 {
         let side = self.side as usize;
-        decode(self.texels[(layer as usize * side + y as usize) * side + x as usize])
+        decode_srgb8(self.texels[(layer as usize * side + y as usize) * side + x as usize])
     }
 
     /// Bilinear lookup with repeat wrapping, v = 0 the top row, in linear RGBA (the four
@@ -120,16 +120,6 @@ fn resample_into(texture: &Texture, side: u32, out: &mut Vec<[u8; 4]>) {
     }
 }
 
-/// An RGBA8 texel in linear RGBA: colour decoded from sRGB, alpha linear.
-fn decode([r, g, b, a]: [u8; 4]) -> Vec4 {
-    Vec4::new(
-        srgb_to_linear(r),
-        srgb_to_linear(g),
-        srgb_to_linear(b),
-        a as f32 / 255.0,
-    )
-}
-
 /// A linear RGBA float texel as RGBA8: colour sRGB-encoded, alpha linear, both clamped to
 /// [0, 1] (NaN reads 0).
 fn encode_linear([r, g, b, a]: [f32; 4]) -> [u8; 4] {
@@ -153,6 +143,7 @@ fn encode_linear([r, g, b, a]: [f32; 4]) -> [u8; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use scene::textures::srgb_to_linear;
 
     fn srgb8(name: &str, width: u32, height: u32, texels: Vec<[u8; 4]>) -> Texture {
         assert_eq!(texels.len(), (width * height) as usize);

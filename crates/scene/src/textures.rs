@@ -70,15 +70,7 @@ impl Texture {
     pub fn texel_linear(&self, x: u32, y: u32) -> Vec4 {
         let i = (y.min(self.height - 1) * self.width + x.min(self.width - 1)) as usize;
         match &self.texels {
-            Texels::Srgb8(t) => {
-                let [r, g, b, a] = t[i];
-                Vec4::new(
-                    srgb_to_linear(r),
-                    srgb_to_linear(g),
-                    srgb_to_linear(b),
-                    a as f32 / 255.0,
-                )
-            }
+            Texels::Srgb8(t) => decode_srgb8(t[i]),
             Texels::LinearF32(t) => Vec4::from_array(t[i]),
         }
     }
@@ -117,6 +109,16 @@ pub fn bilinear_pair(c: f32, n: u32) -> (u32, u32, f32) {
 /// `a` blended towards `b` by `t`, written out as the WGSL twin (`textures.wgsl`) writes it.
 pub fn lerp(a: Vec4, b: Vec4, t: f32) -> Vec4 {
     a * (1.0 - t) + b * t
+}
+
+/// An RGBA8 texel in linear RGBA: colour decoded from sRGB, alpha linear.
+pub fn decode_srgb8([r, g, b, a]: [u8; 4]) -> Vec4 {
+    Vec4::new(
+        srgb_to_linear(r),
+        srgb_to_linear(g),
+        srgb_to_linear(b),
+        a as f32 / 255.0,
+    )
 }
 
 /// The sRGB transfer function's inverse (IEC 61966-2-1).

@@ -96,6 +96,11 @@ fn fresnel_dielectric(cos_incident: f32, eta: f32) -> f32 {
     return 0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
 }
 
+// render::optics::relative_eta: n_incident / n_transmitted at a dielectric of `ior`.
+fn relative_eta(ior: f32, front: bool, thin_walled: bool) -> f32 {
+    return select(ior, 1.0 / ior, front || thin_walled);
+}
+
 // Refraction, or reflection under total internal reflection.
 fn refract_or_reflect(incoming: vec3<f32>, normal: vec3<f32>, eta: f32) -> vec3<f32> {
     let cos_i = -dot(incoming, normal);
@@ -274,7 +279,7 @@ fn rough_reflection(hit: SurfaceHit, incoming: vec3<f32>, alpha: f32, u1: f32, u
 fn rough_dielectric(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u1: f32, u2: f32, u_third: f32) -> Scattered {
     let normal = hit.shading;
     let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
-    let eta = select(material.ior, 1.0 / material.ior, hit.front || thin_walled);
+    let eta = relative_eta(material.ior, hit.front, thin_walled);
     let alpha = material.roughness_alpha;
     let frame = frame_about(normal);
     let view = to_local(frame, -incoming);
@@ -338,7 +343,7 @@ struct DielectricBranches {
 fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>) -> DielectricBranches {
     let normal = hit.shading;
     let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
-    let eta = select(material.ior, 1.0 / material.ior, hit.front || thin_walled);
+    let eta = relative_eta(material.ior, hit.front, thin_walled);
     var reflectance = fresnel_dielectric(-dot(incoming, normal), eta);
     if thin_walled {
         reflectance = 2.0 * reflectance / (1.0 + reflectance);

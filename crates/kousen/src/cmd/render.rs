@@ -110,10 +110,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             args.scene.display()
         );
     }
-    let camera = choose_camera(&scene, &args.camera)?;
+    let requested = choose_camera(&scene, &args.camera)?;
     let width = args.width;
     let height = args.height.unwrap_or_else(|| {
-        let aspect = camera.aspect_ratio.unwrap_or(1.0);
+        let aspect = requested
+            .as_ref()
+            .and_then(|c| c.aspect_ratio)
+            .unwrap_or(1.0);
         ((width as f32 / aspect).round() as u32).clamp(1, 16384)
     });
     if args.photons == Some(0) {
@@ -123,13 +126,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let bvh = bvh::PackedBvh::build(&scene.triangles, &super::info::build_options(args.bvh));
     log::info!("BVH built in {:.2} s", started.elapsed().as_secs_f64());
-    let camera = if is_auto_camera(&scene, &args.camera) {
+    let camera = requested.unwrap_or_else(|| {
         let framed = render::framing::framed_view(&bvh, scene.bounds());
         log::info!("no camera in the scene: the view {}", framed.name);
         framed
-    } else {
-        camera
-    };
+    });
     let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
         checkpoint_file::fingerprint(&bvh, &camera, &scene.lights)
     } else {
@@ -399,16 +400,13 @@ pub fn thread_cpu_seconds() -> f64 {
     0.0
 }
 
-/// Whether the camera is kousen's own choice: no --eye/--target, no --camera, and none in the
-/// file ([`render::framing::framed_view`] then frames the scene).
-pub fn is_auto_camera(scene: &scene::Scene, args: &CameraArgs) -> bool {
-    scene.cameras.is_empty()
-        && args.camera.is_none()
-        && (args.eye.is_none() || args.target.is_none())
-}
-
-/// The camera from --eye/--target, --camera I, or the scene's default.
-pub fn choose_camera(scene: &scene::Scene, args: &CameraArgs) -> anyhow::Result<scene::Camera> {
+/// The camera from --eye/--target, --camera I, or the scene's first; `None` when the scene
+/// has none and none was asked for: kousen frames the scene itself
+/// ([`render::framing::framed_view`], once the BVH is built).
+pub fn choose_camera(
+    scene: &scene::Scene,
+    args: &CameraArgs,
+) -> anyhow::Result<Option<scene::Camera>> {
     if let (Some(eye), Some(target)) = (args.eye, args.target) {
         let camera = scene::Camera::look_at(
             Vec3::from(eye),
@@ -416,9 +414,14 @@ pub fn choose_camera(scene: &scene::Scene, args: &CameraArgs) -> anyhow::Result<
             Vec3::from(args.up),
             args.fov.to_radians(),
         );
-        return camera.context("--eye, --target, --up and --fov do not make a camera (eye equals target, up parallel to the view, or fov not in (0, 180))");
+        return camera
+            .map(Some)
+            .context("--eye, --target, --up and --fov do not make a camera (eye equals target, up parallel to the view, or fov not in (0, 180))");
     }
-    scene.camera(args.camera).with_context(|| {
+    if scene.cameras.is_empty() && args.camera.is_none() {
+        return Ok(None);
+    }
+    scene.camera(args.camera).map(Some).with_context(|| {
         format!(
             "--camera {}: the scene has {} camera(s)",
             args.camera.unwrap_or(0),

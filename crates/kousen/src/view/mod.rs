@@ -16,10 +16,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     // Bad arguments and scenes fail before a window opens.
     app::check_arguments(args)?;
     let loaded = session::load_scene(&args.scene, args.bvh, args.added_lights)?;
-    let mut camera = crate::cmd::render::choose_camera(&loaded.scene, &args.camera)?;
-    if crate::cmd::render::is_auto_camera(&loaded.scene, &args.camera) {
-        camera = render::framing::framed_view(&loaded.bvh, loaded.scene.bounds());
-    }
+    let camera = crate::cmd::render::choose_camera(&loaded.scene, &args.camera)?
+        .unwrap_or_else(|| render::framing::framed_view(&loaded.bvh, loaded.scene.bounds()));
     let event_loop = winit::event_loop::EventLoop::new().map_err(|e| {
         log::debug!("view: no event loop: {e}");
         anyhow::anyhow!(

@@ -14,6 +14,7 @@ use render::direct::{sample_light, shadow_ray};
 use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
+use render::normal_map::{arrival_factor, departure_factor};
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
@@ -106,6 +107,10 @@ pub fn photon_pass_with<R: StreamRng>(
     } else {
         0.0
     };
+    // Photons are weighted where the shading normal is not the geometric one (interpolated or
+    // normal-mapped): by `arrival` where they land, and by it and the departure factor where
+    // they go on (`render::normal_map`).
+    let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
     let next = if let Surface::Diffuse = material.surface {
         // Straight from the light, this photon is direct light, which eye passes sample
         // themselves when `sample_lights` is set.
@@ -113,7 +118,7 @@ pub fn photon_pass_with<R: StreamRng>(
             photon = Photon {
                 position: hit.position.to_array(),
                 normal: photon_normal(hit.shading, slot.bounced == 0),
-                flux: slot.flux,
+                flux: (vec3(slot.flux) * arrival).to_array(),
                 pad: 0,
             };
         }
@@ -128,10 +133,16 @@ pub fn photon_pass_with<R: StreamRng>(
         let [u0, u1] = u_direction;
         specular_direction(material, &hit, direction, [u0, u1, u_choice])
     };
+    let next = next.map(|(next, weight)| {
+        let departure = departure_factor(next, hit.shading, hit.geometric);
+        (next, weight * (arrival * departure))
+    });
     let survival = tint.max_element().min(1.0);
     slot.depth += 1;
     match next {
-        Some((next, weight)) if u_roulette < survival && slot.depth < params.max_depth => {
+        Some((next, weight))
+            if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth =>
+        {
             slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
             slot.direction = next.to_array();
             slot.flux = (flux * tint * (weight / survival)).to_array();

@@ -6,6 +6,7 @@ use glam::{Vec2, Vec3, Vec4};
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::microfacet::{rough_dielectric, rough_reflection};
+use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract, relative_eta};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
@@ -20,8 +21,8 @@ pub struct SurfaceHit {
     pub distance: f32,
     /// Unit geometric normal on the ray's side.
     pub geometric: Vec3,
-    /// Unit shading normal on the ray's side (the geometric one where interpolation turns it
-    /// below the surface).
+    /// Unit shading normal on the ray's side: interpolated, then bent by the material's normal
+    /// map if it has one (the geometric one where that turns it below the surface).
     pub shading: Vec3,
     pub uv: Vec2,
     pub material: u32,
@@ -53,7 +54,15 @@ pub fn trace_within(
         .geometric_normal_unnormalized()
         .normalize_or(Vec3::Z);
     let w = 1.0 - hit.u - hit.v;
-    let shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal).normalize_or(geometric);
+    let mut shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal).normalize_or(geometric);
+    let uvs = [a.uv, b.uv, c.uv];
+    let uv = uv_at(uvs, hit.u, hit.v);
+    let material = &scene.materials[triangle.material as usize];
+    if let Some(map) = material.normal_texture {
+        let texel = scene.textures.sample(map, uv).truncate();
+        let positions = [a.position, b.position, c.position];
+        shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
+    }
     let front = direction.dot(geometric) < 0.0;
     let side = if front { 1.0 } else { -1.0 };
     let (geometric, mut shading) = (side * geometric, side * shading);
@@ -65,7 +74,7 @@ pub fn trace_within(
         distance: hit.t,
         geometric,
         shading,
-        uv: uv_at([a.uv, b.uv, c.uv], hit.u, hit.v),
+        uv,
         material: triangle.material,
         front,
     })

@@ -494,9 +494,10 @@ mod tests {
                 preferred
             );
         }
-        // Bindings too small for the threaded records, textures large enough.
+        // Bindings too small for the threaded records (but holding the one material, which stays
+        // in a storage buffer), textures large enough.
         let small_bindings = wgpu::Limits {
-            max_storage_buffer_binding_size: 64,
+            max_storage_buffer_binding_size: size_of::<GpuMaterial>() as u64,
             ..wgpu::Limits::default()
         };
         assert_eq!(
@@ -505,7 +506,7 @@ mod tests {
         );
         // Neither fits: the preferred storage's error, naming its limit.
         let neither = wgpu::Limits {
-            max_storage_buffer_binding_size: 64,
+            max_storage_buffer_binding_size: size_of::<GpuMaterial>() as u64,
             max_texture_dimension_2d: 0,
             ..wgpu::Limits::default()
         };

@@ -121,7 +121,7 @@ pub const NO_TEXTURE: u32 = u32::MAX;
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 
-/// One material (64 bytes).
+/// One material (80 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -144,6 +144,11 @@ pub struct GpuMaterial {
     pub absorption: [f32; 3],
     /// GGX width α (rough conductors and dielectrics; 0 otherwise).
     pub roughness_alpha: f32,
+    /// A tangent-space normal map (`render::normal_map`), or `NO_TEXTURE`.
+    pub normal_texture: u32,
+    /// Multiplies the normal map's X and Y.
+    pub normal_scale: f32,
+    pub pad: [u32; 2],
 }
 
 impl GpuMaterial {
@@ -180,6 +185,9 @@ impl GpuMaterial {
             flags,
             absorption: material.interior_absorption().to_array(),
             roughness_alpha,
+            normal_texture: material.normal_texture.unwrap_or(NO_TEXTURE),
+            normal_scale: material.normal_scale,
+            pad: [0; 2],
         }
     }
 }

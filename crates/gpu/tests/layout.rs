@@ -304,6 +304,9 @@ fn gpu_types_layout_matches_rust() {
             ("flags", offset_of!(GpuMaterial, flags)),
             ("absorption", offset_of!(GpuMaterial, absorption)),
             ("roughness_alpha", offset_of!(GpuMaterial, roughness_alpha)),
+            ("normal_texture", offset_of!(GpuMaterial, normal_texture)),
+            ("normal_scale", offset_of!(GpuMaterial, normal_scale)),
+            ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );
     assert_layout(

@@ -649,6 +649,14 @@ fn every_kernel_matches_its_twin_through_absorbing_glass() {
     every_kernel_matches_its_twin(scene::testing::cornell_tinted(), DirectLight::Sampled);
 }
 
+/// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and
+/// back wall, a diffuse sphere and a mirror one: bent shading normals in every kernel, and
+/// the photons' shading-normal weights where they land and bounce.
+#[test]
+fn every_kernel_matches_its_twin_with_normal_maps() {
+    every_kernel_matches_its_twin(scene::testing::cornell_bumpy(), DirectLight::Sampled);
+}
+
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     every_kernel_matches_its_twin_on(context(), scene, direct);
 }

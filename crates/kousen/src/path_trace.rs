@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use render::light_sampling::{LightSampler, power_heuristic};
+use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 
@@ -274,14 +275,23 @@ impl<'a> PathTracer<'a> {
         let triangle = &self.scene.triangles[id as usize];
         let [a, b, c] = triangle.vertices;
         let w = 1.0 - hit.u - hit.v;
-        let shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal)
+        let geometric = triangle.geometric_normal_unnormalized().normalize();
+        let mut shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal)
             .try_normalize()
-            .unwrap_or(Vec3::Y);
+            .unwrap_or(geometric);
+        let uv = w * a.uv + hit.u * b.uv + hit.v * c.uv;
+        let material = &self.scene.materials[triangle.material as usize];
+        if let Some(map) = material.normal_texture {
+            let texel = self.texture(Some(map), uv).truncate();
+            let positions = [a.position, b.position, c.position];
+            let uvs = [a.uv, b.uv, c.uv];
+            shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
+        }
         Some(SurfacePoint {
             position: origin + hit.t * direction,
-            geometric: triangle.geometric_normal_unnormalized().normalize(),
+            geometric,
             shading,
-            uv: w * a.uv + hit.u * b.uv + hit.v * c.uv,
+            uv,
             material: triangle.material,
             triangle: id,
         })

@@ -15,6 +15,7 @@ pub mod integrator;
 pub mod kdtree;
 pub mod light_sampling;
 pub mod microfacet;
+pub mod normal_map;
 pub mod optics;
 pub mod packing;
 pub mod random;

@@ -60,6 +60,11 @@ pub struct Material {
     /// `d` keeps `exp(−absorption·d)` of its light. Zero: clear. Read where a ray meets the
     /// solid's back face (the segment ran inside), so volumes are closed and not nested.
     pub absorption: Vec3,
+    /// A tangent-space normal map (glTF's `normalTexture`, linear RGB: +X along increasing u,
+    /// +Y towards the image's top, +Z out of the surface), bending the shading normal.
+    pub normal_texture: Option<TextureId>,
+    /// Scales the normal map's X and Y before renormalising (glTF's `normalTexture.scale`).
+    pub normal_scale: f32,
 }
 
 /// glTF's `KHR_materials_volume` attenuation as an absorption coefficient: white light turns
@@ -89,6 +94,8 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             absorption: Vec3::ZERO,
+            normal_texture: None,
+            normal_scale: 1.0,
         }
     }
 }

@@ -9,8 +9,8 @@ mod gltf_writer;
 
 use std::path::{Path, PathBuf};
 
-use glam::Vec3;
-use scene::{PunctualKind, Scene, Triangle};
+use glam::{Vec3, Vec4};
+use scene::{Material, PunctualKind, Scene, Triangle};
 
 fn shipped_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -164,6 +164,13 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             x.absorption,
             y.absorption
         );
+        assert_eq!(x.normal_scale, y.normal_scale, "{stem}: normal scale");
+        assert_eq!(
+            normal_map_texels(loaded, x),
+            normal_map_texels(fixture, y),
+            "{stem}: {}'s normal map",
+            x.name
+        );
     }
     assert_eq!(loaded.cameras.len(), fixture.cameras.len());
     for (x, y) in loaded.cameras.iter().zip(&fixture.cameras) {
@@ -205,6 +212,15 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             (a, b) => assert_eq!(a, b, "{stem}"),
         }
     }
+}
+
+/// A material's normal map as (width, height, linear texels), if it has one.
+fn normal_map_texels(scene: &Scene, material: &Material) -> Option<(u32, u32, Vec<Vec4>)> {
+    let texture = &scene.textures[material.normal_texture? as usize];
+    let texels = (0..texture.height)
+        .flat_map(|y| (0..texture.width).map(move |x| texture.texel_linear(x, y)))
+        .collect();
+    Some((texture.width, texture.height, texels))
 }
 
 #[test]

@@ -270,10 +270,12 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
+    // cpu::kernels: weighted where the shading normal is not the geometric one.
+    let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
     if material.surface == SURFACE_DIFFUSE {
         // Straight from the light it is direct light, which eye passes sample themselves.
         if slot.depth > 0u || params.sample_lights == 0u {
-            photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux, 0u);
+            photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * arrival, 0u);
         }
         // Its later photons are indirect (if it goes on; an ended slot's is not read).
         slot.bounced = 1u;
@@ -284,6 +286,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         next = bounce.direction;
         weight = bounce.weight;
     }
+    weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric));
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {

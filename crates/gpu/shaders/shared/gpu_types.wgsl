@@ -28,9 +28,10 @@ struct SceneInfo {
     pad: u32,
 }
 
-// One material (64 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// One material (80 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED;
-// roughness_alpha: GGX width of rough conductors.
+// roughness_alpha: GGX width of rough conductors; normal_texture: a tangent-space normal map
+// (NO_TEXTURE: none), its X and Y scaled by normal_scale.
 struct GpuMaterial {
     base_color: vec3<f32>,
     surface: u32,
@@ -42,4 +43,7 @@ struct GpuMaterial {
     flags: u32,
     absorption: vec3<f32>,
     roughness_alpha: f32,
+    normal_texture: u32,
+    normal_scale: f32,
+    pad: vec2<u32>,
 }

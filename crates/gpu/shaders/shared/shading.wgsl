@@ -112,6 +112,55 @@ fn refract_or_reflect(incoming: vec3<f32>, normal: vec3<f32>, eta: f32) -> vec3<
     return normalize(eta * incoming + (eta * cos_i - cos_t) * normal);
 }
 
+// ---- render::normal_map ----
+fn mapped_normal(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let d1 = uv1 - uv0;
+    let d2 = uv2 - uv0;
+    let determinant = d1.x * d2.y - d2.x * d1.y;
+    if determinant == 0.0 {
+        return normal;
+    }
+    let s = sign(determinant);
+    let along_u = s * (e1 * d2.y - e2 * d1.y);
+    let towards_top = -s * (e2 * d1.x - e1 * d2.x);
+    let unnormalised = along_u - normal * dot(normal, along_u);
+    let length_squared = dot(unnormalised, unnormalised);
+    // Also false for NaN (and for infinity, which the next test catches).
+    if !(length_squared > 0.0) || length_squared > 3.40282347e38 {
+        return normal;
+    }
+    let tangent = unnormalised / sqrt(length_squared);
+    var bitangent = cross(normal, tangent);
+    if dot(bitangent, towards_top) < 0.0 {
+        bitangent = -bitangent;
+    }
+    let local = texel * 2.0 - vec3<f32>(1.0);
+    let bent = tangent * (local.x * scale) + bitangent * (local.y * scale) + normal * local.z;
+    return normalize_or(bent, normal);
+}
+
+// |d·numerator| / |d·denominator|, 0 where the denominator vanishes.
+fn shading_ratio(direction: vec3<f32>, numerator: vec3<f32>, denominator: vec3<f32>) -> f32 {
+    let below = abs(dot(direction, denominator));
+    if below == 0.0 {
+        return 0.0;
+    }
+    return abs(dot(direction, numerator)) / below;
+}
+
+fn arrival_factor(towards_light: vec3<f32>, shading: vec3<f32>, geometric: vec3<f32>) -> f32 {
+    if dot(towards_light, shading) <= 0.0 {
+        return 0.0;
+    }
+    return shading_ratio(towards_light, shading, geometric);
+}
+
+fn departure_factor(next: vec3<f32>, shading: vec3<f32>, geometric: vec3<f32>) -> f32 {
+    return shading_ratio(next, geometric, shading);
+}
+
 // ---- cpu::surface ----
 struct SurfaceHit {
     position: vec3<f32>,
@@ -152,7 +201,17 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     let c = triangle.vertices[2];
     let geometric = normalize_or(cross(b.position - a.position, c.position - a.position), vec3<f32>(0.0, 0.0, 1.0));
     let w = 1.0 - hit.u - hit.v;
-    let shading = normalize_or(w * vertex_normal(a) + hit.u * vertex_normal(b) + hit.v * vertex_normal(c), geometric);
+    var shading = normalize_or(w * vertex_normal(a) + hit.u * vertex_normal(b) + hit.v * vertex_normal(c), geometric);
+    let uv_a = vec2<f32>(a.u, a.v);
+    let uv_b = vec2<f32>(b.u, b.v);
+    let uv_c = vec2<f32>(c.u, c.v);
+    let uv = w * uv_a + hit.u * uv_b + hit.v * uv_c;
+    let material_index = u32(abs(a.signed_material)) - 1u;
+    let map = materials[material_index].normal_texture;
+    if map != NO_TEXTURE {
+        let texel = sample_texture(map, uv).xyz;
+        shading = mapped_normal(shading, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].normal_scale);
+    }
     let front = dot(direction, geometric) < 0.0;
     let side = select(-1.0, 1.0, front);
     result.geometric = side * geometric;
@@ -162,8 +221,8 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     }
     result.position = origin + hit.t * direction;
     result.distance = hit.t;
-    result.uv = w * vec2<f32>(a.u, a.v) + hit.u * vec2<f32>(b.u, b.v) + hit.v * vec2<f32>(c.u, c.v);
-    result.material = u32(abs(a.signed_material)) - 1u;
+    result.uv = uv;
+    result.material = material_index;
     result.front = front;
     result.found = true;
     return result;

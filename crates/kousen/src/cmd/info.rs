@@ -16,6 +16,8 @@ struct Info {
     materials: usize,
     /// Materials by the surface kousen maps them onto (`scene::Surface`), in words.
     material_kinds: Vec<MaterialKind>,
+    /// Materials with a normal map (glTF `normalTexture`).
+    normal_mapped_materials: usize,
     textures: usize,
     cameras: usize,
     emissive_triangles: usize,
@@ -213,6 +215,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         degenerate_dropped: scene.degenerate_dropped,
         materials: scene.materials.len(),
         material_kinds: material_kinds(&scene.materials),
+        normal_mapped_materials: (scene.materials.iter())
+            .filter(|m| m.normal_texture.is_some())
+            .count(),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
         emissive_triangles: scene.lights.triangles.len(),
@@ -318,6 +323,10 @@ fn print_table(info: &Info) {
                     .collect();
                 format!("{} ({})", info.materials, kinds.join(", "))
             },
+        ),
+        (
+            "normal maps",
+            format!("{} materials", info.normal_mapped_materials),
         ),
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),

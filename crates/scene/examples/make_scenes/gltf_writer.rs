@@ -1,8 +1,9 @@
-//! A minimal glTF 2.0 writer for the fixtures of `scene::testing` (no textures).
+//! A minimal glTF 2.0 writer for the fixtures of `scene::testing`.
 //!
 //! One mesh with one primitive per material (vertices de-duplicated within a primitive,
-//! u16 or u32 indices), one node per camera, and the binary data in an external `.bin` beside
-//! the `.gltf`. Materials follow DESIGN.md's mapping in reverse:
+//! u16 or u32 indices; texture coordinates where a primitive has any), one node per camera,
+//! and the binary data in an external `.bin` beside the `.gltf`, textures in it as PNG images
+//! (8 bits a channel: linear data as it is, sRGB colour as encoded). Materials follow DESIGN.md's mapping in reverse:
 //! - diffuse → metallic 0, roughness 1; mirror → metallic 1, roughness 0; rough conductor →
 //!   metallic 1, roughness √α;
 //! - dielectric → `KHR_materials_transmission` 1 and `KHR_materials_ior`, with
@@ -19,21 +20,28 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::{Mat3, Quat, Vec3};
-use scene::{AlphaMode, Camera, Material, PunctualKind, PunctualLight, Scene, Surface, Triangle};
+use glam::{Mat3, Quat, Vec2, Vec3};
+use image::ExtendedColorType;
+use image::ImageEncoder;
+use image::codecs::png::PngEncoder;
+use scene::{
+    AlphaMode, Camera, Material, PunctualKind, PunctualLight, Scene, Surface, Texels, Texture,
+    Triangle,
+};
 use serde_json::{Map, Value, json};
 
 /// A function building a fixture scene.
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 6] = [
+pub const SHIPPED: [(&str, Fixture); 7] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
     ("cornell-spot", scene::testing::cornell_spot),
     ("cornell-frosted", scene::testing::cornell_frosted),
     ("cornell-tinted", scene::testing::cornell_tinted),
+    ("cornell-bumpy", scene::testing::cornell_bumpy),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -57,11 +65,8 @@ pub fn write(scene: &Scene, stem: &str, dir: &Path) -> std::io::Result<()> {
 }
 
 pub fn encode(scene: &Scene, stem: &str) -> Encoded {
-    assert!(
-        scene.textures.is_empty(),
-        "the writer does not write textures"
-    );
     let mut doc = Document::default();
+    let images: Vec<Value> = scene.textures.iter().map(|t| doc.image(t)).collect();
     let primitives: Vec<Value> = (0..scene.materials.len() as u32)
         .filter_map(|m| {
             let triangles: Vec<&Triangle> =
@@ -121,6 +126,11 @@ pub fn encode(scene: &Scene, stem: &str) -> Encoded {
     });
     if !cameras.is_empty() {
         root["cameras"] = Value::Array(cameras);
+    }
+    if !images.is_empty() {
+        let textures: Vec<Value> = (0..images.len()).map(|i| json!({ "source": i })).collect();
+        root["images"] = Value::Array(images);
+        root["textures"] = Value::Array(textures);
     }
     if !extensions.is_empty() {
         root["extensionsUsed"] = json!(extensions);
@@ -182,29 +192,66 @@ impl Document {
         self.accessor(accessor, &bytes, ARRAY_BUFFER)
     }
 
-    /// One primitive: the triangles' distinct (position, normal) corners and their indices.
-    fn primitive(&mut self, triangles: &[&Triangle], material: u32) -> Value {
-        assert!(
-            triangles
+    /// A texture as a PNG image in the binary buffer.
+    fn image(&mut self, texture: &Texture) -> Value {
+        let bytes: Vec<u8> = match &texture.texels {
+            Texels::Srgb8(texels) => texels.iter().flatten().copied().collect(),
+            Texels::LinearF32(texels) => texels
                 .iter()
-                .flat_map(|t| t.vertices)
-                .all(|v| v.uv == glam::Vec2::ZERO),
-            "the writer does not write texture coordinates"
-        );
-        let mut slots: HashMap<[u32; 6], u32> = HashMap::new();
-        let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
+                .flatten()
+                .map(|&c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
+                .collect(),
+        };
+        let mut png = Vec::new();
+        PngEncoder::new(&mut png)
+            .write_image(
+                &bytes,
+                texture.width,
+                texture.height,
+                ExtendedColorType::Rgba8,
+            )
+            .expect("fixture textures encode");
+        let view = self.view(&png, 0);
+        // Images are not vertex data: no target.
+        self.views[view]
+            .as_object_mut()
+            .expect("views are objects")
+            .remove("target");
+        json!({ "name": texture.name, "bufferView": view, "mimeType": "image/png" })
+    }
+
+    /// One primitive: the triangles' distinct (position, normal, uv) corners and their indices.
+    fn primitive(&mut self, triangles: &[&Triangle], material: u32) -> Value {
+        let textured = (triangles.iter().flat_map(|t| t.vertices)).any(|v| v.uv != Vec2::ZERO);
+        let mut slots: HashMap<[u32; 8], u32> = HashMap::new();
+        let (mut positions, mut normals, mut uvs, mut indices) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for v in triangles.iter().flat_map(|t| t.vertices) {
-            let key = [v.position.to_array(), v.normal.to_array()].concat();
-            let key: [u32; 6] = std::array::from_fn(|i| key[i].to_bits());
+            let key = [
+                &v.position.to_array()[..],
+                &v.normal.to_array(),
+                &v.uv.to_array(),
+            ]
+            .concat();
+            let key: [u32; 8] = std::array::from_fn(|i| key[i].to_bits());
             let index = *slots.entry(key).or_insert_with(|| {
                 positions.push(v.position);
                 normals.push(v.normal);
+                uvs.push(v.uv);
                 positions.len() as u32 - 1
             });
             indices.push(index);
         }
         let position = self.vec3_accessor(&positions, true);
         let normal = self.vec3_accessor(&normals, false);
+        let mut attributes = json!({ "POSITION": position, "NORMAL": normal });
+        if textured {
+            let bytes: Vec<u8> = (uvs.iter().flat_map(|v| v.to_array()))
+                .flat_map(f32::to_le_bytes)
+                .collect();
+            let accessor = json!({ "componentType": FLOAT, "count": uvs.len(), "type": "VEC2" });
+            attributes["TEXCOORD_0"] = json!(self.accessor(accessor, &bytes, ARRAY_BUFFER));
+        }
         let (component, bytes): (u32, Vec<u8>) = if positions.len() <= u16::MAX as usize {
             (
                 UNSIGNED_SHORT,
@@ -223,7 +270,7 @@ impl Document {
             json!({ "componentType": component, "count": indices.len(), "type": "SCALAR" });
         let indices = self.accessor(accessor, &bytes, ELEMENT_ARRAY_BUFFER);
         json!({
-            "attributes": { "POSITION": position, "NORMAL": normal },
+            "attributes": attributes,
             "indices": indices,
             "material": material,
             "mode": TRIANGLES,
@@ -294,6 +341,18 @@ impl Document {
         }
         if m.double_sided {
             value["doubleSided"] = json!(true);
+        }
+        if let Some(texture) = m.base_color_texture {
+            value["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": texture });
+        }
+        if let Some(texture) = m.emission_texture {
+            value["emissiveTexture"] = json!({ "index": texture });
+        }
+        if let Some(texture) = m.normal_texture {
+            value["normalTexture"] = json!({ "index": texture });
+            if m.normal_scale != 1.0 {
+                value["normalTexture"]["scale"] = number(m.normal_scale);
+            }
         }
         if !extensions.is_empty() {
             self.extensions

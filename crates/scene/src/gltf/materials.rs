@@ -24,7 +24,10 @@
 //!   the texture coordinates of the material's primitives (one transform a material: kousen's
 //!   vertices keep one set of coordinates; a different emissive transform is warned about).
 //!
-//! Ignored: metallic-roughness, normal, occlusion, transmission and thickness textures,
+//! - `normalTexture` (with its `scale`) → a tangent-space normal map bending the shading normal,
+//!   in the frame of each triangle's texture-coordinate gradients (`render::normal_map`).
+//!
+//! Ignored: metallic-roughness, occlusion, transmission and thickness textures,
 //! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
 //! as sRGB, each image once however many materials use it.
 
@@ -64,8 +67,10 @@ pub(super) struct Materials {
     ids: Vec<Option<u32>>,
     /// Builder id of the default material, once a primitive without material asked for it.
     default_id: Option<u32>,
-    /// Builder texture id of each glTF image decoded so far.
+    /// Builder texture id of each glTF image decoded so far as colour (sRGB).
     images: Vec<Option<TextureId>>,
+    /// The same for images decoded as data (normal maps).
+    linear_images: Vec<Option<TextureId>>,
     /// Each glTF material's `KHR_texture_transform` (of its base colour texture, else its
     /// emissive one), once converted: applied to the texture coordinates of the primitives
     /// that use it, since kousen's materials keep no transform of their own.
@@ -78,6 +83,7 @@ impl Materials {
             ids: vec![None; root.materials.len()],
             default_id: None,
             images: vec![None; root.images.len()],
+            linear_images: vec![None; root.images.len()],
             uv_transforms: vec![None; root.materials.len()],
         }
     }
@@ -140,19 +146,33 @@ impl Materials {
         let absorption = absorption(&check, m, surface)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
-        let mut texture = |info: &Option<json::texture::Info>, slot: &str| {
+        let mut texture = |info: &Option<json::texture::Info>, slot: &'static str| {
             info.as_ref()
-                .map(|info| self.texture(input, builder, info, &label, slot))
+                .map(|info| {
+                    let slot = TextureSlot::colour(info, slot);
+                    self.texture(input, builder, slot, &label)
+                })
                 .transpose()
         };
         let base_color_texture = texture(&pbr.base_color_texture, "baseColorTexture")?;
         let emission_texture = texture(&m.emissive_texture, "emissiveTexture")?;
-        self.uv_transforms[index] = uv_transform(
+        let transform = uv_transform(
             pbr.base_color_texture.as_ref(),
             m.emissive_texture.as_ref(),
             &label,
             builder,
         );
+        let normal_texture = match &m.normal_texture {
+            Some(normal) => {
+                check.non_negative(normal.scale, "normalTexture's scale")?;
+                let slot = TextureSlot::normal(normal);
+                let id = self.texture(input, builder, slot, &label)?;
+                warn_normal_transform(normal, transform, &label, builder);
+                Some(id)
+            }
+            None => None,
+        };
+        self.uv_transforms[index] = transform;
         Ok(Material {
             name: m.name.clone().unwrap_or_else(|| label.clone()),
             surface,
@@ -164,26 +184,32 @@ impl Materials {
             alpha_mode,
             double_sided: m.double_sided,
             absorption,
+            normal_texture,
+            normal_scale: m.normal_texture.as_ref().map_or(1.0, |n| n.scale),
         })
     }
 
-    /// The builder's id for the image behind texture `info`, decoding it on first use.
+    /// The builder's id for the image behind a texture slot, decoding it on first use (colour
+    /// as sRGB, a normal map as linear data: one image read both ways is decoded twice).
     fn texture(
         &mut self,
         input: &Input,
         builder: &mut SceneBuilder,
-        info: &json::texture::Info,
+        slot: TextureSlot,
         label: &str,
-        slot: &str,
     ) -> Result<TextureId, SceneError> {
-        if info.tex_coord != 0 {
+        let TextureSlot {
+            name: slot,
+            texture: t,
+            tex_coord,
+            srgb,
+        } = slot;
+        if tex_coord != 0 {
             builder.warn(format!(
-                "{label}: {slot} uses TEXCOORD_{}; only TEXCOORD_0 is read",
-                info.tex_coord
+                "{label}: {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is read"
             ));
         }
         let root = input.root;
-        let t = info.index.value();
         let Some(texture) = root.textures.get(t) else {
             return Err(input.error(format!(
                 "{label}: {slot} refers to texture {t}, which does not exist ({} textures)",
@@ -191,7 +217,12 @@ impl Materials {
             )));
         };
         let image = texture.source.value();
-        let Some(cached) = self.images.get(image) else {
+        let cache = if srgb {
+            &mut self.images
+        } else {
+            &mut self.linear_images
+        };
+        let Some(cached) = cache.get_mut(image) else {
             return Err(input.error(match image {
                 NO_SOURCE => {
                     format!("texture {t} has no image source (extension sources are not supported)")
@@ -205,9 +236,63 @@ impl Materials {
         if let Some(id) = cached {
             return Ok(*id);
         }
-        let id = builder.add_texture(decode_image(input, image)?);
-        self.images[image] = Some(id);
+        let id = builder.add_texture(decode_image(input, image, srgb)?);
+        *cached = Some(id);
         Ok(id)
+    }
+}
+
+/// What [`Materials::texture`] needs of a material's texture reference.
+struct TextureSlot {
+    /// The slot's name in the glTF file, for messages.
+    name: &'static str,
+    texture: usize,
+    tex_coord: u32,
+    /// Colour (decoded from sRGB) or data (linear).
+    srgb: bool,
+}
+
+impl TextureSlot {
+    fn colour(info: &json::texture::Info, name: &'static str) -> TextureSlot {
+        TextureSlot {
+            name,
+            texture: info.index.value(),
+            tex_coord: info.tex_coord,
+            srgb: true,
+        }
+    }
+
+    fn normal(normal: &json::material::NormalTexture) -> TextureSlot {
+        TextureSlot {
+            name: "normalTexture",
+            texture: normal.index.value(),
+            tex_coord: normal.tex_coord,
+            srgb: false,
+        }
+    }
+}
+
+/// Warns where the normal map's `KHR_texture_transform` differs from the transform the
+/// material's coordinates were given (kousen keeps one set of coordinates a vertex).
+fn warn_normal_transform(
+    normal: &json::material::NormalTexture,
+    transform: Option<Affine2>,
+    label: &str,
+    builder: &mut SceneBuilder,
+) {
+    let own = normal
+        .extensions
+        .as_ref()
+        .and_then(|e| e.others.get("KHR_texture_transform"))
+        .and_then(|v| {
+            serde_json::from_value::<json::extensions::texture::TextureTransform>(v.clone()).ok()
+        })
+        .map(|t| transform_of(&t));
+    if own.unwrap_or(Affine2::IDENTITY) != transform.unwrap_or(Affine2::IDENTITY) {
+        builder.warn(format!(
+            "{label}: normalTexture's KHR_texture_transform differs from the base colour's; \
+             the base colour's is used for both"
+        ));
     }
 }
 
@@ -216,11 +301,16 @@ impl Materials {
 /// `translation * rotation * scale`).
 fn slot_transform(info: &json::texture::Info) -> Option<Affine2> {
     let t = info.extensions.as_ref()?.texture_transform.as_ref()?;
-    Some(Affine2::from_scale_angle_translation(
+    Some(transform_of(t))
+}
+
+/// `KHR_texture_transform`'s `translation * rotation * scale`.
+fn transform_of(t: &json::extensions::texture::TextureTransform) -> Affine2 {
+    Affine2::from_scale_angle_translation(
         Vec2::from_array(t.scale.0),
         t.rotation.0,
         Vec2::from_array(t.offset.0),
-    ))
+    )
 }
 
 /// The material's one texture-coordinate transform: the base colour texture's, else the
@@ -410,7 +500,7 @@ fn alpha_mode(
 }
 
 /// Decodes image `index` (which must exist) as sRGB colour.
-fn decode_image(input: &Input, index: usize) -> Result<Texture, SceneError> {
+fn decode_image(input: &Input, index: usize, srgb: bool) -> Result<Texture, SceneError> {
     let image = &input.root.images[index];
     let context = || format!("image {index}");
     let fallback_name = image.name.clone().unwrap_or_else(context);
@@ -431,5 +521,5 @@ fn decode_image(input: &Input, index: usize) -> Result<Texture, SceneError> {
             return Err(input.error(format!("{}: has neither a uri nor a bufferView", context())));
         }
     };
-    Texture::decode(&name, &bytes, true).map_err(|e| input.error(format!("{}: {e}", context())))
+    Texture::decode(&name, &bytes, srgb).map_err(|e| input.error(format!("{}: {e}", context())))
 }

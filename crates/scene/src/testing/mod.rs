@@ -12,6 +12,7 @@
 //! - [`cornell_box_punctual`]: the Cornell box with a point, a spot and a directional light
 //!   and a sky besides its own.
 //! - [`cornell_spot`]: [`cornell_caustics`] with a spot light on the glass sphere.
+//! - [`cornell_bumpy`]: [`cornell_caustics`]'s room with normal-mapped tiles and spheres.
 //! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
 //!   emission is [`glass_pane_radiance`]; [`glass_panes`] has more sheets.
 //!
@@ -23,7 +24,8 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use crate::{
-    Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, Surface, Triangle, Vertex,
+    Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, Surface, Texels, Texture,
+    Triangle, Vertex,
 };
 
 /// The Cornell box's white, red and green reflectances (linear RGB). The Cornell data gives
@@ -186,6 +188,131 @@ pub fn cornell_tinted() -> Scene {
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, teal, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, amber, false);
     f.finish()
+}
+
+/// The room of [`cornell_caustics`] with normal maps (`Material::normal_texture`): the floor
+/// and back wall laid with bevelled tiles ([`tile_normal_map`], a tile 139.75 mm wide), a
+/// white diffuse sphere front right and a mirror sphere back left, both hammered
+/// ([`dimple_normal_map`], its scale halved on the mirror). Texture coordinates: planar on the
+/// walls, longitude and latitude on the spheres.
+pub fn cornell_bumpy() -> Scene {
+    let mut f = Fixture::new("testing::cornell_bumpy");
+    let white = cornell_room(&mut f);
+    let clay = f.material("hammered clay", Surface::Diffuse, CORNELL_WHITE);
+    let mirror = f.material("hammered mirror", Surface::Mirror, Vec3::splat(0.9));
+    let (front, back) = (
+        Vec3::new(180.0, 90.0, 170.0),
+        Vec3::new(380.0, 110.0, 370.0),
+    );
+    f.sphere(front, 90.0, clay, false);
+    f.sphere(back, 110.0, mirror, false);
+    let mut scene = f.finish();
+    let tiles = scene.textures.len() as u32;
+    scene.textures.push(tile_normal_map(64));
+    scene.textures.push(dimple_normal_map(64));
+    let tiled = scene.materials.len() as u32;
+    scene.materials.push(Material {
+        name: "tiled white".into(),
+        normal_texture: Some(tiles),
+        ..scene.materials[white as usize].clone()
+    });
+    scene.materials[clay as usize].normal_texture = Some(tiles + 1);
+    scene.materials[mirror as usize].normal_texture = Some(tiles + 1);
+    scene.materials[mirror as usize].normal_scale = 0.5;
+    let tile = 559.0 / 4.0;
+    for triangle in &mut scene.triangles {
+        let centre = triangle.vertices.iter().map(|v| v.position).sum::<Vec3>() / 3.0;
+        let on_floor = triangle.material == white && centre.y < 1.0;
+        let on_back = triangle.material == white && centre.z > 559.0;
+        if on_floor || on_back {
+            triangle.material = tiled;
+            for v in &mut triangle.vertices {
+                let p = v.position / tile;
+                // u along +x; v down the back wall and towards the viewer on the floor.
+                v.uv = if on_floor {
+                    Vec2::new(p.x, -p.z)
+                } else {
+                    Vec2::new(p.x, -p.y)
+                };
+            }
+        } else if triangle.material == clay || triangle.material == mirror {
+            let centre = if triangle.material == clay {
+                front
+            } else {
+                back
+            };
+            spherical_uvs(triangle, centre);
+        }
+    }
+    scene
+}
+
+/// Longitude and latitude of a sphere's triangle about `centre`, four times around (u) and
+/// twice from pole to pole (v): u unwrapped across the seam so no triangle spans the texture.
+fn spherical_uvs(triangle: &mut Triangle, centre: Vec3) {
+    let mut uvs = triangle.vertices.map(|v| {
+        let d = (v.position - centre).normalize();
+        let u = 0.5 + d.z.atan2(d.x) / std::f32::consts::TAU;
+        Vec2::new(u, d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI)
+    });
+    let largest = uvs.iter().map(|uv| uv.x).fold(f32::MIN, f32::max);
+    for uv in &mut uvs {
+        if largest - uv.x > 0.5 {
+            uv.x += 1.0;
+        }
+    }
+    for (v, uv) in triangle.vertices.iter_mut().zip(uvs) {
+        v.uv = uv * Vec2::new(4.0, 2.0);
+    }
+}
+
+/// A tangent-space normal map of `side`² texels (linear data, glTF's convention): one square
+/// tile whose outer fifth bevels down to a grout line at 45°.
+pub fn tile_normal_map(side: u32) -> Texture {
+    normal_map("tiles", side, |s, t| {
+        let edge = |c: f32| {
+            if c < 0.1 {
+                -1.0
+            } else if c > 0.9 {
+                1.0
+            } else {
+                0.0
+            }
+        };
+        // Bevelled edges face outwards: +X at the right, towards the top (+Y) at t's low end.
+        Vec3::new(edge(s), -edge(t), 1.0)
+    })
+}
+
+/// A tangent-space normal map of `side`² texels: a hammered look, the slopes of the height
+/// field 0.7/2π · sin(2πs)·sin(2πt), 35° at most.
+pub fn dimple_normal_map(side: u32) -> Texture {
+    normal_map("dimples", side, |s, t| {
+        let k = 0.7;
+        let (a, b) = (std::f32::consts::TAU * s, std::f32::consts::TAU * t);
+        // Slopes ∂h/∂s and ∂h/∂t; the image's top is −t.
+        Vec3::new(-k * a.cos() * b.sin(), k * a.sin() * b.cos(), 1.0)
+    })
+}
+
+/// A normal map from `normal(s, t)` (unnormalised, tangent space) at texel centres, 8 bits a
+/// channel.
+fn normal_map(name: &str, side: u32, normal: impl Fn(f32, f32) -> Vec3) -> Texture {
+    let centre = |i: u32| (i as f32 + 0.5) / side as f32;
+    let texels = (0..side * side)
+        .map(|i| {
+            let n = normal(centre(i % side), centre(i / side)).normalize();
+            // 8 bits a channel, as an image file holds it (the shipped glTF does).
+            let c = ((n * 0.5 + Vec3::splat(0.5)) * 255.0).round() / 255.0;
+            [c.x, c.y, c.z, 1.0]
+        })
+        .collect();
+    Texture {
+        name: name.into(),
+        width: side,
+        height: side,
+        texels: Texels::LinearF32(texels),
+    }
 }
 
 /// Glass pane: a thin-walled glass sheet (ior [`GLASS_PANE_IOR`]) at z = 1, an emitter of

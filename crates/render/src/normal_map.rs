@@ -1,0 +1,179 @@
+//! Tangent-space normal maps and the shading-normal factors of photon transport, shared by the
+//! CPU backend (`cpu::surface`, `cpu::kernels`) and their WGSL twins in `shading.wgsl`.
+//!
+//! A map's texel (r, g, b) is the normal (2r − 1, 2g − 1, 2b − 1) in a frame whose X runs
+//! along increasing u, whose Y points to the image's top (decreasing v: texture rows run top to
+//! bottom) and whose Z is the interpolated normal: glTF's convention (and OpenGL's, as Blender
+//! and most bakers write it). The frame is each triangle's own, from its texture-coordinate
+//! gradients: MikkTSpace's per-vertex tangents, which glTF files may carry, are not read, so a
+//! map baked against them shows faint seams along smoothed edges.
+
+use glam::{Vec2, Vec3};
+
+/// `normal` (unit, interpolated) bent by a map's linear `texel` on the triangle with corner
+/// `positions` and texture coordinates `uvs`; `scale` multiplies the texel's X and Y (glTF's
+/// `normalTexture.scale`). The triangle's normal as it was where its coordinates are
+/// degenerate (no gradient) or the bent normal vanishes.
+pub fn mapped_normal(
+    normal: Vec3,
+    positions: [Vec3; 3],
+    uvs: [Vec2; 3],
+    texel: Vec3,
+    scale: f32,
+) -> Vec3 {
+    let (e1, e2) = (positions[1] - positions[0], positions[2] - positions[0]);
+    let (d1, d2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
+    let determinant = d1.x * d2.y - d2.x * d1.y;
+    if determinant == 0.0 {
+        return normal;
+    }
+    // dp/du and −dp/dv times |determinant| (their lengths do not matter, only directions).
+    let sign = determinant.signum();
+    let along_u = sign * (e1 * d2.y - e2 * d1.y);
+    let towards_top = -sign * (e2 * d1.x - e1 * d2.x);
+    let tangent = along_u - normal * normal.dot(along_u);
+    let length_squared = tangent.length_squared();
+    if length_squared <= 0.0 || !length_squared.is_finite() {
+        return normal;
+    }
+    let tangent = tangent / length_squared.sqrt();
+    let bitangent = normal.cross(tangent);
+    // Mirrored texture coordinates turn the frame left-handed.
+    let bitangent = if bitangent.dot(towards_top) < 0.0 {
+        -bitangent
+    } else {
+        bitangent
+    };
+    let local = texel * 2.0 - Vec3::ONE;
+    let bent = tangent * (local.x * scale) + bitangent * (local.y * scale) + normal * local.z;
+    bent.try_normalize().unwrap_or(normal)
+}
+
+/// What a photon's flux is weighted by where it is stored at a surface whose shading normal
+/// differs from its geometric one: photons land in proportion to the geometric cosine, the
+/// eye's reflected light follows the shading one (Veach 1997, §5.3). `towards_light` points
+/// back along the photon; both normals are unit and on its side. 0 where the photon grazes the
+/// geometric surface or arrives from behind the shading normal: the eye's side counts no light
+/// from there (its light samples and bounces keep to the shading normal's hemisphere).
+pub fn arrival_factor(towards_light: Vec3, shading: Vec3, geometric: Vec3) -> f32 {
+    if towards_light.dot(shading) <= 0.0 {
+        return 0.0;
+    }
+    shading_ratio(towards_light, shading, geometric)
+}
+
+/// The factor a photon's flux takes on, with [`arrival_factor`], when a bounce sends it on in
+/// `next`: the geometric cosine over the shading one. Together they are Veach's correction of
+/// the adjoint BSDF for shading normals, |ωᵢ·nₛ| |ωₒ·n_g| / (|ωᵢ·n_g| |ωₒ·nₛ|), which every
+/// scattering of a photon takes (diffuse, mirror, glass, rough): the eye's side weighs its
+/// paths by the shading normal, and this keeps the photons' light equal to what it counts.
+pub fn departure_factor(next: Vec3, shading: Vec3, geometric: Vec3) -> f32 {
+    shading_ratio(next, geometric, shading)
+}
+
+/// |d·numerator| / |d·denominator|, 0 where the denominator vanishes.
+fn shading_ratio(direction: Vec3, numerator: Vec3, denominator: Vec3) -> f32 {
+    let below = direction.dot(denominator).abs();
+    if below == 0.0 {
+        return 0.0;
+    }
+    direction.dot(numerator).abs() / below
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit quad's lower triangle in the XY plane, u along +X and v growing towards −Y (the
+    /// image upright when seen from +Z).
+    fn upright() -> ([Vec3; 3], [Vec2; 3]) {
+        (
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+            [
+                Vec2::new(0.0, 1.0),
+                Vec2::new(1.0, 1.0),
+                Vec2::new(0.0, 0.0),
+            ],
+        )
+    }
+
+    #[test]
+    fn a_flat_texel_keeps_the_normal() {
+        let (p, uv) = upright();
+        let n = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 0.5, 1.0), 1.0);
+        assert!((n - Vec3::Z).length() < 1e-6, "{n}");
+    }
+
+    #[test]
+    fn red_tilts_along_u_and_green_towards_the_top() {
+        let (p, uv) = upright();
+        let right = mapped_normal(Vec3::Z, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert!((right - Vec3::X).length() < 1e-6, "{right}");
+        let up = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 1.0, 0.5), 1.0);
+        assert!((up - Vec3::Y).length() < 1e-6, "{up}");
+        // 45° towards the top, halved by the scale.
+        let half = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 1.0, 1.0), 0.5);
+        assert!((half - Vec3::new(0.0, 0.5, 1.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn mirrored_coordinates_mirror_the_frame() {
+        // u runs along −X now: red tilts towards −X; green still towards the image's top, +Y.
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let uv = [
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+            Vec2::new(1.0, 0.0),
+        ];
+        let right = mapped_normal(Vec3::Z, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert!((right + Vec3::X).length() < 1e-6, "{right}");
+        let up = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 1.0, 0.5), 1.0);
+        assert!((up - Vec3::Y).length() < 1e-6, "{up}");
+    }
+
+    #[test]
+    fn the_frame_follows_a_rotated_triangle_and_a_bent_interpolated_normal() {
+        // The quad turned to face +X (u along −Z... here along +Y, top towards +Z).
+        let p = [Vec3::ZERO, Vec3::Y, Vec3::Z];
+        let uv = [
+            Vec2::new(0.0, 1.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 0.0),
+        ];
+        let right = mapped_normal(Vec3::X, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert!((right - Vec3::Y).length() < 1e-6, "{right}");
+        // An interpolated normal tilted from the face: the tangent is made orthogonal to it.
+        let n = Vec3::new(1.0, 0.0, 0.3).normalize();
+        let flat = mapped_normal(n, p, uv, Vec3::new(0.5, 0.5, 1.0), 1.0);
+        assert!((flat - n).length() < 1e-6);
+        let bent = mapped_normal(n, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert!(
+            bent.dot(n).abs() < 1e-6 && (bent - Vec3::Y).length() < 1e-6,
+            "{bent}"
+        );
+    }
+
+    #[test]
+    fn degenerate_coordinates_keep_the_normal() {
+        let (p, _) = upright();
+        let same = [Vec2::splat(0.25); 3];
+        let n = mapped_normal(Vec3::Z, p, same, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert_eq!(n, Vec3::Z);
+    }
+
+    #[test]
+    fn the_shading_factors_are_cosine_ratios_and_one_without_a_bent_normal() {
+        let g = Vec3::Z;
+        let s = Vec3::new(0.0, 0.6, 0.8);
+        let w = Vec3::new(0.0, 0.8, 0.6);
+        assert!((arrival_factor(w, s, g) - 0.96 / 0.6).abs() < 1e-6);
+        assert!((departure_factor(w, s, g) - 0.6 / 0.96).abs() < 1e-6);
+        assert_eq!(arrival_factor(w, g, g), 1.0);
+        assert_eq!(departure_factor(w, g, g), 1.0);
+        assert_eq!(arrival_factor(Vec3::X, s, g), 0.0);
+        // Above the geometric surface but behind the bent normal: no light for the eye.
+        let behind = Vec3::new(0.0, -0.8, 0.6);
+        assert!(behind.dot(g) > 0.0 && behind.dot(s) < 0.0);
+        assert_eq!(arrival_factor(behind, s, g), 0.0);
+    }
+}

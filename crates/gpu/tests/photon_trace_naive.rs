@@ -25,8 +25,12 @@ use scene::Scene;
 const SLOTS: u32 = 4096;
 /// Positions: absolute, × the scene's diagonal (as `sppm_twins.rs`).
 const POSITION_TOLERANCE: f32 = 1e-4;
-/// Fluxes: relative.
-const RELATIVE_TOLERANCE: f32 = 1e-4;
+/// Fluxes: relative. Looser than `sppm_twins.rs`'s 1e-4 because a naive path runs its whole
+/// length here, and every bounce weighs its flux by the hit's shading-normal factors
+/// (`render::normal_map`), which follow the hit point and its interpolated normal: through the
+/// glass sphere's chain a rounding apart in position (2e-5 of the diagonal) became 3e-4 in one
+/// ceiling photon's flux.
+const RELATIVE_TOLERANCE: f32 = 1e-3;
 
 fn context() -> GpuContext {
     GpuContext::new(None).unwrap_or_else(|e| {

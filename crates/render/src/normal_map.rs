@@ -172,7 +172,7 @@ mod tests {
         assert_eq!(departure_factor(w, g, g), 1.0);
         assert_eq!(arrival_factor(Vec3::X, s, g), 0.0);
         // Above the geometric surface but behind the bent normal: no light for the eye.
-        let behind = Vec3::new(0.0, -0.8, 0.6);
+        let behind = Vec3::new(0.0, -0.9, 0.3).normalize();
         assert!(behind.dot(g) > 0.0 && behind.dot(s) < 0.0);
         assert_eq!(arrival_factor(behind, s, g), 0.0);
     }

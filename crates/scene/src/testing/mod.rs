@@ -193,7 +193,7 @@ pub fn cornell_tinted() -> Scene {
 /// The room of [`cornell_caustics`] with normal maps (`Material::normal_texture`): the floor
 /// and back wall laid with bevelled tiles ([`tile_normal_map`], a tile 139.75 mm wide), a
 /// white diffuse sphere front right and a mirror sphere back left, both hammered
-/// ([`dimple_normal_map`], its scale halved on the mirror). Texture coordinates: planar on the
+/// ([`dimple_normal_map`] at scale 0.6 and 0.5). Texture coordinates: planar on the
 /// walls, longitude and latitude on the spheres.
 pub fn cornell_bumpy() -> Scene {
     let mut f = Fixture::new("testing::cornell_bumpy");
@@ -217,6 +217,7 @@ pub fn cornell_bumpy() -> Scene {
         ..scene.materials[white as usize].clone()
     });
     scene.materials[clay as usize].normal_texture = Some(tiles + 1);
+    scene.materials[clay as usize].normal_scale = 0.6;
     scene.materials[mirror as usize].normal_texture = Some(tiles + 1);
     scene.materials[mirror as usize].normal_scale = 0.5;
     let tile = 559.0 / 4.0;
@@ -247,8 +248,9 @@ pub fn cornell_bumpy() -> Scene {
     scene
 }
 
-/// Longitude and latitude of a sphere's triangle about `centre`, four times around (u) and
-/// twice from pole to pole (v): u unwrapped across the seam so no triangle spans the texture.
+/// Longitude and latitude of a sphere's triangle about `centre`, twelve times around (u) and
+/// six times from pole to pole (v): u unwrapped across the seam so no triangle spans the
+/// texture.
 fn spherical_uvs(triangle: &mut Triangle, centre: Vec3) {
     let mut uvs = triangle.vertices.map(|v| {
         let d = (v.position - centre).normalize();
@@ -262,7 +264,7 @@ fn spherical_uvs(triangle: &mut Triangle, centre: Vec3) {
         }
     }
     for (v, uv) in triangle.vertices.iter_mut().zip(uvs) {
-        v.uv = uv * Vec2::new(4.0, 2.0);
+        v.uv = uv * Vec2::new(12.0, 6.0);
     }
 }
 

@@ -19,12 +19,13 @@ use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
+use render::shadow_terminator::is_lifted;
 use scene::Surface;
 
 use crate::SceneData;
 use crate::surface::{
     SurfaceHit, base_color, dielectric_branches, emitted, is_cut_out, offset_origin,
-    specular_direction, trace, transmittance_to, unoccluded,
+    shadow_ray_origin, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -424,10 +425,21 @@ pub fn direct_light(scene: &SceneData, params: &SppmParams, hit: &SurfaceHit, u:
         return Vec3::ZERO;
     };
     let cosine = light.direction.dot(hit.shading);
-    if cosine <= 0.0 || light.direction.dot(hit.geometric) <= 0.0 {
+    if cosine <= 0.0 {
         return Vec3::ZERO;
     }
-    let origin = offset_origin(hit, light.direction, params.epsilon);
+    // A facet turned from the light whose smooth surface faces it (a coarse mesh's
+    // terminator): the shadow ray from the smooth surface decides.
+    let lifted = is_lifted(
+        hit.position,
+        hit.shadow_origin,
+        hit.geometric,
+        params.epsilon,
+    );
+    if light.direction.dot(hit.geometric) <= 0.0 && !lifted {
+        return Vec3::ZERO;
+    }
+    let origin = shadow_ray_origin(hit, params.epsilon);
     let (direction, distance) = shadow_ray(&light, origin);
     if !unoccluded(scene, params, origin, direction, distance) {
         return Vec3::ZERO;

@@ -8,6 +8,7 @@ use render::buffers::{RAY_T_MAX, SppmParams};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract, relative_eta};
+use render::shadow_terminator::shadow_origin;
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
 
@@ -17,6 +18,9 @@ use crate::SceneData;
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
     pub position: Vec3,
+    /// Where shadow rays from the hit start: `position` lifted onto the smooth surface of the
+    /// vertex normals (`render::shadow_terminator`) when the ray came from their side.
+    pub shadow_origin: Vec3,
     /// How far along the ray it lies.
     pub distance: f32,
     /// Unit geometric normal on the ray's side.
@@ -54,13 +58,17 @@ pub fn trace_within(
         .geometric_normal_unnormalized()
         .normalize_or(Vec3::Z);
     let w = 1.0 - hit.u - hit.v;
+    let position = origin + hit.t * direction;
+    let positions = [a.position, b.position, c.position];
+    let normals = [a.normal, b.normal, c.normal];
+    let barycentric = [w, hit.u, hit.v];
+    let shadow_origin = shadow_origin(position, direction, positions, normals, barycentric);
     let mut shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal).normalize_or(geometric);
     let uvs = [a.uv, b.uv, c.uv];
     let uv = uv_at(uvs, hit.u, hit.v);
     let material = &scene.materials[triangle.material as usize];
     if let Some(map) = material.normal_texture {
         let texel = scene.textures.sample(map, uv).truncate();
-        let positions = [a.position, b.position, c.position];
         shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
     }
     let front = direction.dot(geometric) < 0.0;
@@ -70,7 +78,8 @@ pub fn trace_within(
         shading = geometric;
     }
     Some(SurfaceHit {
-        position: origin + hit.t * direction,
+        position,
+        shadow_origin,
         distance: hit.t,
         geometric,
         shading,
@@ -130,6 +139,12 @@ pub fn offset_origin(hit: &SurfaceHit, direction: Vec3, epsilon: f32) -> Vec3 {
         -1.0
     };
     hit.position + side * epsilon * hit.geometric
+}
+
+/// Where a shadow ray from `hit` starts: off the smooth surface (`SurfaceHit::shadow_origin`)
+/// on the side the hit was seen from, where the light is.
+pub fn shadow_ray_origin(hit: &SurfaceHit, epsilon: f32) -> Vec3 {
+    hit.shadow_origin + epsilon * hit.geometric
 }
 
 /// A texture's linear RGBA at `uv` (bilinear, repeat), white for none: `sample_texture` of

@@ -12,6 +12,7 @@ use render::light_sampling::{LightSampler, power_heuristic};
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
+use render::shadow_terminator::{is_lifted, shadow_origin};
 
 /// What to render and how much.
 pub struct RenderSettings {
@@ -47,9 +48,12 @@ pub struct PathTracer<'a> {
 /// What the tracer needs to know about a hit.
 struct SurfacePoint {
     position: Vec3,
+    /// Where shadow rays start: on the vertex normals' smooth surface
+    /// (`render::shadow_terminator`) when the ray came from their side.
+    shadow_origin: Vec3,
     /// Unit geometric normal, front face.
     geometric: Vec3,
-    /// Unit interpolated normal, front face.
+    /// Unit interpolated normal (bent by a normal map), front face.
     shading: Vec3,
     uv: Vec2,
     material: u32,
@@ -211,7 +215,16 @@ impl<'a> PathTracer<'a> {
         let distance_sq = to_light.length_squared();
         let wi = to_light / distance_sq.sqrt();
         let cos_surface = wi.dot(facing * point.shading);
-        if cos_surface <= 0.0 || wi.dot(facing * point.geometric) <= 0.0 {
+        if cos_surface <= 0.0 {
+            return Vec3::ZERO;
+        }
+        // A facet turned from the light whose smooth surface faces it (a coarse mesh's
+        // terminator): the shadow ray from the smooth surface decides. BSDF sampling never
+        // goes below the facet, so there the light sample counts alone.
+        let above_facet = wi.dot(facing * point.geometric) > 0.0;
+        let geometric = facing * point.geometric;
+        if !above_facet && !is_lifted(point.position, point.shadow_origin, geometric, self.epsilon)
+        {
             return Vec3::ZERO;
         }
         let light_triangle = &self.scene.triangles[light.triangle as usize];
@@ -223,12 +236,16 @@ impl<'a> PathTracer<'a> {
         if cos_light <= 0.0 || light.pdf_area <= 0.0 {
             return Vec3::ZERO;
         }
-        let origin = point.position + facing * self.epsilon * point.geometric;
+        let origin = point.shadow_origin + facing * self.epsilon * point.geometric;
         if !self.visible(origin, light.position) {
             return Vec3::ZERO;
         }
         let pdf_light = light.pdf_area * distance_sq / cos_light;
-        let pdf_bsdf = cos_surface * std::f32::consts::FRAC_1_PI;
+        let pdf_bsdf = if above_facet {
+            cos_surface * std::f32::consts::FRAC_1_PI
+        } else {
+            0.0
+        };
         let weight = power_heuristic(pdf_light, pdf_bsdf);
         self.emission(light_material, light.uv)
             * (cos_surface * std::f32::consts::FRAC_1_PI)
@@ -276,6 +293,11 @@ impl<'a> PathTracer<'a> {
         let [a, b, c] = triangle.vertices;
         let w = 1.0 - hit.u - hit.v;
         let geometric = triangle.geometric_normal_unnormalized().normalize();
+        let position = origin + hit.t * direction;
+        let positions = [a.position, b.position, c.position];
+        let normals = [a.normal, b.normal, c.normal];
+        let shadow_origin =
+            shadow_origin(position, direction, positions, normals, [w, hit.u, hit.v]);
         let mut shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal)
             .try_normalize()
             .unwrap_or(geometric);
@@ -283,12 +305,12 @@ impl<'a> PathTracer<'a> {
         let material = &self.scene.materials[triangle.material as usize];
         if let Some(map) = material.normal_texture {
             let texel = self.texture(Some(map), uv).truncate();
-            let positions = [a.position, b.position, c.position];
             let uvs = [a.uv, b.uv, c.uv];
             shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
         }
         Some(SurfacePoint {
-            position: origin + hit.t * direction,
+            position,
+            shadow_origin,
             geometric,
             shading,
             uv,

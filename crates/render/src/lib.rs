@@ -23,6 +23,7 @@ pub mod resolve;
 pub mod rng;
 pub mod sampling;
 pub mod settings;
+pub mod shadow_terminator;
 pub mod textures;
 pub mod tonemap;
 

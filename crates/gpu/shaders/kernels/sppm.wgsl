@@ -198,10 +198,15 @@ fn direct_light(hit: SurfaceHit, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     let cosine = dot(light.direction, hit.shading);
-    if cosine <= 0.0 || dot(light.direction, hit.geometric) <= 0.0 {
+    if cosine <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let origin = offset_origin(hit, light.direction, params.epsilon);
+    // cpu::kernels::direct_light: a coarse mesh's terminator, decided by the shadow ray.
+    let lifted = is_lifted(hit.position, hit.shadow_origin, hit.geometric, params.epsilon);
+    if dot(light.direction, hit.geometric) <= 0.0 && !lifted {
+        return vec3<f32>(0.0);
+    }
+    let origin = shadow_ray_origin(hit, params.epsilon);
     let shadow = shadow_ray(light, origin);
     if !unoccluded(origin, shadow.xyz, shadow.w) {
         return vec3<f32>(0.0);

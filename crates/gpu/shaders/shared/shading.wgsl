@@ -161,9 +161,25 @@ fn departure_factor(next: vec3<f32>, shading: vec3<f32>, geometric: vec3<f32>) -
     return shading_ratio(next, geometric, shading);
 }
 
+// ---- render::shadow_terminator ----
+fn smooth_position(position: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, n0: vec3<f32>, n1: vec3<f32>, n2: vec3<f32>, barycentric: vec3<f32>) -> vec3<f32> {
+    var lifted = position;
+    lifted -= (barycentric.x * min(dot(position - p0, n0), 0.0)) * n0;
+    lifted -= (barycentric.y * min(dot(position - p1, n1), 0.0)) * n1;
+    lifted -= (barycentric.z * min(dot(position - p2, n2), 0.0)) * n2;
+    return lifted;
+}
+
+const LIFT_THRESHOLD: f32 = 0.01;
+
+fn is_lifted(position: vec3<f32>, shadow_origin: vec3<f32>, geometric: vec3<f32>, epsilon: f32) -> bool {
+    return dot(shadow_origin - position, geometric) > LIFT_THRESHOLD * epsilon;
+}
+
 // ---- cpu::surface ----
 struct SurfaceHit {
     position: vec3<f32>,
+    shadow_origin: vec3<f32>,
     distance: f32,
     geometric: vec3<f32>,
     shading: vec3<f32>,
@@ -201,7 +217,16 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     let c = triangle.vertices[2];
     let geometric = normalize_or(cross(b.position - a.position, c.position - a.position), vec3<f32>(0.0, 0.0, 1.0));
     let w = 1.0 - hit.u - hit.v;
-    var shading = normalize_or(w * vertex_normal(a) + hit.u * vertex_normal(b) + hit.v * vertex_normal(c), geometric);
+    let normal_a = vertex_normal(a);
+    let normal_b = vertex_normal(b);
+    let normal_c = vertex_normal(c);
+    let interpolated = w * normal_a + hit.u * normal_b + hit.v * normal_c;
+    result.position = origin + hit.t * direction;
+    result.shadow_origin = result.position;
+    if dot(interpolated, direction) < 0.0 {
+        result.shadow_origin = smooth_position(result.position, a.position, b.position, c.position, normal_a, normal_b, normal_c, vec3<f32>(w, hit.u, hit.v));
+    }
+    var shading = normalize_or(interpolated, geometric);
     let uv_a = vec2<f32>(a.u, a.v);
     let uv_b = vec2<f32>(b.u, b.v);
     let uv_c = vec2<f32>(c.u, c.v);
@@ -219,7 +244,6 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     if dot(result.shading, result.geometric) <= 0.0 {
         result.shading = result.geometric;
     }
-    result.position = origin + hit.t * direction;
     result.distance = hit.t;
     result.uv = uv;
     result.material = material_index;
@@ -232,6 +256,11 @@ fn offset_origin(hit: SurfaceHit, direction: vec3<f32>, epsilon: f32) -> vec3<f3
     let side = select(-1.0, 1.0, dot(direction, hit.geometric) >= 0.0);
     return hit.position + side * epsilon * hit.geometric;
 }
+
+fn shadow_ray_origin(hit: SurfaceHit, epsilon: f32) -> vec3<f32> {
+    return hit.shadow_origin + epsilon * hit.geometric;
+}
+
 
 fn is_cut_out(material: GpuMaterial, uv: vec2<f32>) -> bool {
     if material.alpha_cutoff < 0.0 {

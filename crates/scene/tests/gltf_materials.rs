@@ -295,6 +295,56 @@ fn an_embedded_png_in_a_buffer_view_is_decoded_once_as_srgb() {
     }
 }
 
+/// One image as base colour and as a normal map: decoded twice, as sRGB colour and as linear
+/// data; the map's scale is kept, and a second coordinate set is warned about.
+#[test]
+fn a_normal_texture_is_decoded_as_linear_data_with_its_scale() {
+    let mut doc = Doc::default();
+    let view = doc.view(&tiny_png());
+    doc.push(
+        "images",
+        json!({ "bufferView": view, "mimeType": "image/png" }),
+    );
+    doc.push("textures", json!({ "source": 0 }));
+    let material = doc.material(json!({
+        "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } },
+        "normalTexture": { "index": 0, "scale": -0.5, "texCoord": 1 },
+    }));
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    let scene = doc.load().expect("loads");
+    let m = &scene.materials[0];
+    assert_eq!(m.normal_scale, -0.5);
+    let (colour, normal) = (m.base_color_texture.unwrap(), m.normal_texture.unwrap());
+    assert_ne!(colour, normal, "decoded once each way");
+    assert!(matches!(
+        scene.textures[colour as usize].texels,
+        Texels::Srgb8(_)
+    ));
+    let Texels::LinearF32(texels) = &scene.textures[normal as usize].texels else {
+        panic!("a normal map is linear data");
+    };
+    assert_eq!(texels[1], [0.0, 128.0 / 255.0, 1.0, 64.0 / 255.0]);
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("normalTexture uses TEXCOORD_1")),
+        "{:?}",
+        scene.warnings
+    );
+    // 1e39 reads as an infinite f32.
+    let error = quad_doc(Some(
+        json!({ "normalTexture": { "index": 0, "scale": 1e39 } }),
+    ))
+    .load()
+    .expect_err("an infinite scale is refused");
+    assert!(
+        error.to_string().contains("normalTexture's scale inf"),
+        "{error}"
+    );
+}
+
 #[test]
 fn images_load_from_data_uris_and_files_next_to_the_gltf() {
     use base64::Engine;

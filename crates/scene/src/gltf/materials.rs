@@ -164,7 +164,10 @@ impl Materials {
         );
         let normal_texture = match &m.normal_texture {
             Some(normal) => {
-                check.non_negative(normal.scale, "normalTexture's scale")?;
+                if !normal.scale.is_finite() {
+                    let scale = normal.scale;
+                    return Err(check.error(format!("normalTexture's scale {scale} is not finite")));
+                }
                 let slot = TextureSlot::normal(normal);
                 let id = self.texture(input, builder, slot, &label)?;
                 warn_normal_transform(normal, transform, &label, builder);

@@ -83,7 +83,20 @@ fn info_names_the_kinds_of_material() {
         let text = String::from_utf8_lossy(&table.stdout);
         let (kind, count) = &want[want.len() - 1];
         assert!(text.contains(&format!("{count} {kind}")), "{stem}: {text}");
+        assert_eq!(info["normal_mapped_materials"], 0, "{stem}");
     }
+}
+
+/// `kousen info` counts the materials with normal maps, in its JSON and its table.
+#[test]
+fn info_counts_normal_mapped_materials() {
+    let scene = shipped("cornell-bumpy.gltf");
+    let info = info_json(&scene);
+    assert_eq!(info["normal_mapped_materials"], 3);
+    assert_eq!(info["textures"], 2);
+    let table = kousen(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.contains("normal maps          3 materials"), "{text}");
 }
 
 #[test]

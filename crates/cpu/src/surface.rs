@@ -61,9 +61,17 @@ pub fn trace_within(
     let position = origin + hit.t * direction;
     let positions = [a.position, b.position, c.position];
     let normals = [a.normal, b.normal, c.normal];
+    let interpolated = w * a.normal + hit.u * b.normal + hit.v * c.normal;
     let barycentric = [w, hit.u, hit.v];
-    let shadow_origin = shadow_origin(position, direction, positions, normals, barycentric);
-    let mut shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal).normalize_or(geometric);
+    let shadow_origin = shadow_origin(
+        position,
+        direction,
+        interpolated,
+        positions,
+        normals,
+        barycentric,
+    );
+    let mut shading = interpolated.normalize_or(geometric);
     let uvs = [a.uv, b.uv, c.uv];
     let uv = uv_at(uvs, hit.u, hit.v);
     let material = &scene.materials[triangle.material as usize];

@@ -296,11 +296,17 @@ impl<'a> PathTracer<'a> {
         let position = origin + hit.t * direction;
         let positions = [a.position, b.position, c.position];
         let normals = [a.normal, b.normal, c.normal];
-        let shadow_origin =
-            shadow_origin(position, direction, positions, normals, [w, hit.u, hit.v]);
-        let mut shading = (w * a.normal + hit.u * b.normal + hit.v * c.normal)
-            .try_normalize()
-            .unwrap_or(geometric);
+        let interpolated = w * a.normal + hit.u * b.normal + hit.v * c.normal;
+        let barycentric = [w, hit.u, hit.v];
+        let shadow_origin = shadow_origin(
+            position,
+            direction,
+            interpolated,
+            positions,
+            normals,
+            barycentric,
+        );
+        let mut shading = interpolated.try_normalize().unwrap_or(geometric);
         let uv = w * a.uv + hit.u * b.uv + hit.v * c.uv;
         let material = &self.scene.materials[triangle.material as usize];
         if let Some(map) = material.normal_texture {

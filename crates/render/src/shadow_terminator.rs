@@ -26,17 +26,16 @@ pub fn smooth_position(
 }
 
 /// Where shadow rays from a hit at `position`, met by a ray along `direction`, start: the
-/// [`smooth_position`] when the ray came from the side the vertex `normals` face (so the
-/// smooth surface lies between the facet and the light), `position` itself otherwise.
+/// [`smooth_position`] when the ray came from the side the `interpolated` vertex normal faces
+/// (so the smooth surface lies between the facet and the light), `position` itself otherwise.
 pub fn shadow_origin(
     position: Vec3,
     direction: Vec3,
+    interpolated: Vec3,
     corners: [Vec3; 3],
     normals: [Vec3; 3],
     barycentric: [f32; 3],
 ) -> Vec3 {
-    let interpolated =
-        barycentric[0] * normals[0] + barycentric[1] * normals[1] + barycentric[2] * normals[2];
     if interpolated.dot(direction) < 0.0 {
         smooth_position(position, corners, normals, barycentric)
     } else {

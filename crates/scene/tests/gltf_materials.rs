@@ -250,6 +250,17 @@ fn tiny_png() -> Vec<u8> {
     png
 }
 
+/// A document whose image 0 is [`tiny_png`] in a buffer view.
+fn doc_with_embedded_png() -> Doc {
+    let mut doc = Doc::default();
+    let view = doc.view(&tiny_png());
+    doc.push(
+        "images",
+        json!({ "bufferView": view, "mimeType": "image/png" }),
+    );
+    doc
+}
+
 /// A quad whose material uses image 0 for base colour and emission.
 fn textured_quad(doc: &mut Doc) {
     doc.push("textures", json!({ "source": 0 }));
@@ -283,12 +294,7 @@ fn assert_tiny_png_decoded_once(scene: &Scene) {
 
 #[test]
 fn an_embedded_png_in_a_buffer_view_is_decoded_once_as_srgb() {
-    let mut doc = Doc::default();
-    let view = doc.view(&tiny_png());
-    doc.push(
-        "images",
-        json!({ "bufferView": view, "mimeType": "image/png" }),
-    );
+    let mut doc = doc_with_embedded_png();
     textured_quad(&mut doc);
     for layout in [Layout::DataUri, Layout::Glb] {
         assert_tiny_png_decoded_once(&doc.load_as(layout).expect("loads"));
@@ -299,12 +305,7 @@ fn an_embedded_png_in_a_buffer_view_is_decoded_once_as_srgb() {
 /// data; the map's scale is kept, and a second coordinate set is warned about.
 #[test]
 fn a_normal_texture_is_decoded_as_linear_data_with_its_scale() {
-    let mut doc = Doc::default();
-    let view = doc.view(&tiny_png());
-    doc.push(
-        "images",
-        json!({ "bufferView": view, "mimeType": "image/png" }),
-    );
+    let mut doc = doc_with_embedded_png();
     doc.push("textures", json!({ "source": 0 }));
     let material = doc.material(json!({
         "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } },
@@ -423,12 +424,7 @@ fn supported_extensions_may_be_required() {
 /// colour texture carries `transform` (a `KHR_texture_transform` object) and, if given, whose
 /// emissive texture carries `emissive_transform`.
 fn transformed_quad(transform: Value, emissive_transform: Option<Value>) -> Scene {
-    let mut doc = Doc::default();
-    let view = doc.view(&tiny_png());
-    doc.push(
-        "images",
-        json!({ "bufferView": view, "mimeType": "image/png" }),
-    );
+    let mut doc = doc_with_embedded_png();
     doc.push("textures", json!({ "source": 0 }));
     let mut material = json!({
         "pbrMetallicRoughness": { "baseColorTexture": {

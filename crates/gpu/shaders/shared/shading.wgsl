@@ -261,7 +261,6 @@ fn shadow_ray_origin(hit: SurfaceHit, epsilon: f32) -> vec3<f32> {
     return hit.shadow_origin + epsilon * hit.geometric;
 }
 
-
 fn is_cut_out(material: GpuMaterial, uv: vec2<f32>) -> bool {
     if material.alpha_cutoff < 0.0 {
         return false;

@@ -152,23 +152,27 @@ struct Document {
 }
 
 impl Document {
-    /// Appends `bytes` as a buffer view and returns its index.
-    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+    /// Appends `bytes` as a buffer view (of vertex or index data when `target` is given) and
+    /// returns its index.
+    fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
-        self.views.push(json!({
+        let mut view = json!({
             "buffer": 0,
             "byteOffset": self.bin.len(),
             "byteLength": bytes.len(),
-            "target": target,
-        }));
+        });
+        if let Some(target) = target {
+            view["target"] = json!(target);
+        }
+        self.views.push(view);
         self.bin.extend_from_slice(bytes);
         self.views.len() - 1
     }
 
     fn accessor(&mut self, mut accessor: Value, bytes: &[u8], target: u32) -> usize {
-        accessor["bufferView"] = json!(self.view(bytes, target));
+        accessor["bufferView"] = json!(self.view(bytes, Some(target)));
         self.accessors.push(accessor);
         self.accessors.len() - 1
     }
@@ -211,12 +215,7 @@ impl Document {
                 ExtendedColorType::Rgba8,
             )
             .expect("fixture textures encode");
-        let view = self.view(&png, 0);
-        // Images are not vertex data: no target.
-        self.views[view]
-            .as_object_mut()
-            .expect("views are objects")
-            .remove("target");
+        let view = self.view(&png, None);
         json!({ "name": texture.name, "bufferView": view, "mimeType": "image/png" })
     }
 

@@ -16,16 +16,17 @@ use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query
 use render::integrator::camera_direction;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
+use render::plastic::{coat_transmittance, diffuse_scale};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
-use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::is_lifted;
 use scene::Surface;
 
 use crate::SceneData;
 use crate::surface::{
-    SurfaceHit, base_color, dielectric_branches, emitted, is_cut_out, offset_origin,
-    shadow_ray_origin, specular_direction, trace, transmittance_to, unoccluded,
+    PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce, emitted,
+    is_cut_out, offset_origin, plastic_bounce, shadow_ray_origin, specular_direction, trace,
+    transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -101,9 +102,12 @@ pub fn photon_pass_with<R: StreamRng>(
     let tint = base_color(scene, material, hit.uv);
     let flux = vec3(slot.flux) * transmittance_to(material, &hit);
     let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
-    // Rough glass chooses its way with a third number; other surfaces draw none, so their
-    // streams stay as they were.
-    let u_choice = if matches!(material.surface, Surface::RoughDielectric { .. }) {
+    // Rough glass chooses its way with a third number, and plastic between its coat and its
+    // base; other surfaces draw none, so their streams stay as they were.
+    let u_choice = if matches!(
+        material.surface,
+        Surface::RoughDielectric { .. } | Surface::Plastic { .. }
+    ) {
         rng.next_f32()
     } else {
         0.0
@@ -112,27 +116,50 @@ pub fn photon_pass_with<R: StreamRng>(
     // normal-mapped): by `arrival` where they land, and by it and the departure factor where
     // they go on (`render::normal_map`).
     let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
-    let next = if let Surface::Diffuse = material.surface {
-        // Straight from the light, this photon is direct light, which eye passes sample
-        // themselves when `sample_lights` is set.
-        if slot.depth > 0 || params.sample_lights == 0 {
-            photon = Photon {
-                position: hit.position.to_array(),
-                normal: photon_normal(hit.shading, slot.bounced == 0),
-                flux: (vec3(slot.flux) * arrival).to_array(),
-                pad: 0,
-            };
+    // A Lambertian surface, or plastic's base under the coat (which lets 1 − F through),
+    // keeps the photon. Straight from the light it is direct light, which eye passes sample
+    // themselves when `sample_lights` is set.
+    let base_share = match material.surface {
+        Surface::Diffuse => Some(1.0),
+        Surface::Plastic { ior, .. } => Some(coat_transmittance(direction.dot(hit.shading), ior)),
+        _ => None,
+    };
+    if let Some(share) = base_share
+        && (slot.depth > 0 || params.sample_lights == 0)
+    {
+        photon = Photon {
+            position: hit.position.to_array(),
+            normal: photon_normal(hit.shading, slot.bounced == 0),
+            flux: (vec3(slot.flux) * (arrival * share)).to_array(),
+            pad: 0,
+        };
+    }
+    // The way on and its tint. After a diffuse bounce the path's later photons are indirect
+    // (if it goes on; an ended slot's is not read).
+    let (next, tint) = match material.surface {
+        Surface::Diffuse => {
+            slot.bounced = 1;
+            (diffuse_bounce(&hit, u_direction), tint)
         }
-        // Its later photons are indirect (if it goes on; an ended slot's is not read).
-        slot.bounced = 1;
-        let (t, b) = orthonormal_basis(hit.shading);
-        let local = cosine_hemisphere(u_direction[0], u_direction[1]);
-        let next = t * local.x + b * local.y + hit.shading * local.z;
-        // A bounce below the geometric surface would leak light through it.
-        (next.dot(hit.geometric) > 0.0).then_some((next, 1.0))
-    } else {
-        let [u0, u1] = u_direction;
-        specular_direction(material, &hit, direction, [u0, u1, u_choice])
+        Surface::Plastic { ior, alpha } => {
+            match plastic_bounce(&hit, direction, ior, alpha, u_choice, u_direction) {
+                PlasticBounce::Coat(next) => (next, Vec3::ONE),
+                PlasticBounce::Base(weight) => {
+                    slot.bounced = 1;
+                    let next = diffuse_bounce(&hit, u_direction);
+                    // The base's lobe over the choice's 1 − F(θi): ρ · scale · (1 − F(θo)).
+                    let leaving = next.map_or(0.0, |(next, _)| {
+                        coat_transmittance(next.dot(hit.shading), ior)
+                    });
+                    (next, tint * (diffuse_scale(ior) * leaving * weight))
+                }
+            }
+        }
+        _ => {
+            let [u0, u1] = u_direction;
+            let next = specular_direction(material, &hit, direction, [u0, u1, u_choice]);
+            (next, tint)
+        }
     };
     let next = next.map(|(next, weight)| {
         let departure = departure_factor(next, hit.shading, hit.geometric);
@@ -318,8 +345,53 @@ fn eye_path(
         emission_share = 1.0;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
-        if matches!(material.surface, Surface::Diffuse) {
-            let weight = throughput * tint * FRAC_1_PI;
+        let mut base_weight = 1.0;
+        let bounce = match material.surface {
+            Surface::Diffuse => None,
+            Surface::Plastic { ior, alpha } => {
+                // A rough coat draws its micro-normal with two more numbers.
+                let u_micro = if alpha > 0.0 {
+                    [rng.next_f32(), rng.next_f32()]
+                } else {
+                    [0.0; 2]
+                };
+                match plastic_bounce(&hit, direction, ior, alpha, u, u_micro) {
+                    PlasticBounce::Base(weight) => {
+                        base_weight = weight;
+                        None
+                    }
+                    PlasticBounce::Coat(next) => Some((next, Vec3::ONE)),
+                }
+            }
+            _ => {
+                // Rough metal and glass draw their micro-normal with a second number, and
+                // rough glass chooses its way with a third.
+                let rough = matches!(
+                    material.surface,
+                    Surface::RoughConductor { .. } | Surface::RoughDielectric { .. }
+                );
+                let u_second = if rough { rng.next_f32() } else { 0.0 };
+                let u_third = if matches!(material.surface, Surface::RoughDielectric { .. }) {
+                    rng.next_f32()
+                } else {
+                    0.0
+                };
+                let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
+                // Only these send pixels more eye paths: a plastic coat's reflection mostly
+                // shows gathered light, which extra paths would not sample.
+                specular_first |= depth == 0;
+                Some((next, tint))
+            }
+        };
+        let Some((next, tint)) = bounce else {
+            // A Lambertian surface, or plastic's base (the coat's 1 − F(θo) cancelled by the
+            // choice, its 1 − F(θi) left to the light sample and the photons).
+            let coat_ior = match material.surface {
+                Surface::Plastic { ior, .. } => Some(ior),
+                _ => None,
+            };
+            let scale = coat_ior.map_or(1.0, diffuse_scale);
+            let weight = throughput * tint * (scale * base_weight * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
                     position: hit.position.to_array(),
@@ -329,27 +401,12 @@ fn eye_path(
                 };
                 if params.sample_lights != 0 {
                     let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                    direct += weight * direct_light(scene, params, &hit, u);
+                    direct += weight * direct_light(scene, params, &hit, coat_ior, u);
                 }
             }
             break;
-        }
-        specular_first |= depth == 0;
-        // Rough metal and glass draw their micro-normal with a second number, and rough glass
-        // chooses its way with a third.
-        let rough = matches!(
-            material.surface,
-            Surface::RoughConductor { .. } | Surface::RoughDielectric { .. }
-        );
-        let u_second = if rough { rng.next_f32() } else { 0.0 };
-        let u_third = if matches!(material.surface, Surface::RoughDielectric { .. }) {
-            rng.next_f32()
-        } else {
-            0.0
         };
-        let Some((next, weight)) =
-            specular_direction(material, &hit, direction, [u, u_second, u_third])
-        else {
+        let Some((next, weight)) = next else {
             break;
         };
         throughput *= tint * weight;
@@ -419,8 +476,15 @@ pub fn emission_seen(
 
 /// Radiance arriving at a diffuse hit from one sample of the light table (from three uniform
 /// numbers), cosine-weighted and divided by the sample's density; zero if the light is behind
-/// the surface or blocked.
-pub fn direct_light(scene: &SceneData, params: &SppmParams, hit: &SurfaceHit, u: [f32; 3]) -> Vec3 {
+/// the surface or blocked. Under a plastic coat of index `coat_ior`, what the coat lets
+/// through (`render::plastic`).
+pub fn direct_light(
+    scene: &SceneData,
+    params: &SppmParams,
+    hit: &SurfaceHit,
+    coat_ior: Option<f32>,
+    u: [f32; 3],
+) -> Vec3 {
     let Some(light) = sample_light(&scene.lights, u, hit.position, hit.shading) else {
         return Vec3::ZERO;
     };
@@ -428,6 +492,7 @@ pub fn direct_light(scene: &SceneData, params: &SppmParams, hit: &SurfaceHit, u:
     if cosine <= 0.0 {
         return Vec3::ZERO;
     }
+    let coat = coat_ior.map_or(1.0, |ior| coat_transmittance(cosine, ior));
     // A facet turned from the light whose smooth surface faces it (a coarse mesh's
     // terminator): the shadow ray from the smooth surface decides.
     let lifted = is_lifted(
@@ -444,7 +509,7 @@ pub fn direct_light(scene: &SceneData, params: &SppmParams, hit: &SurfaceHit, u:
     if !unoccluded(scene, params, origin, direction, distance) {
         return Vec3::ZERO;
     }
-    light.incident * cosine
+    light.incident * (cosine * coat)
 }
 
 /// Hash build, first half, photon `index`: raises its entry's priority to the photon's and

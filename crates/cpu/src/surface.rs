@@ -8,6 +8,8 @@ use render::buffers::{RAY_T_MAX, SppmParams};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract, relative_eta};
+use render::plastic::{CoatEvent, coat_event};
+use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::textures::TextureArray;
 use scene::{AlphaMode, Material, Surface};
@@ -197,8 +199,9 @@ pub fn transmittance_to(material: &Material, hit: &SurfaceHit) -> Vec3 {
 /// The direction a non-diffuse surface sends `incoming` on and its weight (the tint aside):
 /// a dielectric chooses reflection or refraction by Fresnel with `u[0]`; rough metal draws
 /// a micro-normal with `u[0]` and `u[1]`, rough glass too and then chooses with `u[2]`
-/// (`render::microfacet`). `None` for a diffuse surface, or where a micro-normal sends the path
-/// to the wrong side of the surface (it ends).
+/// (`render::microfacet`). `None` for a diffuse surface or plastic (whose coat
+/// [`plastic_bounce`] decides), or where a micro-normal sends the path to the wrong side of the
+/// surface (it ends).
 pub fn specular_direction(
     material: &Material,
     hit: &SurfaceHit,
@@ -207,7 +210,7 @@ pub fn specular_direction(
 ) -> Option<(Vec3, f32)> {
     let normal = hit.shading;
     let direction = match material.surface {
-        Surface::Diffuse => return None,
+        Surface::Diffuse | Surface::Plastic { .. } => return None,
         Surface::RoughConductor { alpha } => {
             let (next, weight) = rough_reflection(incoming, normal, alpha, u[0], u[1])?;
             // Bent below the geometric surface by the shading normal: it would leak through.
@@ -236,6 +239,45 @@ pub fn specular_direction(
         }
     };
     Some((direction, 1.0))
+}
+
+/// A cosine-distributed bounce off a Lambertian surface (or plastic's base) from two uniform
+/// numbers, weight 1; `None` where it would go below the geometric surface (light would leak
+/// through it).
+pub fn diffuse_bounce(hit: &SurfaceHit, [u1, u2]: [f32; 2]) -> Option<(Vec3, f32)> {
+    let (t, b) = orthonormal_basis(hit.shading);
+    let local = cosine_hemisphere(u1, u2);
+    let next = t * local.x + b * local.y + hit.shading * local.z;
+    (next.dot(hit.geometric) > 0.0).then_some((next, 1.0))
+}
+
+/// Where plastic (`render::plastic`) sends a ray arriving along `incoming`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlasticBounce {
+    /// The coat reflected it (untinted): the new direction and its weight, or `None` where a
+    /// rough coat's micro-normal sent it below the surface (the path ends).
+    Coat(Option<(Vec3, f32)>),
+    /// It passed the coat to the Lambertian base, whose estimate it multiplies by this weight.
+    Base(f32),
+}
+
+/// Plastic's choice (`render::plastic::coat_event`, from `u_choice` and a rough coat's
+/// `u_micro`), with the coat's reflection ended where the shading normal bent it below the
+/// geometric surface.
+pub fn plastic_bounce(
+    hit: &SurfaceHit,
+    incoming: Vec3,
+    ior: f32,
+    alpha: f32,
+    u_choice: f32,
+    [u1, u2]: [f32; 2],
+) -> PlasticBounce {
+    match coat_event(incoming, hit.shading, ior, alpha, [u_choice, u1, u2]) {
+        CoatEvent::Base { weight } => PlasticBounce::Base(weight),
+        CoatEvent::Reflected { direction, weight } => PlasticBounce::Coat(
+            (weight > 0.0 && direction.dot(hit.geometric) > 0.0).then_some((direction, weight)),
+        ),
+    }
 }
 
 /// A smooth dielectric's two ways on: reflected with probability `reflectance` (Fresnel),

@@ -50,6 +50,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             "SURFACE_ROUGH_DIELECTRIC",
             U32(types::SURFACE_ROUGH_DIELECTRIC),
         ),
+        ("SURFACE_PLASTIC", U32(types::SURFACE_PLASTIC)),
         ("NO_TEXTURE", U32(types::NO_TEXTURE)),
         ("MATERIAL_DOUBLE_SIDED", U32(types::MATERIAL_DOUBLE_SIDED)),
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),

@@ -115,6 +115,7 @@ pub const SURFACE_MIRROR: u32 = 1;
 pub const SURFACE_DIELECTRIC: u32 = 2;
 pub const SURFACE_ROUGH_CONDUCTOR: u32 = 3;
 pub const SURFACE_ROUGH_DIELECTRIC: u32 = 4;
+pub const SURFACE_PLASTIC: u32 = 5;
 /// A texture index meaning "none".
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// `GpuMaterial::flags` bits.
@@ -129,7 +130,7 @@ pub struct GpuMaterial {
     /// One of the `SURFACE_*` constants.
     pub surface: u32,
     pub emission: [f32; 3],
-    /// Index of refraction (dielectrics; 1 otherwise).
+    /// Index of refraction (dielectrics and plastic's coat; 1 otherwise).
     pub ior: f32,
     pub base_color_texture: u32,
     pub emission_texture: u32,
@@ -142,7 +143,7 @@ pub struct GpuMaterial {
     /// Beer–Lambert absorption inside a solid dielectric, per unit length
     /// (`Material::interior_absorption`; 0 otherwise).
     pub absorption: [f32; 3],
-    /// GGX width α (rough conductors and dielectrics; 0 otherwise).
+    /// GGX width α (rough conductors, dielectrics and plastic coats; 0 otherwise).
     pub roughness_alpha: f32,
     /// A tangent-space normal map (`render::normal_map`), or `NO_TEXTURE`.
     pub normal_texture: u32,
@@ -163,6 +164,7 @@ impl GpuMaterial {
                 thin_walled,
                 alpha,
             } => (SURFACE_ROUGH_DIELECTRIC, ior, thin_walled, alpha),
+            Surface::Plastic { ior, alpha } => (SURFACE_PLASTIC, ior, false, alpha),
         };
         let alpha_cutoff = match material.alpha_mode {
             AlphaMode::Opaque => -1.0,

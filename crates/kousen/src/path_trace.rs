@@ -11,6 +11,7 @@ use scene::{AlphaMode, Camera, Material, Scene, Surface};
 use render::light_sampling::{LightSampler, power_heuristic};
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract};
+use render::plastic::{CoatEvent, coat_event, coat_transmittance, diffuse_scale};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::{is_lifted, shadow_origin};
 
@@ -152,21 +153,36 @@ impl<'a> PathTracer<'a> {
                 let weight = self.emission_weight(&arrival, &point, direction);
                 radiance += throughput * weight * self.emission(material, point.uv);
             }
-            let Some((next, weight)) = self.scatter(material, &point, direction, front, rng) else {
+            let facing = if front { 1.0 } else { -1.0 };
+            // Next-event estimation on the Lambertian lobe: a diffuse surface's, or plastic's
+            // base, which the coat lets light into and out of (`render::plastic`).
+            let tint = self.tint(material, point.uv);
+            let lambertian = match material.surface {
+                Surface::Diffuse => Some((tint, None)),
+                Surface::Plastic { ior, .. } => {
+                    let (_, shading) = facing_normals(&point, front);
+                    let leaving = coat_transmittance(direction.dot(shading), ior);
+                    let coat = Coat {
+                        ior,
+                        base_probability: leaving,
+                    };
+                    Some((tint * (diffuse_scale(ior) * leaving), Some(coat)))
+                }
+                _ => None,
+            };
+            if let Some((albedo, coat)) = lambertian {
+                radiance += throughput * albedo * self.direct_light(&point, facing, coat, rng);
+            }
+            let Some((next, weight, lobe)) = self.scatter(material, &point, direction, front, rng)
+            else {
                 break;
             };
-            let facing = if front { 1.0 } else { -1.0 };
-            arrival = match material.surface {
-                Surface::Diffuse => {
-                    let albedo = weight;
-                    radiance += throughput * albedo * self.direct_light(&point, facing, rng);
-                    let cosine = next.dot(facing * point.shading).max(0.0);
-                    Arrival::Diffuse {
-                        from: point.position,
-                        pdf: cosine * std::f32::consts::FRAC_1_PI,
-                    }
-                }
-                _ => Arrival::Unsampled,
+            arrival = match lobe {
+                Lobe::Lambertian { pdf } => Arrival::Diffuse {
+                    from: point.position,
+                    pdf,
+                },
+                Lobe::Specular => Arrival::Unsampled,
             };
             throughput *= weight;
             depth += 1;
@@ -205,8 +221,15 @@ impl<'a> PathTracer<'a> {
 
     /// Next-event estimation at a diffuse point, divided by its albedo: one light sample,
     /// (1/π)·Le·cos / pdf, weighted against BSDF sampling. `facing` turns the point's
-    /// normals to the side the path arrived from.
-    fn direct_light(&self, point: &SurfacePoint, facing: f32, rng: &mut Rng) -> Vec3 {
+    /// normals to the side the path arrived from. Under a plastic `coat`, the light the coat
+    /// lets in, weighted against the base's share of BSDF sampling.
+    fn direct_light(
+        &self,
+        point: &SurfacePoint,
+        facing: f32,
+        coat: Option<Coat>,
+        rng: &mut Rng,
+    ) -> Vec3 {
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
         let Some(light) = self.lights.sample(self.scene, u) else {
             return Vec3::ZERO;
@@ -241,14 +264,16 @@ impl<'a> PathTracer<'a> {
             return Vec3::ZERO;
         }
         let pdf_light = light.pdf_area * distance_sq / cos_light;
+        let base_probability = coat.map_or(1.0, |c| c.base_probability);
         let pdf_bsdf = if above_facet {
-            cos_surface * std::f32::consts::FRAC_1_PI
+            base_probability * cos_surface * std::f32::consts::FRAC_1_PI
         } else {
             0.0
         };
         let weight = power_heuristic(pdf_light, pdf_bsdf);
+        let entering = coat.map_or(1.0, |c| coat_transmittance(cos_surface, c.ior));
         self.emission(light_material, light.uv)
-            * (cos_surface * std::f32::consts::FRAC_1_PI)
+            * (entering * cos_surface * std::f32::consts::FRAC_1_PI)
             * (weight / pdf_light)
     }
 
@@ -347,7 +372,13 @@ impl<'a> PathTracer<'a> {
         material.emission * self.texture(material.emission_texture, uv).truncate()
     }
 
-    /// Samples the next direction; returns it with the throughput weight (BSDF·cos/pdf).
+    /// Base colour × texture.
+    fn tint(&self, material: &Material, uv: Vec2) -> Vec3 {
+        material.base_color * self.texture(material.base_color_texture, uv).truncate()
+    }
+
+    /// Samples the next direction; returns it with the throughput weight (BSDF·cos/pdf) and
+    /// the lobe that drew it.
     fn scatter(
         &self,
         material: &Material,
@@ -355,25 +386,27 @@ impl<'a> PathTracer<'a> {
         incoming: Vec3,
         front: bool,
         rng: &mut Rng,
-    ) -> Option<(Vec3, Vec3)> {
-        let tint = material.base_color
-            * self
-                .texture(material.base_color_texture, point.uv)
-                .truncate();
-        // Normals facing the side the ray came from.
-        let facing = if front { 1.0 } else { -1.0 };
-        let geometric = facing * point.geometric;
-        let mut shading = facing * point.shading;
-        if shading.dot(geometric) <= 0.0 {
-            shading = geometric;
-        }
+    ) -> Option<(Vec3, Vec3, Lobe)> {
+        let tint = self.tint(material, point.uv);
+        let (geometric, shading) = facing_normals(point, front);
+        // A cosine-distributed bounce, `None` below the geometric surface (it would leak).
+        let lambertian = |rng: &mut Rng| {
+            let (t, b) = orthonormal_basis(shading);
+            let local = cosine_hemisphere(rng.next_f32(), rng.next_f32());
+            let next = t * local.x + b * local.y + shading * local.z;
+            (next.dot(geometric) > 0.0).then_some((next, local.z * std::f32::consts::FRAC_1_PI))
+        };
         let direction = match material.surface {
             Surface::RoughConductor { alpha } => {
                 let (u1, u2) = (rng.next_f32(), rng.next_f32());
                 let (next, weight) =
                     render::microfacet::rough_reflection(incoming, shading, alpha, u1, u2)?;
                 // Bent below the geometric surface by the shading normal: it would leak.
-                return (next.dot(geometric) > 0.0).then_some((next, tint * weight));
+                return (next.dot(geometric) > 0.0).then_some((
+                    next,
+                    tint * weight,
+                    Lobe::Specular,
+                ));
             }
             Surface::RoughDielectric {
                 ior,
@@ -392,12 +425,30 @@ impl<'a> PathTracer<'a> {
                 )?;
                 // Sent across the geometric surface by the shading normal: it would leak.
                 let same_side = (next.dot(shading) > 0.0) == (next.dot(geometric) > 0.0);
-                return same_side.then_some((next, tint * weight));
+                return same_side.then_some((next, tint * weight, Lobe::Specular));
+            }
+            Surface::Plastic { ior, alpha } => {
+                let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                return match coat_event(incoming, shading, ior, alpha, u) {
+                    CoatEvent::Base { weight } => {
+                        // The base: ρ · scale · (1 − F(θo)) (1 − F(θi)) / π over the choice
+                        // and the cosine density. MIS takes the smooth coat's 1 − F(θo) as the
+                        // base's probability (any value, used alike by both techniques, keeps
+                        // the weights summing to 1).
+                        let (next, pdf) = lambertian(rng)?;
+                        let leaving = coat_transmittance(next.dot(shading), ior);
+                        let weight = tint * (diffuse_scale(ior) * leaving * weight);
+                        let pdf = coat_transmittance(-incoming.dot(shading), ior) * pdf;
+                        Some((next, weight, Lobe::Lambertian { pdf }))
+                    }
+                    CoatEvent::Reflected { direction, weight } => (weight > 0.0
+                        && direction.dot(geometric) > 0.0)
+                        .then_some((direction, Vec3::splat(weight), Lobe::Specular)),
+                };
             }
             Surface::Diffuse => {
-                let (t, b) = orthonormal_basis(shading);
-                let local = cosine_hemisphere(rng.next_f32(), rng.next_f32());
-                t * local.x + b * local.y + shading * local.z
+                let (next, pdf) = lambertian(rng)?;
+                return Some((next, tint, Lobe::Lambertian { pdf }));
             }
             Surface::Mirror => reflect(incoming, shading),
             Surface::Dielectric { ior, thin_walled } => {
@@ -419,12 +470,38 @@ impl<'a> PathTracer<'a> {
                 }
             }
         };
-        // A diffuse bounce below the geometric surface would leak light through it.
-        if matches!(material.surface, Surface::Diffuse) && direction.dot(geometric) <= 0.0 {
-            return None;
-        }
-        Some((direction, tint))
+        Some((direction, tint, Lobe::Specular))
     }
+}
+
+/// The point's geometric and shading normals turned to the side a ray arrived from (`front`),
+/// the shading one replaced by the geometric where it would lie below the surface.
+fn facing_normals(point: &SurfacePoint, front: bool) -> (Vec3, Vec3) {
+    let facing = if front { 1.0 } else { -1.0 };
+    let geometric = facing * point.geometric;
+    let shading = facing * point.shading;
+    if shading.dot(geometric) <= 0.0 {
+        (geometric, geometric)
+    } else {
+        (geometric, shading)
+    }
+}
+
+/// The lobe a scattered direction was drawn from.
+enum Lobe {
+    /// The Lambertian lobe, at this solid-angle density (the lobe's choice included), which
+    /// light sampling also covers: emission found along it is weighted by MIS.
+    Lambertian { pdf: f32 },
+    /// A mirror, glass, metal or coat reflection: emission found along it counts whole.
+    Specular,
+}
+
+/// A plastic coat over the Lambertian lobe a light sample serves.
+#[derive(Clone, Copy)]
+struct Coat {
+    ior: f32,
+    /// The probability that BSDF sampling chose the base, `1 − F(θo)`.
+    base_probability: f32,
 }
 
 #[cfg(test)]

@@ -18,6 +18,7 @@ pub mod microfacet;
 pub mod normal_map;
 pub mod optics;
 pub mod packing;
+pub mod plastic;
 pub mod random;
 pub mod resolve;
 pub mod rng;

@@ -78,23 +78,23 @@ pub fn rough_reflection(
 }
 
 /// The frame about a unit normal (+Z) that the microfacet functions work in.
-struct Frame {
+pub(crate) struct Frame {
     t: Vec3,
     b: Vec3,
     n: Vec3,
 }
 
 impl Frame {
-    fn about(n: Vec3) -> Frame {
+    pub(crate) fn about(n: Vec3) -> Frame {
         let (t, b) = orthonormal_basis(n);
         Frame { t, b, n }
     }
 
-    fn to_local(&self, v: Vec3) -> Vec3 {
+    pub(crate) fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
     }
 
-    fn to_world(&self, v: Vec3) -> Vec3 {
+    pub(crate) fn to_world(&self, v: Vec3) -> Vec3 {
         (self.t * v.x + self.b * v.y + self.n * v.z).normalize()
     }
 }

@@ -25,6 +25,9 @@ pub enum Surface {
         thin_walled: bool,
         alpha: f32,
     },
+    /// Plastic: a Lambertian base of albedo `base_color` (× texture) under a clear coat of
+    /// index `ior`, smooth where `alpha` is 0, else GGX of width `alpha` (`render::plastic`).
+    Plastic { ior: f32, alpha: f32 },
 }
 
 /// Whether a surface can be seen through where its texture says so.
@@ -117,11 +120,6 @@ impl Material {
             } => self.absorption,
             _ => Vec3::ZERO,
         }
-    }
-
-    /// Whether paths go on through it (everything but Lambertian, where SPPM gathers).
-    pub fn is_specular(&self) -> bool {
-        !matches!(self.surface, Surface::Diffuse)
     }
 }
 

@@ -191,8 +191,9 @@ fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> b
     return false;
 }
 
-// cpu::kernels::direct_light: one light sample's cosine-weighted radiance at a diffuse hit.
-fn direct_light(hit: SurfaceHit, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
+// cpu::kernels::direct_light: one light sample's cosine-weighted radiance at a diffuse hit,
+// under a plastic coat of index coat_ior where that is not 0.
+fn direct_light(hit: SurfaceHit, coat_ior: f32, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
     let light = sample_light(u0, u1, u2, hit.position, hit.shading);
     if !light.found {
         return vec3<f32>(0.0);
@@ -211,7 +212,11 @@ fn direct_light(hit: SurfaceHit, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
     if !unoccluded(origin, shadow.xyz, shadow.w) {
         return vec3<f32>(0.0);
     }
-    return light.incident * cosine;
+    var coat = 1.0;
+    if coat_ior != 0.0 {
+        coat = coat_transmittance(cosine, coat_ior);
+    }
+    return light.incident * (cosine * coat);
 }
 
 // render::direct::shadow_ray: the direction (xyz) and length (w) of the shadow ray from
@@ -264,28 +269,53 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         }
         return PhotonStep(slot, photon, emitted);
     }
-    let tint = base_color(material, hit.uv);
+    let surface_tint = base_color(material, hit.uv);
     let u_roulette = next_f32(&rng);
     let u_direction0 = next_f32(&rng);
     let u_direction1 = next_f32(&rng);
-    // cpu::kernels: rough glass chooses its way with a third number.
+    // cpu::kernels: rough glass chooses its way with a third number, and plastic between its
+    // coat and its base.
     var u_choice = 0.0;
-    if material.surface == SURFACE_ROUGH_DIELECTRIC {
+    if material.surface == SURFACE_ROUGH_DIELECTRIC || material.surface == SURFACE_PLASTIC {
         u_choice = next_f32(&rng);
     }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
+    var tint = surface_tint;
     // cpu::kernels: weighted where the shading normal is not the geometric one.
     let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
-    if material.surface == SURFACE_DIFFUSE {
-        // Straight from the light it is direct light, which eye passes sample themselves.
+    // cpu::kernels: a Lambertian surface, or plastic's base under the coat, keeps the photon
+    // (not straight from the light where eye passes sample the light themselves).
+    let plastic = material.surface == SURFACE_PLASTIC;
+    if material.surface == SURFACE_DIFFUSE || plastic {
         if slot.depth > 0u || params.sample_lights == 0u {
-            photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * arrival, 0u);
+            var share = 1.0;
+            if plastic {
+                share = coat_transmittance(dot(direction, hit.shading), material.ior);
+            }
+            photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * (arrival * share), 0u);
         }
+    }
+    if material.surface == SURFACE_DIFFUSE {
         // Its later photons are indirect (if it goes on; an ended slot's is not read).
         slot.bounced = 1u;
-        next = cosine_direction(hit.shading, u_direction0, u_direction1);
-        weight = select(0.0, 1.0, dot(next, hit.geometric) > 0.0);
+        let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
+        next = bounce.direction;
+        weight = bounce.weight;
+    } else if plastic {
+        let choice = plastic_bounce(material, hit, direction, u_choice, u_direction0, u_direction1);
+        if choice.base {
+            slot.bounced = 1u;
+            let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
+            next = bounce.direction;
+            weight = bounce.weight;
+            let leaving = coat_transmittance(dot(next, hit.shading), material.ior);
+            tint = surface_tint * (diffuse_scale(material.ior) * leaving * choice.base_weight);
+        } else {
+            next = choice.coat.direction;
+            weight = choice.coat.weight;
+            tint = vec3<f32>(1.0);
+        }
     } else {
         let bounce = specular_direction(material, hit, direction, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
@@ -432,32 +462,63 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         emission_share = 1.0;
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
         let u = next_f32(rng);
-        if material.surface == SURFACE_DIFFUSE {
-            let weight = throughput * tint * (1.0 / PI);
+        // cpu::kernels::eye_path: plastic's coat or its base, chosen by Fresnel.
+        let plastic = material.surface == SURFACE_PLASTIC;
+        var base = material.surface == SURFACE_DIFFUSE;
+        var bounce = Scattered(vec3<f32>(0.0), 0.0);
+        var bounce_tint = tint;
+        var base_weight = 1.0;
+        if plastic {
+            var u_micro = vec2<f32>(0.0);
+            if material.roughness_alpha > 0.0 {
+                let u1 = next_f32(rng);
+                let u2 = next_f32(rng);
+                u_micro = vec2<f32>(u1, u2);
+            }
+            let choice = plastic_bounce(material, hit, direction, u, u_micro.x, u_micro.y);
+            base = choice.base;
+            base_weight = choice.base_weight;
+            bounce = choice.coat;
+            bounce_tint = vec3<f32>(1.0);
+        }
+        if base {
+            var scale = 1.0;
+            var coat_ior = 0.0;
+            if plastic {
+                scale = diffuse_scale(material.ior);
+                coat_ior = material.ior;
+            }
+            let weight = throughput * tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {
                 point = VisiblePoint(hit.position, pack_normal(hit.shading), weight, 0u);
                 if params.sample_lights != 0u {
                     let u0 = next_f32(rng);
                     let u1 = next_f32(rng);
                     let u2 = next_f32(rng);
-                    direct += weight * direct_light(hit, u0, u1, u2);
+                    direct += weight * direct_light(hit, coat_ior, u0, u1, u2);
                 }
             }
             break;
         }
-        specular_first = specular_first || depth == 0u;
-        // Rough metal and glass draw their micro-normal with a second number, and rough glass
-        // chooses its way with a third.
-        var u_second = 0.0;
-        var u_third = 0.0;
-        if material.surface == SURFACE_ROUGH_CONDUCTOR || material.surface == SURFACE_ROUGH_DIELECTRIC {
-            u_second = next_f32(rng);
+        if !plastic {
+            // Only these send pixels more eye paths (cpu::kernels::eye_path).
+            specular_first = specular_first || depth == 0u;
+            // Rough metal and glass draw their micro-normal with a second number, and rough
+            // glass chooses its way with a third.
+            var u_second = 0.0;
+            var u_third = 0.0;
+            if material.surface == SURFACE_ROUGH_CONDUCTOR || material.surface == SURFACE_ROUGH_DIELECTRIC {
+                u_second = next_f32(rng);
+            }
+            if material.surface == SURFACE_ROUGH_DIELECTRIC {
+                u_third = next_f32(rng);
+            }
+            bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }
-        if material.surface == SURFACE_ROUGH_DIELECTRIC {
-            u_third = next_f32(rng);
+        if bounce.weight <= 0.0 {
+            break;
         }
-        let bounce = specular_direction(material, hit, direction, u, u_second, u_third);
-        throughput *= tint * bounce.weight;
+        throughput *= bounce_tint * bounce.weight;
         if max3(throughput) <= 0.0 {
             break;
         }

@@ -30,7 +30,7 @@ struct SceneInfo {
 
 // One material (80 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED;
-// roughness_alpha: GGX width of rough conductors; normal_texture: a tangent-space normal map
+// ior: of dielectrics and plastic coats; roughness_alpha: GGX width of rough surfaces; normal_texture: a tangent-space normal map
 // (NO_TEXTURE: none), its X and Y scaled by normal_scale.
 struct GpuMaterial {
     base_color: vec3<f32>,

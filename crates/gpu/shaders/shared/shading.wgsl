@@ -398,7 +398,71 @@ fn rough_dielectric(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>,
     return Scattered(next, weight);
 }
 
-// cpu::surface::specular_direction; only called for non-diffuse surfaces.
+// ---- render::plastic ----
+fn coat_reflectance(cos_view: f32, ior: f32) -> f32 {
+    return fresnel_dielectric(abs(cos_view), 1.0 / ior);
+}
+
+fn coat_transmittance(cos_view: f32, ior: f32) -> f32 {
+    return 1.0 - coat_reflectance(cos_view, ior);
+}
+
+fn internal_diffuse_reflectance(ior: f32) -> f32 {
+    let eta = 1.0 / ior;
+    return -1.4399 * eta * eta + 0.7099 * eta + 0.6681 + 0.0636 / eta;
+}
+
+fn diffuse_scale(ior: f32) -> f32 {
+    return 1.0 / (ior * ior * (1.0 - internal_diffuse_reflectance(ior)));
+}
+
+// cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.
+fn diffuse_bounce(hit: SurfaceHit, u1: f32, u2: f32) -> Scattered {
+    let next = cosine_direction(hit.shading, u1, u2);
+    return Scattered(next, select(0.0, 1.0, dot(next, hit.geometric) > 0.0));
+}
+
+// cpu::surface::plastic_bounce (render::plastic::coat_event): `base` true where the light
+// passes the coat to the base, whose estimate it multiplies by `base_weight`; otherwise the
+// coat's reflection (weight 0 where the path ends).
+struct PlasticBounce {
+    base: bool,
+    base_weight: f32,
+    coat: Scattered,
+}
+
+fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u_choice: f32, u1: f32, u2: f32) -> PlasticBounce {
+    let ior = material.ior;
+    let alpha = material.roughness_alpha;
+    let normal = hit.shading;
+    let cos_view = -dot(incoming, normal);
+    let none = Scattered(vec3<f32>(0.0), 0.0);
+    if alpha == 0.0 {
+        if u_choice < coat_reflectance(cos_view, ior) {
+            return PlasticBounce(false, 0.0, Scattered(reflect_about(incoming, normal), 1.0));
+        }
+        return PlasticBounce(true, 1.0, none);
+    }
+    let frame = frame_about(normal);
+    let view = to_local(frame, -incoming);
+    if view.z <= 0.0 {
+        return PlasticBounce(true, 1.0, none);
+    }
+    let micro = sample_visible_normal(view, alpha, u1, u2);
+    let micro_reflectance = coat_reflectance(dot(view, micro), ior);
+    if u_choice < micro_reflectance {
+        let out = reflect_about(-view, micro);
+        let weight = smith_g1(out, alpha);
+        let next = to_world(frame, out);
+        if weight <= 0.0 || dot(next, hit.geometric) <= 0.0 {
+            return PlasticBounce(false, 0.0, none);
+        }
+        return PlasticBounce(false, 0.0, Scattered(next, weight));
+    }
+    return PlasticBounce(true, coat_transmittance(cos_view, ior) / (1.0 - micro_reflectance), none);
+}
+
+// cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.
 fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32, u_second: f32, u_third: f32) -> Scattered {
     let normal = hit.shading;
     if material.surface == SURFACE_ROUGH_CONDUCTOR {

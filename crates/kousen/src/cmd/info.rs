@@ -57,6 +57,8 @@ fn material_kind(material: &scene::Material) -> &'static str {
         Surface::Dielectric { .. } => "glass",
         Surface::RoughDielectric { .. } if tinted => "tinted frosted glass",
         Surface::RoughDielectric { .. } => "frosted glass",
+        Surface::Plastic { alpha, .. } if alpha > 0.0 => "glossy plastic",
+        Surface::Plastic { .. } => "plastic",
     }
 }
 

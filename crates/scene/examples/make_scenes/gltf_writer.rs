@@ -34,10 +34,11 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 7] = [
+pub const SHIPPED: [(&str, Fixture); 8] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
+    ("cornell-plastic", scene::testing::cornell_plastic),
     ("cornell-spot", scene::testing::cornell_spot),
     ("cornell-frosted", scene::testing::cornell_frosted),
     ("cornell-tinted", scene::testing::cornell_tinted),
@@ -142,6 +143,9 @@ pub fn encode(scene: &Scene, stem: &str) -> Encoded {
     json.push(b'\n');
     Encoded { json, bin: doc.bin }
 }
+
+/// glTF's index of a non-metal's specular layer where `KHR_materials_ior` is absent.
+const DEFAULT_COAT_IOR: f32 = 1.5;
 
 #[derive(Default)]
 struct Document {
@@ -284,6 +288,7 @@ impl Document {
             }
             Surface::RoughConductor { alpha } => (1.0, alpha.sqrt()),
             Surface::RoughDielectric { alpha, .. } => (0.0, alpha.sqrt()),
+            Surface::Plastic { alpha, .. } => (0.0, alpha.sqrt()),
         };
         let [r, g, b] = m.base_color.to_array();
         let mut value = json!({
@@ -318,6 +323,11 @@ impl Document {
                 }
                 extensions.insert("KHR_materials_volume".into(), volume);
             }
+        }
+        if let Surface::Plastic { ior, .. } = m.surface
+            && ior != DEFAULT_COAT_IOR
+        {
+            extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
         }
         let strength = m.emission.max_element();
         if strength > 0.0 {

@@ -12,6 +12,11 @@
 //!   width α = roughness²; from 0.5 → Lambertian diffuse: so broad a lobe sends light out
 //!   nearly as a diffuse surface does, and SPPM gathers at diffuse points where it would
 //!   otherwise trace eye paths on through the metal.
+//! - any other material with `roughnessFactor` < 0.5 → plastic (`render::plastic`): a Lambertian
+//!   base of the base colour under glTF's clear dielectric coat of `KHR_materials_ior` (default
+//!   1.5), smooth below 0.01, else GGX of width α = roughness²; rougher coats spread their 4 %
+//!   so widely that Lambertian alone stands for them, as for metal. `KHR_materials_specular`'s
+//!   `specularFactor` 0 removes the coat (Lambertian); its other values and colour are ignored.
 //! - everything else → Lambertian diffuse with the base colour (× `baseColorTexture`).
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
@@ -422,10 +427,28 @@ fn surface(
         Surface::RoughConductor {
             alpha: roughness * roughness,
         }
+    } else if roughness < DIFFUSE_MIN_ROUGHNESS && has_specular_layer(m) && ior != 1.0 {
+        if ior == 0.0 {
+            // The extension's "F0 = 1": the coat reflects everything.
+            Surface::Mirror
+        } else {
+            let smooth = roughness < MIRROR_MAX_ROUGHNESS;
+            Surface::Plastic {
+                ior,
+                alpha: if smooth { 0.0 } else { roughness * roughness },
+            }
+        }
     } else {
         Surface::Diffuse
     };
     Ok(surface)
+}
+
+/// Whether a non-metal wears glTF's dielectric specular layer: always, unless
+/// `KHR_materials_specular` turns it off with `specularFactor` 0.
+fn has_specular_layer(m: &json::Material) -> bool {
+    let specular = m.extensions.as_ref().and_then(|e| e.specular.as_ref());
+    specular.is_none_or(|s| s.specular_factor.0 > 0.0)
 }
 
 /// A solid dielectric's absorption from `KHR_materials_volume`'s attenuation colour (each in

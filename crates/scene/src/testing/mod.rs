@@ -13,6 +13,7 @@
 //!   and a sky besides its own.
 //! - [`cornell_spot`]: [`cornell_caustics`] with a spot light on the glass sphere.
 //! - [`cornell_bumpy`]: [`cornell_caustics`]'s room with normal-mapped tiles and spheres.
+//! - [`cornell_plastic`]: [`cornell_caustics`]'s room with a plastic floor and spheres.
 //! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
 //!   emission is [`glass_pane_radiance`]; [`glass_panes`] has more sheets.
 //!
@@ -187,6 +188,22 @@ pub fn cornell_tinted() -> Scene {
     });
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, teal, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, amber, false);
+    f.finish()
+}
+
+/// The room of [`cornell_caustics`] in plastic (`Surface::Plastic`, coats of ior 1.5): the
+/// floor smooth white plastic (it mirrors the room faintly, more towards grazing), a smooth red
+/// plastic sphere front right and a glossy blue one back left (glTF roughness 0.3, GGX α 0.09).
+pub fn cornell_plastic() -> Scene {
+    let mut f = Fixture::new("testing::cornell_plastic");
+    let white = f.material("white", Surface::Diffuse, CORNELL_WHITE);
+    let coat = |alpha| Surface::Plastic { ior: 1.5, alpha };
+    let floor = f.material("white plastic", coat(0.0), CORNELL_WHITE);
+    cornell_room_on(&mut f, white, floor);
+    let red = f.material("red plastic", coat(0.0), Vec3::new(0.7, 0.08, 0.06));
+    let blue = f.material("blue plastic", coat(0.3 * 0.3), Vec3::new(0.1, 0.25, 0.7));
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, red, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, blue, false);
     f.finish()
 }
 
@@ -561,6 +578,12 @@ const CORNELL_QUADS: [[[f32; 3]; 4]; 6] = [
 /// and right (green) walls, the light, the camera. Returns the white material.
 fn cornell_room(f: &mut Fixture) -> u32 {
     let white = f.material("white", Surface::Diffuse, CORNELL_WHITE);
+    cornell_room_on(f, white, white);
+    white
+}
+
+/// [`cornell_room`] with white walls of material `white` and a floor of `floor_material`.
+fn cornell_room_on(f: &mut Fixture, white: u32, floor_material: u32) {
     let red = f.material("red", Surface::Diffuse, CORNELL_RED);
     let green = f.material("green", Surface::Diffuse, CORNELL_GREEN);
     let light = f.builder.add_material(Material {
@@ -570,7 +593,7 @@ fn cornell_room(f: &mut Fixture) -> u32 {
         ..Material::default()
     });
     let [floor, back, right, left, ceiling, lamp] = CORNELL_QUADS.map(|q| q.map(Vec3::from));
-    f.quad(floor, white, Vec3::Y);
+    f.quad(floor, floor_material, Vec3::Y);
     f.quad(back, white, Vec3::NEG_Z);
     f.quad(right, green, Vec3::X);
     f.quad(left, red, Vec3::NEG_X);
@@ -588,7 +611,6 @@ fn cornell_room(f: &mut Fixture) -> u32 {
     let yfov = (2.0 * (12.5f64 / 35.0).atan()) as f32;
     let eye = Vec3::new(278.0, 273.0, -800.0);
     f.camera(eye, Vec3::Z, yfov, Some(1.0), "cornell");
-    white
 }
 
 /// Builds a fixture; every helper orients faces explicitly, whatever order corners come in.

@@ -34,8 +34,14 @@ not used, so nothing about the mapping is hidden):
   metallic >= 0.5 and roughness < 0.5 -> `roughconductor`, GGX of alpha = roughness^2 (visible
   normals sampled; Mitsuba's Smith term is the separable one, as kousen's), material "none"
   times specular_reflectance = baseColor.
+  any other material with roughness < 0.5 (unless ior is 1 or KHR_materials_specular's
+  specularFactor is 0) -> plastic, coat of int_ior = ior over diffuse_reflectance = baseColor,
+  exterior ior exactly 1, `nonlinear` off: smooth (`plastic`) below roughness 0.01, else
+  `roughplastic`, GGX of alpha = roughness^2 (visible normals). Mitsuba's `plastic` is kousen's
+  model (render/src/plastic.rs); its `roughplastic` gives the base the rough coat's own
+  transmittance, where kousen keeps the smooth coat's, so rough plastic agrees only closely.
   Everything else -> Lambertian `diffuse`, reflectance = baseColor.
-  Diffuse and the conductors are wrapped in `twosided`, since kousen's rays hit and scatter off both
+  Diffuse, plastic and the conductors are wrapped in `twosided`, since kousen's rays hit and scatter off both
   faces of every triangle (Mitsuba's opaque BSDFs are black from behind by default).
 - Emission: emissiveFactor x KHR_materials_emissive_strength, as an `area` emitter. Mitsuba's
   area light emits to the side of the surface normal only, so emissive primitives are given no
@@ -234,6 +240,13 @@ def material_info(doc, index):
         kind, params = "mirror", {"color": base}
     elif metallic >= MIRROR_MIN_METALLIC and roughness < DIFFUSE_MIN_ROUGHNESS:
         kind, params = "rough", {"color": base, "alpha": roughness * roughness}
+    elif (roughness < DIFFUSE_MIN_ROUGHNESS and ior != 1.0
+          and float(ext.get("KHR_materials_specular", {}).get("specularFactor", 1.0)) > 0.0):
+        if ior == 0.0:
+            kind, params = "mirror", {"color": base}
+        else:
+            alpha = 0.0 if roughness < MIRROR_MAX_ROUGHNESS else roughness * roughness
+            kind, params = "plastic", {"color": base, "ior": ior, "alpha": alpha}
     else:
         kind, params = "diffuse", {"color": base}
     strength = float(ext.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
@@ -263,6 +276,16 @@ def mitsuba_bsdf(kind, params):
                 "sample_visible": True, "int_ior": params["ior"], "ext_ior": 1.0,
                 "specular_reflectance": rgb(params["color"]),
                 "specular_transmittance": rgb(params["color"])}
+    if kind == "plastic" and params["alpha"] == 0.0:
+        return {"type": "twosided", "bsdf": {"type": "plastic", "int_ior": params["ior"],
+                                             "ext_ior": 1.0, "nonlinear": False,
+                                             "diffuse_reflectance": rgb(params["color"])}}
+    if kind == "plastic":
+        return {"type": "twosided", "bsdf": {"type": "roughplastic", "distribution": "ggx",
+                                             "alpha": params["alpha"], "sample_visible": True,
+                                             "int_ior": params["ior"], "ext_ior": 1.0,
+                                             "nonlinear": False,
+                                             "diffuse_reflectance": rgb(params["color"])}}
     raise ValueError(kind)
 
 

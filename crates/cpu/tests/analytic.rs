@@ -688,3 +688,44 @@ fn glass_pane_shows_both_ways_in_every_eye_pass() {
         }
     }
 }
+
+/// A plastic plane (smooth coat of ior 1.5 over albedo ρ, `render::plastic`) under the sky L:
+/// seen at angle θ it returns L·(F(θ) + ρ·s·(1 − F(θ))·T), the coat's reflection of the sky plus
+/// the base, where s is the model's `diffuse_scale` and T = 2∫(1 − F(μ))μ dμ the coat's
+/// transmittance for the sky's light, here by the midpoint rule, apart from the kernels. Each
+/// pixel against the value at its centre's view angle (the camera 0.5 above the plane, so
+/// θ reaches 39° at the corners). Both direct-light modes: photons carry the coat's
+/// transmittance where they land, light samples where they arrive (1024 and 256 passes).
+/// Measured, seed 1: photons mean −0.08%, per-pixel rms 4.5%; sampled +0.01%, rms 1.45% (the
+/// coat's reflection is exact in every pass; the noise is the base's). Tolerances: mean
+/// within 2.5%, rms below 8% (photons, as for the diffuse sky plane) and 3% (sampled).
+#[test]
+fn sky_lights_a_plastic_plane_through_its_coat() {
+    use render::plastic::{coat_reflectance, diffuse_scale};
+    let (sky, ior) = (2.0f32, 1.5f32);
+    let mut scene = testing::punctual_plane(&[]);
+    let bounds = scene.bounds();
+    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    for material in &mut scene.materials {
+        material.surface = scene::Surface::Plastic { ior, alpha: 0.0 };
+    }
+    let steps = 100_000;
+    let transmittance: f64 = (0..steps)
+        .map(|i| {
+            let mu = (i as f64 + 0.5) / steps as f64;
+            2.0 * mu * (1.0 - coat_reflectance(mu as f32, ior) as f64) / steps as f64
+        })
+        .sum();
+    let view = TopView::new(0.4, 16);
+    let expected = |index: usize| {
+        let (x, z) = view.point(index);
+        let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
+        let f = coat_reflectance(cos, ior) as f64;
+        let albedo = testing::LIT_PLANE_ALBEDO as f64;
+        (sky as f64 * (f + albedo * diffuse_scale(ior) as f64 * (1.0 - f) * transmittance)) as f32
+    };
+    let (image, _, _) = render_top_view(&scene, &view, 1, 1024);
+    assert_matches("plastic, photons", &image, expected, 0.025, 0.08);
+    let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
+    assert_matches("plastic, sampled", &image, expected, 0.025, 0.03);
+}

@@ -172,6 +172,56 @@ fn sppm_matches_mitsuba_through_rough_metal() {
     );
 }
 
+/// Plastic (`render::plastic`) against Mitsuba's `plastic`, the same model in its own
+/// implementation: `scenes/cornell-plastic.gltf`, where eye paths choose coat or base by
+/// Fresnel and photons land with the coat's transmittance. The smooth plastic (floor and red
+/// sphere) is held to the other references' tolerances; measured: whole image relMSE 0.0031,
+/// means within 0.4 %; the smooth plastic's pixels within 1.2 %.
+///
+/// The glossy blue sphere (GGX α 0.09) is rendered by Mitsuba's `roughplastic`, whose base
+/// sees the rough coat's tabulated transmittance where kousen keeps the smooth coat's: under
+/// uniform light Mitsuba's own `roughplastic` at α 0.09 returns 6.3 / 7.8 / 8.7 % (R / G / B)
+/// less than its `plastic` of the same colour (64² of a sphere under a constant environment,
+/// 1024 spp). kousen's sphere is measured 3.9 / 7.6 / 9.3 % brighter than Mitsuba's; the test
+/// holds it between 0 and 13 % brighter: the gap of the two models, not an error of either.
+#[test]
+fn sppm_matches_mitsuba_through_plastic() {
+    let scene = shipped("cornell-plastic.gltf");
+    let reference = reference("cornell-plastic-mitsuba-64.exr");
+    let image = render(&scene, &reference);
+    let (error, ratio) = (rel_mse(&image, &reference), image.mean() / reference.mean());
+    let ratio_over = |wanted: &dyn Fn(&scene::Surface) -> bool| {
+        let pixels = pixels_seeing(&scene, wanted);
+        let sum = |image: &Image| pixels.iter().map(|&i| image.pixels[i]).sum::<Vec3>();
+        (pixels.len(), sum(&image) / sum(&reference))
+    };
+    let smooth = ratio_over(&|s| matches!(s, scene::Surface::Plastic { alpha: 0.0, .. }));
+    let rough = ratio_over(&|s| matches!(s, scene::Surface::Plastic { alpha, .. } if *alpha > 0.0));
+    println!(
+        "plastic: relMSE {error:.5}, mean ratio {ratio}; smooth plastic {} pixels, ratio {}; \
+         glossy sphere {} pixels, ratio {}",
+        smooth.0, smooth.1, rough.0, rough.1
+    );
+    assert!(error < 0.02, "relMSE {error}");
+    assert!((ratio - Vec3::ONE).abs().max_element() < 0.02, "{ratio}");
+    assert!(
+        smooth.0 > 600 && rough.0 > 150,
+        "{} and {} pixels",
+        smooth.0,
+        rough.0
+    );
+    assert!(
+        (smooth.1 - Vec3::ONE).abs().max_element() < 0.02,
+        "{}",
+        smooth.1
+    );
+    assert!(
+        rough.1.min_element() > 1.0 && rough.1.max_element() < 1.13,
+        "glossy sphere {}",
+        rough.1
+    );
+}
+
 /// Frosted glass (`render::microfacet::rough_dielectric`) against Mitsuba's `roughdielectric`:
 /// `scenes/cornell-frosted.gltf`, two solid rough glass spheres (GGX α 0.09 and 0.36) through
 /// which eye paths see the room blurred, and whose photons throw soft caustics.

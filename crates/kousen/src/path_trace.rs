@@ -559,4 +559,48 @@ mod tests {
             );
         }
     }
+
+    /// A smooth plastic plane under the sky L, seen straight down and at 60°: L·(F(θ) +
+    /// ρ·s·(1 − F(θ))·T), T = 2∫(1 − F(μ))μ dμ by the midpoint rule (as the SPPM test in
+    /// `crates/cpu/tests/analytic.rs`); the coat's reflection and the base's light samples
+    /// and bounces through the tracer's MIS.
+    #[test]
+    fn plastic_plane_under_the_sky_returns_coat_and_base() {
+        use render::plastic::{coat_reflectance, diffuse_scale};
+        let (sky, ior) = (2.0f32, 1.5f32);
+        let mut scene = testing::punctual_plane(&[]);
+        let bounds = scene.bounds();
+        scene.lights.set_sky(Vec3::splat(sky), bounds);
+        for material in &mut scene.materials {
+            material.surface = Surface::Plastic { ior, alpha: 0.0 };
+        }
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let steps = 100_000;
+        let transmittance: f64 = (0..steps)
+            .map(|i| {
+                let mu = (i as f64 + 0.5) / steps as f64;
+                2.0 * mu * (1.0 - coat_reflectance(mu as f32, ior) as f64) / steps as f64
+            })
+            .sum();
+        let mut rng = Rng::new(5, 0);
+        for cos in [1.0f32, 0.5] {
+            let direction = Vec3::new((1.0 - cos * cos).sqrt(), -cos, 0.0);
+            // Towards the plane's centre from 0.4 away.
+            let origin = -0.4 * direction;
+            let samples = 20_000;
+            let sum: Vec3 = (0..samples)
+                .map(|_| tracer.radiance(origin, direction, 8, &mut rng))
+                .sum();
+            let measured = (sum / samples as f32).x as f64;
+            let f = coat_reflectance(cos, ior) as f64;
+            let albedo = testing::LIT_PLANE_ALBEDO as f64;
+            let expected =
+                sky as f64 * (f + albedo * diffuse_scale(ior) as f64 * (1.0 - f) * transmittance);
+            assert!(
+                (measured / expected - 1.0).abs() < 0.01,
+                "at cos {cos}: {measured} against {expected}"
+            );
+        }
+    }
 }

@@ -18,14 +18,15 @@ fn pbr(metallic: f32, roughness: f32) -> Value {
 }
 
 #[test]
-fn smooth_metal_is_a_mirror_rough_metal_a_conductor_and_everything_else_diffuse() {
+fn smooth_metal_is_a_mirror_rough_metal_a_conductor_and_rough_surfaces_diffuse() {
     let cases = [
         ((1.0, 0.0), Surface::Mirror),
         ((0.5, 0.005), Surface::Mirror),
         ((0.5, 0.2), Surface::RoughConductor { alpha: 0.2 * 0.2 }),
         ((1.0, 0.4), Surface::RoughConductor { alpha: 0.4 * 0.4 }),
         ((1.0, 0.5), Surface::Diffuse),
-        ((0.4, 0.0), Surface::Diffuse),
+        ((0.0, 0.5), Surface::Diffuse),
+        ((0.4, 1.0), Surface::Diffuse),
     ];
     for ((metallic, roughness), surface) in cases {
         let m = material_of(pbr(metallic, roughness));
@@ -34,6 +35,82 @@ fn smooth_metal_is_a_mirror_rough_metal_a_conductor_and_everything_else_diffuse(
             "metallic {metallic}, roughness {roughness}"
         );
     }
+}
+
+/// glTF's non-metals wear a clear dielectric coat (the spec's specular layer, F0 = 4 % at the
+/// default ior 1.5): kousen's plastic where the coat is smooth enough to show (roughness < 0.5),
+/// with `KHR_materials_ior`'s index; `KHR_materials_specular` factor 0 takes the coat off, and
+/// an ior of 1 leaves nothing to reflect.
+#[test]
+fn smooth_non_metals_are_plastic_under_their_ior() {
+    let cases = [
+        (
+            (0.4, 0.0),
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.0,
+            },
+        ),
+        (
+            (0.0, 0.005),
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.0,
+            },
+        ),
+        (
+            (0.0, 0.3),
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.3 * 0.3,
+            },
+        ),
+        (
+            (0.49, 0.49),
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.49 * 0.49,
+            },
+        ),
+    ];
+    for ((metallic, roughness), surface) in cases {
+        let m = material_of(pbr(metallic, roughness));
+        assert_eq!(
+            m.surface, surface,
+            "metallic {metallic}, roughness {roughness}"
+        );
+    }
+    let with = |extensions: Value| {
+        let mut material = pbr(0.0, 0.2);
+        material["extensions"] = extensions;
+        material_of(material).surface
+    };
+    assert_eq!(
+        with(json!({ "KHR_materials_ior": { "ior": 1.33 } })),
+        Surface::Plastic {
+            ior: 1.33,
+            alpha: 0.2 * 0.2
+        }
+    );
+    assert_eq!(
+        with(json!({ "KHR_materials_ior": { "ior": 1.0 } })),
+        Surface::Diffuse
+    );
+    assert_eq!(
+        with(json!({ "KHR_materials_ior": { "ior": 0.0 } })),
+        Surface::Mirror
+    );
+    assert_eq!(
+        with(json!({ "KHR_materials_specular": { "specularFactor": 0.0 } })),
+        Surface::Diffuse
+    );
+    assert_eq!(
+        with(json!({ "KHR_materials_specular": { "specularFactor": 0.5 } })),
+        Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.2 * 0.2
+        }
+    );
 }
 
 #[test]

@@ -83,6 +83,8 @@ pub struct GpuBackend {
     density: Option<density::DensityKernels>,
     /// What the SPPM pipelines were compiled from.
     kernels: Kernels,
+    /// What the scene uses, which every pipeline is compiled for.
+    features: SceneFeatures,
 }
 
 /// The source of the SPPM pipelines.
@@ -98,10 +100,38 @@ enum Kernels {
 fn compile_kernels(
     context: &GpuContext,
     state_layout: &wgpu::BindGroupLayout,
+    features: SceneFeatures,
     label: &str,
     source: String,
 ) -> Vec<wgpu::ComputePipeline> {
-    compile_pipelines(context, state_layout, None, label, source, &KERNELS)
+    compile_pipelines(
+        context,
+        state_layout,
+        None,
+        features,
+        label,
+        source,
+        &KERNELS,
+    )
+}
+
+/// What a scene uses that the kernels can be compiled without (WGSL `override` constants).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SceneFeatures {
+    /// Some material has a normal map (`NORMAL_MAPS` in `shading.wgsl`).
+    pub normal_maps: bool,
+}
+
+impl SceneFeatures {
+    pub(crate) fn of(scene: &scene::Scene) -> SceneFeatures {
+        SceneFeatures {
+            normal_maps: scene.materials.iter().any(|m| m.normal_texture.is_some()),
+        }
+    }
+
+    fn constants(self) -> [(&'static str, f64); 1] {
+        [("NORMAL_MAPS", f64::from(u8::from(self.normal_maps)))]
+    }
 }
 
 /// Pipelines for `entry_points` of `source`, laid out as every SPPM kernel is (group 0 the
@@ -111,10 +141,12 @@ pub(crate) fn compile_pipelines(
     context: &GpuContext,
     state_layout: &wgpu::BindGroupLayout,
     extra: Option<&wgpu::BindGroupLayout>,
+    features: SceneFeatures,
     label: &str,
     source: String,
     entry_points: &[&str],
 ) -> Vec<wgpu::ComputePipeline> {
+    let constants = features.constants();
     let device = &context.device;
     let storage = context.scene_storage;
     let source = crate::shader::with_scene_storage(source, storage);
@@ -139,7 +171,10 @@ pub(crate) fn compile_pipelines(
                 layout: Some(&pipeline_layout),
                 module: &module,
                 entry_point: Some(entry),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
                 cache: None,
             })
         })
@@ -226,8 +261,10 @@ impl GpuBackend {
                 resource: wgpu::BindingResource::TextureView(&textures.view),
             }],
         });
-        let pipelines = compile_kernels(&context, &layout, label, source);
+        let features = SceneFeatures::of(scene);
+        let pipelines = compile_kernels(&context, &layout, features, label, source);
         Ok(GpuBackend {
+            features,
             scene_bytes: gpu_scene.bytes,
             context,
             scene: gpu_scene,
@@ -252,8 +289,13 @@ impl GpuBackend {
             Kernels::Standard(compiled) if compiled == precision => Ok(()),
             Kernels::Standard(_) => {
                 let source = Module::Sppm.source_with_precision(precision);
-                self.pipelines =
-                    compile_kernels(&self.context, &self.layout, Module::Sppm.label(), source);
+                self.pipelines = compile_kernels(
+                    &self.context,
+                    &self.layout,
+                    self.features,
+                    Module::Sppm.label(),
+                    source,
+                );
                 self.kernels = Kernels::Standard(precision);
                 Ok(())
             }

@@ -199,6 +199,11 @@ fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     return select(fallback, v * inverseSqrt(length_squared), length_squared > 0.0);
 }
 
+// Whether some material has a normal map. The backend compiles the kernels of a scene without
+// one with this false, so that its hits carry no normal-map code: even skipped at run time,
+// that code made lavapipe's eye pass 10-15 % and its photon pass ~5 % slower.
+override NORMAL_MAPS: bool = true;
+
 fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {
     return trace_surface_within(origin, direction, RAY_T_MAX);
 }
@@ -232,10 +237,12 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     let uv_c = vec2<f32>(c.u, c.v);
     let uv = w * uv_a + hit.u * uv_b + hit.v * uv_c;
     let material_index = u32(abs(a.signed_material)) - 1u;
-    let map = materials[material_index].normal_texture;
-    if map != NO_TEXTURE {
-        let texel = sample_texture(map, uv).xyz;
-        shading = mapped_normal(shading, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].normal_scale);
+    if NORMAL_MAPS {
+        let map = materials[material_index].normal_texture;
+        if map != NO_TEXTURE {
+            let texel = sample_texture(map, uv).xyz;
+            shading = mapped_normal(shading, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].normal_scale);
+        }
     }
     let front = dot(direction, geometric) < 0.0;
     let side = select(-1.0, 1.0, front);

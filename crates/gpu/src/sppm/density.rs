@@ -159,6 +159,7 @@ fn compile(
         &backend.context,
         &backend.layout,
         Some(&layout),
+        backend.features,
         module.label(),
         module.source_with_precision(precision),
         entry_points,

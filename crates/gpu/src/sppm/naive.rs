@@ -46,6 +46,7 @@ impl NaiveTracer {
             &backend.context,
             &backend.layout,
             Some(&layout),
+            backend.features,
             Module::PhotonTraceNaive.label(),
             Module::PhotonTraceNaive.source(),
             &[ENTRY_POINT],

@@ -46,7 +46,7 @@ fn info_json(scene: &Path) -> serde_json::Value {
     serde_json::from_slice(&output.stdout).expect("JSON")
 }
 
-/// `kousen info` names what each material became: glass, frosted, tinted.
+/// `kousen info` names what each material became: glass, frosted, tinted, plastic.
 #[test]
 fn info_names_the_kinds_of_material() {
     for (stem, want) in [
@@ -62,6 +62,10 @@ fn info_names_the_kinds_of_material() {
                 ("tinted glass", 1),
                 ("tinted frosted glass", 1),
             ],
+        ),
+        (
+            "cornell-plastic.gltf",
+            vec![("diffuse", 4), ("plastic", 2), ("glossy plastic", 1)],
         ),
     ] {
         let scene = shipped(stem);

@@ -7,13 +7,15 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use glam::Vec3;
 use render::buffers::{
-    HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams,
-    VisiblePoint, counter, hash_word, vec3,
+    HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, SAMPLE_AT_GLOSSY,
+    SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
-use render::direct::{sample_light, shadow_ray};
+use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
+use render::light_sampling::power_heuristic;
+use render::microfacet::glossy_response;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::plastic::{coat_transmittance, diffuse_scale};
@@ -118,14 +120,14 @@ pub fn photon_pass_with<R: StreamRng>(
     let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
     // A Lambertian surface, or plastic's base under the coat (which lets 1 − F through),
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
-    // themselves when `sample_lights` is set.
+    // themselves when `sample_lights` says so.
     let base_share = match material.surface {
         Surface::Diffuse => Some(1.0),
         Surface::Plastic { ior, .. } => Some(coat_transmittance(direction.dot(hit.shading), ior)),
         _ => None,
     };
     if let Some(share) = base_share
-        && (slot.depth > 0 || params.sample_lights == 0)
+        && (slot.depth > 0 || params.sample_lights & SAMPLE_AT_VISIBLE_POINTS == 0)
     {
         photon = Photon {
             position: hit.position.to_array(),
@@ -325,10 +327,14 @@ fn eye_path(
     // after a glass surface whose other branch was counted already (below).
     let mut emission_share = 1.0;
     let mut met_glass = false;
+    // Where the path last left a glossy lobe, and the lobe's density for the way it took:
+    // emission met next is weighed against the light sample taken there (0: not glossy).
+    let mut glossy = GlossyVertex::default();
     while depth < params.max_depth {
         let Some(hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one).
-            direct += throughput * emission_share * vec3(params.sky);
+            let sky = vec3(params.sky);
+            direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
             break;
         };
         let material = &scene.materials[hit.material as usize];
@@ -341,16 +347,26 @@ fn eye_path(
             continue;
         }
         throughput *= transmittance_to(material, &hit);
-        direct += throughput * emission_share * emitted(scene, material, &hit);
+        let emission = emitted(scene, material, &hit);
+        if emission.max_element() > 0.0 {
+            let weight = glossy.emitter_weight(scene, &hit, direction);
+            direct += throughput * emission_share * emission * weight;
+        }
         emission_share = 1.0;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
         let mut base_weight = 1.0;
+        // The lobes a light sample here serves: a glossy one (rough metal, a rough coat)
+        // always, the Lambertian one where the path ends on it (below).
+        let mut lit = LitLobes::default();
         let bounce = match material.surface {
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
+                lit.coat_ior = ior;
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
+                    lit.glossy = throughput;
+                    lit.alpha = alpha;
                     [rng.next_f32(), rng.next_f32()]
                 } else {
                     [0.0; 2]
@@ -376,6 +392,10 @@ fn eye_path(
                 } else {
                     0.0
                 };
+                if let Surface::RoughConductor { alpha } = material.surface {
+                    lit.glossy = throughput * tint;
+                    lit.alpha = alpha;
+                }
                 let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
@@ -383,14 +403,14 @@ fn eye_path(
                 Some((next, tint))
             }
         };
-        let Some((next, tint)) = bounce else {
+        if bounce.is_none() {
             // A Lambertian surface, or plastic's base (the coat's 1 − F(θo) cancelled by the
             // choice, its 1 − F(θi) left to the light sample and the photons).
-            let coat_ior = match material.surface {
-                Surface::Plastic { ior, .. } => Some(ior),
-                _ => None,
+            let scale = if lit.coat_ior > 0.0 {
+                diffuse_scale(lit.coat_ior)
+            } else {
+                1.0
             };
-            let scale = coat_ior.map_or(1.0, diffuse_scale);
             let weight = throughput * tint * (scale * base_weight * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
@@ -399,16 +419,25 @@ fn eye_path(
                     weight: weight.to_array(),
                     pad: 0,
                 };
-                if params.sample_lights != 0 {
-                    let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                    direct += weight * direct_light(scene, params, &hit, coat_ior, u);
+                if params.sample_lights & SAMPLE_AT_VISIBLE_POINTS != 0 {
+                    lit.diffuse = weight;
                 }
             }
+        }
+        if params.sample_lights & SAMPLE_AT_GLOSSY == 0 {
+            lit.alpha = 0.0;
+        }
+        if lit.is_lit() && !scene.lights.is_empty() {
+            let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+            direct += direct_light(scene, params, &hit, -direction, &lit, u);
+        }
+        let Some((next, tint)) = bounce else {
             break;
         };
         let Some((next, weight)) = next else {
             break;
         };
+        glossy = GlossyVertex::after(&hit, &lit, -direction, next);
         throughput *= tint * weight;
         if throughput.max_element() <= 0.0 {
             break;
@@ -453,6 +482,94 @@ fn eye_path(
     }
 }
 
+/// The lobes at an eye path's hit that one light sample there lights, each with its weight
+/// (the path's throughput and the surface's tint; zero for a lobe that is not there).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LitLobes {
+    /// A Lambertian lobe: the visible point's weight (ρ/π and plastic's scale included).
+    pub diffuse: Vec3,
+    /// A GGX reflection lobe of width `alpha` (`render::microfacet::glossy_response`).
+    pub glossy: Vec3,
+    pub alpha: f32,
+    /// The plastic coat over both lobes (its index; 0 for none): the Lambertian lobe gets
+    /// what the coat lets through, the glossy lobe is the coat's reflection.
+    pub coat_ior: f32,
+}
+
+impl LitLobes {
+    fn is_lit(&self) -> bool {
+        self.diffuse.max_element() > 0.0 || (self.alpha > 0.0 && self.glossy.max_element() > 0.0)
+    }
+
+    /// What light arriving along `incident` (at cosine `cosine` with the shading normal) with
+    /// solid-angle density `light_pdf` sends towards `outgoing`, per unit of its radiance
+    /// divided by that density.
+    fn response(&self, hit: &SurfaceHit, outgoing: Vec3, incident: Vec3, light_pdf: f32) -> Vec3 {
+        let cosine = incident.dot(hit.shading);
+        let mut response = Vec3::ZERO;
+        if self.diffuse.max_element() > 0.0 {
+            let coat = if self.coat_ior > 0.0 {
+                coat_transmittance(cosine, self.coat_ior)
+            } else {
+                1.0
+            };
+            response += self.diffuse * (cosine * coat);
+        }
+        if self.alpha > 0.0 {
+            let lobe = glossy_response(outgoing, incident, hit.shading, self.alpha, self.coat_ior);
+            if lobe.value > 0.0 {
+                response += self.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
+            }
+        }
+        response
+    }
+}
+
+/// Where an eye path last left a glossy lobe: the point, its shading normal, and the lobe's
+/// density for the direction taken (0 where the last bounce was not glossy, and emission met
+/// next counts in full).
+#[derive(Clone, Copy, Debug, Default)]
+struct GlossyVertex {
+    position: Vec3,
+    normal: Vec3,
+    pdf: f32,
+}
+
+impl GlossyVertex {
+    /// The vertex a bounce from `hit` along `next` leaves, its lobes as `lit` has them.
+    fn after(hit: &SurfaceHit, lit: &LitLobes, outgoing: Vec3, next: Vec3) -> GlossyVertex {
+        if lit.alpha <= 0.0 {
+            return GlossyVertex::default();
+        }
+        let lobe = glossy_response(outgoing, next, hit.shading, lit.alpha, lit.coat_ior);
+        GlossyVertex {
+            position: hit.position,
+            normal: hit.shading,
+            pdf: lobe.pdf,
+        }
+    }
+
+    /// The share of an emitter's radiance met at `hit` (along `direction`) that this path
+    /// counts: the rest came through the light sample at the glossy vertex.
+    fn emitter_weight(&self, scene: &SceneData, hit: &SurfaceHit, direction: Vec3) -> f32 {
+        if self.pdf <= 0.0 {
+            return 1.0;
+        }
+        let area_density = scene.light_area_density[hit.material as usize];
+        let distance = (hit.position - self.position).length();
+        let light_pdf = triangle_pdf(area_density, distance, direction.dot(hit.geometric));
+        power_heuristic(self.pdf, light_pdf)
+    }
+
+    /// The same for the sky, met along `direction`.
+    fn sky_weight(&self, scene: &SceneData, direction: Vec3) -> f32 {
+        if self.pdf <= 0.0 {
+            return 1.0;
+        }
+        power_heuristic(self.pdf, sky_pdf(&scene.lights, direction, self.normal))
+    }
+}
+
 /// What a ray sees at once: the emission of the first surface it meets (through alpha
 /// cut-outs' holes, as eye paths pass them), or the sky where it leaves the scene.
 pub fn emission_seen(
@@ -474,25 +591,28 @@ pub fn emission_seen(
     Vec3::ZERO
 }
 
-/// Radiance arriving at a diffuse hit from one sample of the light table (from three uniform
-/// numbers), cosine-weighted and divided by the sample's density; zero if the light is behind
-/// the surface or blocked. Under a plastic coat of index `coat_ior`, what the coat lets
-/// through (`render::plastic`).
+/// One sample of the light table (from three uniform numbers) at an eye path's hit, seen
+/// along `outgoing`: what reaches it unoccluded, through the lobes `lit` names, divided by the
+/// sample's density; a glossy lobe's share weighed against its own sampling (the power
+/// heuristic). Zero where the light lies behind the surface or is blocked.
 pub fn direct_light(
     scene: &SceneData,
     params: &SppmParams,
     hit: &SurfaceHit,
-    coat_ior: Option<f32>,
+    outgoing: Vec3,
+    lit: &LitLobes,
     u: [f32; 3],
 ) -> Vec3 {
     let Some(light) = sample_light(&scene.lights, u, hit.position, hit.shading) else {
         return Vec3::ZERO;
     };
-    let cosine = light.direction.dot(hit.shading);
-    if cosine <= 0.0 {
+    if light.direction.dot(hit.shading) <= 0.0 {
         return Vec3::ZERO;
     }
-    let coat = coat_ior.map_or(1.0, |ior| coat_transmittance(cosine, ior));
+    let response = lit.response(hit, outgoing, light.direction, light.pdf);
+    if response.max_element() <= 0.0 {
+        return Vec3::ZERO;
+    }
     // A facet turned from the light whose smooth surface faces it (a coarse mesh's
     // terminator): the shadow ray from the smooth surface decides.
     let lifted = is_lifted(
@@ -509,7 +629,7 @@ pub fn direct_light(
     if !unoccluded(scene, params, origin, direction, distance) {
         return Vec3::ZERO;
     }
-    light.incident * (cosine * coat)
+    light.incident * response
 }
 
 /// Hash build, first half, photon `index`: raises its entry's priority to the photon's and

@@ -31,6 +31,9 @@ pub struct SceneData {
     pub materials: Vec<Material>,
     pub textures: TextureArray,
     pub lights: Vec<Light>,
+    /// Per material, the density per area with which light sampling lands on it
+    /// (`render::emission::light_area_density`).
+    pub light_area_density: Vec<f32>,
 }
 
 impl SceneData {
@@ -41,6 +44,7 @@ impl SceneData {
             materials: scene.materials.clone(),
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
             lights: render::emission::light_table(scene),
+            light_area_density: render::emission::light_area_density(scene),
         }
     }
 }

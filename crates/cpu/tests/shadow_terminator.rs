@@ -101,7 +101,12 @@ fn shadow_rays_from_the_smooth_surface_clear_the_coarse_sphere() {
             blocked_from_facet += usize::from(!clear(hit.position));
             blocked_from_smooth += usize::from(!clear(hit.shadow_origin));
             // The renderer's light sample there: lit, by the smooth normal's cosine.
-            let light = cpu::kernels::direct_light(&data, &params, &hit, None, [0.5; 3]);
+            let diffuse = cpu::kernels::LitLobes {
+                diffuse: Vec3::ONE,
+                ..Default::default()
+            };
+            let light =
+                cpu::kernels::direct_light(&data, &params, &hit, hit.shading, &diffuse, [0.5; 3]);
             dark += usize::from(light.max_element() <= 0.0);
         }
     }

@@ -60,6 +60,11 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("LIGHT_SPOT", U32(buffers::LIGHT_SPOT)),
         ("LIGHT_DIRECTIONAL", U32(buffers::LIGHT_DIRECTIONAL)),
         ("LIGHT_SKY", U32(buffers::LIGHT_SKY)),
+        (
+            "SAMPLE_AT_VISIBLE_POINTS",
+            U32(buffers::SAMPLE_AT_VISIBLE_POINTS),
+        ),
+        ("SAMPLE_AT_GLOSSY", U32(buffers::SAMPLE_AT_GLOSSY)),
         ("MAX_PASS_THROUGHS", U32(buffers::MAX_PASS_THROUGHS)),
         ("SPECULAR_EXTRA_PATHS", U32(buffers::SPECULAR_EXTRA_PATHS)),
         ("SHADOW_SHORTENING", F32(render::direct::SHADOW_SHORTENING)),

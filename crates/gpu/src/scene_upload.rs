@@ -326,6 +326,18 @@ impl GpuScene {
         bvh: &PackedBvh,
         materials: &[Material],
     ) -> Result<GpuScene, GpuError> {
+        GpuScene::upload_lit(context, bvh, materials, &[])
+    }
+
+    /// [`GpuScene::upload`] with each material's light-sampling density per area
+    /// (`render::emission::light_area_density`; missing entries are 0), which the SPPM eye
+    /// pass weighs emitters met after glossy reflections by.
+    pub fn upload_lit(
+        context: &GpuContext,
+        bvh: &PackedBvh,
+        materials: &[Material],
+        light_area_density: &[f32],
+    ) -> Result<GpuScene, GpuError> {
         let storage = context.scene_storage;
         check_scene_fits(bvh, materials.len(), &context.limits, storage)?;
         let device = &context.device;
@@ -337,6 +349,9 @@ impl GpuScene {
             })
         };
         let mut gpu_materials: Vec<GpuMaterial> = materials.iter().map(GpuMaterial::new).collect();
+        for (gpu, &density) in gpu_materials.iter_mut().zip(light_area_density) {
+            gpu.light_area_density = density;
+        }
         if gpu_materials.is_empty() {
             // A binding cannot be empty; no triangle refers to this one.
             gpu_materials.push(GpuMaterial::new(&Material::default()));

@@ -249,7 +249,9 @@ impl GpuBackend {
             );
             context.scene_storage = storage;
         }
-        let gpu_scene = GpuScene::upload(&context, &bvh, &scene.materials)?;
+        let light_area_density = render::emission::light_area_density(scene);
+        let gpu_scene =
+            GpuScene::upload_lit(&context, &bvh, &scene.materials, &light_area_density)?;
         let device = &context.device;
         let layout = state_layout(device);
         let texture_layout = textures_layout(device);

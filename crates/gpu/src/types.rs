@@ -149,7 +149,10 @@ pub struct GpuMaterial {
     pub normal_texture: u32,
     /// Multiplies the normal map's X and Y.
     pub normal_scale: f32,
-    pub pad: [u32; 2],
+    /// An emitter's light-sampling density per area (`render::emission::light_area_density`;
+    /// 0 for others, and where the upload was not told).
+    pub light_area_density: f32,
+    pub pad: u32,
 }
 
 impl GpuMaterial {
@@ -189,7 +192,8 @@ impl GpuMaterial {
             roughness_alpha,
             normal_texture: material.normal_texture.unwrap_or(NO_TEXTURE),
             normal_scale: material.normal_scale,
-            pad: [0; 2],
+            light_area_density: 0.0,
+            pad: 0,
         }
     }
 }

@@ -306,6 +306,10 @@ fn gpu_types_layout_matches_rust() {
             ("roughness_alpha", offset_of!(GpuMaterial, roughness_alpha)),
             ("normal_texture", offset_of!(GpuMaterial, normal_texture)),
             ("normal_scale", offset_of!(GpuMaterial, normal_scale)),
+            (
+                "light_area_density",
+                offset_of!(GpuMaterial, light_area_density),
+            ),
             ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );

@@ -165,6 +165,12 @@ pub const LIGHT_DIRECTIONAL: u32 = 3;
 /// perpendicular to it, upstream.
 pub const LIGHT_SKY: u32 = 4;
 
+/// [`SppmParams::sample_lights`] bit: a light sample at every visible point.
+pub const SAMPLE_AT_VISIBLE_POINTS: u32 = 1;
+/// [`SppmParams::sample_lights`] bit: a light sample at every glossy reflection an eye path
+/// meets (rough metal, a rough plastic coat), weighed against the lobe's own sampling.
+pub const SAMPLE_AT_GLOSSY: u32 = 2;
+
 /// Render-wide constants (uniform buffer, 128 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -197,8 +203,9 @@ pub struct SppmParams {
     pub storage_flux_scale: f32,
     /// Radiance of the sky (zero without one): what camera paths that leave the scene see.
     pub sky: [f32; 3],
-    /// 1: eye passes sample the lights at visible points and photons are stored from their
-    /// second hit on ([`crate::direct::DirectLight::Sampled`]); 0: photons carry direct light.
+    /// Where eye passes sample the lights, bits: [`SAMPLE_AT_VISIBLE_POINTS`] (and photons
+    /// are then stored from their second hit on, [`crate::direct::DirectLight::Sampled`];
+    /// without it photons carry direct light) and [`SAMPLE_AT_GLOSSY`].
     pub sample_lights: u32,
     /// 1 if some material is an alpha cut-out, so shadow rays must look at what they hit
     /// (0: any hit blocks them).

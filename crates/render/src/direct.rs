@@ -51,9 +51,13 @@ impl DirectLight {
         }
     }
 
-    /// [`crate::buffers::SppmParams::sample_lights`].
+    /// Its bit of [`crate::buffers::SppmParams::sample_lights`].
     pub fn flag(self) -> u32 {
-        (self == DirectLight::Sampled) as u32
+        if self == DirectLight::Sampled {
+            crate::buffers::SAMPLE_AT_VISIBLE_POINTS
+        } else {
+            0
+        }
     }
 }
 
@@ -71,6 +75,10 @@ pub struct LightSample {
     /// Radiance arriving along `direction` divided by the sample's density (solid angle, light
     /// pick included), before the receiver's cosine.
     pub incident: Vec3,
+    /// The sample's density per solid angle, the pick included: what a BSDF's own sampling is
+    /// weighed against (multiple importance sampling). Infinite for point, spot and
+    /// directional lights, which no BSDF sample can meet.
+    pub pdf: f32,
 }
 
 /// How much shorter than the distance to the light a shadow ray stops, relative: the ray
@@ -87,7 +95,9 @@ pub fn sample_light(
     position: Vec3,
     normal: Vec3,
 ) -> Option<LightSample> {
-    let light = &lights[pick_light(lights, u[0])];
+    let index = pick_light(lights, u[0]);
+    let light = &lights[index];
+    let pick = pick_probability(lights, index);
     let flux = vec3(light.flux);
     let towards = |target: Vec3| {
         let offset = target - position;
@@ -105,6 +115,7 @@ pub fn sample_light(
                 distance,
                 target,
                 incident: flux / (4.0 * PI * d2),
+                pdf: f32::INFINITY,
             }
         }
         LIGHT_SPOT => {
@@ -118,6 +129,7 @@ pub fn sample_light(
                 distance,
                 target,
                 incident: flux * falloff / (cone * d2),
+                pdf: f32::INFINITY,
             }
         }
         LIGHT_DIRECTIONAL => {
@@ -127,6 +139,7 @@ pub fn sample_light(
                 distance: RAY_T_MAX,
                 target: position,
                 incident: flux / (PI * radius * radius),
+                pdf: f32::INFINITY,
             }
         }
         LIGHT_SKY => {
@@ -137,11 +150,13 @@ pub fn sample_light(
                 distance: RAY_T_MAX,
                 target: position,
                 incident: flux / (4.0 * PI * radius * radius * local.z),
+                pdf: pick * local.z / PI,
             }
         }
         _ => {
             let (direction, distance, d2, target) = towards(triangle_point(light, u[1], u[2]))?;
-            let normal = vec3(light.edge1).cross(vec3(light.edge2)).normalize();
+            let cross = vec3(light.edge1).cross(vec3(light.edge2));
+            let normal = cross.normalize();
             let cos_light = -direction.dot(normal);
             let (cos_light, faces) = if light.double_sided != 0 {
                 (cos_light.abs(), 2.0)
@@ -153,10 +168,44 @@ pub fn sample_light(
                 distance,
                 target,
                 incident: flux * cos_light / (PI * faces * d2),
+                pdf: pick * d2 / (0.5 * cross.length() * cos_light),
             }
         }
     };
     (sample.incident.max_element() > 0.0).then_some(sample)
+}
+
+/// The probability of picking light `index` of the table (its share of the CDF).
+pub fn pick_probability(lights: &[Light], index: usize) -> f32 {
+    let before = if index == 0 {
+        0.0
+    } else {
+        lights[index - 1].cdf
+    };
+    lights[index].cdf - before
+}
+
+/// The solid-angle density with which [`sample_light`], from a receiver facing `normal`,
+/// draws the sky along `direction`: 0 without a sky (the table's last light when there is one).
+pub fn sky_pdf(lights: &[Light], direction: Vec3, normal: Vec3) -> f32 {
+    match lights.last() {
+        Some(last) if last.kind == LIGHT_SKY => {
+            pick_probability(lights, lights.len() - 1) * direction.dot(normal).max(0.0) / PI
+        }
+        _ => 0.0,
+    }
+}
+
+/// The solid-angle density with which [`sample_light`] draws a point on an emissive triangle
+/// whose area density is `area_density` ([`crate::emission::light_area_density`]), met at
+/// `distance` where the ray makes cosine `cos_light` with its normal.
+pub fn triangle_pdf(area_density: f32, distance: f32, cos_light: f32) -> f32 {
+    let cos = cos_light.abs();
+    if cos > 0.0 {
+        area_density * distance * distance / cos
+    } else {
+        0.0
+    }
 }
 
 /// The shadow ray towards a light sample from `origin` (the receiver, already offset off its
@@ -289,5 +338,55 @@ mod tests {
             let u = [uniform(1, i), uniform(2, i), uniform(3, i)];
             assert_eq!(sample_light(&lights, u, above_the_light, Vec3::Y), None);
         }
+    }
+
+    /// A sample's density, times what it claims arrives divided by that density, is the
+    /// light's own radiance; and the densities a BSDF-sampled path computes for the same point
+    /// (`sky_pdf`, `triangle_pdf`) are the sampler's.
+    #[test]
+    fn sample_densities_are_the_samplers() {
+        let scene = scene::testing::cornell_box_punctual();
+        let table = light_table(&scene);
+        let area_density = crate::emission::light_area_density(&scene);
+        let emitter = scene
+            .materials
+            .iter()
+            .position(|m| m.emission.max_element() > 0.0)
+            .expect("an emissive material");
+        let sky = scene.lights.sky.as_ref().expect("a sky").radiance;
+        let (position, normal) = (Vec3::new(250.0, 1.0, 400.0), Vec3::Y);
+        let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-3 * b.max_element();
+        let (mut triangles, mut skies) = (0, 0);
+        for i in 0..4096 {
+            let u = [uniform(4, i), uniform(5, i), uniform(6, i)];
+            let Some(s) = sample_light(&table, u, position, normal) else {
+                continue;
+            };
+            if s.pdf.is_infinite() {
+                continue;
+            }
+            if s.distance >= RAY_T_MAX {
+                skies += 1;
+                assert!(close(s.incident * s.pdf, sky), "{:?}", s.incident * s.pdf);
+                let again = sky_pdf(&table, s.direction, normal);
+                assert!((again - s.pdf).abs() <= 1e-4 * s.pdf);
+            } else {
+                triangles += 1;
+                let radiance = scene.materials[emitter].emission;
+                assert!(
+                    close(s.incident * s.pdf, radiance),
+                    "{:?}",
+                    s.incident * s.pdf
+                );
+                // The Cornell box's light faces down.
+                let again = triangle_pdf(area_density[emitter], s.distance, s.direction.y);
+                assert!(
+                    (again - s.pdf).abs() <= 1e-3 * s.pdf,
+                    "{again} against {}",
+                    s.pdf
+                );
+            }
+        }
+        assert!(triangles > 100 && skies > 100, "{triangles} and {skies}");
     }
 }

@@ -22,7 +22,7 @@ use crate::sampling::{
 /// if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
 /// same for power).
 pub fn light_table(scene: &Scene) -> Vec<Light> {
-    let weight = |power: Vec3| power.element_sum().max(0.0) as f64;
+    let weight = pick_weight;
     let triangles = scene.lights.triangles.iter().map(|l| {
         let triangle = &scene.triangles[l.triangle as usize];
         let [p0, p1, p2] = triangle.positions();
@@ -70,6 +70,39 @@ pub fn light_table(scene: &Scene) -> Vec<Light> {
         last.cdf = 1.0;
     }
     table
+}
+
+/// A light's share of the table's CDF before normalising: the sum of its power's channels.
+fn pick_weight(power: Vec3) -> f64 {
+    power.element_sum().max(0.0) as f64
+}
+
+/// Per material, the density per unit area with which light sampling ([`light_table`]'s CDF,
+/// then a uniform point) lands on its triangles; 0 for materials that do not emit. The same
+/// for every triangle of a material, since a triangle's pick is in proportion to its area:
+/// what a path that meets an emitter by a BSDF's sampling weighs itself against (multiple
+/// importance sampling), without a per-triangle table.
+pub fn light_area_density(scene: &Scene) -> Vec<f32> {
+    let lights = &scene.lights;
+    let total: f64 = lights
+        .triangles
+        .iter()
+        .map(|l| pick_weight(l.power))
+        .sum::<f64>()
+        + lights
+            .punctual
+            .iter()
+            .map(|p| pick_weight(p.power))
+            .sum::<f64>()
+        + lights.sky.iter().map(|s| pick_weight(s.power)).sum::<f64>();
+    let mut density = vec![0.0; scene.materials.len()];
+    for light in &lights.triangles {
+        let material = scene.triangles[light.triangle as usize].material as usize;
+        if light.area > 0.0 && total > 0.0 {
+            density[material] = (pick_weight(light.power) / (total * light.area as f64)) as f32;
+        }
+    }
+    density
 }
 
 /// A punctual light's table entry (cdf and flux still to be set), its power, and the flux its
@@ -210,6 +243,34 @@ fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every emissive triangle's pick probability over its area is its material's density,
+    /// with a sky in the table too.
+    #[test]
+    fn area_density_is_each_triangles_pick_over_its_area() {
+        let mut scene = scene::testing::cornell_box();
+        let bounds = scene.bounds();
+        scene.lights.set_sky(Vec3::splat(0.3), bounds);
+        let table = light_table(&scene);
+        let density = light_area_density(&scene);
+        let mut checked = 0;
+        for (index, light) in scene.lights.triangles.iter().enumerate() {
+            let pick = crate::direct::pick_probability(&table, index);
+            let material = scene.triangles[light.triangle as usize].material as usize;
+            let expected = pick / light.area;
+            assert!(
+                (density[material] - expected).abs() < 1e-4 * expected,
+                "{} against {expected}",
+                density[material]
+            );
+            checked += 1;
+        }
+        assert!(checked > 0);
+        let emissive = |m: &scene::Material| m.emission.max_element() > 0.0;
+        for (material, d) in scene.materials.iter().zip(&density) {
+            assert_eq!(*d > 0.0, emissive(material));
+        }
+    }
 
     #[test]
     fn table_flux_times_probability_is_power() {

@@ -150,7 +150,12 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
             .sky
             .map_or(Vec3::ZERO, |s| s.radiance)
             .to_array(),
-        sample_lights: settings.direct.flag(),
+        sample_lights: settings.direct.flag()
+            | if settings.glossy_light_sampling {
+                crate::buffers::SAMPLE_AT_GLOSSY
+            } else {
+                0
+            },
         cut_outs: scene
             .materials
             .iter()

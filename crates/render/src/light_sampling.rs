@@ -77,9 +77,14 @@ impl LightSampler {
 }
 
 /// The power heuristic (β = 2) weight of a strategy with density `a` against one with `b`.
+/// Written as a ratio, so that an infinite `a` (a point light, which `b`'s strategy cannot
+/// draw) weighs 1 and large densities do not overflow their squares.
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+    if a <= 0.0 {
+        return 0.0;
+    }
+    let ratio = b / a;
+    1.0 / (1.0 + ratio * ratio)
 }
 
 #[cfg(test)]

@@ -60,6 +60,11 @@ pub struct Settings {
     /// Where direct light comes from: photons (the talk's scheme, and this default) or light
     /// samples at the visible points (`kousen render`'s and `kousen view`'s default).
     pub direct: DirectLight,
+    /// Whether eye paths sample the lights at glossy reflections (rough metal, rough plastic
+    /// coats), weighed against the lobe's own sampling (multiple importance sampling); off,
+    /// a glossy reflection of a light is seen only by the paths its sampling sends there.
+    /// On by default; benchmarks and tests compare.
+    pub glossy_light_sampling: bool,
     pub max_depth: u32,
     pub seed: u32,
     /// Every pixel's starting gather radius; `None`: from the scene's bounding box
@@ -87,6 +92,7 @@ impl Settings {
             density: Density::StochasticHash,
             precision: Precision::F32,
             direct: DirectLight::Photons,
+            glossy_light_sampling: true,
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
             initial_radius: None,

@@ -115,14 +115,60 @@ struct LightSample {
     distance: f32,
     target_point: vec3<f32>,
     incident: vec3<f32>,
+    // render::direct::LightSample::pdf; DELTA_LIGHT_PDF for point, spot and directional
+    // lights (the twin's infinity: the power heuristic gives them weight 1 either way).
+    pdf: f32,
     found: bool,
+}
+
+const DELTA_LIGHT_PDF: f32 = 1e38;
+
+// render::direct::pick_probability.
+fn pick_probability(index: u32) -> f32 {
+    var before = 0.0;
+    if index > 0u {
+        before = lights[index - 1u].cdf;
+    }
+    return lights[index].cdf - before;
+}
+
+// render::direct::sky_pdf.
+fn sky_pdf(direction: vec3<f32>, normal: vec3<f32>) -> f32 {
+    if params.light_count == 0u {
+        return 0.0;
+    }
+    let last = params.light_count - 1u;
+    if lights[last].kind != LIGHT_SKY {
+        return 0.0;
+    }
+    return pick_probability(last) * max(dot(direction, normal), 0.0) / PI;
+}
+
+// render::direct::triangle_pdf.
+fn triangle_pdf(area_density: f32, distance: f32, cos_light: f32) -> f32 {
+    let c = abs(cos_light);
+    if c > 0.0 {
+        return area_density * distance * distance / c;
+    }
+    return 0.0;
+}
+
+// render::light_sampling::power_heuristic.
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    if a <= 0.0 {
+        return 0.0;
+    }
+    let ratio = b / a;
+    return 1.0 / (1.0 + ratio * ratio);
 }
 
 // render::direct::sample_light: one sample of the light table seen from `position` on a
 // surface facing `normal`.
 fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32>) -> LightSample {
-    let light = lights[pick_light(u0)];
-    var sample = LightSample(vec3<f32>(0.0), RAY_T_MAX, position, vec3<f32>(0.0), false);
+    let index = pick_light(u0);
+    let light = lights[index];
+    let pick = pick_probability(index);
+    var sample = LightSample(vec3<f32>(0.0), RAY_T_MAX, position, vec3<f32>(0.0), DELTA_LIGHT_PDF, false);
     if light.kind == LIGHT_DIRECTIONAL {
         sample.direction = -light.edge1;
         sample.incident = light.flux / (PI * light.edge2.x * light.edge2.x);
@@ -130,6 +176,7 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
         let local = cosine_hemisphere(u1, u2);
         sample.direction = normalize(about_axis(normal, local));
         sample.incident = light.flux / (4.0 * PI * light.edge2.x * light.edge2.x * local.z);
+        sample.pdf = pick * local.z / PI;
     } else {
         var light_point = light.v0;
         if light.kind == LIGHT_TRIANGLE {
@@ -150,7 +197,8 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
             let cone = 2.0 * PI * (1.0 - light.edge2.y);
             sample.incident = light.flux * falloff / (cone * distance_squared);
         } else {
-            let normal = normalize(cross(light.edge1, light.edge2));
+            let light_cross = cross(light.edge1, light.edge2);
+            let normal = normalize(light_cross);
             var cos_light = -dot(sample.direction, normal);
             var faces = 1.0;
             if light.double_sided != 0u {
@@ -158,6 +206,7 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
                 faces = 2.0;
             }
             sample.incident = light.flux * cos_light / (PI * faces * distance_squared);
+            sample.pdf = pick * distance_squared / (0.5 * length(light_cross) * cos_light);
         }
     }
     sample.found = max3(sample.incident) > 0.0;
@@ -191,15 +240,51 @@ fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> b
     return false;
 }
 
-// cpu::kernels::direct_light: one light sample's cosine-weighted radiance at a diffuse hit,
-// under a plastic coat of index coat_ior where that is not 0.
-fn direct_light(hit: SurfaceHit, coat_ior: f32, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
+// cpu::kernels::LitLobes: the lobes one light sample at an eye path's hit serves, with their
+// weights (zero for a lobe that is not there).
+struct LitLobes {
+    diffuse: vec3<f32>,
+    glossy: vec3<f32>,
+    alpha: f32,
+    coat_ior: f32,
+}
+
+fn is_lit(lit: LitLobes) -> bool {
+    return max3(lit.diffuse) > 0.0 || (lit.alpha > 0.0 && max3(lit.glossy) > 0.0);
+}
+
+// cpu::kernels::LitLobes::response.
+fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: vec3<f32>, light_pdf: f32) -> vec3<f32> {
+    let cosine = dot(incident, hit.shading);
+    var response = vec3<f32>(0.0);
+    if max3(lit.diffuse) > 0.0 {
+        var coat = 1.0;
+        if lit.coat_ior > 0.0 {
+            coat = coat_transmittance(cosine, lit.coat_ior);
+        }
+        response += lit.diffuse * (cosine * coat);
+    }
+    if lit.alpha > 0.0 {
+        let lobe = glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
+        if lobe.value > 0.0 {
+            response += lit.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
+        }
+    }
+    return response;
+}
+
+// cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
+// names.
+fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
     let light = sample_light(u0, u1, u2, hit.position, hit.shading);
     if !light.found {
         return vec3<f32>(0.0);
     }
-    let cosine = dot(light.direction, hit.shading);
-    if cosine <= 0.0 {
+    if dot(light.direction, hit.shading) <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let response = lit_response(lit, hit, outgoing, light.direction, light.pdf);
+    if max3(response) <= 0.0 {
         return vec3<f32>(0.0);
     }
     // cpu::kernels::direct_light: a coarse mesh's terminator, decided by the shadow ray.
@@ -212,11 +297,42 @@ fn direct_light(hit: SurfaceHit, coat_ior: f32, u0: f32, u1: f32, u2: f32) -> ve
     if !unoccluded(origin, shadow.xyz, shadow.w) {
         return vec3<f32>(0.0);
     }
-    var coat = 1.0;
-    if coat_ior != 0.0 {
-        coat = coat_transmittance(cosine, coat_ior);
+    return light.incident * response;
+}
+
+// cpu::kernels::GlossyVertex: where an eye path last left a glossy lobe (pdf 0: it did not).
+struct GlossyVertex {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    pdf: f32,
+}
+
+// cpu::kernels::GlossyVertex::after.
+fn glossy_after(hit: SurfaceHit, lit: LitLobes, outgoing: vec3<f32>, next: vec3<f32>) -> GlossyVertex {
+    if lit.alpha <= 0.0 {
+        return GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     }
-    return light.incident * (cosine * coat);
+    let lobe = glossy_response(outgoing, next, hit.shading, lit.alpha, lit.coat_ior);
+    return GlossyVertex(hit.position, hit.shading, lobe.pdf);
+}
+
+// cpu::kernels::GlossyVertex::emitter_weight.
+fn emitter_weight(glossy: GlossyVertex, hit: SurfaceHit, direction: vec3<f32>) -> f32 {
+    if glossy.pdf <= 0.0 {
+        return 1.0;
+    }
+    let area_density = materials[hit.material].light_area_density;
+    let distance = length(hit.position - glossy.position);
+    let light_pdf = triangle_pdf(area_density, distance, dot(direction, hit.geometric));
+    return power_heuristic(glossy.pdf, light_pdf);
+}
+
+// cpu::kernels::GlossyVertex::sky_weight.
+fn sky_weight(glossy: GlossyVertex, direction: vec3<f32>) -> f32 {
+    if glossy.pdf <= 0.0 {
+        return 1.0;
+    }
+    return power_heuristic(glossy.pdf, sky_pdf(direction, glossy.normal));
 }
 
 // render::direct::shadow_ray: the direction (xyz) and length (w) of the shadow ray from
@@ -288,7 +404,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // (not straight from the light where eye passes sample the light themselves).
     let plastic = material.surface == SURFACE_PLASTIC;
     if material.surface == SURFACE_DIFFUSE || plastic {
-        if slot.depth > 0u || params.sample_lights == 0u {
+        if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
             if plastic {
                 share = coat_transmittance(dot(direction, hit.shading), material.ior);
@@ -427,6 +543,9 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
     var probe_weight = vec3<f32>(0.0);
     var probe_pass_throughs = 0u;
     let sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
+    // cpu::kernels::eye_path's glossy vertex: emission met next is weighed against the light
+    // sample taken there.
+    var glossy = GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     while depth < params.max_depth {
         let hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
         if probing {
@@ -445,7 +564,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         }
         if !hit.found {
             // Out of the scene: the sky (zero without one).
-            direct += throughput * emission_share * sky;
+            direct += throughput * emission_share * sky * sky_weight(glossy, direction);
             break;
         }
         let material = materials[hit.material];
@@ -458,19 +577,27 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             continue;
         }
         throughput *= transmittance_to(material, hit);
-        direct += throughput * emission_share * emitted(material, hit);
+        let emission = emitted(material, hit);
+        if max3(emission) > 0.0 {
+            direct += throughput * emission_share * emission * emitter_weight(glossy, hit, direction);
+        }
         emission_share = 1.0;
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
         let u = next_f32(rng);
-        // cpu::kernels::eye_path: plastic's coat or its base, chosen by Fresnel.
+        // cpu::kernels::eye_path: plastic's coat or its base, chosen by Fresnel; the lobes a
+        // light sample here serves.
         let plastic = material.surface == SURFACE_PLASTIC;
         var base = material.surface == SURFACE_DIFFUSE;
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
         if plastic {
+            lit.coat_ior = material.ior;
             var u_micro = vec2<f32>(0.0);
             if material.roughness_alpha > 0.0 {
+                lit.glossy = throughput;
+                lit.alpha = material.roughness_alpha;
                 let u1 = next_f32(rng);
                 let u2 = next_f32(rng);
                 u_micro = vec2<f32>(u1, u2);
@@ -483,24 +610,17 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         }
         if base {
             var scale = 1.0;
-            var coat_ior = 0.0;
             if plastic {
                 scale = diffuse_scale(material.ior);
-                coat_ior = material.ior;
             }
             let weight = throughput * tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {
                 point = VisiblePoint(hit.position, pack_normal(hit.shading), weight, 0u);
-                if params.sample_lights != 0u {
-                    let u0 = next_f32(rng);
-                    let u1 = next_f32(rng);
-                    let u2 = next_f32(rng);
-                    direct += weight * direct_light(hit, coat_ior, u0, u1, u2);
+                if (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) != 0u {
+                    lit.diffuse = weight;
                 }
             }
-            break;
-        }
-        if !plastic {
+        } else if !plastic {
             // Only these send pixels more eye paths (cpu::kernels::eye_path).
             specular_first = specular_first || depth == 0u;
             // Rough metal and glass draw their micro-normal with a second number, and rough
@@ -513,11 +633,25 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             if material.surface == SURFACE_ROUGH_DIELECTRIC {
                 u_third = next_f32(rng);
             }
+            if material.surface == SURFACE_ROUGH_CONDUCTOR {
+                lit.glossy = throughput * tint;
+                lit.alpha = material.roughness_alpha;
+            }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }
-        if bounce.weight <= 0.0 {
+        if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
+            lit.alpha = 0.0;
+        }
+        if is_lit(lit) && params.light_count > 0u {
+            let u0 = next_f32(rng);
+            let u1 = next_f32(rng);
+            let u2 = next_f32(rng);
+            direct += direct_light(hit, -direction, lit, u0, u1, u2);
+        }
+        if base || bounce.weight <= 0.0 {
             break;
         }
+        glossy = glossy_after(hit, lit, -direction, bounce.direction);
         throughput *= bounce_tint * bounce.weight;
         if max3(throughput) <= 0.0 {
             break;

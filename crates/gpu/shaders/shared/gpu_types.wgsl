@@ -45,5 +45,6 @@ struct GpuMaterial {
     roughness_alpha: f32,
     normal_texture: u32,
     normal_scale: f32,
-    pad: vec2<u32>,
+    light_area_density: f32,
+    pad: u32,
 }

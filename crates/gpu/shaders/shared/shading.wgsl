@@ -367,6 +367,40 @@ fn rough_reflection(hit: SurfaceHit, incoming: vec3<f32>, alpha: f32, u1: f32, u
     return Scattered(next, weight);
 }
 
+// render::microfacet::ggx_d.
+fn ggx_d(m: vec3<f32>, alpha: f32) -> f32 {
+    if m.z <= 0.0 {
+        return 0.0;
+    }
+    let a2 = alpha * alpha;
+    let denom = m.z * m.z * (a2 - 1.0) + 1.0;
+    return a2 / (PI * denom * denom);
+}
+
+// render::microfacet::GlossyResponse.
+struct GlossyResponse {
+    value: f32,
+    pdf: f32,
+}
+
+// render::microfacet::glossy_response: a rough conductor's lobe (coat_ior 0) or a plastic
+// coat's, lit along `incident` and seen along `outgoing`.
+fn glossy_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f32>, alpha: f32, coat_ior: f32) -> GlossyResponse {
+    let frame = frame_about(normal);
+    let view = to_local(frame, outgoing);
+    let light = to_local(frame, incident);
+    if view.z <= 0.0 || light.z <= 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    let half = normalize(view + light);
+    var fresnel = 1.0;
+    if coat_ior > 0.0 {
+        fresnel = coat_reflectance(dot(view, half), coat_ior);
+    }
+    let pdf = fresnel * smith_g1(view, alpha) * ggx_d(half, alpha) / (4.0 * view.z);
+    return GlossyResponse(pdf * smith_g1(light, alpha), pdf);
+}
+
 // render::microfacet::rough_dielectric, with specular_direction's check against the
 // geometric normal. (Under total internal reflection Fresnel is 1 and u_third < 1 reflects,
 // so the refraction below always exists, as the twin's `?` assumes.)

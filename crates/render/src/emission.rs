@@ -72,6 +72,19 @@ pub fn light_table(scene: &Scene) -> Vec<Light> {
     table
 }
 
+/// The scene triangle behind each of [`light_table`]'s triangle entries, in table order (they
+/// come first): a renderer that samples the table can then read a textured emitter's
+/// radiance at the point it drew, where the table holds the texture's mean.
+pub fn light_table_triangles(scene: &Scene) -> Vec<u32> {
+    scene
+        .lights
+        .triangles
+        .iter()
+        .filter(|l| pick_weight(l.power) > 0.0)
+        .map(|l| l.triangle)
+        .collect()
+}
+
 /// A light's share of the table's CDF before normalising: the sum of its power's channels.
 fn pick_weight(power: Vec3) -> f64 {
     power.element_sum().max(0.0) as f64
@@ -213,11 +226,18 @@ fn emission_along(origin: Vec3, direction: Vec3, flux: Vec3) -> Emission {
 /// A uniform point on a triangle light from two uniform numbers (the unit square folded onto
 /// the triangle's barycentrics).
 pub fn triangle_point(light: &Light, u1: f32, u2: f32) -> Vec3 {
-    let (mut b1, mut b2) = (u1, u2);
-    if b1 + b2 > 1.0 {
-        (b1, b2) = (1.0 - b1, 1.0 - b2);
-    }
+    let (b1, b2) = triangle_barycentrics(u1, u2);
     vec3(light.v0) + b1 * vec3(light.edge1) + b2 * vec3(light.edge2)
+}
+
+/// The barycentrics of the second and third vertex of [`triangle_point`]'s point: the unit
+/// square folded onto the triangle.
+pub fn triangle_barycentrics(u1: f32, u2: f32) -> (f32, f32) {
+    if u1 + u2 > 1.0 {
+        (1.0 - u1, 1.0 - u2)
+    } else {
+        (u1, u2)
+    }
 }
 
 fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
@@ -269,6 +289,32 @@ mod tests {
         let emissive = |m: &scene::Material| m.emission.max_element() > 0.0;
         for (material, d) in scene.materials.iter().zip(&density) {
             assert_eq!(*d > 0.0, emissive(material));
+        }
+    }
+
+    /// The scene triangle named for each triangle entry is the one the entry was made from,
+    /// and a point drawn on the entry has the barycentrics `triangle_barycentrics` gives.
+    #[test]
+    fn table_triangles_name_each_entry_s_triangle() {
+        let scene = scene::testing::cornell_box_punctual();
+        let table = light_table(&scene);
+        let triangles = light_table_triangles(&scene);
+        let entries = table.iter().filter(|l| l.kind == LIGHT_TRIANGLE).count();
+        assert!(entries > 0 && entries < table.len());
+        assert_eq!(triangles.len(), entries);
+        for (light, &id) in table.iter().zip(&triangles) {
+            assert_eq!(light.kind, LIGHT_TRIANGLE);
+            let [p0, p1, p2] = scene.triangles[id as usize].positions();
+            assert_eq!(vec3(light.v0), p0);
+            for (u1, u2) in [(0.2, 0.3), (0.9, 0.7)] {
+                let (b1, b2) = triangle_barycentrics(u1, u2);
+                let expected = (1.0 - b1 - b2) * p0 + b1 * p1 + b2 * p2;
+                let drawn = triangle_point(light, u1, u2);
+                assert!(
+                    (drawn - expected).length() < 1e-3,
+                    "{drawn} against {expected}"
+                );
+            }
         }
     }
 

@@ -146,12 +146,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         if args.backend == BackendChoice::Gpu {
             bail!("--integrator path runs on the CPU only; use --backend cpu or auto");
         }
-        if !scene.lights.punctual.is_empty() {
-            bail!(
-                "--integrator path samples emissive surfaces only, and this scene has {} glTF punctual light(s); use --integrator sppm",
-                scene.lights.punctual.len()
-            );
-        }
         let frame = super::path_render::Frame {
             camera,
             width,

@@ -18,7 +18,6 @@ use render::light_sampling::power_heuristic;
 use render::microfacet::glossy_response;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
-use render::plastic::{coat_transmittance, diffuse_scale};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
 use render::shadow_terminator::is_lifted;
@@ -118,12 +117,13 @@ pub fn photon_pass_with<R: StreamRng>(
     // normal-mapped): by `arrival` where they land, and by it and the departure factor where
     // they go on (`render::normal_map`).
     let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
-    // A Lambertian surface, or plastic's base under the coat (which lets 1 − F through),
+    // A Lambertian surface, or plastic's base under the coat (which lets T(θ) through),
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
+    let coat = &scene.coats[hit.material as usize];
     let base_share = match material.surface {
         Surface::Diffuse => Some(1.0),
-        Surface::Plastic { ior, .. } => Some(coat_transmittance(direction.dot(hit.shading), ior)),
+        Surface::Plastic { .. } => Some(coat.transmittance(direction.dot(hit.shading))),
         _ => None,
     };
     if let Some(share) = base_share
@@ -143,17 +143,16 @@ pub fn photon_pass_with<R: StreamRng>(
             slot.bounced = 1;
             (diffuse_bounce(&hit, u_direction), tint)
         }
-        Surface::Plastic { ior, alpha } => {
-            match plastic_bounce(&hit, direction, ior, alpha, u_choice, u_direction) {
+        Surface::Plastic { .. } => {
+            match plastic_bounce(&hit, direction, coat, u_choice, u_direction) {
                 PlasticBounce::Coat(next) => (next, Vec3::ONE),
                 PlasticBounce::Base(weight) => {
                     slot.bounced = 1;
                     let next = diffuse_bounce(&hit, u_direction);
-                    // The base's lobe over the choice's 1 − F(θi): ρ · scale · (1 − F(θo)).
-                    let leaving = next.map_or(0.0, |(next, _)| {
-                        coat_transmittance(next.dot(hit.shading), ior)
-                    });
-                    (next, tint * (diffuse_scale(ior) * leaving * weight))
+                    // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
+                    let leaving =
+                        next.map_or(0.0, |(next, _)| coat.transmittance(next.dot(hit.shading)));
+                    (next, tint * (coat.diffuse_scale * leaving * weight))
                 }
             }
         }
@@ -371,7 +370,8 @@ fn eye_path(
                 } else {
                     [0.0; 2]
                 };
-                match plastic_bounce(&hit, direction, ior, alpha, u, u_micro) {
+                let coat = &scene.coats[hit.material as usize];
+                match plastic_bounce(&hit, direction, coat, u, u_micro) {
                     PlasticBounce::Base(weight) => {
                         base_weight = weight;
                         None
@@ -404,10 +404,10 @@ fn eye_path(
             }
         };
         if bounce.is_none() {
-            // A Lambertian surface, or plastic's base (the coat's 1 − F(θo) cancelled by the
-            // choice, its 1 − F(θi) left to the light sample and the photons).
+            // A Lambertian surface, or plastic's base (the coat's T(θo) in the choice's
+            // weight, its T(θi) left to the light sample and the photons).
             let scale = if lit.coat_ior > 0.0 {
-                diffuse_scale(lit.coat_ior)
+                scene.coats[hit.material as usize].diffuse_scale
             } else {
                 1.0
             };
@@ -504,12 +504,19 @@ impl LitLobes {
     /// What light arriving along `incident` (at cosine `cosine` with the shading normal) with
     /// solid-angle density `light_pdf` sends towards `outgoing`, per unit of its radiance
     /// divided by that density.
-    fn response(&self, hit: &SurfaceHit, outgoing: Vec3, incident: Vec3, light_pdf: f32) -> Vec3 {
+    fn response(
+        &self,
+        scene: &SceneData,
+        hit: &SurfaceHit,
+        outgoing: Vec3,
+        incident: Vec3,
+        light_pdf: f32,
+    ) -> Vec3 {
         let cosine = incident.dot(hit.shading);
         let mut response = Vec3::ZERO;
         if self.diffuse.max_element() > 0.0 {
             let coat = if self.coat_ior > 0.0 {
-                coat_transmittance(cosine, self.coat_ior)
+                scene.coats[hit.material as usize].transmittance(cosine)
             } else {
                 1.0
             };
@@ -609,7 +616,7 @@ pub fn direct_light(
     if light.direction.dot(hit.shading) <= 0.0 {
         return Vec3::ZERO;
     }
-    let response = lit.response(hit, outgoing, light.direction, light.pdf);
+    let response = lit.response(scene, hit, outgoing, light.direction, light.pdf);
     if response.max_element() <= 0.0 {
         return Vec3::ZERO;
     }

@@ -34,6 +34,8 @@ pub struct SceneData {
     /// Per material, the density per area with which light sampling lands on it
     /// (`render::emission::light_area_density`).
     pub light_area_density: Vec<f32>,
+    /// Per material, its plastic coat (`render::plastic::Coat`; ior 0 for none).
+    pub coats: Vec<render::plastic::Coat>,
 }
 
 impl SceneData {
@@ -45,6 +47,11 @@ impl SceneData {
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
             lights: render::emission::light_table(scene),
             light_area_density: render::emission::light_area_density(scene),
+            coats: scene
+                .materials
+                .iter()
+                .map(|m| render::plastic::Coat::of(&m.surface))
+                .collect(),
         }
     }
 }

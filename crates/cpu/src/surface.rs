@@ -8,7 +8,7 @@ use render::buffers::{RAY_T_MAX, SppmParams};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract, relative_eta};
-use render::plastic::{CoatEvent, coat_event};
+use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::textures::TextureArray;
@@ -267,12 +267,11 @@ pub enum PlasticBounce {
 pub fn plastic_bounce(
     hit: &SurfaceHit,
     incoming: Vec3,
-    ior: f32,
-    alpha: f32,
+    coat: &Coat,
     u_choice: f32,
     [u1, u2]: [f32; 2],
 ) -> PlasticBounce {
-    match coat_event(incoming, hit.shading, ior, alpha, [u_choice, u1, u2]) {
+    match coat_event(incoming, hit.shading, coat, [u_choice, u1, u2]) {
         CoatEvent::Base { weight } => PlasticBounce::Base(weight),
         CoatEvent::Reflected { direction, weight } => PlasticBounce::Coat(
             (weight > 0.0 && direction.dot(hit.geometric) > 0.0).then_some((direction, weight)),

@@ -179,11 +179,11 @@ fn sppm_matches_mitsuba_through_rough_metal() {
 /// means within 0.4 %; the smooth plastic's pixels within 1.2 %.
 ///
 /// The glossy blue sphere (GGX α 0.09) is rendered by Mitsuba's `roughplastic`, whose base
-/// sees the rough coat's tabulated transmittance where kousen keeps the smooth coat's: under
-/// uniform light Mitsuba's own `roughplastic` at α 0.09 returns 6.3 / 7.8 / 8.7 % (R / G / B)
-/// less than its `plastic` of the same colour (64² of a sphere under a constant environment,
-/// 1024 spp). kousen's sphere is measured 3.9 / 7.6 / 9.3 % brighter than Mitsuba's; the test
-/// holds it between 0 and 13 % brighter: the gap of the two models, not an error of either.
+/// sees the rough coat's tabulated transmittance, as kousen's does since session 24
+/// (`render::plastic::Coat`; before, it kept the smooth coat's, and the sphere was 4–9 %
+/// brighter). Measured: 0.9 / 2.9 / 3.4 % (R / G / B) brighter, most of it the base's scale
+/// (Mitsuba's `F_dr` averages 64 cosines where kousen integrates: 2.5 % in the base); the
+/// test holds it within 5 %.
 #[test]
 fn sppm_matches_mitsuba_through_plastic() {
     let scene = shipped("cornell-plastic.gltf");
@@ -216,7 +216,7 @@ fn sppm_matches_mitsuba_through_plastic() {
         smooth.1
     );
     assert!(
-        rough.1.min_element() > 1.0 && rough.1.max_element() < 1.13,
+        (rough.1 - Vec3::ONE).abs().max_element() < 0.05,
         "glossy sphere {}",
         rough.1
     );

@@ -51,6 +51,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             U32(types::SURFACE_ROUGH_DIELECTRIC),
         ),
         ("SURFACE_PLASTIC", U32(types::SURFACE_PLASTIC)),
+        ("COAT_NODES", U32(render::plastic::COAT_NODES as u32)),
         ("NO_TEXTURE", U32(types::NO_TEXTURE)),
         ("MATERIAL_DOUBLE_SIDED", U32(types::MATERIAL_DOUBLE_SIDED)),
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),

@@ -122,7 +122,7 @@ pub const NO_TEXTURE: u32 = u32::MAX;
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 
-/// One material (80 bytes).
+/// One material (144 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -152,7 +152,10 @@ pub struct GpuMaterial {
     /// An emitter's light-sampling density per area (`render::emission::light_area_density`;
     /// 0 for others, and where the upload was not told).
     pub light_area_density: f32,
-    pub pad: u32,
+    /// Plastic: `render::plastic::Coat::diffuse_scale` (0 otherwise).
+    pub coat_diffuse_scale: f32,
+    /// A rough plastic coat's `render::plastic::Coat::transmittance_nodes`, four a row.
+    pub coat_transmittance: [[f32; 4]; 4],
 }
 
 impl GpuMaterial {
@@ -176,6 +179,8 @@ impl GpuMaterial {
             }
             AlphaMode::Mask { .. } => f32::MAX,
         };
+        let coat = render::plastic::Coat::of(&material.surface);
+        let nodes = coat.transmittance_nodes;
         let flag = |on: bool, bit: u32| if on { bit } else { 0 };
         let flags = flag(material.double_sided, MATERIAL_DOUBLE_SIDED)
             | flag(thin_walled, MATERIAL_THIN_WALLED);
@@ -193,7 +198,10 @@ impl GpuMaterial {
             normal_texture: material.normal_texture.unwrap_or(NO_TEXTURE),
             normal_scale: material.normal_scale,
             light_area_density: 0.0,
-            pad: 0,
+            coat_diffuse_scale: coat.diffuse_scale,
+            coat_transmittance: std::array::from_fn(|row| {
+                std::array::from_fn(|column| nodes[4 * row + column])
+            }),
         }
     }
 }

@@ -310,7 +310,14 @@ fn gpu_types_layout_matches_rust() {
                 "light_area_density",
                 offset_of!(GpuMaterial, light_area_density),
             ),
-            ("pad", offset_of!(GpuMaterial, pad)),
+            (
+                "coat_diffuse_scale",
+                offset_of!(GpuMaterial, coat_diffuse_scale),
+            ),
+            (
+                "coat_transmittance",
+                offset_of!(GpuMaterial, coat_transmittance),
+            ),
         ],
     );
     assert_layout(

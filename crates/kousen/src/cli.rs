@@ -167,6 +167,16 @@ impl DirectChoice {
     }
 }
 
+/// What lights an eye path where it meets a glossy reflection (`--glossy-light`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GlossyLightChoice {
+    /// A light sample at each rough metal or rough plastic coat reflection, weighed against
+    /// the lobe's own sampling (multiple importance sampling).
+    Sampled,
+    /// Only what the lobe's own sampling meets (one ray along the drawn reflection).
+    Lobe,
+}
+
 /// Density estimation and storage, shared by `kousen render` and `kousen view`.
 #[derive(Args, Clone, Copy)]
 pub struct EstimatorArgs {
@@ -180,6 +190,10 @@ pub struct EstimatorArgs {
     /// over the whole Cornell-caustics image in half the time, docs/BENCHMARKS.md §3).
     #[arg(long, value_enum, default_value_t = DirectChoice::Sampled)]
     pub direct_light: DirectChoice,
+    /// What lights glossy reflections that eye paths meet (sampled: far less noise on rough
+    /// metal and rough plastic under small lights, docs/BENCHMARKS.md §3).
+    #[arg(long, value_enum, default_value_t = GlossyLightChoice::Sampled)]
+    pub glossy_light: GlossyLightChoice,
 }
 
 /// A density-estimation method as `kousen bench density` names it.

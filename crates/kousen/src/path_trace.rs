@@ -21,7 +21,7 @@ use render::light_sampling::power_heuristic;
 use render::microfacet::glossy_response;
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract};
-use render::plastic::{CoatEvent, coat_event, coat_transmittance, diffuse_scale};
+use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::{is_lifted, shadow_origin};
 
@@ -55,6 +55,8 @@ pub struct PathTracer<'a> {
     light_triangles: Vec<u32>,
     /// Per material, the area density with which light sampling lands on its triangles.
     light_area_density: Vec<f32>,
+    /// Per material, its plastic coat (ior 0 for none).
+    coats: Vec<Coat>,
     /// Whether any material has alpha cut-outs (shadow rays must then look through them).
     has_cut_outs: bool,
     /// Offset of a continuation ray's origin, relative to the scene's size.
@@ -111,36 +113,36 @@ impl Arrival {
 #[derive(Default)]
 struct LitLobes {
     /// A Lambertian lobe's albedo (under a coat: times plastic's scale and the coat's
-    /// `1 − F(θo)`); zero where there is none.
+    /// `T(θo)`); zero where there is none.
     lambertian: Vec3,
     /// The probability that the tracer's own sampling takes the Lambertian lobe.
     lambertian_choice: f32,
     /// A GGX reflection's tint (a metal's colour; 1 for a coat); zero where there is none.
     glossy: Vec3,
     alpha: f32,
-    /// The plastic coat over both (its index; 0 for none): the Lambertian lobe gets what it
-    /// lets through, the glossy lobe is its reflection.
-    coat_ior: f32,
+    /// The plastic coat over both (ior 0 for none): the Lambertian lobe gets what it lets
+    /// through, the glossy lobe is its reflection.
+    coat: Coat,
 }
 
 impl LitLobes {
-    /// A material's lobes at a point with unit `shading` normal, seen along `outgoing` (unit,
-    /// away from the surface), `tint` its base colour there.
-    fn of(material: &Material, tint: Vec3, outgoing: Vec3, shading: Vec3) -> LitLobes {
+    /// A material's lobes (`coat` its coat) at a point with unit `shading` normal, seen along
+    /// `outgoing` (unit, away from the surface), `tint` its base colour there.
+    fn of(material: &Material, coat: &Coat, tint: Vec3, outgoing: Vec3, shading: Vec3) -> LitLobes {
         match material.surface {
             Surface::Diffuse => LitLobes {
                 lambertian: tint,
                 lambertian_choice: 1.0,
                 ..LitLobes::default()
             },
-            Surface::Plastic { ior, alpha } => {
-                let leaving = coat_transmittance(outgoing.dot(shading), ior);
+            Surface::Plastic { alpha, .. } => {
+                let leaving = coat.transmittance(outgoing.dot(shading));
                 LitLobes {
-                    lambertian: tint * (diffuse_scale(ior) * leaving),
+                    lambertian: tint * (coat.diffuse_scale * leaving),
                     lambertian_choice: leaving,
                     glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
                     alpha,
-                    coat_ior: ior,
+                    coat: *coat,
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
@@ -171,8 +173,8 @@ impl LitLobes {
         let reach = if drawable { 1.0 } else { 0.0 };
         let mut response = Vec3::ZERO;
         if self.lambertian.max_element() > 0.0 {
-            let entering = if self.coat_ior > 0.0 {
-                coat_transmittance(cosine, self.coat_ior)
+            let entering = if self.coat.ior > 0.0 {
+                self.coat.transmittance(cosine)
             } else {
                 1.0
             };
@@ -181,7 +183,7 @@ impl LitLobes {
             response += self.lambertian * (entering * lobe * power_heuristic(light_pdf, pdf));
         }
         if self.alpha > 0.0 {
-            let lobe = glossy_response(outgoing, incident, normal, self.alpha, self.coat_ior);
+            let lobe = glossy_response(outgoing, incident, normal, self.alpha, self.coat.ior);
             if lobe.value > 0.0 {
                 let weight = power_heuristic(light_pdf, reach * lobe.pdf);
                 response += self.glossy * (lobe.value * weight);
@@ -206,6 +208,11 @@ impl<'a> PathTracer<'a> {
             lights: light_table(scene),
             light_triangles: light_table_triangles(scene),
             light_area_density: light_area_density(scene),
+            coats: scene
+                .materials
+                .iter()
+                .map(|m| Coat::of(&m.surface))
+                .collect(),
             has_cut_outs,
             epsilon,
         }
@@ -283,7 +290,8 @@ impl<'a> PathTracer<'a> {
             // diffuse surface, plastic's base, which the coat lets light into and out of:
             // `render::plastic`) and glossy ones (rough metal, a rough coat).
             let tint = self.tint(material, point.uv);
-            let lit = LitLobes::of(material, tint, -direction, shading);
+            let coat = &self.coats[point.material as usize];
+            let lit = LitLobes::of(material, coat, tint, -direction, shading);
             if lit.is_lit() && !self.lights.is_empty() {
                 radiance += throughput * self.direct_light(&point, front, -direction, &lit, rng);
             }
@@ -535,16 +543,17 @@ impl<'a> PathTracer<'a> {
             }
             Surface::Plastic { ior, alpha } => {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                return match coat_event(incoming, shading, ior, alpha, u) {
+                let coat = &self.coats[point.material as usize];
+                return match coat_event(incoming, shading, coat, u) {
                     CoatEvent::Base { weight } => {
-                        // The base: ρ · scale · (1 − F(θo)) (1 − F(θi)) / π over the choice
-                        // and the cosine density. MIS takes the smooth coat's 1 − F(θo) as the
-                        // base's probability (any value, used alike by both techniques, keeps
-                        // the weights summing to 1).
+                        // The base: ρ · scale · T(θo) T(θi) / π over the choice and the cosine
+                        // density. MIS takes the coat's T(θo) as the base's probability (any
+                        // value, used alike by both techniques, keeps the weights summing
+                        // to 1).
                         let (next, pdf) = lambertian(rng)?;
-                        let leaving = coat_transmittance(next.dot(shading), ior);
-                        let weight = tint * (diffuse_scale(ior) * leaving * weight);
-                        let pdf = coat_transmittance(-incoming.dot(shading), ior) * pdf;
+                        let leaving = coat.transmittance(next.dot(shading));
+                        let weight = tint * (coat.diffuse_scale * leaving * weight);
+                        let pdf = coat.transmittance(-incoming.dot(shading)) * pdf;
                         Some((next, weight, Lobe::LightSampled { pdf }))
                     }
                     CoatEvent::Reflected { direction, weight } => {
@@ -836,6 +845,7 @@ mod tests {
             });
             let mut rng = Rng::new(12, 0);
             let normal = Vec3::Y;
+            let coat = Coat::of(&surface);
             let sampled = mean_and_error(400_000, || {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
                 let seen = match surface {
@@ -845,20 +855,15 @@ mod tests {
                                 albedo * weight * f32::from(next.y > 0.0)
                             })
                     }
-                    Surface::Plastic { ior, alpha } => {
-                        match coat_event(direction, normal, ior, alpha, u) {
-                            CoatEvent::Reflected { direction, weight } => {
-                                weight * f32::from(direction.y > 0.0)
-                            }
-                            CoatEvent::Base { weight } => {
-                                let out = cosine_hemisphere(rng.next_f32(), rng.next_f32());
-                                albedo
-                                    * diffuse_scale(ior)
-                                    * weight
-                                    * coat_transmittance(out.z, ior)
-                            }
+                    Surface::Plastic { .. } => match coat_event(direction, normal, &coat, u) {
+                        CoatEvent::Reflected { direction, weight } => {
+                            weight * f32::from(direction.y > 0.0)
                         }
-                    }
+                        CoatEvent::Base { weight } => {
+                            let out = cosine_hemisphere(rng.next_f32(), rng.next_f32());
+                            albedo * coat.diffuse_scale * weight * coat.transmittance(out.z)
+                        }
+                    },
                     _ => unreachable!(),
                 };
                 (sky * seen) as f64

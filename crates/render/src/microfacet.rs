@@ -496,6 +496,7 @@ mod tests {
         let incoming = Vec3::new(0.5, -0.7, 0.3).normalize();
         let mut rng = KernelRng::new(5, PHOTON_STREAM, 0, 9);
         for alpha in [0.02f32, 0.2, 0.7] {
+            let coat = crate::plastic::Coat::new(1.5, alpha);
             for _ in 0..2000 {
                 let (u1, u2, u3) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
                 if let Some((out, weight)) = rough_reflection(incoming, normal, alpha, u1, u2) {
@@ -503,7 +504,7 @@ mod tests {
                     assert!(r.pdf > 0.0);
                     assert!((r.value / r.pdf - weight).abs() < 1e-3 * weight.max(1e-3));
                 }
-                let event = crate::plastic::coat_event(incoming, normal, 1.5, alpha, [u3, u1, u2]);
+                let event = crate::plastic::coat_event(incoming, normal, &coat, [u3, u1, u2]);
                 if let crate::plastic::CoatEvent::Reflected { direction, weight } = event
                     && weight > 0.0
                 {
@@ -525,13 +526,14 @@ mod tests {
                 glossy_response(view, l, Vec3::Z, alpha, coat_ior).pdf as f64
             });
             let mut rng = KernelRng::new(6, PHOTON_STREAM, 0, alpha.to_bits());
+            let coat = crate::plastic::Coat::new(coat_ior, alpha);
             let n = 400_000;
             let mut landed = 0;
             for _ in 0..n {
                 let (u1, u2, u3) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
                 let above = if coat_ior > 0.0 {
                     matches!(
-                        crate::plastic::coat_event(-view, Vec3::Z, coat_ior, alpha, [u3, u1, u2]),
+                        crate::plastic::coat_event(-view, Vec3::Z, &coat, [u3, u1, u2]),
                         crate::plastic::CoatEvent::Reflected { direction, .. } if direction.z > 0.0
                     )
                 } else {

@@ -260,7 +260,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     if max3(lit.diffuse) > 0.0 {
         var coat = 1.0;
         if lit.coat_ior > 0.0 {
-            coat = coat_transmittance(cosine, lit.coat_ior);
+            coat = coat_transmittance_of(materials[hit.material], cosine);
         }
         response += lit.diffuse * (cosine * coat);
     }
@@ -407,7 +407,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
             if plastic {
-                share = coat_transmittance(dot(direction, hit.shading), material.ior);
+                share = coat_transmittance_of(material, dot(direction, hit.shading));
             }
             photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * (arrival * share), 0u);
         }
@@ -425,8 +425,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
             next = bounce.direction;
             weight = bounce.weight;
-            let leaving = coat_transmittance(dot(next, hit.shading), material.ior);
-            tint = surface_tint * (diffuse_scale(material.ior) * leaving * choice.base_weight);
+            let leaving = coat_transmittance_of(material, dot(next, hit.shading));
+            tint = surface_tint * (material.coat_diffuse_scale * leaving * choice.base_weight);
         } else {
             next = choice.coat.direction;
             weight = choice.coat.weight;
@@ -611,7 +611,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         if base {
             var scale = 1.0;
             if plastic {
-                scale = diffuse_scale(material.ior);
+                scale = material.coat_diffuse_scale;
             }
             let weight = throughput * tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {

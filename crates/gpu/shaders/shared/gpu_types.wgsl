@@ -28,10 +28,11 @@ struct SceneInfo {
     pad: u32,
 }
 
-// One material (80 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// One material (144 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED;
 // ior: of dielectrics and plastic coats; roughness_alpha: GGX width of rough surfaces; normal_texture: a tangent-space normal map
-// (NO_TEXTURE: none), its X and Y scaled by normal_scale.
+// (NO_TEXTURE: none), its X and Y scaled by normal_scale; coat_*: plastic's coat
+// (render::plastic::Coat: its diffuse scale, a rough coat's transmittance at COAT_NODES cosines).
 struct GpuMaterial {
     base_color: vec3<f32>,
     surface: u32,
@@ -46,5 +47,6 @@ struct GpuMaterial {
     normal_texture: u32,
     normal_scale: f32,
     light_area_density: f32,
-    pad: u32,
+    coat_diffuse_scale: f32,
+    coat_transmittance: array<vec4<f32>, 4>,
 }

@@ -448,13 +448,18 @@ fn coat_transmittance(cos_view: f32, ior: f32) -> f32 {
     return 1.0 - coat_reflectance(cos_view, ior);
 }
 
-fn internal_diffuse_reflectance(ior: f32) -> f32 {
-    let eta = 1.0 / ior;
-    return -1.4399 * eta * eta + 0.7099 * eta + 0.6681 + 0.0636 / eta;
-}
-
-fn diffuse_scale(ior: f32) -> f32 {
-    return 1.0 / (ior * ior * (1.0 - internal_diffuse_reflectance(ior)));
+// render::plastic::Coat::transmittance: a smooth coat's 1 − F, a rough one's table (cosines
+// (i / (COAT_NODES − 1))², interpolated linearly).
+fn coat_transmittance_of(material: GpuMaterial, cos_view: f32) -> f32 {
+    if material.roughness_alpha <= 0.0 {
+        return coat_transmittance(cos_view, material.ior);
+    }
+    let x = sqrt(min(abs(cos_view), 1.0)) * f32(COAT_NODES - 1u);
+    let i = min(u32(x), COAT_NODES - 2u);
+    let t = x - f32(i);
+    var nodes = material.coat_transmittance;
+    let j = i + 1u;
+    return nodes[i / 4u][i % 4u] * (1.0 - t) + nodes[j / 4u][j % 4u] * t;
 }
 
 // cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.
@@ -500,7 +505,7 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u
         }
         return PlasticBounce(false, 0.0, Scattered(next, weight));
     }
-    return PlasticBounce(true, coat_transmittance(cos_view, ior) / (1.0 - micro_reflectance), none);
+    return PlasticBounce(true, coat_transmittance_of(material, cos_view) / (1.0 - micro_reflectance), none);
 }
 
 // cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.

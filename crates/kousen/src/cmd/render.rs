@@ -11,7 +11,7 @@ use render::{Backend, Budget, Progress, Rendered, Settings, Sppm};
 use serde::Serialize;
 
 use crate::checkpoint_file::{self, Header, Recorded};
-use crate::cli::{Backend as BackendChoice, CameraArgs, Integrator, RenderArgs};
+use crate::cli::{Backend as BackendChoice, CameraArgs, GlossyLightChoice, Integrator, RenderArgs};
 use crate::image_io::Output;
 use crate::progress::ProgressBar;
 
@@ -61,6 +61,8 @@ struct Stats {
     density: &'static str,
     precision: &'static str,
     direct_light: &'static str,
+    /// `sampled` or `lobe` (`--glossy-light`).
+    glossy_light: &'static str,
     seed: u64,
     /// Passes already done in the checkpoint this render continued (0: a new render).
     resumed_passes: u32,
@@ -184,6 +186,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             density,
             precision: args.estimator.precision.precision(),
             direct: args.estimator.direct_light.direct(),
+            glossy_light_sampling: args.estimator.glossy_light == GlossyLightChoice::Sampled,
             seed: fold_seed(args.seed),
             ..Settings::new(width, height, photons)
         }
@@ -342,6 +345,11 @@ fn finish<B: Backend>(
             density: settings.density.name(),
             precision: settings.precision.name(),
             direct_light: settings.direct.name(),
+            glossy_light: if settings.glossy_light_sampling {
+                "sampled"
+            } else {
+                "lobe"
+            },
             seed: args.seed,
             resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),

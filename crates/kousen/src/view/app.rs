@@ -764,6 +764,8 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         density: args.estimator.density,
         precision: args.estimator.precision.precision(),
         direct: args.estimator.direct_light.direct(),
+        glossy_light_sampling: args.estimator.glossy_light
+            == crate::cli::GlossyLightChoice::Sampled,
     };
     render::Settings {
         alpha: controls.alpha,

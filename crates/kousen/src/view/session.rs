@@ -50,13 +50,14 @@ pub struct RenderControls {
     pub alpha: f32,
     pub eye_every: u32,
     /// Fixed for the window's life (`--indirect-alpha`, `--radius`, `--caustic-radius`,
-    /// `--density`, `--precision`, `--direct-light`).
+    /// `--density`, `--precision`, `--direct-light`, `--glossy-light`).
     pub indirect_alpha: f32,
     pub radius_footprints: f32,
     pub caustic_radius_share: f32,
     pub density: crate::cli::DensityChoice,
     pub precision: render::half_storage::Precision,
     pub direct: render::direct::DirectLight,
+    pub glossy_light_sampling: bool,
 }
 
 /// Figures for the overlay.
@@ -132,6 +133,7 @@ impl Session {
             density: controls.density.for_view(),
             precision: controls.precision,
             direct: controls.direct,
+            glossy_light_sampling: controls.glossy_light_sampling,
             initial_radius: render::integrator::initial_radius_in_footprints(
                 &self.bvh,
                 camera,

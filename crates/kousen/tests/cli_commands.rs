@@ -272,6 +272,18 @@ fn render_on_the_cpu_defaults_to_full_lists() {
     assert_eq!(stats["density"], "full");
     assert_eq!(stats["photon_slots"], 4 * 64 * 64);
     assert_eq!(stats["direct_light"], "sampled");
+    assert_eq!(stats["glossy_light"], "sampled");
+}
+
+/// `--glossy-light lobe` turns the light samples at glossy reflections off, and says so.
+#[test]
+fn glossy_light_samples_can_be_turned_off() {
+    let dir = tempfile::tempdir().unwrap();
+    let stats = render_box(
+        &dir.path().join("box.pfm"),
+        "--width 16 --height 16 --passes 1 --backend cpu --glossy-light lobe",
+    );
+    assert_eq!(stats["glossy_light"], "lobe");
 }
 
 /// Where pixels outnumber the photon slots, eye passes on CPU cores thin out (4 × pixels per

@@ -355,7 +355,8 @@ fn eye_path(
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
         let mut base_weight = 1.0;
-        // The lobes a light sample here serves: a glossy one (rough metal, a rough coat)
+        // The lobes a light sample here serves: a glossy one (rough metal, a rough coat,
+        // frosted glass's reflection)
         // always, the Lambertian one where the path ends on it (below).
         let mut lit = LitLobes::default();
         let bounce = match material.surface {
@@ -395,6 +396,21 @@ fn eye_path(
                 if let Surface::RoughConductor { alpha } = material.surface {
                     lit.glossy = throughput * tint;
                     lit.alpha = alpha;
+                }
+                // Solid frosted glass met from outside reflects as a plastic coat does: a
+                // visible micro-normal, reflection about it with its Fresnel probability,
+                // weight G1 (`render::microfacet::rough_dielectric`). Its transmission and
+                // thin-walled sheets (which reflect 2F / (1 + F)) get no light sample.
+                if let Surface::RoughDielectric {
+                    ior,
+                    thin_walled: false,
+                    alpha,
+                } = material.surface
+                    && hit.front
+                {
+                    lit.glossy = throughput * tint;
+                    lit.alpha = alpha;
+                    lit.coat_ior = ior;
                 }
                 let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly

@@ -1,5 +1,6 @@
 //! Light sampling at glossy reflections (`render::buffers::SAMPLE_AT_GLOSSY`): eye paths that
-//! meet rough metal or a rough plastic coat take a light sample there, weighed against the
+//! meet rough metal, a rough plastic coat or solid frosted glass (from outside) take a light
+//! sample there, weighed against the
 //! lobe's own sampling by the power heuristic. Per pixel that sees such a surface, the direct
 //! estimate must keep its expectation (the same as with the lobe's sampling alone) and lose
 //! variance: the reflection of a small light is otherwise found by few paths.
@@ -116,5 +117,19 @@ fn a_rough_coat_keeps_its_expectation_with_less_variance() {
         &testing::cornell_plastic(),
         |s| matches!(s, Surface::Plastic { alpha, .. } if *alpha > 0.0),
         0.1,
+    );
+}
+
+/// Solid frosted glass (`cornell_frosted`: α 0.09 and 0.36) seen from outside: its reflection
+/// is a coat's glossy lobe; what the spheres transmit (the room, blurred) is the lobe's
+/// sampling alone either way, so the variance falls less than on the coat. Measured: 115
+/// pixels, shift 0.4 standard errors, variance 0.37×.
+#[test]
+fn frosted_glass_keeps_its_expectation_with_less_variance() {
+    check(
+        "frosted glass",
+        &testing::cornell_frosted(),
+        |s| matches!(s, Surface::RoughDielectric { .. }),
+        0.6,
     );
 }

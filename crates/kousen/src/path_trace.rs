@@ -127,8 +127,15 @@ struct LitLobes {
 
 impl LitLobes {
     /// A material's lobes (`coat` its coat) at a point with unit `shading` normal, seen along
-    /// `outgoing` (unit, away from the surface), `tint` its base colour there.
-    fn of(material: &Material, coat: &Coat, tint: Vec3, outgoing: Vec3, shading: Vec3) -> LitLobes {
+    /// `outgoing` (unit, away from the surface) from its `front` or back, `tint` its base
+    /// colour there.
+    fn of(
+        material: &Material,
+        coat: &Coat,
+        tint: Vec3,
+        (outgoing, shading): (Vec3, Vec3),
+        front: bool,
+    ) -> LitLobes {
         match material.surface {
             Surface::Diffuse => LitLobes {
                 lambertian: tint,
@@ -148,6 +155,22 @@ impl LitLobes {
             Surface::RoughConductor { alpha } => LitLobes {
                 glossy: tint,
                 alpha,
+                ..LitLobes::default()
+            },
+            // Solid frosted glass seen from outside reflects as a coat does (its transmission
+            // and thin-walled sheets get no light sample).
+            Surface::RoughDielectric {
+                ior,
+                thin_walled: false,
+                alpha,
+            } if front => LitLobes {
+                glossy: tint,
+                alpha,
+                coat: Coat {
+                    ior,
+                    alpha,
+                    ..Coat::default()
+                },
                 ..LitLobes::default()
             },
             _ => LitLobes::default(),
@@ -291,7 +314,7 @@ impl<'a> PathTracer<'a> {
             // `render::plastic`) and glossy ones (rough metal, a rough coat).
             let tint = self.tint(material, point.uv);
             let coat = &self.coats[point.material as usize];
-            let lit = LitLobes::of(material, coat, tint, -direction, shading);
+            let lit = LitLobes::of(material, coat, tint, (-direction, shading), front);
             if lit.is_lit() && !self.lights.is_empty() {
                 radiance += throughput * self.direct_light(&point, front, -direction, &lit, rng);
             }
@@ -539,7 +562,14 @@ impl<'a> PathTracer<'a> {
                 )?;
                 // Sent across the geometric surface by the shading normal: it would leak.
                 let same_side = (next.dot(shading) > 0.0) == (next.dot(geometric) > 0.0);
-                return same_side.then_some((next, tint * weight, Lobe::Specular));
+                // Solid glass's reflection from outside is a lobe light samples serve too.
+                let lobe = if front && !thin_walled && next.dot(shading) > 0.0 {
+                    let pdf = glossy_response(-incoming, next, shading, alpha, ior).pdf;
+                    Lobe::LightSampled { pdf }
+                } else {
+                    Lobe::Specular
+                };
+                return same_side.then_some((next, tint * weight, lobe));
             }
             Surface::Plastic { ior, alpha } => {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
@@ -811,11 +841,12 @@ mod tests {
         (mean, ((sum_squares / n - mean * mean).max(0.0) / n).sqrt())
     }
 
-    /// Rough metal and a rough plastic coat under the sky, seen at 60°: the tracer, which
-    /// samples the sky at the hit and weighs it against the GGX lobe's own sampling (and the
-    /// coat's base against its cosine sampling), against the lobes' sampling alone, drawn here
-    /// straight from the samplers (`rough_reflection`, `coat_event`, a cosine bounce out
-    /// through the coat) with every escaping ray seeing the sky. They must agree within four
+    /// Rough metal, a rough plastic coat and solid frosted glass under the sky, seen at 60°:
+    /// the tracer, which samples the sky at the hit and weighs it against the GGX lobe's own
+    /// sampling (and the coat's base against its cosine sampling), against the lobes'
+    /// sampling alone, drawn here straight from the samplers (`rough_reflection`,
+    /// `coat_event`, a cosine bounce out through the coat, `rough_dielectric`) with every
+    /// escaping ray seeing the sky. They must agree within four
     /// standard errors of the difference.
     #[test]
     fn glossy_light_samples_keep_the_sky_s_expectation() {
@@ -827,6 +858,11 @@ mod tests {
         let cases = [
             Surface::RoughConductor { alpha },
             Surface::Plastic { ior: 1.5, alpha },
+            Surface::RoughDielectric {
+                ior: 1.5,
+                thin_walled: false,
+                alpha,
+            },
         ];
         for surface in cases {
             let mut scene = testing::punctual_plane(&[]);
@@ -864,6 +900,16 @@ mod tests {
                             albedo * coat.diffuse_scale * weight * coat.transmittance(out.z)
                         }
                     },
+                    // Reflected or refracted, the ray leaves the open plane and sees the sky.
+                    Surface::RoughDielectric { ior, .. } => render::microfacet::rough_dielectric(
+                        direction,
+                        normal,
+                        1.0 / ior,
+                        false,
+                        alpha,
+                        u,
+                    )
+                    .map_or(0.0, |(_, weight)| albedo * weight),
                     _ => unreachable!(),
                 };
                 (sky * seen) as f64

@@ -168,7 +168,8 @@ pub const LIGHT_SKY: u32 = 4;
 /// [`SppmParams::sample_lights`] bit: a light sample at every visible point.
 pub const SAMPLE_AT_VISIBLE_POINTS: u32 = 1;
 /// [`SppmParams::sample_lights`] bit: a light sample at every glossy reflection an eye path
-/// meets (rough metal, a rough plastic coat), weighed against the lobe's own sampling.
+/// meets (rough metal, a rough plastic coat, solid frosted glass from outside), weighed against
+/// the lobe's own sampling.
 pub const SAMPLE_AT_GLOSSY: u32 = 2;
 
 /// Render-wide constants (uniform buffer, 128 bytes).

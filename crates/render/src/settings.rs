@@ -61,7 +61,7 @@ pub struct Settings {
     /// samples at the visible points (`kousen render`'s and `kousen view`'s default).
     pub direct: DirectLight,
     /// Whether eye paths sample the lights at glossy reflections (rough metal, rough plastic
-    /// coats), weighed against the lobe's own sampling (multiple importance sampling); off,
+    /// coats, solid frosted glass met from outside), weighed against the lobe's own sampling (multiple importance sampling); off,
     /// a glossy reflection of a light is seen only by the paths its sampling sends there.
     /// On by default; benchmarks and tests compare.
     pub glossy_light_sampling: bool,

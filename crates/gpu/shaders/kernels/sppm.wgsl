@@ -637,6 +637,12 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
             }
+            // cpu::kernels: solid frosted glass met from outside reflects as a coat does.
+            if material.surface == SURFACE_ROUGH_DIELECTRIC && hit.front && (material.flags & MATERIAL_THIN_WALLED) == 0u {
+                lit.glossy = throughput * tint;
+                lit.alpha = material.roughness_alpha;
+                lit.coat_ior = material.ior;
+            }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }
         if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {

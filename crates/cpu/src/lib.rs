@@ -47,11 +47,7 @@ impl SceneData {
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
             lights: render::emission::light_table(scene),
             light_area_density: render::emission::light_area_density(scene),
-            coats: scene
-                .materials
-                .iter()
-                .map(|m| render::plastic::Coat::of(&m.surface))
-                .collect(),
+            coats: render::plastic::coats_of(&scene.materials),
         }
     }
 }

@@ -348,13 +348,18 @@ impl GpuScene {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         };
-        let mut gpu_materials: Vec<GpuMaterial> = materials.iter().map(GpuMaterial::new).collect();
+        let coats = render::plastic::coats_of(materials);
+        let mut gpu_materials: Vec<GpuMaterial> = materials
+            .iter()
+            .zip(&coats)
+            .map(|(material, coat)| GpuMaterial::new(material, coat))
+            .collect();
         for (gpu, &density) in gpu_materials.iter_mut().zip(light_area_density) {
             gpu.light_area_density = density;
         }
         if gpu_materials.is_empty() {
             // A binding cannot be empty; no triangle refers to this one.
-            gpu_materials.push(GpuMaterial::new(&Material::default()));
+            gpu_materials.push(GpuMaterial::new(&Material::default(), &Default::default()));
         }
         let info = SceneInfo::new(bvh);
         let threaded = all_threaded(bvh);

@@ -159,7 +159,8 @@ pub struct GpuMaterial {
 }
 
 impl GpuMaterial {
-    pub fn new(material: &Material) -> GpuMaterial {
+    /// `material` and its plastic `coat` (`render::plastic::coats_of`; the default for none).
+    pub fn new(material: &Material, coat: &render::plastic::Coat) -> GpuMaterial {
         let (surface, ior, thin_walled, roughness_alpha) = match material.surface {
             Surface::Diffuse => (SURFACE_DIFFUSE, 1.0, false, 0.0),
             Surface::Mirror => (SURFACE_MIRROR, 1.0, false, 0.0),
@@ -179,7 +180,6 @@ impl GpuMaterial {
             }
             AlphaMode::Mask { .. } => f32::MAX,
         };
-        let coat = render::plastic::Coat::of(&material.surface);
         let nodes = coat.transmittance_nodes;
         let flag = |on: bool, bit: u32| if on { bit } else { 0 };
         let flags = flag(material.double_sided, MATERIAL_DOUBLE_SIDED)
@@ -265,7 +265,7 @@ mod tests {
             double_sided: true,
             ..Material::default()
         };
-        let gpu = GpuMaterial::new(&glass);
+        let gpu = GpuMaterial::new(&glass, &Default::default());
         assert_eq!(gpu.surface, SURFACE_DIELECTRIC);
         assert_eq!(gpu.ior, 1.5);
         assert_eq!(gpu.flags, MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED);
@@ -278,7 +278,7 @@ mod tests {
             base_color_texture: Some(3),
             ..Material::default()
         };
-        let gpu = GpuMaterial::new(&leaves);
+        let gpu = GpuMaterial::new(&leaves, &Default::default());
         // alpha · texel < cutoff  ⇔  texel < cutoff / alpha
         assert_eq!(gpu.alpha_cutoff, 0.5);
         assert_eq!(gpu.base_color_texture, 3);

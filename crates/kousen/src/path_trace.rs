@@ -231,11 +231,7 @@ impl<'a> PathTracer<'a> {
             lights: light_table(scene),
             light_triangles: light_table_triangles(scene),
             light_area_density: light_area_density(scene),
-            coats: scene
-                .materials
-                .iter()
-                .map(|m| Coat::of(&m.surface))
-                .collect(),
+            coats: render::plastic::coats_of(&scene.materials),
             has_cut_outs,
             epsilon,
         }

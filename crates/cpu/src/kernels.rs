@@ -15,7 +15,7 @@ use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
-use render::microfacet::glossy_response;
+use render::microfacet::{GlossyResponse, glossy_response, refraction_response};
 use render::normal_map::{arrival_factor, departure_factor};
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
@@ -399,18 +399,24 @@ fn eye_path(
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
                 // visible micro-normal, reflection about it with its Fresnel probability,
-                // weight G1 (`render::microfacet::rough_dielectric`). Its transmission and
-                // thin-walled sheets (which reflect 2F / (1 + F)) get no light sample.
+                // weight G1 (`render::microfacet::rough_dielectric`); met from inside, its
+                // refraction out is the lobe a light sample serves. Light refracted into the
+                // glass (blocked by it) and thin-walled sheets (which reflect 2F / (1 + F))
+                // get no light sample.
                 if let Surface::RoughDielectric {
                     ior,
                     thin_walled: false,
                     alpha,
                 } = material.surface
-                    && hit.front
                 {
                     lit.glossy = throughput * tint;
                     lit.alpha = alpha;
-                    lit.coat_ior = ior;
+                    if hit.front {
+                        lit.coat_ior = ior;
+                    } else {
+                        // From inside: its refraction out (the light seen through it).
+                        lit.refraction_eta = ior;
+                    }
                 }
                 let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
@@ -510,9 +516,37 @@ pub struct LitLobes {
     /// The plastic coat over both lobes (its index; 0 for none): the Lambertian lobe gets
     /// what the coat lets through, the glossy lobe is the coat's reflection.
     pub coat_ior: f32,
+    /// Nonzero: the glossy lobe is instead solid frosted glass's refraction out of it, to the
+    /// far side of the surface, with this relative index
+    /// (`render::microfacet::refraction_response`).
+    pub refraction_eta: f32,
 }
 
 impl LitLobes {
+    /// The unit normal about which light is sampled: the side the lobes face.
+    fn facing(&self, hit: &SurfaceHit) -> Vec3 {
+        if self.refraction_eta > 0.0 {
+            -hit.shading
+        } else {
+            hit.shading
+        }
+    }
+
+    /// The glossy lobe lit along `incident`, seen along `outgoing`.
+    fn glossy_lobe(&self, hit: &SurfaceHit, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
+        if self.refraction_eta > 0.0 {
+            refraction_response(
+                outgoing,
+                incident,
+                hit.shading,
+                self.alpha,
+                self.refraction_eta,
+            )
+        } else {
+            glossy_response(outgoing, incident, hit.shading, self.alpha, self.coat_ior)
+        }
+    }
+
     fn is_lit(&self) -> bool {
         self.diffuse.max_element() > 0.0 || (self.alpha > 0.0 && self.glossy.max_element() > 0.0)
     }
@@ -539,7 +573,7 @@ impl LitLobes {
             response += self.diffuse * (cosine * coat);
         }
         if self.alpha > 0.0 {
-            let lobe = glossy_response(outgoing, incident, hit.shading, self.alpha, self.coat_ior);
+            let lobe = self.glossy_lobe(hit, outgoing, incident);
             if lobe.value > 0.0 {
                 response += self.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
             }
@@ -564,11 +598,10 @@ impl GlossyVertex {
         if lit.alpha <= 0.0 {
             return GlossyVertex::default();
         }
-        let lobe = glossy_response(outgoing, next, hit.shading, lit.alpha, lit.coat_ior);
         GlossyVertex {
             position: hit.position,
-            normal: hit.shading,
-            pdf: lobe.pdf,
+            normal: lit.facing(hit),
+            pdf: lit.glossy_lobe(hit, outgoing, next).pdf,
         }
     }
 
@@ -626,28 +659,37 @@ pub fn direct_light(
     lit: &LitLobes,
     u: [f32; 3],
 ) -> Vec3 {
-    let Some(light) = sample_light(&scene.lights, u, hit.position, hit.shading) else {
+    let facing = lit.facing(hit);
+    let Some(light) = sample_light(&scene.lights, u, hit.position, facing) else {
         return Vec3::ZERO;
     };
-    if light.direction.dot(hit.shading) <= 0.0 {
+    if light.direction.dot(facing) <= 0.0 {
         return Vec3::ZERO;
     }
     let response = lit.response(scene, hit, outgoing, light.direction, light.pdf);
     if response.max_element() <= 0.0 {
         return Vec3::ZERO;
     }
-    // A facet turned from the light whose smooth surface faces it (a coarse mesh's
-    // terminator): the shadow ray from the smooth surface decides.
-    let lifted = is_lifted(
-        hit.position,
-        hit.shadow_origin,
-        hit.geometric,
-        params.epsilon,
-    );
-    if light.direction.dot(hit.geometric) <= 0.0 && !lifted {
-        return Vec3::ZERO;
-    }
-    let origin = shadow_ray_origin(hit, params.epsilon);
+    let origin = if lit.refraction_eta > 0.0 {
+        // Out through the glass: beyond the geometric surface too, from just beyond it.
+        if light.direction.dot(hit.geometric) >= 0.0 {
+            return Vec3::ZERO;
+        }
+        hit.position - params.epsilon * hit.geometric
+    } else {
+        // A facet turned from the light whose smooth surface faces it (a coarse mesh's
+        // terminator): the shadow ray from the smooth surface decides.
+        let lifted = is_lifted(
+            hit.position,
+            hit.shadow_origin,
+            hit.geometric,
+            params.epsilon,
+        );
+        if light.direction.dot(hit.geometric) <= 0.0 && !lifted {
+            return Vec3::ZERO;
+        }
+        shadow_ray_origin(hit, params.epsilon)
+    };
     let (direction, distance) = shadow_ray(&light, origin);
     if !unoccluded(scene, params, origin, direction, distance) {
         return Vec3::ZERO;

@@ -18,7 +18,7 @@ use render::emission::{
     light_area_density, light_table, light_table_triangles, pick_light, triangle_barycentrics,
 };
 use render::light_sampling::power_heuristic;
-use render::microfacet::glossy_response;
+use render::microfacet::{GlossyResponse, glossy_response, refraction_response};
 use render::normal_map::mapped_normal;
 use render::optics::{fresnel_dielectric, reflect, refract};
 use render::plastic::{Coat, CoatEvent, coat_event};
@@ -123,6 +123,9 @@ struct LitLobes {
     /// The plastic coat over both (ior 0 for none): the Lambertian lobe gets what it lets
     /// through, the glossy lobe is its reflection.
     coat: Coat,
+    /// Nonzero: the glossy lobe is instead solid frosted glass's refraction out of it, to the
+    /// far side, with this relative index.
+    refraction_eta: f32,
 }
 
 impl LitLobes {
@@ -150,6 +153,7 @@ impl LitLobes {
                     glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
                     alpha,
                     coat: *coat,
+                    refraction_eta: 0.0,
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
@@ -157,8 +161,9 @@ impl LitLobes {
                 alpha,
                 ..LitLobes::default()
             },
-            // Solid frosted glass seen from outside reflects as a coat does (its transmission
-            // and thin-walled sheets get no light sample).
+            // Solid frosted glass seen from outside reflects as a coat does; from inside, its
+            // refraction out is the lobe (light refracted in and thin-walled sheets get no
+            // light sample).
             Surface::RoughDielectric {
                 ior,
                 thin_walled: false,
@@ -173,7 +178,27 @@ impl LitLobes {
                 },
                 ..LitLobes::default()
             },
+            Surface::RoughDielectric {
+                ior,
+                thin_walled: false,
+                alpha,
+            } => LitLobes {
+                glossy: tint,
+                alpha,
+                refraction_eta: ior,
+                ..LitLobes::default()
+            },
             _ => LitLobes::default(),
+        }
+    }
+
+    /// The glossy lobe at a point with unit shading `normal` (on the viewer's side), lit
+    /// along `incident`, seen along `outgoing`.
+    fn glossy_lobe(&self, normal: Vec3, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
+        if self.refraction_eta > 0.0 {
+            refraction_response(outgoing, incident, normal, self.alpha, self.refraction_eta)
+        } else {
+            glossy_response(outgoing, incident, normal, self.alpha, self.coat.ior)
         }
     }
 
@@ -206,7 +231,7 @@ impl LitLobes {
             response += self.lambertian * (entering * lobe * power_heuristic(light_pdf, pdf));
         }
         if self.alpha > 0.0 {
-            let lobe = glossy_response(outgoing, incident, normal, self.alpha, self.coat.ior);
+            let lobe = self.glossy_lobe(normal, outgoing, incident);
             if lobe.value > 0.0 {
                 let weight = power_heuristic(light_pdf, reach * lobe.pdf);
                 response += self.glossy * (lobe.value * weight);
@@ -319,9 +344,14 @@ impl<'a> PathTracer<'a> {
                 break;
             };
             arrival = match lobe {
+                // Light samples were drawn about the side the lobe leaves by.
                 Lobe::LightSampled { pdf } => Arrival::Sampled {
                     from: point.position,
-                    normal: shading,
+                    normal: if next.dot(shading) < 0.0 {
+                        -shading
+                    } else {
+                        shading
+                    },
                     pdf,
                 },
                 Lobe::Specular => Arrival::Unsampled,
@@ -360,6 +390,9 @@ impl<'a> PathTracer<'a> {
     ) -> Vec3 {
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
         let (geometric, shading) = facing_normals(point, front);
+        if lit.refraction_eta > 0.0 {
+            return self.direct_light_through(point, (geometric, shading), outgoing, lit, u);
+        }
         let Some(light) = sample_light(&self.lights, u, point.position, shading) else {
             return Vec3::ZERO;
         };
@@ -379,6 +412,35 @@ impl<'a> PathTracer<'a> {
             return Vec3::ZERO;
         }
         let origin = point.shadow_origin + self.epsilon * geometric;
+        let (direction, distance) = shadow_ray(&light, origin);
+        if !self.visible(origin, direction, distance) {
+            return Vec3::ZERO;
+        }
+        self.incident(&light, u) * response
+    }
+
+    /// [`Self::direct_light`] through a refraction lobe (solid frosted glass from inside): the
+    /// light sampled about the far side's normal, and only beyond the geometric surface too.
+    fn direct_light_through(
+        &self,
+        point: &SurfacePoint,
+        (geometric, shading): (Vec3, Vec3),
+        outgoing: Vec3,
+        lit: &LitLobes,
+        u: [f32; 3],
+    ) -> Vec3 {
+        let Some(light) = sample_light(&self.lights, u, point.position, -shading) else {
+            return Vec3::ZERO;
+        };
+        let beyond = light.direction.dot(shading) < 0.0 && light.direction.dot(geometric) < 0.0;
+        if !beyond {
+            return Vec3::ZERO;
+        }
+        let response = lit.response(shading, outgoing, light.direction, light.pdf, true);
+        if response.max_element() <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let origin = point.position - self.epsilon * geometric;
         let (direction, distance) = shadow_ray(&light, origin);
         if !self.visible(origin, direction, distance) {
             return Vec3::ZERO;
@@ -558,9 +620,14 @@ impl<'a> PathTracer<'a> {
                 )?;
                 // Sent across the geometric surface by the shading normal: it would leak.
                 let same_side = (next.dot(shading) > 0.0) == (next.dot(geometric) > 0.0);
-                // Solid glass's reflection from outside is a lobe light samples serve too.
-                let lobe = if front && !thin_walled && next.dot(shading) > 0.0 {
+                // Solid glass's reflection from outside, and its refraction out from inside,
+                // are lobes light samples serve too.
+                let reflected = next.dot(shading) > 0.0;
+                let lobe = if front && !thin_walled && reflected {
                     let pdf = glossy_response(-incoming, next, shading, alpha, ior).pdf;
+                    Lobe::LightSampled { pdf }
+                } else if !front && !thin_walled && !reflected {
+                    let pdf = refraction_response(-incoming, next, shading, alpha, ior).pdf;
                     Lobe::LightSampled { pdf }
                 } else {
                     Lobe::Specular
@@ -917,6 +984,46 @@ mod tests {
             );
             assert!(traced.0 > 0.1 * sky as f64, "{surface:?}: {traced:?}");
         }
+    }
+
+    /// The frosted plane under the sky met from inside (from below, the quad's back): light
+    /// samples through its refraction out, weighed against the refraction's own sampling,
+    /// against `rough_dielectric` alone (every way out sees the sky), within four standard
+    /// errors of the difference.
+    #[test]
+    fn frosted_glass_from_inside_keeps_the_sky_s_expectation() {
+        let (sky, ior, alpha) = (2.0f32, 1.5f32, 0.3f32);
+        let mut scene = testing::punctual_plane(&[]);
+        let bounds = scene.bounds();
+        scene.lights.set_sky(Vec3::splat(sky), bounds);
+        for material in &mut scene.materials {
+            material.surface = Surface::RoughDielectric {
+                ior,
+                thin_walled: false,
+                alpha,
+            };
+        }
+        let albedo = scene.materials[0].base_color.x;
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let direction = Vec3::new(0.5, 0.75f32.sqrt(), 0.0);
+        let origin = -0.4 * direction;
+        let mut rng = Rng::new(15, 0);
+        let traced = mean_and_error(40_000, || {
+            tracer.radiance(origin, direction, 8, &mut rng).x as f64
+        });
+        let mut rng = Rng::new(16, 0);
+        let sampled = mean_and_error(400_000, || {
+            let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+            render::microfacet::rough_dielectric(direction, Vec3::NEG_Y, ior, false, alpha, u)
+                .map_or(0.0, |(_, weight)| (sky * albedo * weight) as f64)
+        });
+        let error = (traced.1 * traced.1 + sampled.1 * sampled.1).sqrt();
+        assert!(
+            (traced.0 - sampled.0).abs() < 4.0 * error,
+            "traced {traced:?}, sampled {sampled:?}"
+        );
+        assert!(traced.0 > 0.1 * sky as f64, "{traced:?}");
     }
 
     /// A smooth plastic plane under the sky L, seen straight down and at 60°: L·(F(θ) +

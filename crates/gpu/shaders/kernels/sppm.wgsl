@@ -247,6 +247,20 @@ struct LitLobes {
     glossy: vec3<f32>,
     alpha: f32,
     coat_ior: f32,
+    refraction_eta: f32,
+}
+
+// cpu::kernels::LitLobes::facing.
+fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
+    return select(hit.shading, -hit.shading, lit.refraction_eta > 0.0);
+}
+
+// cpu::kernels::LitLobes::glossy_lobe.
+fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: vec3<f32>) -> GlossyResponse {
+    if lit.refraction_eta > 0.0 {
+        return refraction_response(outgoing, incident, hit.shading, lit.alpha, lit.refraction_eta);
+    }
+    return glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
 }
 
 fn is_lit(lit: LitLobes) -> bool {
@@ -265,7 +279,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
         response += lit.diffuse * (cosine * coat);
     }
     if lit.alpha > 0.0 {
-        let lobe = glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
+        let lobe = lit_glossy_lobe(lit, hit, outgoing, incident);
         if lobe.value > 0.0 {
             response += lit.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
@@ -276,23 +290,33 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
 // cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
 // names.
 fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
-    let light = sample_light(u0, u1, u2, hit.position, hit.shading);
+    let facing = lit_facing(lit, hit);
+    let light = sample_light(u0, u1, u2, hit.position, facing);
     if !light.found {
         return vec3<f32>(0.0);
     }
-    if dot(light.direction, hit.shading) <= 0.0 {
+    if dot(light.direction, facing) <= 0.0 {
         return vec3<f32>(0.0);
     }
     let response = lit_response(lit, hit, outgoing, light.direction, light.pdf);
     if max3(response) <= 0.0 {
         return vec3<f32>(0.0);
     }
-    // cpu::kernels::direct_light: a coarse mesh's terminator, decided by the shadow ray.
-    let lifted = is_lifted(hit.position, hit.shadow_origin, hit.geometric, params.epsilon);
-    if dot(light.direction, hit.geometric) <= 0.0 && !lifted {
-        return vec3<f32>(0.0);
+    var origin: vec3<f32>;
+    if lit.refraction_eta > 0.0 {
+        // cpu::kernels::direct_light: out through the glass, from just beyond it.
+        if dot(light.direction, hit.geometric) >= 0.0 {
+            return vec3<f32>(0.0);
+        }
+        origin = hit.position - params.epsilon * hit.geometric;
+    } else {
+        // cpu::kernels::direct_light: a coarse mesh's terminator, decided by the shadow ray.
+        let lifted = is_lifted(hit.position, hit.shadow_origin, hit.geometric, params.epsilon);
+        if dot(light.direction, hit.geometric) <= 0.0 && !lifted {
+            return vec3<f32>(0.0);
+        }
+        origin = shadow_ray_origin(hit, params.epsilon);
     }
-    let origin = shadow_ray_origin(hit, params.epsilon);
     let shadow = shadow_ray(light, origin);
     if !unoccluded(origin, shadow.xyz, shadow.w) {
         return vec3<f32>(0.0);
@@ -312,8 +336,8 @@ fn glossy_after(hit: SurfaceHit, lit: LitLobes, outgoing: vec3<f32>, next: vec3<
     if lit.alpha <= 0.0 {
         return GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     }
-    let lobe = glossy_response(outgoing, next, hit.shading, lit.alpha, lit.coat_ior);
-    return GlossyVertex(hit.position, hit.shading, lobe.pdf);
+    let lobe = lit_glossy_lobe(lit, hit, outgoing, next);
+    return GlossyVertex(hit.position, lit_facing(lit, hit), lobe.pdf);
 }
 
 // cpu::kernels::GlossyVertex::emitter_weight.
@@ -591,7 +615,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0);
         if plastic {
             lit.coat_ior = material.ior;
             var u_micro = vec2<f32>(0.0);
@@ -637,11 +661,16 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
             }
-            // cpu::kernels: solid frosted glass met from outside reflects as a coat does.
-            if material.surface == SURFACE_ROUGH_DIELECTRIC && hit.front && (material.flags & MATERIAL_THIN_WALLED) == 0u {
+            // cpu::kernels: solid frosted glass met from outside reflects as a coat does; met
+            // from inside, its refraction out is the lobe.
+            if material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) == 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
-                lit.coat_ior = material.ior;
+                if hit.front {
+                    lit.coat_ior = material.ior;
+                } else {
+                    lit.refraction_eta = material.ior;
+                }
             }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }

@@ -401,6 +401,36 @@ fn glossy_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f32>, 
     return GlossyResponse(pdf * smith_g1(light, alpha), pdf);
 }
 
+// render::microfacet::refraction_response: solid rough glass's refraction lobe, seen along
+// `outgoing` on the normal's side and lit along `incident` beyond it; eta = n there / n beyond.
+fn refraction_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f32>, alpha: f32, eta: f32) -> GlossyResponse {
+    let frame = frame_about(normal);
+    let view = to_local(frame, outgoing);
+    let light = to_local(frame, incident);
+    if view.z <= 0.0 || light.z >= 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    var micro = -(eta * view + light);
+    if dot(micro, micro) == 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    micro = normalize(micro);
+    if micro.z < 0.0 {
+        micro = -micro;
+    }
+    let cos_view = dot(view, micro);
+    let cos_light = dot(light, micro);
+    if cos_view <= 0.0 || cos_light >= 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    let transmitted = 1.0 - fresnel_dielectric(cos_view, eta);
+    let denominator = eta * cos_view + cos_light;
+    let jacobian = -cos_light / (denominator * denominator);
+    let pdf = transmitted * smith_g1(view, alpha) * cos_view * ggx_d(micro, alpha) / view.z * jacobian;
+    let below = vec3<f32>(light.x, light.y, -light.z);
+    return GlossyResponse(pdf * smith_g1(below, alpha), pdf);
+}
+
 // render::microfacet::rough_dielectric, with specular_direction's check against the
 // geometric normal. (Under total internal reflection Fresnel is 1 and u_third < 1 reflects,
 // so the refraction below always exists, as the twin's `?` assumes.)

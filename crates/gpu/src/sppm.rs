@@ -120,17 +120,39 @@ fn compile_kernels(
 pub(crate) struct SceneFeatures {
     /// Some material has a normal map (`NORMAL_MAPS` in `shading.wgsl`).
     pub normal_maps: bool,
+    /// Some material is rough plastic (`ROUGH_COATS`).
+    pub rough_coats: bool,
+    /// Some material is solid frosted glass (`FROSTED_GLASS`).
+    pub frosted_glass: bool,
 }
 
 impl SceneFeatures {
     pub(crate) fn of(scene: &scene::Scene) -> SceneFeatures {
+        let any = |f: fn(&scene::Material) -> bool| scene.materials.iter().any(f);
         SceneFeatures {
-            normal_maps: scene.materials.iter().any(|m| m.normal_texture.is_some()),
+            normal_maps: any(|m| m.normal_texture.is_some()),
+            rough_coats: any(
+                |m| matches!(m.surface, scene::Surface::Plastic { alpha, .. } if alpha > 0.0),
+            ),
+            frosted_glass: any(|m| {
+                matches!(
+                    m.surface,
+                    scene::Surface::RoughDielectric {
+                        thin_walled: false,
+                        ..
+                    }
+                )
+            }),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 1] {
-        [("NORMAL_MAPS", f64::from(u8::from(self.normal_maps)))]
+    fn constants(self) -> [(&'static str, f64); 3] {
+        let flag = |on: bool| f64::from(u8::from(on));
+        [
+            ("NORMAL_MAPS", flag(self.normal_maps)),
+            ("ROUGH_COATS", flag(self.rough_coats)),
+            ("FROSTED_GLASS", flag(self.frosted_glass)),
+        ]
     }
 }
 
@@ -700,5 +722,24 @@ impl Backend for GpuBackend {
             *bytes += density.bytes;
         }
         memory
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SceneFeatures;
+    use scene::testing;
+
+    /// Each override is on exactly where the scene has what it compiles in.
+    #[test]
+    fn features_name_what_each_scene_has() {
+        let features = |scene: &scene::Scene| {
+            let f = SceneFeatures::of(scene);
+            (f.normal_maps, f.rough_coats, f.frosted_glass)
+        };
+        assert_eq!(features(&testing::cornell_box()), (false, false, false));
+        assert_eq!(features(&testing::cornell_plastic()), (false, true, false));
+        assert_eq!(features(&testing::cornell_frosted()), (false, false, true));
+        assert_eq!(features(&testing::cornell_bumpy()), (true, false, false));
     }
 }

@@ -252,12 +252,15 @@ struct LitLobes {
 
 // cpu::kernels::LitLobes::facing.
 fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
-    return select(hit.shading, -hit.shading, lit.refraction_eta > 0.0);
+    if FROSTED_GLASS && lit.refraction_eta > 0.0 {
+        return -hit.shading;
+    }
+    return hit.shading;
 }
 
 // cpu::kernels::LitLobes::glossy_lobe.
 fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: vec3<f32>) -> GlossyResponse {
-    if lit.refraction_eta > 0.0 {
+    if FROSTED_GLASS && lit.refraction_eta > 0.0 {
         return refraction_response(outgoing, incident, hit.shading, lit.alpha, lit.refraction_eta);
     }
     return glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
@@ -303,7 +306,7 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1
         return vec3<f32>(0.0);
     }
     var origin: vec3<f32>;
-    if lit.refraction_eta > 0.0 {
+    if FROSTED_GLASS && lit.refraction_eta > 0.0 {
         // cpu::kernels::direct_light: out through the glass, from just beyond it.
         if dot(light.direction, hit.geometric) >= 0.0 {
             return vec3<f32>(0.0);
@@ -663,7 +666,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             }
             // cpu::kernels: solid frosted glass met from outside reflects as a coat does; met
             // from inside, its refraction out is the lobe.
-            if material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) == 0u {
+            if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) == 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
                 if hit.front {

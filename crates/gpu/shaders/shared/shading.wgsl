@@ -204,6 +204,11 @@ fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 // that code made lavapipe's eye pass 10-15 % and its photon pass ~5 % slower.
 override NORMAL_MAPS: bool = true;
 
+// Whether some material is rough plastic (its coat's table) or solid frosted glass (light
+// samples through it); compiled out as NORMAL_MAPS is, for the same reason.
+override ROUGH_COATS: bool = true;
+override FROSTED_GLASS: bool = true;
+
 fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {
     return trace_surface_within(origin, direction, RAY_T_MAX);
 }
@@ -481,7 +486,7 @@ fn coat_transmittance(cos_view: f32, ior: f32) -> f32 {
 // render::plastic::Coat::transmittance: a smooth coat's 1 − F, a rough one's table (cosines
 // (i / (COAT_NODES − 1))², interpolated linearly).
 fn coat_transmittance_of(material: GpuMaterial, cos_view: f32) -> f32 {
-    if material.roughness_alpha <= 0.0 {
+    if !ROUGH_COATS || material.roughness_alpha <= 0.0 {
         return coat_transmittance(cos_view, material.ior);
     }
     let x = sqrt(min(abs(cos_view), 1.0)) * f32(COAT_NODES - 1u);

@@ -120,10 +120,10 @@ pub fn photon_pass_with<R: StreamRng>(
     // A Lambertian surface, or plastic's base under the coat (which lets T(θ) through),
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
-    let coat = &scene.coats[hit.material as usize];
+    let coat = || &scene.coats[hit.material as usize];
     let base_share = match material.surface {
         Surface::Diffuse => Some(1.0),
-        Surface::Plastic { .. } => Some(coat.transmittance(direction.dot(hit.shading))),
+        Surface::Plastic { .. } => Some(coat().transmittance(direction.dot(hit.shading))),
         _ => None,
     };
     if let Some(share) = base_share
@@ -144,15 +144,15 @@ pub fn photon_pass_with<R: StreamRng>(
             (diffuse_bounce(&hit, u_direction), tint)
         }
         Surface::Plastic { .. } => {
-            match plastic_bounce(&hit, direction, coat, u_choice, u_direction) {
+            match plastic_bounce(&hit, direction, coat(), u_choice, u_direction) {
                 PlasticBounce::Coat(next) => (next, Vec3::ONE),
                 PlasticBounce::Base(weight) => {
                     slot.bounced = 1;
                     let next = diffuse_bounce(&hit, u_direction);
                     // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
                     let leaving =
-                        next.map_or(0.0, |(next, _)| coat.transmittance(next.dot(hit.shading)));
-                    (next, tint * (coat.diffuse_scale * leaving * weight))
+                        next.map_or(0.0, |(next, _)| coat().transmittance(next.dot(hit.shading)));
+                    (next, tint * (coat().diffuse_scale * leaving * weight))
                 }
             }
         }

@@ -277,7 +277,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     if max3(lit.diffuse) > 0.0 {
         var coat = 1.0;
         if lit.coat_ior > 0.0 {
-            coat = coat_transmittance_of(materials[hit.material], cosine);
+            coat = coat_transmittance_of(hit.material, cosine);
         }
         response += lit.diffuse * (cosine * coat);
     }
@@ -434,7 +434,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
             if plastic {
-                share = coat_transmittance_of(material, dot(direction, hit.shading));
+                share = coat_transmittance_of(hit.material, dot(direction, hit.shading));
             }
             photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * (arrival * share), 0u);
         }
@@ -452,7 +452,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
             next = bounce.direction;
             weight = bounce.weight;
-            let leaving = coat_transmittance_of(material, dot(next, hit.shading));
+            let leaving = coat_transmittance_of(hit.material, dot(next, hit.shading));
             tint = surface_tint * (material.coat_diffuse_scale * leaving * choice.base_weight);
         } else {
             next = choice.coat.direction;

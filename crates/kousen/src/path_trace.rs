@@ -111,7 +111,7 @@ impl Arrival {
 
 /// The lobes of a surface that one light sample there lights, without the path's throughput.
 #[derive(Default)]
-struct LitLobes {
+struct LitLobes<'a> {
     /// A Lambertian lobe's albedo (under a coat: times plastic's scale and the coat's
     /// `T(θo)`); zero where there is none.
     lambertian: Vec3,
@@ -120,39 +120,42 @@ struct LitLobes {
     /// A GGX reflection's tint (a metal's colour; 1 for a coat); zero where there is none.
     glossy: Vec3,
     alpha: f32,
-    /// The plastic coat over both (ior 0 for none): the Lambertian lobe gets what it lets
-    /// through, the glossy lobe is its reflection.
-    coat: Coat,
+    /// The plastic coat over the Lambertian lobe, which gets what it lets through.
+    coat: Option<&'a Coat>,
+    /// The index whose Fresnel reflectance scales and chooses the glossy reflection (a coat's,
+    /// frosted glass's; 0 for a metal's).
+    glossy_ior: f32,
     /// Nonzero: the glossy lobe is instead solid frosted glass's refraction out of it, to the
     /// far side, with this relative index.
     refraction_eta: f32,
 }
 
-impl LitLobes {
+impl<'a> LitLobes<'a> {
     /// A material's lobes (`coat` its coat) at a point with unit `shading` normal, seen along
     /// `outgoing` (unit, away from the surface) from its `front` or back, `tint` its base
     /// colour there.
     fn of(
         material: &Material,
-        coat: &Coat,
+        coat: &'a Coat,
         tint: Vec3,
         (outgoing, shading): (Vec3, Vec3),
         front: bool,
-    ) -> LitLobes {
+    ) -> LitLobes<'a> {
         match material.surface {
             Surface::Diffuse => LitLobes {
                 lambertian: tint,
                 lambertian_choice: 1.0,
                 ..LitLobes::default()
             },
-            Surface::Plastic { alpha, .. } => {
+            Surface::Plastic { ior, alpha } => {
                 let leaving = coat.transmittance(outgoing.dot(shading));
                 LitLobes {
                     lambertian: tint * (coat.diffuse_scale * leaving),
                     lambertian_choice: leaving,
                     glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
                     alpha,
-                    coat: *coat,
+                    coat: Some(coat),
+                    glossy_ior: ior,
                     refraction_eta: 0.0,
                 }
             }
@@ -171,11 +174,7 @@ impl LitLobes {
             } if front => LitLobes {
                 glossy: tint,
                 alpha,
-                coat: Coat {
-                    ior,
-                    alpha,
-                    ..Coat::default()
-                },
+                glossy_ior: ior,
                 ..LitLobes::default()
             },
             Surface::RoughDielectric {
@@ -198,7 +197,7 @@ impl LitLobes {
         if self.refraction_eta > 0.0 {
             refraction_response(outgoing, incident, normal, self.alpha, self.refraction_eta)
         } else {
-            glossy_response(outgoing, incident, normal, self.alpha, self.coat.ior)
+            glossy_response(outgoing, incident, normal, self.alpha, self.glossy_ior)
         }
     }
 
@@ -221,11 +220,7 @@ impl LitLobes {
         let reach = if drawable { 1.0 } else { 0.0 };
         let mut response = Vec3::ZERO;
         if self.lambertian.max_element() > 0.0 {
-            let entering = if self.coat.ior > 0.0 {
-                self.coat.transmittance(cosine)
-            } else {
-                1.0
-            };
+            let entering = self.coat.map_or(1.0, |coat| coat.transmittance(cosine));
             let lobe = cosine * std::f32::consts::FRAC_1_PI;
             let pdf = reach * self.lambertian_choice * lobe;
             response += self.lambertian * (entering * lobe * power_heuristic(light_pdf, pdf));
@@ -891,6 +886,17 @@ mod tests {
         );
     }
 
+    /// The punctual plane made of `surface`, under a sky of radiance `sky` and no other light.
+    fn plane_under_sky(surface: Surface, sky: f32) -> Scene {
+        let mut scene = testing::punctual_plane(&[]);
+        let bounds = scene.bounds();
+        scene.lights.set_sky(Vec3::splat(sky), bounds);
+        for material in &mut scene.materials {
+            material.surface = surface;
+        }
+        scene
+    }
+
     /// Mean and standard error of `samples` draws of `draw`.
     fn mean_and_error(samples: u32, mut draw: impl FnMut() -> f64) -> (f64, f64) {
         let (mut sum, mut sum_squares) = (0.0, 0.0);
@@ -928,12 +934,7 @@ mod tests {
             },
         ];
         for surface in cases {
-            let mut scene = testing::punctual_plane(&[]);
-            let bounds = scene.bounds();
-            scene.lights.set_sky(Vec3::splat(sky), bounds);
-            for material in &mut scene.materials {
-                material.surface = surface;
-            }
+            let scene = plane_under_sky(surface, sky);
             let albedo = scene.materials[0].base_color.x;
             let (bvh, camera) = tracer_for(&scene);
             let tracer = PathTracer::new(&scene, &bvh, camera);
@@ -993,16 +994,12 @@ mod tests {
     #[test]
     fn frosted_glass_from_inside_keeps_the_sky_s_expectation() {
         let (sky, ior, alpha) = (2.0f32, 1.5f32, 0.3f32);
-        let mut scene = testing::punctual_plane(&[]);
-        let bounds = scene.bounds();
-        scene.lights.set_sky(Vec3::splat(sky), bounds);
-        for material in &mut scene.materials {
-            material.surface = Surface::RoughDielectric {
-                ior,
-                thin_walled: false,
-                alpha,
-            };
-        }
+        let surface = Surface::RoughDielectric {
+            ior,
+            thin_walled: false,
+            alpha,
+        };
+        let scene = plane_under_sky(surface, sky);
         let albedo = scene.materials[0].base_color.x;
         let (bvh, camera) = tracer_for(&scene);
         let tracer = PathTracer::new(&scene, &bvh, camera);
@@ -1034,12 +1031,7 @@ mod tests {
     fn plastic_plane_under_the_sky_returns_coat_and_base() {
         use render::plastic::{coat_reflectance, diffuse_scale};
         let (sky, ior) = (2.0f32, 1.5f32);
-        let mut scene = testing::punctual_plane(&[]);
-        let bounds = scene.bounds();
-        scene.lights.set_sky(Vec3::splat(sky), bounds);
-        for material in &mut scene.materials {
-            material.surface = Surface::Plastic { ior, alpha: 0.0 };
-        }
+        let scene = plane_under_sky(Surface::Plastic { ior, alpha: 0.0 }, sky);
         let (bvh, camera) = tracer_for(&scene);
         let tracer = PathTracer::new(&scene, &bvh, camera);
         let steps = 100_000;

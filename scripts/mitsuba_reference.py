@@ -20,8 +20,11 @@ not used, so nothing about the mapping is hidden):
   cofactor of the linear part; a mirroring transform swaps two vertices of each triangle so the
   front face (counter-clockwise winding) stays the front face. Vertex normals become Mitsuba's
   shading normals (missing ones are smoothed over the primitive, area-weighted).
-- Materials (kousen's rules, DESIGN.md "Materials", crates/scene/src/gltf/materials.rs):
-  transmission > 0 and metallic < 0.5 -> dielectric, ior from KHR_materials_ior (1.5),
+- Materials (kousen's rules, DESIGN.md "Materials", crates/scene/src/gltf/materials.rs): glTF's
+  mix(dielectric, metal, metallic) with the dielectric mix(opaque, glass, transmission), as a
+  blend of up to three surfaces with those probabilities (equal ones merged), nested Mitsuba
+  `blendbsdf`s where there is more than one:
+  the glass -> dielectric, ior from KHR_materials_ior (1.5),
   exterior ior exactly 1, reflectance and transmittance tinted by baseColor (kousen tints every
   bounce off glass); roughness < 0.01 -> smooth: `dielectric` when KHR_materials_volume
   thicknessFactor > 0, else `thindielectric`; rougher -> `roughdielectric`, GGX of alpha =
@@ -29,18 +32,17 @@ not used, so nothing about the mapping is hidden):
   KHR_materials_volume attenuation (colour after distance) -> a `homogeneous` interior medium of
   albedo 0 and sigma_t = -ln(colour) / distance, rendered with `volpath` (kousen's Beer-Lambert
   absorption).
-  metallic >= 0.5 and roughness < 0.01 -> perfect mirror: `conductor` with material "none"
-  (reflectance 1 at every angle) times specular_reflectance = baseColor.
-  metallic >= 0.5 and roughness < 0.5 -> `roughconductor`, GGX of alpha = roughness^2 (visible
-  normals sampled; Mitsuba's Smith term is the separable one, as kousen's), material "none"
-  times specular_reflectance = baseColor.
-  any other material with roughness < 0.5 (unless ior is 1 or KHR_materials_specular's
+  the metal with roughness < 0.01 -> perfect mirror: `conductor` with material "none"
+  (reflectance 1 at every angle) times specular_reflectance = baseColor; with roughness < 0.5
+  -> `roughconductor`, GGX of alpha = roughness^2 (visible normals sampled; Mitsuba's Smith
+  term is the separable one, as kousen's), material "none" times specular_reflectance =
+  baseColor; rougher -> Lambertian `diffuse`, reflectance = baseColor.
+  the opaque dielectric with roughness < 0.5 (unless ior is 1 or KHR_materials_specular's
   specularFactor is 0) -> plastic, coat of int_ior = ior over diffuse_reflectance = baseColor,
   exterior ior exactly 1, `nonlinear` off: smooth (`plastic`) below roughness 0.01, else
   `roughplastic`, GGX of alpha = roughness^2 (visible normals). Mitsuba's `plastic` is kousen's
-  model (render/src/plastic.rs); its `roughplastic` gives the base the rough coat's own
-  transmittance, where kousen keeps the smooth coat's, so rough plastic agrees only closely.
-  Everything else -> Lambertian `diffuse`, reflectance = baseColor.
+  model (render/src/plastic.rs), and so is its `roughplastic` since kousen's session 24.
+  Otherwise -> Lambertian `diffuse`, reflectance = baseColor.
   Diffuse, plastic and the conductors are wrapped in `twosided`, since kousen's rays hit and scatter off both
   faces of every triangle (Mitsuba's opaque BSDFs are black from behind by default).
 - Emission: emissiveFactor x KHR_materials_emissive_strength, as an `area` emitter. Mitsuba's
@@ -75,7 +77,6 @@ import time
 
 import numpy as np
 
-MIRROR_MIN_METALLIC = 0.5
 MIRROR_MAX_ROUGHNESS = 0.01
 DIFFUSE_MIN_ROUGHNESS = 0.5
 DEFAULT_IOR = 1.5
@@ -201,7 +202,8 @@ def smooth_normals(p, tri):
 # ------------------------------------------------------------------------------------- materials
 
 def material_info(doc, index):
-    """kousen's reading of a glTF material: (kind, params, emission rgb, double_sided)."""
+    """kousen's reading of a glTF material: ([(probability, kind, params)], emission rgb,
+    double_sided, name)."""
     m = doc["materials"][index] if index is not None else {}
     pbr = m.get("pbrMetallicRoughness", {})
     for tex in ("baseColorTexture", "metallicRoughnessTexture"):
@@ -218,40 +220,66 @@ def material_info(doc, index):
     transmission = float(ext.get("KHR_materials_transmission", {}).get("transmissionFactor", 0.0))
     ior = float(ext.get("KHR_materials_ior", {}).get("ior", DEFAULT_IOR))
     thickness = float(ext.get("KHR_materials_volume", {}).get("thicknessFactor", 0.0))
-    if transmission > 0.0 and metallic < MIRROR_MIN_METALLIC:
+    # glTF's mix(dielectric, metal, metallic), the dielectric mix(opaque, glass, transmission):
+    # kousen's blend of up to three surfaces (crates/scene/src/gltf/materials.rs), each with its
+    # probability; equal surfaces merge.
+    if roughness < MIRROR_MAX_ROUGHNESS:
+        metal = ("mirror", {"color": base})
+    elif roughness < DIFFUSE_MIN_ROUGHNESS:
+        metal = ("rough", {"color": base, "alpha": roughness * roughness})
+    else:
+        metal = ("diffuse", {"color": base})
+    if ior == 0.0:
+        glass = ("mirror", {"color": base})
+    else:
+        params = {"color": base, "ior": ior, "thin": thickness == 0.0}
+        volume = ext.get("KHR_materials_volume", {})
+        distance = float(volume.get("attenuationDistance", math.inf))
+        color = [float(c) for c in volume.get("attenuationColor", [1.0, 1.0, 1.0])]
+        if not params["thin"] and math.isfinite(distance):
+            # kousen's absorption_from_attenuation: -ln(colour) / distance, colour >= e^-20.
+            params["absorption"] = [-math.log(max(c, math.exp(-20.0))) / distance
+                                    for c in color]
+        glass = ("dielectric", params)
+        if roughness >= MIRROR_MAX_ROUGHNESS:
+            glass = ("roughdielectric", dict(params, alpha=roughness * roughness))
+    if (roughness < DIFFUSE_MIN_ROUGHNESS and ior != 1.0
+            and float(ext.get("KHR_materials_specular", {}).get("specularFactor", 1.0)) > 0.0):
         if ior == 0.0:
-            kind, params = "mirror", {"color": base}
-        else:
-            kind, params = "dielectric", {"color": base, "ior": ior, "thin": thickness == 0.0}
-            volume = ext.get("KHR_materials_volume", {})
-            distance = float(volume.get("attenuationDistance", math.inf))
-            color = [float(c) for c in volume.get("attenuationColor", [1.0, 1.0, 1.0])]
-            if not params["thin"] and math.isfinite(distance):
-                # kousen's absorption_from_attenuation: -ln(colour) / distance, colour >= e^-20.
-                params["absorption"] = [-math.log(max(c, math.exp(-20.0))) / distance
-                                        for c in color]
-            if roughness >= MIRROR_MAX_ROUGHNESS:
-                if params["thin"]:
-                    raise NotImplementedError("material %r: Mitsuba has no rough thin sheet"
-                                              % m.get("name"))
-                kind = "roughdielectric"
-                params["alpha"] = roughness * roughness
-    elif metallic >= MIRROR_MIN_METALLIC and roughness < MIRROR_MAX_ROUGHNESS:
-        kind, params = "mirror", {"color": base}
-    elif metallic >= MIRROR_MIN_METALLIC and roughness < DIFFUSE_MIN_ROUGHNESS:
-        kind, params = "rough", {"color": base, "alpha": roughness * roughness}
-    elif (roughness < DIFFUSE_MIN_ROUGHNESS and ior != 1.0
-          and float(ext.get("KHR_materials_specular", {}).get("specularFactor", 1.0)) > 0.0):
-        if ior == 0.0:
-            kind, params = "mirror", {"color": base}
+            opaque = ("mirror", {"color": base})
         else:
             alpha = 0.0 if roughness < MIRROR_MAX_ROUGHNESS else roughness * roughness
-            kind, params = "plastic", {"color": base, "ior": ior, "alpha": alpha}
+            opaque = ("plastic", {"color": base, "ior": ior, "alpha": alpha})
     else:
-        kind, params = "diffuse", {"color": base}
+        opaque = ("diffuse", {"color": base})
+    members = []
+    for probability, (kind, params) in ((metallic, metal),
+                                        ((1.0 - metallic) * transmission, glass),
+                                        ((1.0 - metallic) * (1.0 - transmission), opaque)):
+        if probability <= 0.0:
+            continue
+        if kind == "roughdielectric" and params["thin"]:
+            raise NotImplementedError("material %r: Mitsuba has no rough thin sheet"
+                                      % m.get("name"))
+        same = [k for k, member in enumerate(members) if member[1:] == (kind, params)]
+        if same:
+            members[same[0]] = (members[same[0]][0] + probability, kind, params)
+        else:
+            members.append((probability, kind, params))
     strength = float(ext.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
     emission = [float(c) * strength for c in m.get("emissiveFactor", [0.0, 0.0, 0.0])]
-    return kind, params, emission, bool(m.get("doubleSided", False)), m.get("name", str(index))
+    return members, emission, bool(m.get("doubleSided", False)), m.get("name", str(index))
+
+
+def mitsuba_blend(members):
+    """A blend's members as nested `blendbsdf`s: the first with its probability, else the rest
+    (Mitsuba's weight is the second BSDF's share)."""
+    (probability, kind, params), rest = members[0], members[1:]
+    if not rest:
+        return mitsuba_bsdf(kind, params)
+    left = sum(p for p, _, _ in rest)
+    return {"type": "blendbsdf", "weight": left / (probability + left),
+            "first": mitsuba_bsdf(kind, params), "second": mitsuba_blend(rest)}
 
 
 def mitsuba_bsdf(kind, params):
@@ -391,7 +419,8 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
     ntri = 0
     media = False
     for k, (p, n, tri, mat) in enumerate(gather_primitives(doc, buffers)):
-        kind, params, emission, double_sided, name = material_info(doc, mat)
+        members, emission, double_sided, name = material_info(doc, mat)
+        params = next((q for _, _, q in members if "absorption" in q), {})
         emissive = max(emission) > 0.0
         # Winding against the given normals, for the record (Mitsuba shades with the normals).
         fn = np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])
@@ -400,7 +429,7 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
             log("primitive %d (%s): %d of %d triangles wind against their normals"
                 % (k, name, int((~agree).sum()), len(tri)))
         props = mi.Properties()
-        props["bsdf"] = mi.load_dict(mitsuba_bsdf(kind, params))
+        props["bsdf"] = mi.load_dict(mitsuba_blend(members))
         if "absorption" in params:
             # Absorption only: a medium that scatters nothing (albedo 0) inside the shape.
             props["interior"] = mi.load_dict({
@@ -425,8 +454,11 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         scene["prim_%d" % k] = mesh
         ntri += len(tri)
         log("primitive %d: %s, %d triangles, %s%s" % (
-            k, name, len(tri), kind + ("" if "dielectric" not in kind else
-                                        " ior %g %s" % (params["ior"], "thin" if params["thin"] else "solid")),
+            k, name, len(tri), " + ".join(
+                ("%g " % p if len(members) > 1 else "") + kind
+                + ("" if "dielectric" not in kind else
+                   " ior %g %s" % (q["ior"], "thin" if q["thin"] else "solid"))
+                for p, kind, q in members),
             (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else "")
             + (", absorbs %s per unit" % [round(a, 6) for a in params["absorption"]]
                if "absorption" in params else ""))

@@ -6,6 +6,7 @@ use std::f32::consts::FRAC_1_PI;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use glam::Vec3;
+use render::blend::{blend_member, blend_photon_member};
 use render::buffers::{
     HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, SAMPLE_AT_GLOSSY,
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
@@ -79,7 +80,7 @@ pub fn photon_pass_with<R: StreamRng>(
     }
     let mut photon = Photon::default();
     let direction = vec3(slot.direction);
-    let Some(hit) = trace(scene, vec3(slot.origin), direction) else {
+    let Some(mut hit) = trace(scene, vec3(slot.origin), direction) else {
         slot.depth = SLOT_IDLE;
         return PhotonStep {
             slot,
@@ -100,8 +101,15 @@ pub fn photon_pass_with<R: StreamRng>(
             emitted,
         };
     }
-    let tint = base_color(scene, material, hit.uv);
     let flux = vec3(slot.flux) * transmittance_to(material, &hit);
+    // A blend keeps the photon for its Lambertian member whichever member the path takes
+    // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
+    let keeper = blend_photon_member(&scene.materials, hit.material);
+    if material.blend.is_some() {
+        hit.material = blend_member(&scene.materials, hit.material, rng.next_f32());
+    }
+    let material = &scene.materials[hit.material as usize];
+    let tint = base_color(scene, material, hit.uv);
     let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
     // Rough glass chooses its way with a third number, and plastic between its coat and its
     // base; other surfaces draw none, so their streams stay as they were.
@@ -121,9 +129,11 @@ pub fn photon_pass_with<R: StreamRng>(
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
     let coat = || &scene.coats[hit.material as usize];
-    let base_share = match material.surface {
+    let base_share = match scene.materials[keeper as usize].surface {
         Surface::Diffuse => Some(1.0),
-        Surface::Plastic { .. } => Some(coat().transmittance(direction.dot(hit.shading))),
+        Surface::Plastic { .. } => {
+            Some(scene.coats[keeper as usize].transmittance(direction.dot(hit.shading)))
+        }
         _ => None,
     };
     if let Some(share) = base_share
@@ -330,7 +340,7 @@ fn eye_path(
     // emission met next is weighed against the light sample taken there (0: not glossy).
     let mut glossy = GlossyVertex::default();
     while depth < params.max_depth {
-        let Some(hit) = trace(scene, origin, direction) else {
+        let Some(mut hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one).
             let sky = vec3(params.sky);
             direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
@@ -352,6 +362,11 @@ fn eye_path(
             direct += throughput * emission_share * emission * weight;
         }
         emission_share = 1.0;
+        // A blend's member for this path (`render::blend`), drawn only at blends.
+        if material.blend.is_some() {
+            hit.material = blend_member(&scene.materials, hit.material, rng.next_f32());
+        }
+        let material = &scene.materials[hit.material as usize];
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
         let mut base_weight = 1.0;

@@ -67,6 +67,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ),
         ("SAMPLE_AT_GLOSSY", U32(buffers::SAMPLE_AT_GLOSSY)),
         ("MAX_PASS_THROUGHS", U32(buffers::MAX_PASS_THROUGHS)),
+        ("MAX_BLEND_MEMBERS", U32(scene::MAX_BLEND_MEMBERS as u32)),
         ("SPECULAR_EXTRA_PATHS", U32(buffers::SPECULAR_EXTRA_PATHS)),
         ("SHADOW_SHORTENING", F32(render::direct::SHADOW_SHORTENING)),
         ("PHOTON_STREAM", U32(rng::PHOTON_STREAM)),

@@ -357,6 +357,9 @@ impl GpuScene {
         for (gpu, &density) in gpu_materials.iter_mut().zip(light_area_density) {
             gpu.light_area_density = density;
         }
+        for (id, gpu) in gpu_materials.iter_mut().enumerate() {
+            gpu.blend_photon_member = render::blend::blend_photon_member(materials, id as u32);
+        }
         if gpu_materials.is_empty() {
             // A binding cannot be empty; no triangle refers to this one.
             gpu_materials.push(GpuMaterial::new(&Material::default(), &Default::default()));

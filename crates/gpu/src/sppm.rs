@@ -124,6 +124,8 @@ pub(crate) struct SceneFeatures {
     pub rough_coats: bool,
     /// Some material is solid frosted glass (`FROSTED_GLASS`).
     pub frosted_glass: bool,
+    /// Some material is a blend (`BLENDS`).
+    pub blends: bool,
 }
 
 impl SceneFeatures {
@@ -143,15 +145,17 @@ impl SceneFeatures {
                     }
                 )
             }),
+            blends: any(|m| m.blend.is_some()),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 3] {
+    fn constants(self) -> [(&'static str, f64); 4] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
             ("ROUGH_COATS", flag(self.rough_coats)),
             ("FROSTED_GLASS", flag(self.frosted_glass)),
+            ("BLENDS", flag(self.blends)),
         ]
     }
 }
@@ -735,11 +739,25 @@ mod tests {
     fn features_name_what_each_scene_has() {
         let features = |scene: &scene::Scene| {
             let f = SceneFeatures::of(scene);
-            (f.normal_maps, f.rough_coats, f.frosted_glass)
+            (f.normal_maps, f.rough_coats, f.frosted_glass, f.blends)
         };
-        assert_eq!(features(&testing::cornell_box()), (false, false, false));
-        assert_eq!(features(&testing::cornell_plastic()), (false, true, false));
-        assert_eq!(features(&testing::cornell_frosted()), (false, false, true));
-        assert_eq!(features(&testing::cornell_bumpy()), (true, false, false));
+        let none = (false, false, false, false);
+        assert_eq!(features(&testing::cornell_box()), none);
+        assert_eq!(
+            features(&testing::cornell_plastic()),
+            (false, true, false, false)
+        );
+        assert_eq!(
+            features(&testing::cornell_frosted()),
+            (false, false, true, false)
+        );
+        assert_eq!(
+            features(&testing::cornell_bumpy()),
+            (true, false, false, false)
+        );
+        assert_eq!(
+            features(&testing::cornell_blended()),
+            (false, true, false, true)
+        );
     }
 }

@@ -122,7 +122,7 @@ pub const NO_TEXTURE: u32 = u32::MAX;
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 
-/// One material (144 bytes).
+/// One material (160 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -156,6 +156,14 @@ pub struct GpuMaterial {
     pub coat_diffuse_scale: f32,
     /// A rough plastic coat's `render::plastic::Coat::transmittance_nodes`, four a row.
     pub coat_transmittance: [[f32; 4]; 4],
+    /// A blend's probability of this material's own surface (`scene::Blend`); 1 for none.
+    pub blend_weight: f32,
+    /// The material a blend takes otherwise (itself for none).
+    pub blend_other: u32,
+    /// The member keeping photons that land on this material (`render::blend::
+    /// blend_photon_member`; the upload sets it, itself where it was not told).
+    pub blend_photon_member: u32,
+    pub pad: u32,
 }
 
 impl GpuMaterial {
@@ -202,6 +210,10 @@ impl GpuMaterial {
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])
             }),
+            blend_weight: material.blend.map_or(1.0, |b| b.weight),
+            blend_other: material.blend.map_or(0, |b| b.other),
+            blend_photon_member: 0,
+            pad: 0,
         }
     }
 }

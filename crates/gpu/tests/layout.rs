@@ -318,6 +318,13 @@ fn gpu_types_layout_matches_rust() {
                 "coat_transmittance",
                 offset_of!(GpuMaterial, coat_transmittance),
             ),
+            ("blend_weight", offset_of!(GpuMaterial, blend_weight)),
+            ("blend_other", offset_of!(GpuMaterial, blend_other)),
+            (
+                "blend_photon_member",
+                offset_of!(GpuMaterial, blend_photon_member),
+            ),
+            ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );
     assert_layout(

@@ -665,6 +665,15 @@ fn every_kernel_matches_its_twin_through_plastic() {
     every_kernel_matches_its_twin(scene::testing::cornell_plastic(), DirectLight::Sampled);
 }
 
+/// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
+/// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
+/// solid glass or diffuse), and photons are kept for the Lambertian member whichever member
+/// the photon path takes.
+#[test]
+fn every_kernel_matches_its_twin_through_blends() {
+    every_kernel_matches_its_twin(scene::testing::cornell_blended(), DirectLight::Sampled);
+}
+
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     every_kernel_matches_its_twin_on(context(), scene, direct);
 }

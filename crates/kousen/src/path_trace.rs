@@ -12,6 +12,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
+use render::blend::blend_member;
 use render::buffers::{LIGHT_TRIANGLE, Light};
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
@@ -298,7 +299,7 @@ impl<'a> PathTracer<'a> {
         let mut arrival = Arrival::Unsampled;
         let (mut depth, mut passes) = (0, 0);
         while depth < max_depth {
-            let Some(point) = self.intersect(origin, direction) else {
+            let Some(mut point) = self.intersect(origin, direction) else {
                 // Out of the scene: the sky, weighed against the light sample that could
                 // have drawn it.
                 if let Some(sky) = &self.scene.lights.sky {
@@ -324,6 +325,12 @@ impl<'a> PathTracer<'a> {
                 let weight = arrival.emitter_weight(area_density, &point, direction);
                 radiance += throughput * weight * self.emission(material, point.uv);
             }
+            // A blend's member for this path (`render::blend`), drawn only at blends.
+            if material.blend.is_some() {
+                point.material =
+                    blend_member(&self.scene.materials, point.material, rng.next_f32());
+            }
+            let material = &self.scene.materials[point.material as usize];
             let (_, shading) = facing_normals(&point, front);
             // Next-event estimation on the lobes light sampling serves: Lambertian ones (a
             // diffuse surface, plastic's base, which the coat lets light into and out of:
@@ -725,8 +732,20 @@ mod tests {
     /// Inside a closed emitting, reflecting sphere every pixel sees L = Le / (1 − ρ) = 1.
     #[test]
     fn furnace_sphere_converges_to_analytic_radiance() {
-        let scene = testing::furnace_sphere();
-        let (bvh, camera) = tracer_for(&scene);
+        assert_furnace_radiance(&testing::furnace_sphere());
+    }
+
+    /// The furnace in a blend of mirror and diffuse (`testing::furnace_sphere_blended`): the
+    /// mixture reflects 0.5, so L = 1 again (members swapped: 1.67).
+    #[test]
+    fn blended_furnace_converges_to_the_mixture_s_radiance() {
+        assert_furnace_radiance(&testing::furnace_sphere_blended());
+    }
+
+    /// The image of a furnace `scene` has mean radiance `testing::FURNACE_RADIANCE`: 16,384
+    /// paths, each with a standard deviation below 1, so 2 % is > 5 sigma.
+    fn assert_furnace_radiance(scene: &Scene) {
+        let (bvh, camera) = tracer_for(scene);
         let settings = RenderSettings {
             width: 8,
             height: 8,
@@ -734,9 +753,8 @@ mod tests {
             max_depth: 64,
             seed: 1,
         };
-        let image = PathTracer::new(&scene, &bvh, camera).render(&settings);
+        let image = PathTracer::new(scene, &bvh, camera).render(&settings);
         let mean = image.mean();
-        // 16,384 paths; the per-path standard deviation is below 1, so 2% is > 5 sigma.
         let expected = testing::FURNACE_RADIANCE;
         assert!(
             (mean - Vec3::splat(expected)).abs().max_element() < 0.02 * expected,

@@ -3,6 +3,7 @@
 //! buffers' structs, random streams, light table, hash arithmetic and specular optics.
 
 pub mod backend;
+pub mod blend;
 pub mod buffers;
 pub mod density;
 pub mod direct;

@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::{
-    Camera, Lights, Material, PunctualKind, PunctualLight, Scene, SceneError, Texture, TextureId,
-    Triangle,
+    Blend, Camera, Lights, MAX_BLEND_MEMBERS, Material, PunctualKind, PunctualLight, Scene,
+    SceneError, Surface, Texture, TextureId, Triangle,
 };
 
 pub struct SceneBuilder {
@@ -30,6 +30,57 @@ impl SceneBuilder {
     pub fn add_material(&mut self, material: Material) -> u32 {
         self.scene.materials.push(material);
         (self.scene.materials.len() - 1) as u32
+    }
+
+    /// Adds `base` as a mixture of `members`' surfaces, each with its probability (they are
+    /// normalised to sum to 1), and returns the id triangles use ([`crate::Blend`]). Members
+    /// of probability 0 are dropped and equal surfaces merged, so one left is a plain material.
+    /// At most one member may have a Lambertian lobe; it goes last. `base.absorption` is kept
+    /// by the solid dielectric member and by the first material, through whichever member a
+    /// ray that ran inside meets.
+    ///
+    /// # Panics
+    /// With no member of positive probability, more than [`MAX_BLEND_MEMBERS`] distinct
+    /// surfaces, or two with Lambertian lobes: the loaders never ask for these.
+    pub fn add_blend(&mut self, base: Material, members: &[(f32, Surface)]) -> u32 {
+        let mut distinct: Vec<(f32, Surface)> = Vec::new();
+        for &(probability, surface) in members.iter().filter(|(p, _)| *p > 0.0) {
+            match distinct.iter_mut().find(|(_, s)| *s == surface) {
+                Some((p, _)) => *p += probability,
+                None => distinct.push((probability, surface)),
+            }
+        }
+        // The member with a Lambertian lobe last: the photon pass finds it at the chain's end.
+        distinct.sort_by_key(|(_, surface)| surface.has_diffuse_lobe());
+        assert!(
+            !distinct.is_empty() && distinct.len() <= MAX_BLEND_MEMBERS,
+            "a blend of {} surfaces",
+            distinct.len()
+        );
+        assert!(
+            distinct
+                .iter()
+                .filter(|(_, s)| s.has_diffuse_lobe())
+                .count()
+                <= 1,
+            "a blend with two Lambertian lobes: {distinct:?}"
+        );
+        let first = self.scene.materials.len() as u32;
+        let mut left: f32 = distinct.iter().map(|(p, _)| p).sum();
+        let last = distinct.len() - 1;
+        for (k, &(probability, surface)) in distinct.iter().enumerate() {
+            let blend = (k < last).then(|| Blend {
+                weight: (probability / left).clamp(f32::MIN_POSITIVE, 1.0 - f32::EPSILON),
+                other: first + k as u32 + 1,
+            });
+            left -= probability;
+            self.add_material(Material {
+                surface,
+                blend,
+                ..base.clone()
+            });
+        }
+        first
     }
 
     pub fn materials(&self) -> &[Material] {

@@ -25,7 +25,9 @@ pub use builder::SceneBuilder;
 pub use camera::Camera;
 pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
-pub use material::{AlphaMode, Material, Surface, absorption_from_attenuation};
+pub use material::{
+    AlphaMode, Blend, MAX_BLEND_MEMBERS, Material, Surface, absorption_from_attenuation,
+};
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use textures::{Texels, Texture, TextureId};
 

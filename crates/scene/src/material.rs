@@ -68,7 +68,28 @@ pub struct Material {
     pub normal_texture: Option<TextureId>,
     /// Scales the normal map's X and Y before renormalising (glTF's `normalTexture.scale`).
     pub normal_scale: f32,
+    /// Where the material is a mixture of surfaces ([`Blend`]); `None` for one surface.
+    pub blend: Option<Blend>,
 }
+
+/// A material that is one of several surfaces, chosen at random at each hit (glTF's
+/// `metallicFactor` and `transmissionFactor` between 0 and 1 mix the metal, glass and
+/// dielectric lobes this way): this material's own surface with probability `weight`, else
+/// material `other`'s, which may blend on. A one-sample estimate of the mixture's BSDF, so
+/// each lobe keeps its own sampling and light samples. Made by [`crate::SceneBuilder::add_blend`],
+/// which keeps the chain short ([`MAX_BLEND_MEMBERS`]), its ids increasing, and the one member
+/// with a Lambertian lobe (if any) last: photons landing on the mixture are kept for it
+/// whichever member the photon's own path then takes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blend {
+    /// Probability of this material's own surface, in (0, 1).
+    pub weight: f32,
+    /// The material taken otherwise: a later id.
+    pub other: u32,
+}
+
+/// The most materials one blend chains (metal, glass and dielectric for glTF).
+pub const MAX_BLEND_MEMBERS: usize = 3;
 
 /// glTF's `KHR_materials_volume` attenuation as an absorption coefficient: white light turns
 /// `color` after `distance` (> 0; infinite: no absorption), so `−ln(color) / distance`. A
@@ -99,7 +120,30 @@ impl Default for Material {
             absorption: Vec3::ZERO,
             normal_texture: None,
             normal_scale: 1.0,
+            blend: None,
         }
+    }
+}
+
+impl Surface {
+    /// Whether it has a Lambertian lobe (diffuse, or plastic's base), where photons are kept
+    /// and eye paths end.
+    pub fn has_diffuse_lobe(self) -> bool {
+        matches!(self, Surface::Diffuse | Surface::Plastic { .. })
+    }
+
+    /// Whether it is a solid (not thin-walled) dielectric, with an inside that absorbs.
+    pub fn is_solid_dielectric(self) -> bool {
+        matches!(
+            self,
+            Surface::Dielectric {
+                thin_walled: false,
+                ..
+            } | Surface::RoughDielectric {
+                thin_walled: false,
+                ..
+            }
+        )
     }
 }
 
@@ -109,16 +153,14 @@ impl Material {
     }
 
     /// The absorption a path inside this material suffers: [`Material::absorption`] for a
-    /// solid dielectric, zero for every other surface (none of them has an inside).
+    /// solid dielectric and for a blend's first material (which carries its glass member's, as
+    /// the ray that ran inside may leave through any member), zero for every other surface
+    /// (none of them has an inside).
     pub fn interior_absorption(&self) -> Vec3 {
-        match self.surface {
-            Surface::Dielectric {
-                thin_walled: false, ..
-            }
-            | Surface::RoughDielectric {
-                thin_walled: false, ..
-            } => self.absorption,
-            _ => Vec3::ZERO,
+        if self.surface.is_solid_dielectric() || self.blend.is_some() {
+            self.absorption
+        } else {
+            Vec3::ZERO
         }
     }
 }

@@ -21,8 +21,8 @@ fn pbr(metallic: f32, roughness: f32) -> Value {
 fn smooth_metal_is_a_mirror_rough_metal_a_conductor_and_rough_surfaces_diffuse() {
     let cases = [
         ((1.0, 0.0), Surface::Mirror),
-        ((0.5, 0.005), Surface::Mirror),
-        ((0.5, 0.2), Surface::RoughConductor { alpha: 0.2 * 0.2 }),
+        ((1.0, 0.005), Surface::Mirror),
+        ((1.0, 0.2), Surface::RoughConductor { alpha: 0.2 * 0.2 }),
         ((1.0, 0.4), Surface::RoughConductor { alpha: 0.4 * 0.4 }),
         ((1.0, 0.5), Surface::Diffuse),
         ((0.0, 0.5), Surface::Diffuse),
@@ -45,7 +45,7 @@ fn smooth_metal_is_a_mirror_rough_metal_a_conductor_and_rough_surfaces_diffuse()
 fn smooth_non_metals_are_plastic_under_their_ior() {
     let cases = [
         (
-            (0.4, 0.0),
+            (0.0, 0.0),
             Surface::Plastic {
                 ior: 1.5,
                 alpha: 0.0,
@@ -66,7 +66,7 @@ fn smooth_non_metals_are_plastic_under_their_ior() {
             },
         ),
         (
-            (0.49, 0.49),
+            (0.0, 0.49),
             Surface::Plastic {
                 ior: 1.5,
                 alpha: 0.49 * 0.49,
@@ -111,6 +111,98 @@ fn smooth_non_metals_are_plastic_under_their_ior() {
             alpha: 0.2 * 0.2
         }
     );
+}
+
+/// The surfaces a blend's first material `id` chains, each with its probability.
+fn members(scene: &Scene, id: u32) -> Vec<(f32, Surface)> {
+    let (mut id, mut left, mut out) = (id as usize, 1.0, Vec::new());
+    loop {
+        let m = &scene.materials[id];
+        let Some(blend) = m.blend else {
+            out.push((left, m.surface));
+            return out;
+        };
+        out.push((left * blend.weight, m.surface));
+        left *= 1.0 - blend.weight;
+        assert!(blend.other as usize > id, "a blend chains back");
+        id = blend.other as usize;
+    }
+}
+
+/// glTF's `mix(dielectric, metal, metallic)` and the dielectric's `mix(opaque, glass,
+/// transmission)` as a blend: every surface with its probability, the Lambertian one last,
+/// the material's other properties on every member.
+#[test]
+fn partial_metallic_and_transmission_factors_blend_their_surfaces() {
+    let mut material = pbr(0.25, 0.2);
+    material["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, 0.6, 0.7, 1.0]);
+    material["extensions"] = json!({ "KHR_materials_transmission": { "transmissionFactor": 0.4 } });
+    let scene = quad_doc(Some(material)).load().expect("loads");
+    let root = scene.triangles[0].material;
+    let found = members(&scene, root);
+    let alpha = 0.2 * 0.2;
+    let expected = [
+        (0.25, Surface::RoughConductor { alpha }),
+        (
+            0.75 * 0.4,
+            Surface::RoughDielectric {
+                ior: 1.5,
+                thin_walled: true,
+                alpha,
+            },
+        ),
+        (0.75 * 0.6, Surface::Plastic { ior: 1.5, alpha }),
+    ];
+    assert_eq!(found.len(), expected.len(), "{found:?}");
+    for ((p, surface), (q, expected)) in found.iter().zip(expected) {
+        assert_eq!(*surface, expected);
+        assert!(
+            (p - q).abs() < 1e-6,
+            "{surface:?}: probability {p}, not {q}"
+        );
+    }
+    for m in &scene.materials[root as usize..] {
+        assert_eq!(m.base_color, Vec3::new(0.5, 0.6, 0.7));
+        assert_eq!(m.name, scene.materials[root as usize].name);
+    }
+
+    // Rough metal and rough dielectric are both Lambertian: one surface, no blend.
+    let m = material_of(pbr(0.4, 1.0));
+    assert_eq!((m.surface, m.blend), (Surface::Diffuse, None));
+    // Half metal over a smooth coat.
+    let scene = quad_doc(Some(pbr(0.5, 0.0))).load().expect("loads");
+    let found = members(&scene, scene.triangles[0].material);
+    let plastic = Surface::Plastic {
+        ior: 1.5,
+        alpha: 0.0,
+    };
+    assert_eq!(found, vec![(0.5, Surface::Mirror), (0.5, plastic)]);
+}
+
+/// Solid glass blended with metal: the first material carries the glass's absorption (a ray
+/// that ran inside may leave through any member), the metal member none of its own.
+#[test]
+fn a_blend_with_solid_glass_absorbs_inside_through_its_first_material() {
+    let mut material = pbr(0.5, 0.0);
+    material["extensions"] = json!({
+        "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+        "KHR_materials_volume": {
+            "thicknessFactor": 1.0,
+            "attenuationColor": [0.5, 1.0, 1.0],
+            "attenuationDistance": 2.0
+        }
+    });
+    let scene = quad_doc(Some(material)).load().expect("loads");
+    let root = scene.triangles[0].material as usize;
+    let found = members(&scene, root as u32);
+    let glass = Surface::Dielectric {
+        ior: 1.5,
+        thin_walled: false,
+    };
+    assert_eq!(found, vec![(0.5, Surface::Mirror), (0.5, glass)]);
+    let absorption = scene::absorption_from_attenuation(Vec3::new(0.5, 1.0, 1.0), 2.0);
+    assert_eq!(scene.materials[root].interior_absorption(), absorption);
+    assert_eq!(scene.materials[root + 1].interior_absorption(), absorption);
 }
 
 #[test]

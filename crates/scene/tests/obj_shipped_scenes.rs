@@ -165,6 +165,14 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             y.absorption
         );
         assert_eq!(x.normal_scale, y.normal_scale, "{stem}: normal scale");
+        match (x.blend, y.blend) {
+            (Some(a), Some(b)) => assert!(
+                a.other == b.other && (a.weight - b.weight).abs() < 1e-6,
+                "{stem}: {}'s blend {a:?} vs {b:?}",
+                x.name
+            ),
+            (a, b) => assert_eq!(a, b, "{stem}: {}'s blend", x.name),
+        }
         assert_eq!(
             normal_map_texels(loaded, x),
             normal_map_texels(fixture, y),

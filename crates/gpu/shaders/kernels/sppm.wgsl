@@ -398,13 +398,13 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     }
     var photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     let direction = slot.direction;
-    let hit = trace_surface(slot.origin, direction);
+    var hit = trace_surface(slot.origin, direction);
     if !hit.found {
         slot.depth = SLOT_IDLE;
         return PhotonStep(slot, photon, emitted);
     }
-    let material = materials[hit.material];
-    if is_cut_out(material, hit.uv) {
+    let root = materials[hit.material];
+    if is_cut_out(root, hit.uv) {
         slot.pass_throughs += 1u;
         slot.origin = hit.position + params.epsilon * direction;
         if slot.pass_throughs > MAX_PASS_THROUGHS {
@@ -412,6 +412,14 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         }
         return PhotonStep(slot, photon, emitted);
     }
+    // cpu::kernels: a blend keeps the photon for its Lambertian member whichever member the
+    // path takes; the member is drawn only at blends.
+    var keeper = hit.material;
+    if BLENDS && root.blend_weight < 1.0 {
+        keeper = root.blend_photon_member;
+        hit.material = blend_member(hit.material, next_f32(&rng));
+    }
+    let material = materials[hit.material];
     let surface_tint = base_color(material, hit.uv);
     let u_roulette = next_f32(&rng);
     let u_direction0 = next_f32(&rng);
@@ -430,11 +438,15 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // cpu::kernels: a Lambertian surface, or plastic's base under the coat, keeps the photon
     // (not straight from the light where eye passes sample the light themselves).
     let plastic = material.surface == SURFACE_PLASTIC;
-    if material.surface == SURFACE_DIFFUSE || plastic {
+    var keeper_surface = material.surface;
+    if BLENDS && keeper != hit.material {
+        keeper_surface = materials[keeper].surface;
+    }
+    if keeper_surface == SURFACE_DIFFUSE || keeper_surface == SURFACE_PLASTIC {
         if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
-            if plastic {
-                share = coat_transmittance_of(hit.material, dot(direction, hit.shading));
+            if keeper_surface == SURFACE_PLASTIC {
+                share = coat_transmittance_of(keeper, dot(direction, hit.shading));
             }
             photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * (arrival * share), 0u);
         }
@@ -470,7 +482,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
-        slot.flux = slot.flux * transmittance_to(material, hit) * tint * (weight / survival);
+        slot.flux = slot.flux * transmittance_to(root, hit) * tint * (weight / survival);
     } else {
         slot.depth = SLOT_IDLE;
     }
@@ -574,7 +586,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
     // sample taken there.
     var glossy = GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     while depth < params.max_depth {
-        let hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
+        var hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
         if probing {
             if !hit.found {
                 direct += probe_weight * sky;
@@ -594,8 +606,8 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             direct += throughput * emission_share * sky * sky_weight(glossy, direction);
             break;
         }
-        let material = materials[hit.material];
-        if is_cut_out(material, hit.uv) {
+        let root = materials[hit.material];
+        if is_cut_out(root, hit.uv) {
             pass_throughs += 1u;
             if pass_throughs > MAX_PASS_THROUGHS {
                 break;
@@ -603,12 +615,17 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        throughput *= transmittance_to(material, hit);
-        let emission = emitted(material, hit);
+        throughput *= transmittance_to(root, hit);
+        let emission = emitted(root, hit);
         if max3(emission) > 0.0 {
             direct += throughput * emission_share * emission * emitter_weight(glossy, hit, direction);
         }
         emission_share = 1.0;
+        // cpu::kernels::eye_path: a blend's member, drawn only at blends.
+        if BLENDS && root.blend_weight < 1.0 {
+            hit.material = blend_member(hit.material, next_f32(rng));
+        }
+        let material = materials[hit.material];
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
         let u = next_f32(rng);
         // cpu::kernels::eye_path: plastic's coat or its base, chosen by Fresnel; the lobes a

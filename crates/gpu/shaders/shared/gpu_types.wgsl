@@ -49,4 +49,8 @@ struct GpuMaterial {
     light_area_density: f32,
     coat_diffuse_scale: f32,
     coat_transmittance: array<vec4<f32>, 4>,
+    blend_weight: f32,
+    blend_other: u32,
+    blend_photon_member: u32,
+    pad: u32,
 }

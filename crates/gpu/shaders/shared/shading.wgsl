@@ -208,6 +208,25 @@ override NORMAL_MAPS: bool = true;
 // samples through it); compiled out as NORMAL_MAPS is, for the same reason.
 override ROUGH_COATS: bool = true;
 override FROSTED_GLASS: bool = true;
+// Whether some material is a blend (scene::Blend), whose member each hit draws.
+override BLENDS: bool = true;
+
+// render::blend::blend_member: the member of the blend starting at material `id` that a hit
+// takes for a uniform `u`, which is rescaled onto the rest of its interval at each step.
+// Materials without a blend have weight 1, so `u` always stops at them.
+fn blend_member(id: u32, u: f32) -> u32 {
+    var member = id;
+    var rest = u;
+    for (var i = 1u; i < MAX_BLEND_MEMBERS; i += 1u) {
+        let weight = materials[member].blend_weight;
+        if rest < weight {
+            break;
+        }
+        rest = (rest - weight) / (1.0 - weight);
+        member = materials[member].blend_other;
+    }
+    return member;
+}
 
 fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {
     return trace_surface_within(origin, direction, RAY_T_MAX);

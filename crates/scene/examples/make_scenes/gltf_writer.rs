@@ -6,6 +6,8 @@
 //! (8 bits a channel: linear data as it is, sRGB colour as encoded). Materials follow DESIGN.md's mapping in reverse:
 //! - diffuse → metallic 0, roughness 1; mirror → metallic 1, roughness 0; rough conductor →
 //!   metallic 1, roughness √α;
+//! - a blend (`scene::Blend`) → metallic the metal members' probability, transmission the glass
+//!   member's share of the rest, the one roughness of its rough members;
 //! - dielectric → `KHR_materials_transmission` 1 and `KHR_materials_ior`, with
 //!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid;
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
@@ -34,7 +36,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 8] = [
+pub const SHIPPED: [(&str, Fixture); 9] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -43,6 +45,7 @@ pub const SHIPPED: [(&str, Fixture); 8] = [
     ("cornell-frosted", scene::testing::cornell_frosted),
     ("cornell-tinted", scene::testing::cornell_tinted),
     ("cornell-bumpy", scene::testing::cornell_bumpy),
+    ("cornell-blended", scene::testing::cornell_blended),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -68,18 +71,31 @@ pub fn write(scene: &Scene, stem: &str, dir: &Path) -> std::io::Result<()> {
 pub fn encode(scene: &Scene, stem: &str) -> Encoded {
     let mut doc = Document::default();
     let images: Vec<Value> = scene.textures.iter().map(|t| doc.image(t)).collect();
-    let primitives: Vec<Value> = (0..scene.materials.len() as u32)
-        .filter_map(|m| {
-            let triangles: Vec<&Triangle> =
-                scene.triangles.iter().filter(|t| t.material == m).collect();
-            (!triangles.is_empty()).then(|| doc.primitive(&triangles, m))
-        })
-        .collect();
-    let materials: Vec<Value> = scene
+    // A blend's later members are part of its first material's glTF material, not their own.
+    let members: Vec<u32> = scene
         .materials
         .iter()
+        .filter_map(|m| m.blend)
+        .map(|b| b.other)
+        .collect();
+    let written: Vec<u32> = (0..scene.materials.len() as u32)
+        .filter(|m| !members.contains(m))
+        .collect();
+    let primitives: Vec<Value> = written
+        .iter()
         .enumerate()
-        .map(|(i, m)| doc.material(m, thickness(scene, i as u32)))
+        .filter_map(|(index, &m)| {
+            let triangles: Vec<&Triangle> =
+                scene.triangles.iter().filter(|t| t.material == m).collect();
+            (!triangles.is_empty()).then(|| doc.primitive(&triangles, index))
+        })
+        .collect();
+    let materials: Vec<Value> = written
+        .iter()
+        .map(|&m| {
+            let chain = blend_members(&scene.materials, m);
+            doc.material(&scene.materials[m as usize], &chain, thickness(scene, m))
+        })
         .collect();
     let mut nodes = vec![json!({ "name": stem, "mesh": 0 })];
     let near = znear(scene);
@@ -224,7 +240,7 @@ impl Document {
     }
 
     /// One primitive: the triangles' distinct (position, normal, uv) corners and their indices.
-    fn primitive(&mut self, triangles: &[&Triangle], material: u32) -> Value {
+    fn primitive(&mut self, triangles: &[&Triangle], material: usize) -> Value {
         let textured = (triangles.iter().flat_map(|t| t.vertices)).any(|v| v.uv != Vec2::ZERO);
         let mut slots: HashMap<[u32; 8], u32> = HashMap::new();
         let (mut positions, mut normals, mut uvs, mut indices) =
@@ -280,16 +296,34 @@ impl Document {
         })
     }
 
-    fn material(&mut self, m: &Material, thickness: f32) -> Value {
-        let (metallic, roughness) = match m.surface {
-            Surface::Diffuse => (0.0, 1.0),
-            Surface::Mirror | Surface::Dielectric { .. } => {
-                (f32::from(m.surface == Surface::Mirror), 0.0)
+    /// Material `m`, whose surfaces (its blend's, or its own) are `members` with their
+    /// probabilities.
+    fn material(&mut self, m: &Material, members: &[(f32, Surface)], thickness: f32) -> Value {
+        let metallic: f32 = members
+            .iter()
+            .filter(|(_, s)| matches!(s, Surface::Mirror | Surface::RoughConductor { .. }))
+            .map(|(p, _)| p)
+            .sum();
+        let glass = members.iter().find(|(_, s)| {
+            matches!(
+                s,
+                Surface::Dielectric { .. } | Surface::RoughDielectric { .. }
+            )
+        });
+        // One roughness serves every member: a rough one's, else 1 for a Lambertian one
+        // (diffuse is the rough end of glTF's lobes), else smooth.
+        let alpha = members.iter().find_map(|(_, s)| match *s {
+            Surface::RoughConductor { alpha }
+            | Surface::RoughDielectric { alpha, .. }
+            | Surface::Plastic { alpha, .. }
+                if alpha > 0.0 =>
+            {
+                Some(alpha)
             }
-            Surface::RoughConductor { alpha } => (1.0, alpha.sqrt()),
-            Surface::RoughDielectric { alpha, .. } => (0.0, alpha.sqrt()),
-            Surface::Plastic { alpha, .. } => (0.0, alpha.sqrt()),
-        };
+            _ => None,
+        });
+        let lambertian = members.iter().any(|(_, s)| *s == Surface::Diffuse);
+        let roughness = alpha.map_or(if lambertian { 1.0 } else { 0.0 }, f32::sqrt);
         let [r, g, b] = m.base_color.to_array();
         let mut value = json!({
             "name": m.name,
@@ -300,14 +334,23 @@ impl Document {
             },
         });
         let mut extensions = Map::new();
-        if let Surface::Dielectric { ior, thin_walled }
-        | Surface::RoughDielectric {
-            ior, thin_walled, ..
-        } = m.surface
+        if let Some(&(
+            probability,
+            Surface::Dielectric { ior, thin_walled }
+            | Surface::RoughDielectric {
+                ior, thin_walled, ..
+            },
+        )) = glass
         {
+            let transmission = probability / (1.0 - metallic);
+            let factor = if transmission == 1.0 {
+                json!(1)
+            } else {
+                number(transmission)
+            };
             extensions.insert(
                 "KHR_materials_transmission".into(),
-                json!({ "transmissionFactor": 1 }),
+                json!({ "transmissionFactor": factor }),
             );
             extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
             if !thin_walled {
@@ -324,8 +367,13 @@ impl Document {
                 extensions.insert("KHR_materials_volume".into(), volume);
             }
         }
-        if let Surface::Plastic { ior, .. } = m.surface
+        let coat_ior = members.iter().find_map(|(_, s)| match s {
+            Surface::Plastic { ior, .. } => Some(*ior),
+            _ => None,
+        });
+        if let Some(ior) = coat_ior
             && ior != DEFAULT_COAT_IOR
+            && glass.is_none()
         {
             extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
         }
@@ -370,6 +418,19 @@ impl Document {
         }
         value
     }
+}
+
+/// The surfaces of the blend starting at material `id` with their probabilities (its own
+/// surface alone, probability 1, where it is no blend).
+fn blend_members(materials: &[Material], id: u32) -> Vec<(f32, Surface)> {
+    let (mut id, mut left, mut members) = (id as usize, 1.0, Vec::new());
+    while let Some(blend) = materials[id].blend {
+        members.push((left * blend.weight, materials[id].surface));
+        left *= 1.0 - blend.weight;
+        id = blend.other as usize;
+    }
+    members.push((left, materials[id].surface));
+    members
 }
 
 fn known_extension(name: &str) -> &'static str {

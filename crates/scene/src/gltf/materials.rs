@@ -1,23 +1,27 @@
 //! glTF materials mapped onto kousen's uber-material (DESIGN.md, "Materials"):
 //!
-//! - `KHR_materials_transmission` with `transmissionFactor > 0` (and `metallicFactor < 0.5`:
-//!   metal does not transmit) → dielectric of `KHR_materials_ior` (default 1.5); solid when
-//!   `KHR_materials_volume` gives `thicknessFactor > 0`, thin-walled otherwise; smooth where
-//!   `roughnessFactor` < 0.01, else rough (frosted) glass, GGX of width α = roughness² (glTF's
-//!   default roughness is 1: transmission without a roughness is very frosted glass, as glTF
-//!   viewers show it). An ior of 0 (the extension's "F0 = 1" special case) reflects
+//! - glTF's BRDF, `mix(dielectric, metal, metallicFactor)` with the dielectric
+//!   `mix(opaque, glass, transmissionFactor)` under its specular layer, as a blend of up to
+//!   three surfaces chosen at random per hit with those probabilities (`scene::Blend`; factors
+//!   of 0 or 1 leave one surface, and equal surfaces merge):
+//! - the metal reflects the base colour: `roughnessFactor` < 0.01 → perfect mirror; below 0.5
+//!   → rough conductor, GGX of width α = roughness²; from 0.5 → Lambertian diffuse: so broad a
+//!   lobe sends light out nearly as a diffuse surface does, and SPPM gathers at diffuse points
+//!   where it would otherwise trace eye paths on through the metal.
+//! - the glass (`KHR_materials_transmission`) is a dielectric of `KHR_materials_ior` (default
+//!   1.5); solid when `KHR_materials_volume` gives `thicknessFactor > 0`, thin-walled otherwise;
+//!   smooth where `roughnessFactor` < 0.01, else rough (frosted) glass, GGX of width α =
+//!   roughness² (glTF's default roughness is 1: transmission without a roughness is very
+//!   frosted glass, as glTF viewers show it). An ior of 0 (the extension's "F0 = 1") reflects
 //!   everything → mirror.
-//! - `metallicFactor ≥ 0.5` (half-metallic is where the metal lobe wins), reflecting the base
-//!   colour: `roughnessFactor` < 0.01 → perfect mirror; below 0.5 → rough conductor, GGX of
-//!   width α = roughness²; from 0.5 → Lambertian diffuse: so broad a lobe sends light out
-//!   nearly as a diffuse surface does, and SPPM gathers at diffuse points where it would
-//!   otherwise trace eye paths on through the metal.
-//! - any other material with `roughnessFactor` < 0.5 → plastic (`render::plastic`): a Lambertian
-//!   base of the base colour under glTF's clear dielectric coat of `KHR_materials_ior` (default
-//!   1.5), smooth below 0.01, else GGX of width α = roughness²; rougher coats spread their 4 %
-//!   so widely that Lambertian alone stands for them, as for metal. `KHR_materials_specular`'s
-//!   `specularFactor` 0 removes the coat (Lambertian); its other values and colour are ignored.
-//! - everything else → Lambertian diffuse with the base colour (× `baseColorTexture`).
+//! - the opaque dielectric with `roughnessFactor` < 0.5 is plastic (`render::plastic`): a
+//!   Lambertian base of the base colour under glTF's clear dielectric coat of
+//!   `KHR_materials_ior` (default 1.5), smooth below 0.01, else GGX of width α = roughness²;
+//!   rougher coats spread their 4 % so widely that Lambertian alone stands for them, as for
+//!   metal. `KHR_materials_specular`'s `specularFactor` 0 removes the coat (Lambertian); its
+//!   other values and colour are ignored.
+//! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
+//!   `baseColorTexture`).
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
 //!   warning (kousen has no partial transparency).
@@ -52,8 +56,6 @@ use crate::{
     absorption_from_attenuation as scene_absorption,
 };
 
-/// The least `metallicFactor` mapped onto a mirror.
-pub const MIRROR_MIN_METALLIC: f32 = 0.5;
 /// Metal smoother than this (`roughnessFactor`) is a mirror, glass smoother than this smooth.
 pub const MIRROR_MAX_ROUGHNESS: f32 = 0.01;
 /// Metal at least this rough is diffuse.
@@ -119,8 +121,8 @@ impl Materials {
         if let Some(id) = self.ids[index] {
             return Ok(id);
         }
-        let material = self.convert(input, builder, index)?;
-        let id = builder.add_material(material);
+        let (material, members) = self.convert(input, builder, index)?;
+        let id = builder.add_blend(material, &members);
         self.ids[index] = Some(id);
         Ok(id)
     }
@@ -130,7 +132,7 @@ impl Materials {
         input: &Input,
         builder: &mut SceneBuilder,
         index: usize,
-    ) -> Result<Material, SceneError> {
+    ) -> Result<(Material, Vec<(f32, Surface)>), SceneError> {
         let m = &input.root.materials[index];
         let label = match &m.name {
             Some(name) => format!("material {index} ({})", quoted(name)),
@@ -147,8 +149,8 @@ impl Materials {
         }
         let metallic = check.unit(pbr.metallic_factor.0, "metallicFactor")?;
         let roughness = check.unit(pbr.roughness_factor.0, "roughnessFactor")?;
-        let surface = surface(&check, m, metallic, roughness)?;
-        let absorption = absorption(&check, m, surface)?;
+        let members = surface_members(&check, m, metallic, roughness)?;
+        let absorption = absorption(&check, m, &members)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
         let mut texture = |info: &Option<json::texture::Info>, slot: &'static str| {
@@ -181,9 +183,9 @@ impl Materials {
             None => None,
         };
         self.uv_transforms[index] = transform;
-        Ok(Material {
+        let material = Material {
             name: m.name.clone().unwrap_or_else(|| label.clone()),
-            surface,
+            surface: members[0].1,
             base_color: Vec3::new(base[0], base[1], base[2]),
             base_color_texture,
             emission,
@@ -194,7 +196,9 @@ impl Materials {
             absorption,
             normal_texture,
             normal_scale: m.normal_texture.as_ref().map_or(1.0, |n| n.scale),
-        })
+            blend: None,
+        };
+        Ok((material, members))
     }
 
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
@@ -387,12 +391,16 @@ impl Check<'_> {
     }
 }
 
-fn surface(
+/// glTF's BRDF as kousen's surfaces, each with its probability: `mix(dielectric, metal,
+/// metallic)`, the dielectric being `mix(opaque, glass, transmission)` under its specular
+/// layer. Factors of 0 or 1 leave one surface; others make a blend (`SceneBuilder::add_blend`),
+/// whose equal surfaces merge (rough metal and rough plastic are both Lambertian).
+fn surface_members(
     check: &Check,
     m: &json::Material,
     metallic: f32,
     roughness: f32,
-) -> Result<Surface, SceneError> {
+) -> Result<Vec<(f32, Surface)>, SceneError> {
     let extensions = m.extensions.as_ref();
     let transmission = extensions
         .and_then(|e| e.transmission.as_ref())
@@ -408,40 +416,52 @@ fn surface(
         .and_then(|e| e.volume.as_ref())
         .map_or(0.0, |v| v.thickness_factor.0);
     let thickness = check.non_negative(thickness, "thicknessFactor")?;
-    let surface = if transmission > 0.0 && metallic < MIRROR_MIN_METALLIC {
-        let thin_walled = thickness == 0.0;
-        if ior == 0.0 {
-            Surface::Mirror
-        } else if roughness < MIRROR_MAX_ROUGHNESS {
-            Surface::Dielectric { ior, thin_walled }
-        } else {
-            Surface::RoughDielectric {
-                ior,
-                thin_walled,
-                alpha: roughness * roughness,
-            }
-        }
-    } else if metallic >= MIRROR_MIN_METALLIC && roughness < MIRROR_MAX_ROUGHNESS {
+    // GGX width of the rough lobes; `None` where glTF's roughness is smooth.
+    let rough_alpha = (roughness >= MIRROR_MAX_ROUGHNESS).then_some(roughness * roughness);
+    let metal = if roughness < MIRROR_MAX_ROUGHNESS {
         Surface::Mirror
-    } else if metallic >= MIRROR_MIN_METALLIC && roughness < DIFFUSE_MIN_ROUGHNESS {
+    } else if roughness < DIFFUSE_MIN_ROUGHNESS {
         Surface::RoughConductor {
             alpha: roughness * roughness,
         }
-    } else if roughness < DIFFUSE_MIN_ROUGHNESS && has_specular_layer(m) && ior != 1.0 {
+    } else {
+        Surface::Diffuse
+    };
+    let glass = if ior == 0.0 {
+        // The extension's "F0 = 1": the specular layer reflects everything.
+        Surface::Mirror
+    } else {
+        let thin_walled = thickness == 0.0;
+        match rough_alpha {
+            None => Surface::Dielectric { ior, thin_walled },
+            Some(alpha) => Surface::RoughDielectric {
+                ior,
+                thin_walled,
+                alpha,
+            },
+        }
+    };
+    let opaque = if roughness < DIFFUSE_MIN_ROUGHNESS && has_specular_layer(m) && ior != 1.0 {
         if ior == 0.0 {
-            // The extension's "F0 = 1": the coat reflects everything.
             Surface::Mirror
         } else {
-            let smooth = roughness < MIRROR_MAX_ROUGHNESS;
             Surface::Plastic {
                 ior,
-                alpha: if smooth { 0.0 } else { roughness * roughness },
+                alpha: rough_alpha.unwrap_or(0.0),
             }
         }
     } else {
         Surface::Diffuse
     };
-    Ok(surface)
+    let dielectric = 1.0 - metallic;
+    Ok(vec![
+        (metallic, metal),
+        (dielectric * transmission, glass),
+        (dielectric * (1.0 - transmission), opaque),
+    ]
+    .into_iter()
+    .filter(|(probability, _)| *probability > 0.0)
+    .collect())
 }
 
 /// Whether a non-metal wears glTF's dielectric specular layer: always, unless
@@ -454,17 +474,12 @@ fn has_specular_layer(m: &json::Material) -> bool {
 /// A solid dielectric's absorption from `KHR_materials_volume`'s attenuation colour (each in
 /// [0, 1]) and distance (> 0, infinite by default); zero for every other surface (the
 /// extension describes a volume, which thin-walled and opaque surfaces do not have).
-fn absorption(check: &Check, m: &json::Material, surface: Surface) -> Result<Vec3, SceneError> {
-    let solid = matches!(
-        surface,
-        Surface::Dielectric {
-            thin_walled: false,
-            ..
-        } | Surface::RoughDielectric {
-            thin_walled: false,
-            ..
-        }
-    );
+fn absorption(
+    check: &Check,
+    m: &json::Material,
+    members: &[(f32, Surface)],
+) -> Result<Vec3, SceneError> {
+    let solid = members.iter().any(|(_, s)| s.is_solid_dielectric());
     let Some(volume) = m.extensions.as_ref().and_then(|e| e.volume.as_ref()) else {
         return Ok(Vec3::ZERO);
     };

@@ -14,6 +14,9 @@
 //! - [`cornell_spot`]: [`cornell_caustics`] with a spot light on the glass sphere.
 //! - [`cornell_bumpy`]: [`cornell_caustics`]'s room with normal-mapped tiles and spheres.
 //! - [`cornell_plastic`]: [`cornell_caustics`]'s room with a plastic floor and spheres.
+//! - [`cornell_blended`]: [`cornell_caustics`]'s room with blended floor and spheres.
+//! - [`furnace_sphere_blended`]: [`furnace_sphere`] in a blend of mirror and diffuse; radiance
+//!   [`FURNACE_RADIANCE`] again.
 //! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
 //!   emission is [`glass_pane_radiance`]; [`glass_panes`] has more sheets.
 //!
@@ -25,8 +28,8 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use crate::{
-    Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, Surface, Texels, Texture,
-    Triangle, Vertex,
+    Blend, Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, Surface, Texels,
+    Texture, Triangle, Vertex,
 };
 
 /// The Cornell box's white, red and green reflectances (linear RGB). The Cornell data gives
@@ -52,6 +55,15 @@ pub const FURNACE_EMISSION: f32 = 0.5;
 /// radiance is the same at every point and in every direction: L = Le + ρL, so
 /// L = Le / (1 − ρ) = 1 (the furnace test of pbrt's `integrators_test.cpp`).
 pub const FURNACE_RADIANCE: f32 = FURNACE_EMISSION / (1.0 - FURNACE_ALBEDO);
+
+/// Blended furnace: a mirror of tint [`FURNACE_BLEND_MIRROR`] with probability
+/// [`FURNACE_BLEND_MIRROR_WEIGHT`], else diffuse of albedo [`FURNACE_BLEND_DIFFUSE`]: the
+/// mixture reflects 0.25 × 0.8 + 0.75 × 0.4 = 0.5 = [`FURNACE_ALBEDO`] of the uniform
+/// radiance, so the radiance is [`FURNACE_RADIANCE`]; a blend choosing its members the wrong
+/// way round would reflect 0.7 and give 1.67.
+pub const FURNACE_BLEND_MIRROR_WEIGHT: f32 = 0.25;
+pub const FURNACE_BLEND_MIRROR: f32 = 0.8;
+pub const FURNACE_BLEND_DIFFUSE: f32 = 0.4;
 
 /// Lit plane: a square of half-size [`LIT_PLANE_HALF_SIZE`] at y = 0 facing +y with albedo
 /// [`LIT_PLANE_ALBEDO`], under a black square light of half-size [`LIT_PLANE_LIGHT_HALF_SIZE`]
@@ -204,6 +216,45 @@ pub fn cornell_plastic() -> Scene {
     let blue = f.material("blue plastic", coat(0.3 * 0.3), Vec3::new(0.1, 0.25, 0.7));
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, red, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, blue, false);
+    f.finish()
+}
+
+/// The room of [`cornell_caustics`] with blends (`SceneBuilder::add_blend`, as glTF's partial
+/// metallic and transmission factors make them): the floor 30 % mirror over white plastic,
+/// a gold sphere front right half rough metal (GGX α 0.04) half rough plastic, and a sphere
+/// back left 60 % solid glass and 40 % smooth white plastic (glTF: metallic 0.3 roughness 0;
+/// metallic 0.5 roughness 0.2; transmission 0.6 roughness 0).
+pub fn cornell_blended() -> Scene {
+    let mut f = Fixture::new("testing::cornell_blended");
+    let white = f.material("white", Surface::Diffuse, CORNELL_WHITE);
+    let blend = |f: &mut Fixture, name: &str, color: Vec3, members: &[(f32, Surface)]| {
+        let base = Material {
+            name: name.into(),
+            base_color: color,
+            ..Material::default()
+        };
+        f.builder.add_blend(base, members)
+    };
+    let coat = |alpha| Surface::Plastic { ior: 1.5, alpha };
+    let floor_members = [(0.3, Surface::Mirror), (0.7, coat(0.0))];
+    let floor = blend(&mut f, "mirror over plastic", CORNELL_WHITE, &floor_members);
+    cornell_room_on(&mut f, white, floor);
+    let gold = Vec3::new(0.9, 0.6, 0.2);
+    let alpha = 0.2 * 0.2;
+    let gold_members = [(0.5, Surface::RoughConductor { alpha }), (0.5, coat(alpha))];
+    let gold = blend(&mut f, "half gold", gold, &gold_members);
+    let glass = Surface::Dielectric {
+        ior: 1.5,
+        thin_walled: false,
+    };
+    let milky = blend(
+        &mut f,
+        "glass and plastic",
+        Vec3::splat(0.9),
+        &[(0.6, glass), (0.4, coat(0.0))],
+    );
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, gold, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, milky, false);
     f.finish()
 }
 
@@ -420,6 +471,34 @@ pub fn furnace_sphere() -> Scene {
         ..Material::default()
     });
     f.sphere(Vec3::ZERO, 1.0, inside, true);
+    f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
+    f.finish()
+}
+
+/// [`furnace_sphere`] whose inside is a blend (`Material::blend`) of a mirror and a diffuse
+/// surface of different reflectances ([`FURNACE_BLEND_MIRROR_WEIGHT`] and the constants after
+/// it), both emitting [`FURNACE_EMISSION`]: every pixel's radiance is [`FURNACE_RADIANCE`].
+pub fn furnace_sphere_blended() -> Scene {
+    let mut f = Fixture::new("testing::furnace_sphere_blended");
+    let member = |surface, albedo: f32, blend| Material {
+        name: "blended furnace".into(),
+        surface,
+        base_color: Vec3::splat(albedo),
+        emission: Vec3::splat(FURNACE_EMISSION),
+        blend,
+        ..Material::default()
+    };
+    let mirror = f.builder.materials().len() as u32;
+    let blend = Blend {
+        weight: FURNACE_BLEND_MIRROR_WEIGHT,
+        other: mirror + 1,
+    };
+    let mirror = f
+        .builder
+        .add_material(member(Surface::Mirror, FURNACE_BLEND_MIRROR, Some(blend)));
+    f.builder
+        .add_material(member(Surface::Diffuse, FURNACE_BLEND_DIFFUSE, None));
+    f.sphere(Vec3::ZERO, 1.0, mirror, true);
     f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
     f.finish()
 }

@@ -18,6 +18,7 @@ use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
 use render::microfacet::{GlossyResponse, glossy_response, refraction_response};
 use render::normal_map::{arrival_factor, departure_factor};
+use render::optics::eye_refraction_scale;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
@@ -27,8 +28,8 @@ use scene::Surface;
 use crate::SceneData;
 use crate::surface::{
     PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce, emitted,
-    is_cut_out, offset_origin, plastic_bounce, shadow_ray_origin, specular_direction, trace,
-    transmittance_to, unoccluded,
+    eye_crossing_scale, is_cut_out, offset_origin, plastic_bounce, shadow_ray_origin,
+    specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -505,10 +506,12 @@ fn eye_path(
                     offset_origin(&hit, other, params.epsilon),
                     other,
                 );
-                direct += throughput * other_share * seen;
+                let crossing = eye_crossing_scale(material, &hit, other);
+                direct += throughput * (other_share * crossing) * seen;
                 emission_share = 1.0 - other_share;
             }
         }
+        throughput *= eye_crossing_scale(material, &hit, next);
         origin = offset_origin(&hit, next, params.epsilon);
         direction = next;
     }
@@ -550,13 +553,16 @@ impl LitLobes {
     /// The glossy lobe lit along `incident`, seen along `outgoing`.
     fn glossy_lobe(&self, hit: &SurfaceHit, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
         if self.refraction_eta > 0.0 {
-            refraction_response(
+            let mut response = refraction_response(
                 outgoing,
                 incident,
                 hit.shading,
                 self.alpha,
                 self.refraction_eta,
-            )
+            );
+            // Light refracting out towards the eye inside (`eye_refraction_scale`).
+            response.value *= eye_refraction_scale(self.refraction_eta);
+            response
         } else {
             glossy_response(outgoing, incident, hit.shading, self.alpha, self.coat_ior)
         }

@@ -7,7 +7,7 @@ use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
-use render::optics::{fresnel_dielectric, reflect, refract, relative_eta};
+use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
@@ -239,6 +239,25 @@ pub fn specular_direction(
         }
     };
     Some((direction, 1.0))
+}
+
+/// The eye-path factor [`eye_refraction_scale`] where `next` crosses the surface of a solid
+/// dielectric at `hit` (refracts into or out of it); 1 for every other way on.
+pub fn eye_crossing_scale(material: &Material, hit: &SurfaceHit, next: Vec3) -> f32 {
+    match material.surface {
+        Surface::Dielectric {
+            ior,
+            thin_walled: false,
+        }
+        | Surface::RoughDielectric {
+            ior,
+            thin_walled: false,
+            ..
+        } if next.dot(hit.geometric) < 0.0 => {
+            eye_refraction_scale(relative_eta(ior, hit.front, false))
+        }
+        _ => 1.0,
+    }
 }
 
 /// A cosine-distributed bounce off a Lambertian surface (or plastic's base) from two uniform

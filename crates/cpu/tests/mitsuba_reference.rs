@@ -260,3 +260,23 @@ fn sppm_matches_mitsuba_through_absorbing_glass() {
         },
     );
 }
+
+/// Blends (glTF's partial metallic and transmission factors, `scene::Blend`) against Mitsuba's
+/// `blendbsdf` over the same members: `scenes/cornell-blended.gltf`, a floor 30 % mirror over
+/// smooth plastic, a sphere half rough gold half rough plastic and one 60 % solid glass over
+/// smooth plastic. Eye and photon paths draw a member at every hit; photons are kept for the
+/// plastic whichever member the photon path takes. Pixels that see a blend first (floor and
+/// spheres) and the whole image held to the other references' tolerances.
+#[test]
+fn sppm_matches_mitsuba_through_blends() {
+    let scene = shipped("cornell-blended.gltf");
+    let blended: Vec<bool> = scene.materials.iter().map(|m| m.blend.is_some()).collect();
+    assert!(blended.iter().filter(|b| **b).count() == 3, "three blends");
+    check_against(
+        "blends",
+        &scene,
+        &reference("cornell-blended-mitsuba-64.exr"),
+        (900, 0.02),
+        |s| !matches!(s, scene::Surface::Diffuse),
+    );
+}

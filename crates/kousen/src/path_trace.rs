@@ -21,7 +21,7 @@ use render::emission::{
 use render::light_sampling::power_heuristic;
 use render::microfacet::{GlossyResponse, glossy_response, refraction_response};
 use render::normal_map::mapped_normal;
-use render::optics::{fresnel_dielectric, reflect, refract};
+use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::{is_lifted, shadow_origin};
@@ -196,7 +196,11 @@ impl<'a> LitLobes<'a> {
     /// along `incident`, seen along `outgoing`.
     fn glossy_lobe(&self, normal: Vec3, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
         if self.refraction_eta > 0.0 {
-            refraction_response(outgoing, incident, normal, self.alpha, self.refraction_eta)
+            let mut response =
+                refraction_response(outgoing, incident, normal, self.alpha, self.refraction_eta);
+            // Light refracting out towards the eye inside (`eye_refraction_scale`).
+            response.value *= eye_refraction_scale(self.refraction_eta);
+            response
         } else {
             glossy_response(outgoing, incident, normal, self.alpha, self.glossy_ior)
         }
@@ -634,7 +638,13 @@ impl<'a> PathTracer<'a> {
                 } else {
                     Lobe::Specular
                 };
-                return same_side.then_some((next, tint * weight, lobe));
+                // Radiance through a solid's surface (`eye_refraction_scale`).
+                let crossing = if !thin_walled && next.dot(geometric) < 0.0 {
+                    eye_refraction_scale(eta)
+                } else {
+                    1.0
+                };
+                return same_side.then_some((next, tint * (weight * crossing), lobe));
             }
             Surface::Plastic { ior, alpha } => {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
@@ -688,7 +698,9 @@ impl<'a> PathTracer<'a> {
                 } else if thin_walled {
                     incoming
                 } else {
-                    refract(incoming, shading, eta)?
+                    // Radiance through a solid's surface (`eye_refraction_scale`).
+                    let next = refract(incoming, shading, eta)?;
+                    return Some((next, tint * eye_refraction_scale(eta), Lobe::Specular));
                 }
             }
         };
@@ -982,7 +994,8 @@ mod tests {
                             albedo * coat.diffuse_scale * weight * coat.transmittance(out.z)
                         }
                     },
-                    // Reflected or refracted, the ray leaves the open plane and sees the sky.
+                    // Reflected or refracted, the ray leaves the open plane and sees the sky;
+                    // refracted, it crossed into the glass (`eye_refraction_scale`).
                     Surface::RoughDielectric { ior, .. } => render::microfacet::rough_dielectric(
                         direction,
                         normal,
@@ -991,7 +1004,14 @@ mod tests {
                         alpha,
                         u,
                     )
-                    .map_or(0.0, |(_, weight)| albedo * weight),
+                    .map_or(0.0, |(next, weight)| {
+                        let crossing = if next.y < 0.0 {
+                            eye_refraction_scale(1.0 / ior)
+                        } else {
+                            1.0
+                        };
+                        albedo * weight * crossing
+                    }),
                     _ => unreachable!(),
                 };
                 (sky * seen) as f64
@@ -1030,8 +1050,16 @@ mod tests {
         let mut rng = Rng::new(16, 0);
         let sampled = mean_and_error(400_000, || {
             let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+            // Refracted out, the ray crossed out of the glass (`eye_refraction_scale`).
             render::microfacet::rough_dielectric(direction, Vec3::NEG_Y, ior, false, alpha, u)
-                .map_or(0.0, |(_, weight)| (sky * albedo * weight) as f64)
+                .map_or(0.0, |(next, weight)| {
+                    let crossing = if next.y > 0.0 {
+                        eye_refraction_scale(ior)
+                    } else {
+                        1.0
+                    };
+                    (sky * albedo * weight * crossing) as f64
+                })
         });
         let error = (traced.1 * traced.1 + sampled.1 * sampled.1).sqrt();
         assert!(

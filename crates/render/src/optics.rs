@@ -26,6 +26,17 @@ pub fn relative_eta(ior: f32, front: bool, thin_walled: bool) -> f32 {
     if front || thin_walled { 1.0 / ior } else { ior }
 }
 
+/// What an eye path keeps of its weight where it refracts with `eta` = n_from / n_to (its own
+/// direction of travel): eta². Radiance squeezes into a denser medium's narrower cone (L / n²
+/// is what a ray keeps), so light leaving glass towards the eye has 1 / n² of the radiance it
+/// had inside; photons carry flux, which needs no such factor, and the dielectric sampling
+/// weights are the photons'. A path that crosses in and out again keeps nothing of it; it
+/// counts where an eye path ends inside a solid dielectric (a diffuse surface under water, a
+/// blend of glass and plastic) whose photons crossed only once themselves.
+pub fn eye_refraction_scale(eta: f32) -> f32 {
+    eta * eta
+}
+
 /// Unpolarised Fresnel reflectance of a smooth dielectric; 1 under total internal reflection.
 pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_i = cos_i.clamp(0.0, 1.0);

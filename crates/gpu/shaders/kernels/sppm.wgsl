@@ -261,7 +261,10 @@ fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
 // cpu::kernels::LitLobes::glossy_lobe.
 fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: vec3<f32>) -> GlossyResponse {
     if FROSTED_GLASS && lit.refraction_eta > 0.0 {
-        return refraction_response(outgoing, incident, hit.shading, lit.alpha, lit.refraction_eta);
+        var response = refraction_response(outgoing, incident, hit.shading, lit.alpha, lit.refraction_eta);
+        // Light refracting out towards the eye inside (render::optics::eye_refraction_scale).
+        response.value *= lit.refraction_eta * lit.refraction_eta;
+        return response;
     }
     return glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
 }
@@ -727,10 +730,11 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
                 probing = true;
                 probe_origin = offset_origin(hit, other, params.epsilon);
                 probe_direction = other;
-                probe_weight = throughput * other_share;
+                probe_weight = throughput * (other_share * eye_crossing_scale(material, hit, other));
                 emission_share = 1.0 - other_share;
             }
         }
+        throughput *= eye_crossing_scale(material, hit, bounce.direction);
         origin = offset_origin(hit, bounce.direction, params.epsilon);
         direction = bounce.direction;
     }

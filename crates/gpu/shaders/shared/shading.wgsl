@@ -611,6 +611,18 @@ fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f3
     return DielectricBranches(reflectance, reflected, transmitted);
 }
 
+// cpu::surface::eye_crossing_scale: an eye path's render::optics::eye_refraction_scale where
+// `next` crosses a solid dielectric's surface; 1 for every other way on.
+fn eye_crossing_scale(material: GpuMaterial, hit: SurfaceHit, next: vec3<f32>) -> f32 {
+    let dielectric = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
+    let solid = (material.flags & MATERIAL_THIN_WALLED) == 0u;
+    if dielectric && solid && dot(next, hit.geometric) < 0.0 {
+        let eta = relative_eta(material.ior, hit.front, false);
+        return eta * eta;
+    }
+    return 1.0;
+}
+
 // ---- render::hash ----
 fn hash_cell_size(max_radius: f32) -> f32 {
     return max(2.0 * max_radius * CELL_SLACK, 1.17549435e-38 * 4.0);

@@ -15,6 +15,8 @@
 //! - [`cornell_bumpy`]: [`cornell_caustics`]'s room with normal-mapped tiles and spheres.
 //! - [`cornell_plastic`]: [`cornell_caustics`]'s room with a plastic floor and spheres.
 //! - [`cornell_blended`]: [`cornell_caustics`]'s room with blended floor and spheres.
+//! - [`cornell_pool`]: [`cornell_caustics`]'s room flooded to a wavy water surface, a diffuse
+//!   sphere half under it: caustics on the floor below the water.
 //! - [`furnace_sphere_blended`]: [`furnace_sphere`] in a blend of mirror and diffuse; radiance
 //!   [`FURNACE_RADIANCE`] again.
 //! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
@@ -255,6 +257,70 @@ pub fn cornell_blended() -> Scene {
     );
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, gold, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, milky, false);
+    f.finish()
+}
+
+/// The water of [`cornell_pool`]: its mean level, its waves' amplitude (two crossing sine
+/// waves, the second at 0.6 of it) and their wavelengths, all in millimetres, and its index.
+pub const POOL_LEVEL: f32 = 150.0;
+pub const POOL_WAVE_AMPLITUDE: f64 = 5.0;
+pub const POOL_WAVELENGTHS: [f64; 2] = [130.0, 85.0];
+pub const POOL_IOR: f32 = 1.33;
+/// Quads along each side of the water surface's grid.
+pub const POOL_GRID: u32 = 40;
+
+/// [`cornell_caustics`]'s room flooded to [`POOL_LEVEL`]: the water's surface a grid of
+/// [`POOL_GRID`]² quads over the floor's footprint, displaced by two crossing sine waves
+/// with exact normals, its front face up, a solid dielectric of [`POOL_IOR`] (kousen needs no
+/// closed volume: everything below the surface's back face is water), so the floor, the
+/// walls' lower parts and a blue diffuse sphere back left (radius 100, its top 50 above the
+/// water) lie under water. The waves focus the light into a network of caustics on the floor;
+/// eye paths end on the floor inside the water, whose photons crossed the surface once
+/// (`render::optics::eye_refraction_scale`).
+pub fn cornell_pool() -> Scene {
+    let mut f = Fixture::new("testing::cornell_pool");
+    cornell_room(&mut f);
+    let water = f.material(
+        "water",
+        Surface::Dielectric {
+            ior: POOL_IOR,
+            thin_walled: false,
+        },
+        Vec3::ONE,
+    );
+    let blue = f.material("blue", Surface::Diffuse, Vec3::new(0.1, 0.25, 0.7));
+    f.sphere(Vec3::new(370.0, 100.0, 360.0), 100.0, blue, false);
+    // Heights and slopes in f64, rounded once (the shipped file regenerates byte for byte).
+    let [ka, kb] = POOL_WAVELENGTHS.map(|l| std::f64::consts::TAU / l);
+    let (a, b) = (POOL_WAVE_AMPLITUDE, 0.6 * POOL_WAVE_AMPLITUDE);
+    let (ca, sa) = (0.8f64, 0.6f64); // the second wave's direction in the floor's plane
+    let surface = |x: f64, z: f64| {
+        let (pa, pb) = (ka * (x + 0.3 * z), kb * (ca * x - sa * z));
+        let height = POOL_LEVEL as f64 + a * pa.sin() + b * pb.sin();
+        let dx = a * ka * pa.cos() + b * kb * ca * pb.cos();
+        let dz = a * ka * 0.3 * pa.cos() - b * kb * sa * pb.cos();
+        Vertex {
+            position: glam::DVec3::new(x, height, z).as_vec3(),
+            normal: glam::DVec3::new(-dx, 1.0, -dz).normalize().as_vec3(),
+            uv: Vec2::ZERO,
+        }
+    };
+    // The floor's corners: its footprint, x from the right wall (0) to the left one.
+    let [near_left, _, _, far_left] = CORNELL_QUADS[0].map(|c| glam::DVec3::from(c.map(f64::from)));
+    let depth = far_left.z;
+    let point = |i: u32, j: u32| {
+        let (u, v) = (i as f64 / POOL_GRID as f64, j as f64 / POOL_GRID as f64);
+        let left = near_left.x + v * (far_left.x - near_left.x);
+        surface(u * left, v * depth)
+    };
+    for i in 0..POOL_GRID {
+        for j in 0..POOL_GRID {
+            let [p, q] = [point(i, j), point(i + 1, j)];
+            let [r, t] = [point(i + 1, j + 1), point(i, j + 1)];
+            f.triangle([p, q, r], water, Vec3::Y);
+            f.triangle([p, r, t], water, Vec3::Y);
+        }
+    }
     f.finish()
 }
 

@@ -16,9 +16,8 @@ use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
-use render::microfacet::{GlossyResponse, glossy_response, refraction_response};
+use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
-use render::optics::eye_refraction_scale;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
@@ -378,11 +377,15 @@ fn eye_path(
         let bounce = match material.surface {
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
-                lit.coat_ior = ior;
+                lit.coated = true;
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
                     lit.glossy = throughput;
-                    lit.alpha = alpha;
+                    lit.lobe = GlossyLobe {
+                        alpha,
+                        fresnel_ior: ior,
+                        refraction_eta: 0.0,
+                    };
                     [rng.next_f32(), rng.next_f32()]
                 } else {
                     [0.0; 2]
@@ -411,7 +414,7 @@ fn eye_path(
                 };
                 if let Surface::RoughConductor { alpha } = material.surface {
                     lit.glossy = throughput * tint;
-                    lit.alpha = alpha;
+                    lit.lobe.alpha = alpha;
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
                 // visible micro-normal, reflection about it with its Fresnel probability,
@@ -426,12 +429,12 @@ fn eye_path(
                 } = material.surface
                 {
                     lit.glossy = throughput * tint;
-                    lit.alpha = alpha;
+                    lit.lobe.alpha = alpha;
                     if hit.front {
-                        lit.coat_ior = ior;
+                        lit.lobe.fresnel_ior = ior;
                     } else {
                         // From inside: its refraction out (the light seen through it).
-                        lit.refraction_eta = ior;
+                        lit.lobe.refraction_eta = ior;
                     }
                 }
                 let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
@@ -444,7 +447,7 @@ fn eye_path(
         if bounce.is_none() {
             // A Lambertian surface, or plastic's base (the coat's T(θo) in the choice's
             // weight, its T(θi) left to the light sample and the photons).
-            let scale = if lit.coat_ior > 0.0 {
+            let scale = if lit.coated {
                 scene.coats[hit.material as usize].diffuse_scale
             } else {
                 1.0
@@ -463,7 +466,7 @@ fn eye_path(
             }
         }
         if params.sample_lights & SAMPLE_AT_GLOSSY == 0 {
-            lit.alpha = 0.0;
+            lit.lobe = GlossyLobe::default();
         }
         if lit.is_lit() && !scene.lights.is_empty() {
             let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
@@ -528,53 +531,20 @@ fn eye_path(
 pub struct LitLobes {
     /// A Lambertian lobe: the visible point's weight (ρ/π and plastic's scale included).
     pub diffuse: Vec3,
-    /// A GGX reflection lobe of width `alpha` (`render::microfacet::glossy_response`).
+    /// Whether a plastic coat lies over the Lambertian lobe, which gets what it lets through.
+    pub coated: bool,
+    /// The glossy lobe's weight.
     pub glossy: Vec3,
-    pub alpha: f32,
-    /// The plastic coat over both lobes (its index; 0 for none): the Lambertian lobe gets
-    /// what the coat lets through, the glossy lobe is the coat's reflection.
-    pub coat_ior: f32,
-    /// Nonzero: the glossy lobe is instead solid frosted glass's refraction out of it, to the
-    /// far side of the surface, with this relative index
-    /// (`render::microfacet::refraction_response`).
-    pub refraction_eta: f32,
+    pub lobe: GlossyLobe,
 }
 
 impl LitLobes {
-    /// The unit normal about which light is sampled: the side the lobes face.
-    fn facing(&self, hit: &SurfaceHit) -> Vec3 {
-        if self.refraction_eta > 0.0 {
-            -hit.shading
-        } else {
-            hit.shading
-        }
-    }
-
-    /// The glossy lobe lit along `incident`, seen along `outgoing`.
-    fn glossy_lobe(&self, hit: &SurfaceHit, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
-        if self.refraction_eta > 0.0 {
-            let mut response = refraction_response(
-                outgoing,
-                incident,
-                hit.shading,
-                self.alpha,
-                self.refraction_eta,
-            );
-            // Light refracting out towards the eye inside (`eye_refraction_scale`).
-            response.value *= eye_refraction_scale(self.refraction_eta);
-            response
-        } else {
-            glossy_response(outgoing, incident, hit.shading, self.alpha, self.coat_ior)
-        }
-    }
-
     fn is_lit(&self) -> bool {
-        self.diffuse.max_element() > 0.0 || (self.alpha > 0.0 && self.glossy.max_element() > 0.0)
+        self.diffuse.max_element() > 0.0 || (self.lobe.is_some() && self.glossy.max_element() > 0.0)
     }
 
-    /// What light arriving along `incident` (at cosine `cosine` with the shading normal) with
-    /// solid-angle density `light_pdf` sends towards `outgoing`, per unit of its radiance
-    /// divided by that density.
+    /// What light arriving along `incident` with solid-angle density `light_pdf` sends
+    /// towards `outgoing`, per unit of its radiance divided by that density.
     fn response(
         &self,
         scene: &SceneData,
@@ -586,15 +556,15 @@ impl LitLobes {
         let cosine = incident.dot(hit.shading);
         let mut response = Vec3::ZERO;
         if self.diffuse.max_element() > 0.0 {
-            let coat = if self.coat_ior > 0.0 {
+            let coat = if self.coated {
                 scene.coats[hit.material as usize].transmittance(cosine)
             } else {
                 1.0
             };
             response += self.diffuse * (cosine * coat);
         }
-        if self.alpha > 0.0 {
-            let lobe = self.glossy_lobe(hit, outgoing, incident);
+        if self.lobe.is_some() {
+            let lobe = self.lobe.response(hit.shading, outgoing, incident);
             if lobe.value > 0.0 {
                 response += self.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
             }
@@ -616,13 +586,13 @@ struct GlossyVertex {
 impl GlossyVertex {
     /// The vertex a bounce from `hit` along `next` leaves, its lobes as `lit` has them.
     fn after(hit: &SurfaceHit, lit: &LitLobes, outgoing: Vec3, next: Vec3) -> GlossyVertex {
-        if lit.alpha <= 0.0 {
+        if !lit.lobe.is_some() {
             return GlossyVertex::default();
         }
         GlossyVertex {
             position: hit.position,
-            normal: lit.facing(hit),
-            pdf: lit.glossy_lobe(hit, outgoing, next).pdf,
+            normal: lit.lobe.facing(hit.shading),
+            pdf: lit.lobe.response(hit.shading, outgoing, next).pdf,
         }
     }
 
@@ -680,7 +650,7 @@ pub fn direct_light(
     lit: &LitLobes,
     u: [f32; 3],
 ) -> Vec3 {
-    let facing = lit.facing(hit);
+    let facing = lit.lobe.facing(hit.shading);
     let Some(light) = sample_light(&scene.lights, u, hit.position, facing) else {
         return Vec3::ZERO;
     };
@@ -691,7 +661,7 @@ pub fn direct_light(
     if response.max_element() <= 0.0 {
         return Vec3::ZERO;
     }
-    let origin = if lit.refraction_eta > 0.0 {
+    let origin = if lit.lobe.refraction_eta > 0.0 {
         // Out through the glass: beyond the geometric surface too, from just beyond it.
         if light.direction.dot(hit.geometric) >= 0.0 {
             return Vec3::ZERO;

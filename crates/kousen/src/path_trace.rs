@@ -19,7 +19,7 @@ use render::emission::{
     light_area_density, light_table, light_table_triangles, pick_light, triangle_barycentrics,
 };
 use render::light_sampling::power_heuristic;
-use render::microfacet::{GlossyResponse, glossy_response, refraction_response};
+use render::microfacet::{GlossyLobe, glossy_response, refraction_response};
 use render::normal_map::mapped_normal;
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
 use render::plastic::{Coat, CoatEvent, coat_event};
@@ -118,17 +118,11 @@ struct LitLobes<'a> {
     lambertian: Vec3,
     /// The probability that the tracer's own sampling takes the Lambertian lobe.
     lambertian_choice: f32,
-    /// A GGX reflection's tint (a metal's colour; 1 for a coat); zero where there is none.
-    glossy: Vec3,
-    alpha: f32,
     /// The plastic coat over the Lambertian lobe, which gets what it lets through.
     coat: Option<&'a Coat>,
-    /// The index whose Fresnel reflectance scales and chooses the glossy reflection (a coat's,
-    /// frosted glass's; 0 for a metal's).
-    glossy_ior: f32,
-    /// Nonzero: the glossy lobe is instead solid frosted glass's refraction out of it, to the
-    /// far side, with this relative index.
-    refraction_eta: f32,
+    /// The glossy lobe's tint (a metal's colour; 1 for a coat); zero where there is none.
+    glossy: Vec3,
+    lobe: GlossyLobe,
 }
 
 impl<'a> LitLobes<'a> {
@@ -153,16 +147,21 @@ impl<'a> LitLobes<'a> {
                 LitLobes {
                     lambertian: tint * (coat.diffuse_scale * leaving),
                     lambertian_choice: leaving,
-                    glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
-                    alpha,
                     coat: Some(coat),
-                    glossy_ior: ior,
-                    refraction_eta: 0.0,
+                    glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
+                    lobe: GlossyLobe {
+                        alpha,
+                        fresnel_ior: ior,
+                        refraction_eta: 0.0,
+                    },
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
                 glossy: tint,
-                alpha,
+                lobe: GlossyLobe {
+                    alpha,
+                    ..GlossyLobe::default()
+                },
                 ..LitLobes::default()
             },
             // Solid frosted glass seen from outside reflects as a coat does; from inside, its
@@ -174,8 +173,11 @@ impl<'a> LitLobes<'a> {
                 alpha,
             } if front => LitLobes {
                 glossy: tint,
-                alpha,
-                glossy_ior: ior,
+                lobe: GlossyLobe {
+                    alpha,
+                    fresnel_ior: ior,
+                    refraction_eta: 0.0,
+                },
                 ..LitLobes::default()
             },
             Surface::RoughDielectric {
@@ -184,30 +186,19 @@ impl<'a> LitLobes<'a> {
                 alpha,
             } => LitLobes {
                 glossy: tint,
-                alpha,
-                refraction_eta: ior,
+                lobe: GlossyLobe {
+                    alpha,
+                    fresnel_ior: 0.0,
+                    refraction_eta: ior,
+                },
                 ..LitLobes::default()
             },
             _ => LitLobes::default(),
         }
     }
 
-    /// The glossy lobe at a point with unit shading `normal` (on the viewer's side), lit
-    /// along `incident`, seen along `outgoing`.
-    fn glossy_lobe(&self, normal: Vec3, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
-        if self.refraction_eta > 0.0 {
-            let mut response =
-                refraction_response(outgoing, incident, normal, self.alpha, self.refraction_eta);
-            // Light refracting out towards the eye inside (`eye_refraction_scale`).
-            response.value *= eye_refraction_scale(self.refraction_eta);
-            response
-        } else {
-            glossy_response(outgoing, incident, normal, self.alpha, self.glossy_ior)
-        }
-    }
-
     fn is_lit(&self) -> bool {
-        self.lambertian.max_element() > 0.0 || (self.alpha > 0.0 && self.glossy.max_element() > 0.0)
+        self.lambertian.max_element() > 0.0 || (self.lobe.is_some() && self.glossy.max_element() > 0.0)
     }
 
     /// BSDF · cos towards `outgoing` for light arriving along `incident`, each lobe's share
@@ -230,8 +221,8 @@ impl<'a> LitLobes<'a> {
             let pdf = reach * self.lambertian_choice * lobe;
             response += self.lambertian * (entering * lobe * power_heuristic(light_pdf, pdf));
         }
-        if self.alpha > 0.0 {
-            let lobe = self.glossy_lobe(normal, outgoing, incident);
+        if self.lobe.is_some() {
+            let lobe = self.lobe.response(normal, outgoing, incident);
             if lobe.value > 0.0 {
                 let weight = power_heuristic(light_pdf, reach * lobe.pdf);
                 response += self.glossy * (lobe.value * weight);
@@ -396,7 +387,7 @@ impl<'a> PathTracer<'a> {
     ) -> Vec3 {
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
         let (geometric, shading) = facing_normals(point, front);
-        if lit.refraction_eta > 0.0 {
+        if lit.lobe.refraction_eta > 0.0 {
             return self.direct_light_through(point, (geometric, shading), outgoing, lit, u);
         }
         let Some(light) = sample_light(&self.lights, u, point.position, shading) else {

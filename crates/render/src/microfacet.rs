@@ -17,7 +17,7 @@
 
 use glam::Vec3;
 
-use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
 use crate::sampling::orthonormal_basis;
 
 /// Below this `α` a conductor is a mirror: the lobe is narrower than f32 directions resolve.
@@ -153,6 +153,48 @@ pub fn refraction_response(
     GlossyResponse {
         value: pdf * smith_g1(below, alpha),
         pdf,
+    }
+}
+
+/// The glossy lobe a light sample serves at an eye path's vertex: GGX of width `alpha`
+/// reflecting ([`glossy_response`], chosen by the Fresnel reflectance of `fresnel_ior` where
+/// that is nonzero: a plastic coat's, solid frosted glass's from outside; 0 for a metal's), or,
+/// where `refraction_eta` is nonzero, solid frosted glass's refraction out of it to the far
+/// side ([`refraction_response`] with that relative index). `alpha` 0: no lobe.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GlossyLobe {
+    pub alpha: f32,
+    pub fresnel_ior: f32,
+    pub refraction_eta: f32,
+}
+
+impl GlossyLobe {
+    pub fn is_some(&self) -> bool {
+        self.alpha > 0.0
+    }
+
+    /// The unit normal about which light is sampled, from the vertex's unit `shading` normal
+    /// on the viewer's side: the side the lobe lets light in from.
+    pub fn facing(&self, shading: Vec3) -> Vec3 {
+        if self.refraction_eta > 0.0 {
+            -shading
+        } else {
+            shading
+        }
+    }
+
+    /// The lobe at a vertex with unit `shading` normal (viewer's side), seen along `outgoing`
+    /// and lit along `incident`: its value as the eye path carries it (light refracted out
+    /// towards a viewer inside gains `eye_refraction_scale`) and its own sampling density.
+    pub fn response(&self, shading: Vec3, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
+        if self.refraction_eta > 0.0 {
+            let (alpha, eta) = (self.alpha, self.refraction_eta);
+            let mut response = refraction_response(outgoing, incident, shading, alpha, eta);
+            response.value *= eye_refraction_scale(eta);
+            response
+        } else {
+            glossy_response(outgoing, incident, shading, self.alpha, self.fresnel_ior)
+        }
     }
 }
 

@@ -241,7 +241,9 @@ fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> b
 }
 
 // cpu::kernels::LitLobes: the lobes one light sample at an eye path's hit serves, with their
-// weights (zero for a lobe that is not there).
+// weights (zero for a lobe that is not there). `alpha`, `coat_ior` and `refraction_eta` are
+// its render::microfacet::GlossyLobe (`coat_ior` its fresnel_ior), `coat_ior` also telling a
+// coat over the Lambertian lobe (LitLobes::coated): where both lobes are there they share it.
 struct LitLobes {
     diffuse: vec3<f32>,
     glossy: vec3<f32>,
@@ -250,7 +252,7 @@ struct LitLobes {
     refraction_eta: f32,
 }
 
-// cpu::kernels::LitLobes::facing.
+// render::microfacet::GlossyLobe::facing.
 fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
     if FROSTED_GLASS && lit.refraction_eta > 0.0 {
         return -hit.shading;
@@ -258,7 +260,7 @@ fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
     return hit.shading;
 }
 
-// cpu::kernels::LitLobes::glossy_lobe.
+// render::microfacet::GlossyLobe::response.
 fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: vec3<f32>) -> GlossyResponse {
     if FROSTED_GLASS && lit.refraction_eta > 0.0 {
         var response = refraction_response(outgoing, incident, hit.shading, lit.alpha, lit.refraction_eta);

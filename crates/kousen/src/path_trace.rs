@@ -198,7 +198,8 @@ impl<'a> LitLobes<'a> {
     }
 
     fn is_lit(&self) -> bool {
-        self.lambertian.max_element() > 0.0 || (self.lobe.is_some() && self.glossy.max_element() > 0.0)
+        self.lambertian.max_element() > 0.0
+            || (self.lobe.is_some() && self.glossy.max_element() > 0.0)
     }
 
     /// BSDF · cos towards `outgoing` for light arriving along `incident`, each lobe's share

@@ -420,11 +420,12 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // cpu::kernels: a blend keeps the photon for its Lambertian member whichever member the
     // path takes; the member is drawn only at blends.
     var keeper = hit.material;
+    var material = root;
     if BLENDS && root.blend_weight < 1.0 {
         keeper = root.blend_photon_member;
         hit.material = blend_member(hit.material, next_f32(&rng));
+        material = materials[hit.material];
     }
-    let material = materials[hit.material];
     let surface_tint = base_color(material, hit.uv);
     let u_roulette = next_f32(&rng);
     let u_direction0 = next_f32(&rng);
@@ -627,10 +628,11 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         }
         emission_share = 1.0;
         // cpu::kernels::eye_path: a blend's member, drawn only at blends.
+        var material = root;
         if BLENDS && root.blend_weight < 1.0 {
             hit.material = blend_member(hit.material, next_f32(rng));
+            material = materials[hit.material];
         }
-        let material = materials[hit.material];
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
         let u = next_f32(rng);
         // cpu::kernels::eye_path: plastic's coat or its base, chosen by Fresnel; the lobes a

@@ -55,6 +55,13 @@ pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
     "KHR_texture_transform",
 ];
 
+/// Extensions read in part only (not accepted in `extensionsRequired`), with what is read:
+/// a used one gets a warning of its own saying so.
+pub const PARTLY_SUPPORTED_EXTENSIONS: [(&str, &str); 1] = [(
+    "KHR_materials_specular",
+    "only specularFactor 0 (no specular layer) is read; other factors, colours and textures are ignored",
+)];
+
 /// The most triangles a file may place in the world (and a third of the most vertices it may
 /// transform). Instancing multiplies a mesh by every node that uses it, so a few kilobytes
 /// could otherwise ask for terabytes; 2^26 triangles (about 6.4 GiB as a [`Scene`]) is far
@@ -187,9 +194,19 @@ fn check_extensions(builder: &mut SceneBuilder, root: &json::Root) -> Result<(),
             format!("requires unsupported glTF extension(s) {required}"),
         ));
     }
-    let ignored = unsupported(&root.extensions_used);
+    let partly = |name: &String| PARTLY_SUPPORTED_EXTENSIONS.iter().find(|(n, _)| n == name);
+    let fully_ignored: Vec<String> = (root.extensions_used.iter())
+        .filter(|n| partly(n).is_none())
+        .cloned()
+        .collect();
+    let ignored = unsupported(&fully_ignored);
     if !ignored.is_empty() {
         builder.warn(format!("ignoring unsupported glTF extension(s) {ignored}"));
+    }
+    let mut partly_used: Vec<_> = root.extensions_used.iter().filter_map(partly).collect();
+    partly_used.dedup();
+    for (name, what) in partly_used {
+        builder.warn(format!("glTF extension {}: {what}", quoted(name)));
     }
     Ok(())
 }

@@ -18,6 +18,7 @@ use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
+use render::optics::relative_eta;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
@@ -381,11 +382,7 @@ fn eye_path(
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
                     lit.glossy = throughput;
-                    lit.lobe = GlossyLobe {
-                        alpha,
-                        fresnel_ior: ior,
-                        refraction_eta: 0.0,
-                    };
+                    lit.lobe = GlossyLobe::reflection(alpha, ior);
                     [rng.next_f32(), rng.next_f32()]
                 } else {
                     [0.0; 2]
@@ -414,14 +411,13 @@ fn eye_path(
                 };
                 if let Surface::RoughConductor { alpha } = material.surface {
                     lit.glossy = throughput * tint;
-                    lit.lobe.alpha = alpha;
+                    lit.lobe = GlossyLobe::reflection(alpha, 0.0);
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
                 // visible micro-normal, reflection about it with its Fresnel probability,
                 // weight G1 (`render::microfacet::rough_dielectric`); met from inside, its
                 // refraction out is the lobe a light sample serves. Light refracted into the
-                // glass (blocked by it) and thin-walled sheets (which reflect 2F / (1 + F))
-                // get no light sample.
+                // glass (blocked by it) gets no light sample.
                 if let Surface::RoughDielectric {
                     ior,
                     thin_walled: false,
@@ -429,13 +425,23 @@ fn eye_path(
                 } = material.surface
                 {
                     lit.glossy = throughput * tint;
-                    lit.lobe.alpha = alpha;
-                    if hit.front {
-                        lit.lobe.fresnel_ior = ior;
+                    lit.lobe = if hit.front {
+                        GlossyLobe::reflection(alpha, ior)
                     } else {
                         // From inside: its refraction out (the light seen through it).
-                        lit.lobe.refraction_eta = ior;
-                    }
+                        GlossyLobe::refraction(alpha, ior)
+                    };
+                }
+                // A thin frosted sheet: its reflection, and its transmission of the light
+                // beyond it (a lamp shade, a frosted window in the sun).
+                if let Surface::RoughDielectric {
+                    ior,
+                    thin_walled: true,
+                    alpha,
+                } = material.surface
+                {
+                    lit.glossy = throughput * tint;
+                    lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
                 let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
@@ -654,15 +660,16 @@ pub fn direct_light(
     let Some(light) = sample_light(&scene.lights, u, hit.position, facing) else {
         return Vec3::ZERO;
     };
-    if light.direction.dot(facing) <= 0.0 {
+    if light.direction.dot(facing) <= 0.0 && !lit.lobe.is_two_sided() {
         return Vec3::ZERO;
     }
     let response = lit.response(scene, hit, outgoing, light.direction, light.pdf);
     if response.max_element() <= 0.0 {
         return Vec3::ZERO;
     }
-    let origin = if lit.lobe.refraction_eta > 0.0 {
-        // Out through the glass: beyond the geometric surface too, from just beyond it.
+    let origin = if light.direction.dot(hit.shading) < 0.0 {
+        // Through the glass (a refraction out, a sheet's transmission): beyond the geometric
+        // surface too, from just beyond it.
         if light.direction.dot(hit.geometric) >= 0.0 {
             return Vec3::ZERO;
         }

@@ -1,9 +1,9 @@
 //! Light sampling at glossy reflections (`render::buffers::SAMPLE_AT_GLOSSY`): eye paths that
-//! meet rough metal, a rough plastic coat or solid frosted glass (its reflection from outside,
-//! its refraction out from inside) take a light sample there, weighed against the
-//! lobe's own sampling by the power heuristic. Per pixel that sees such a surface, the direct
-//! estimate must keep its expectation (the same as with the lobe's sampling alone) and lose
-//! variance: the reflection of a small light is otherwise found by few paths.
+//! meet rough metal, a rough plastic coat, solid frosted glass (its reflection from outside,
+//! its refraction out from inside) or a thin frosted sheet take a light sample there, weighed
+//! against the lobe's own sampling by the power heuristic. Per pixel that sees such a surface,
+//! the direct estimate must keep its expectation (the same as with the lobe's sampling alone)
+//! and lose variance: the reflection of a small light is otherwise found by few paths.
 
 use cpu::kernels;
 use glam::Vec3;
@@ -130,6 +130,28 @@ fn frosted_glass_keeps_its_expectation_with_less_variance() {
     check(
         "frosted glass",
         &testing::cornell_frosted(),
+        |s| matches!(s, Surface::RoughDielectric { .. }),
+        0.3,
+    );
+}
+
+/// Thin frosted sheets (`cornell_frosted`'s spheres made thin-walled: hollow frosted shells,
+/// as a lamp shade or a frosted bulb): `render::microfacet::sheet_response` serves the sheet's
+/// reflection and its transmission of the light beyond it, which a point or directional light
+/// would otherwise never reach through the sheet. Measured: 115 pixels, shift 2.1 standard
+/// errors at 600 passes, 0.8 at 6,000 and 1.2 at 20,000 (noise: a bias would grow with √n),
+/// variance 0.11× (0.08× at 20,000).
+#[test]
+fn thin_frosted_sheets_keep_their_expectation_with_less_variance() {
+    let mut scene = testing::cornell_frosted();
+    for material in &mut scene.materials {
+        if let Surface::RoughDielectric { thin_walled, .. } = &mut material.surface {
+            *thin_walled = true;
+        }
+    }
+    check(
+        "thin frosted sheets",
+        &scene,
         |s| matches!(s, Surface::RoughDielectric { .. }),
         0.3,
     );

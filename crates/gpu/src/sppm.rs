@@ -122,7 +122,7 @@ pub(crate) struct SceneFeatures {
     pub normal_maps: bool,
     /// Some material is rough plastic (`ROUGH_COATS`).
     pub rough_coats: bool,
-    /// Some material is solid frosted glass (`FROSTED_GLASS`).
+    /// Some material is frosted glass, solid or a thin sheet (`FROSTED_GLASS`).
     pub frosted_glass: bool,
     /// Some material is a blend (`BLENDS`).
     pub blends: bool,
@@ -136,15 +136,7 @@ impl SceneFeatures {
             rough_coats: any(
                 |m| matches!(m.surface, scene::Surface::Plastic { alpha, .. } if alpha > 0.0),
             ),
-            frosted_glass: any(|m| {
-                matches!(
-                    m.surface,
-                    scene::Surface::RoughDielectric {
-                        thin_walled: false,
-                        ..
-                    }
-                )
-            }),
+            frosted_glass: any(|m| matches!(m.surface, scene::Surface::RoughDielectric { .. })),
             blends: any(|m| m.blend.is_some()),
         }
     }

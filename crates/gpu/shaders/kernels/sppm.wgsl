@@ -250,11 +250,12 @@ struct LitLobes {
     alpha: f32,
     coat_ior: f32,
     refraction_eta: f32,
+    sheet_eta: f32,
 }
 
 // render::microfacet::GlossyLobe::facing.
 fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
-    if FROSTED_GLASS && lit.refraction_eta > 0.0 {
+    if FROSTED_GLASS && (lit.refraction_eta > 0.0 || lit.sheet_eta > 0.0) {
         return -hit.shading;
     }
     return hit.shading;
@@ -267,6 +268,9 @@ fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident
         // Light refracting out towards the eye inside (render::optics::eye_refraction_scale).
         response.value *= lit.refraction_eta * lit.refraction_eta;
         return response;
+    }
+    if FROSTED_GLASS && lit.sheet_eta > 0.0 {
+        return sheet_response(outgoing, incident, hit.shading, lit.alpha, lit.sheet_eta);
     }
     return glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
 }
@@ -303,7 +307,8 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1
     if !light.found {
         return vec3<f32>(0.0);
     }
-    if dot(light.direction, facing) <= 0.0 {
+    // A thin sheet takes light from both sides.
+    if dot(light.direction, facing) <= 0.0 && !(FROSTED_GLASS && lit.sheet_eta > 0.0) {
         return vec3<f32>(0.0);
     }
     let response = lit_response(lit, hit, outgoing, light.direction, light.pdf);
@@ -311,8 +316,9 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1
         return vec3<f32>(0.0);
     }
     var origin: vec3<f32>;
-    if FROSTED_GLASS && lit.refraction_eta > 0.0 {
-        // cpu::kernels::direct_light: out through the glass, from just beyond it.
+    if FROSTED_GLASS && dot(light.direction, hit.shading) < 0.0 {
+        // cpu::kernels::direct_light: through the glass (a refraction out, a sheet's
+        // transmission), from just beyond it.
         if dot(light.direction, hit.geometric) >= 0.0 {
             return vec3<f32>(0.0);
         }
@@ -642,7 +648,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0);
         if plastic {
             lit.coat_ior = material.ior;
             var u_micro = vec2<f32>(0.0);
@@ -698,6 +704,12 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
                 } else {
                     lit.refraction_eta = material.ior;
                 }
+            }
+            // cpu::kernels: a thin frosted sheet's reflection and transmission.
+            if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) != 0u {
+                lit.glossy = throughput * tint;
+                lit.alpha = material.roughness_alpha;
+                lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }

@@ -204,8 +204,8 @@ fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 // that code made lavapipe's eye pass 10-15 % and its photon pass ~5 % slower.
 override NORMAL_MAPS: bool = true;
 
-// Whether some material is rough plastic (its coat's table) or solid frosted glass (light
-// samples through it); compiled out as NORMAL_MAPS is, for the same reason.
+// Whether some material is rough plastic (its coat's table) or frosted glass, solid or a thin
+// sheet (light samples through it); compiled out as NORMAL_MAPS is, for the same reason.
 override ROUGH_COATS: bool = true;
 override FROSTED_GLASS: bool = true;
 // Whether some material is a blend (scene::Blend), whose member each hit draws.
@@ -453,6 +453,24 @@ fn refraction_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f3
     let pdf = transmitted * smith_g1(view, alpha) * cos_view * ggx_d(micro, alpha) / view.z * jacobian;
     let below = vec3<f32>(light.x, light.y, -light.z);
     return GlossyResponse(pdf * smith_g1(below, alpha), pdf);
+}
+
+// render::microfacet::sheet_response: a thin rough sheet's reflection (lit on the normal's
+// side) and transmission (lit beyond it, as the reflection mirrored); eta = 1 / its index.
+fn sheet_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f32>, alpha: f32, eta: f32) -> GlossyResponse {
+    let frame = frame_about(normal);
+    let view = to_local(frame, outgoing);
+    let light = to_local(frame, incident);
+    if view.z <= 0.0 || light.z == 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    let reflected = vec3<f32>(light.x, light.y, abs(light.z));
+    let half = normalize(view + reflected);
+    let fresnel = fresnel_dielectric(dot(view, half), eta);
+    let sheet = 2.0 * fresnel / (1.0 + fresnel);
+    let choice = select(sheet, 1.0 - sheet, light.z < 0.0);
+    let pdf = choice * smith_g1(view, alpha) * ggx_d(half, alpha) / (4.0 * view.z);
+    return GlossyResponse(pdf * smith_g1(reflected, alpha), pdf);
 }
 
 // render::microfacet::rough_dielectric, with specular_direction's check against the

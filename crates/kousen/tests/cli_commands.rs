@@ -91,6 +91,23 @@ fn info_names_the_kinds_of_material() {
     }
 }
 
+/// `kousen info` counts blends (glTF's partial metallic and transmission factors), whose
+/// member surfaces are among the materials, in its JSON and its table.
+#[test]
+fn info_counts_blends() {
+    let scene = shipped("cornell-blended.gltf");
+    let info = info_json(&scene);
+    assert_eq!(info["blends"], 3);
+    assert_eq!(
+        info["materials"], 10,
+        "4 plain, 3 blends of 2 surfaces each"
+    );
+    let table = kousen(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.contains("blends               3 ("), "{text}");
+    assert_eq!(info_json(&shipped("cornell-box.gltf"))["blends"], 0);
+}
+
 /// `kousen info` counts the materials with normal maps, in its JSON and its table.
 #[test]
 fn info_counts_normal_mapped_materials() {

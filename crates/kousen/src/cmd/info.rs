@@ -18,6 +18,9 @@ struct Info {
     material_kinds: Vec<MaterialKind>,
     /// Materials with a normal map (glTF `normalTexture`).
     normal_mapped_materials: usize,
+    /// Blends (`scene::Blend`: glTF's partial metallic or transmission factors), each a
+    /// chain of member materials counted among `materials`.
+    blends: usize,
     textures: usize,
     cameras: usize,
     emissive_triangles: usize,
@@ -60,6 +63,19 @@ fn material_kind(material: &scene::Material) -> &'static str {
         Surface::Plastic { alpha, .. } if alpha > 0.0 => "glossy plastic",
         Surface::Plastic { .. } => "plastic",
     }
+}
+
+/// The blends among `materials`: the chains' first members (no material names them as the
+/// one taken otherwise).
+fn blend_count(materials: &[scene::Material]) -> usize {
+    let later: Vec<u32> = materials
+        .iter()
+        .filter_map(|m| m.blend)
+        .map(|b| b.other)
+        .collect();
+    (0..materials.len() as u32)
+        .filter(|id| materials[*id as usize].blend.is_some() && !later.contains(id))
+        .count()
 }
 
 /// Counts of each kind, in the order kinds first appear among the materials.
@@ -220,6 +236,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         normal_mapped_materials: (scene.materials.iter())
             .filter(|m| m.normal_texture.is_some())
             .count(),
+        blends: blend_count(&scene.materials),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
         emissive_triangles: scene.lights.triangles.len(),
@@ -329,6 +346,13 @@ fn print_table(info: &Info) {
         (
             "normal maps",
             format!("{} materials", info.normal_mapped_materials),
+        ),
+        (
+            "blends",
+            format!(
+                "{} (their member surfaces among the materials)",
+                info.blends
+            ),
         ),
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),

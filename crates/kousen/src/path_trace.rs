@@ -16,7 +16,7 @@ use render::blend::blend_member;
 use render::buffers::{LIGHT_TRIANGLE, Light};
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
-    light_area_density, light_table, light_table_triangles, pick_light, triangle_barycentrics,
+    light_area_density, light_table, light_table_triangles, triangle_barycentrics,
 };
 use render::light_sampling::power_heuristic;
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
@@ -450,7 +450,7 @@ impl<'a> PathTracer<'a> {
     /// table's, except on a textured emitter, read at the point drawn (the table holds the
     /// texture's mean).
     fn incident(&self, light: &LightSample, u: [f32; 3]) -> Vec3 {
-        let index = pick_light(&self.lights, u[0]);
+        let index = light.index;
         if self.lights[index].kind != LIGHT_TRIANGLE {
             return light.incident;
         }

@@ -79,6 +79,8 @@ pub struct LightSample {
     /// weighed against (multiple importance sampling). Infinite for point, spot and
     /// directional lights, which no BSDF sample can meet.
     pub pdf: f32,
+    /// The light table's entry sampled (a textured emitter is read where the sample landed).
+    pub index: usize,
 }
 
 /// How much shorter than the distance to the light a shadow ray stops, relative: the ray
@@ -111,6 +113,7 @@ pub fn sample_light(
         LIGHT_POINT => {
             let (direction, distance, d2, target) = towards(vec3(light.v0))?;
             LightSample {
+                index,
                 direction,
                 distance,
                 target,
@@ -125,6 +128,7 @@ pub fn sample_light(
             let falloff = scene::lights::spot_falloff(cos_angle, cos_inner, cos_outer);
             let cone = TAU * (1.0 - cos_outer);
             LightSample {
+                index,
                 direction,
                 distance,
                 target,
@@ -135,6 +139,7 @@ pub fn sample_light(
         LIGHT_DIRECTIONAL => {
             let radius = light.edge2[0];
             LightSample {
+                index,
                 direction: -vec3(light.edge1),
                 distance: RAY_T_MAX,
                 target: position,
@@ -146,6 +151,7 @@ pub fn sample_light(
             let local = cosine_hemisphere(u[1], u[2]);
             let radius = light.edge2[0];
             LightSample {
+                index,
                 direction: about_axis(normal, local).normalize(),
                 distance: RAY_T_MAX,
                 target: position,
@@ -164,6 +170,7 @@ pub fn sample_light(
                 (cos_light, 1.0)
             };
             LightSample {
+                index,
                 direction,
                 distance,
                 target,

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use glam::Vec3;
 use render::blend::{blend_member, blend_photon_member};
 use render::buffers::{
-    HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, SAMPLE_AT_GLOSSY,
+    HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, RAY_T_MAX, SAMPLE_AT_GLOSSY,
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
@@ -16,6 +16,7 @@ use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
+use render::medium::{NO_MEDIUM, pack_slot_state, slot_bounced, slot_medium};
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
@@ -28,8 +29,8 @@ use scene::Surface;
 use crate::SceneData;
 use crate::surface::{
     PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce, emitted,
-    eye_crossing_scale, is_cut_out, offset_origin, plastic_bounce, shadow_ray_origin,
-    specular_direction, trace, transmittance_to, unoccluded,
+    eye_crossing_scale, is_cut_out, medium_after_bounce, medium_transmittance, offset_origin,
+    plastic_bounce, shadow_ray_origin, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -75,7 +76,7 @@ pub fn photon_pass_with<R: StreamRng>(
             direction: e.direction.to_array(),
             pass_throughs: 0,
             flux: e.flux.to_array(),
-            bounced: 0,
+            state: 0,
         };
         emitted = true;
     }
@@ -89,8 +90,13 @@ pub fn photon_pass_with<R: StreamRng>(
             emitted,
         };
     };
+    // The medium the path is in (`render::medium`) absorbs along the segment, up to a
+    // cut-out too.
+    let medium = slot_medium(slot.state);
+    let flux = vec3(slot.flux) * transmittance_to(scene, medium, &hit);
     let material = &scene.materials[hit.material as usize];
     if is_cut_out(scene, material, hit.uv) {
+        slot.flux = flux.to_array();
         slot.pass_throughs += 1;
         slot.origin = (hit.position + params.epsilon * direction).to_array();
         if slot.pass_throughs > MAX_PASS_THROUGHS {
@@ -102,7 +108,7 @@ pub fn photon_pass_with<R: StreamRng>(
             emitted,
         };
     }
-    let flux = vec3(slot.flux) * transmittance_to(material, &hit);
+    let root = hit.material;
     // A blend keeps the photon for its Lambertian member whichever member the path takes
     // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
     let keeper = blend_photon_member(&scene.materials, hit.material);
@@ -130,6 +136,7 @@ pub fn photon_pass_with<R: StreamRng>(
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
     let coat = || &scene.coats[hit.material as usize];
+    let mut bounced = slot_bounced(slot.state);
     let base_share = match scene.materials[keeper as usize].surface {
         Surface::Diffuse => Some(1.0),
         Surface::Plastic { .. } => {
@@ -142,8 +149,8 @@ pub fn photon_pass_with<R: StreamRng>(
     {
         photon = Photon {
             position: hit.position.to_array(),
-            normal: photon_normal(hit.shading, slot.bounced == 0),
-            flux: (vec3(slot.flux) * (arrival * share)).to_array(),
+            normal: photon_normal(hit.shading, !bounced),
+            flux: (flux * (arrival * share)).to_array(),
             pad: 0,
         };
     }
@@ -151,14 +158,14 @@ pub fn photon_pass_with<R: StreamRng>(
     // (if it goes on; an ended slot's is not read).
     let (next, tint) = match material.surface {
         Surface::Diffuse => {
-            slot.bounced = 1;
+            bounced = true;
             (diffuse_bounce(&hit, u_direction), tint)
         }
         Surface::Plastic { .. } => {
             match plastic_bounce(&hit, direction, coat(), u_choice, u_direction) {
                 PlasticBounce::Coat(next) => (next, Vec3::ONE),
                 PlasticBounce::Base(weight) => {
-                    slot.bounced = 1;
+                    bounced = true;
                     let next = diffuse_bounce(&hit, u_direction);
                     // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
                     let leaving =
@@ -186,6 +193,8 @@ pub fn photon_pass_with<R: StreamRng>(
             slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
             slot.direction = next.to_array();
             slot.flux = (flux * tint * (weight / survival)).to_array();
+            let medium = medium_after_bounce(material, root, medium, &hit, next);
+            slot.state = pack_slot_state(bounced, medium);
         }
         _ => slot.depth = SLOT_IDLE,
     }
@@ -340,13 +349,17 @@ fn eye_path(
     // Where the path last left a glossy lobe, and the lobe's density for the way it took:
     // emission met next is weighed against the light sample taken there (0: not glossy).
     let mut glossy = GlossyVertex::default();
+    // The solid the path is inside (`render::medium`): the camera is outside every one.
+    let mut medium = NO_MEDIUM;
     while depth < params.max_depth {
         let Some(mut hit) = trace(scene, origin, direction) else {
-            // Out of the scene: the sky (zero without one).
-            let sky = vec3(params.sky);
+            // Out of the scene: the sky (zero without one), unless water around the path
+            // absorbs it on the way.
+            let sky = vec3(params.sky) * medium_transmittance(scene, medium, RAY_T_MAX);
             direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
             break;
         };
+        throughput *= transmittance_to(scene, medium, &hit);
         let material = &scene.materials[hit.material as usize];
         if is_cut_out(scene, material, hit.uv) {
             pass_throughs += 1;
@@ -356,13 +369,13 @@ fn eye_path(
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        throughput *= transmittance_to(material, &hit);
         let emission = emitted(scene, material, &hit);
         if emission.max_element() > 0.0 {
             let weight = glossy.emitter_weight(scene, &hit, direction);
             direct += throughput * emission_share * emission * weight;
         }
         emission_share = 1.0;
+        let root = hit.material;
         // A blend's member for this path (`render::blend`), drawn only at blends.
         if material.blend.is_some() {
             hit.material = blend_member(&scene.materials, hit.material, rng.next_f32());
@@ -476,7 +489,7 @@ fn eye_path(
         }
         if lit.is_lit() && !scene.lights.is_empty() {
             let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-            direct += direct_light(scene, params, &hit, -direction, &lit, u);
+            direct += direct_light(scene, params, &hit, -direction, &lit, medium, u);
         }
         let Some((next, tint)) = bounce else {
             break;
@@ -514,6 +527,7 @@ fn eye_path(
                     params,
                     offset_origin(&hit, other, params.epsilon),
                     other,
+                    medium_after_bounce(material, root, medium, &hit, other),
                 );
                 let crossing = eye_crossing_scale(material, &hit, other);
                 direct += throughput * (other_share * crossing) * seen;
@@ -521,6 +535,7 @@ fn eye_path(
             }
         }
         throughput *= eye_crossing_scale(material, &hit, next);
+        medium = medium_after_bounce(material, root, medium, &hit, next);
         origin = offset_origin(&hit, next, params.epsilon);
         direction = next;
     }
@@ -623,21 +638,25 @@ impl GlossyVertex {
     }
 }
 
-/// What a ray sees at once: the emission of the first surface it meets (through alpha
-/// cut-outs' holes, as eye paths pass them), or the sky where it leaves the scene.
+/// What a ray in `medium` sees at once: the emission of the first surface it meets (through
+/// alpha cut-outs' holes, as eye paths pass them), or the sky where it leaves the scene, with
+/// what the medium lets through on the way.
 pub fn emission_seen(
     scene: &SceneData,
     params: &SppmParams,
     mut origin: Vec3,
     direction: Vec3,
+    medium: u32,
 ) -> Vec3 {
+    let mut kept = Vec3::ONE;
     for _ in 0..=MAX_PASS_THROUGHS {
         let Some(hit) = trace(scene, origin, direction) else {
-            return vec3(params.sky);
+            return kept * vec3(params.sky) * medium_transmittance(scene, medium, RAY_T_MAX);
         };
+        kept *= transmittance_to(scene, medium, &hit);
         let material = &scene.materials[hit.material as usize];
         if !is_cut_out(scene, material, hit.uv) {
-            return emitted(scene, material, &hit);
+            return kept * emitted(scene, material, &hit);
         }
         origin = hit.position + params.epsilon * direction;
     }
@@ -645,15 +664,16 @@ pub fn emission_seen(
 }
 
 /// One sample of the light table (from three uniform numbers) at an eye path's hit, seen
-/// along `outgoing`: what reaches it unoccluded, through the lobes `lit` names, divided by the
-/// sample's density; a glossy lobe's share weighed against its own sampling (the power
-/// heuristic). Zero where the light lies behind the surface or is blocked.
+/// along `outgoing` by a path in `medium`: what reaches it unoccluded, through the lobes `lit`
+/// names, divided by the sample's density; a glossy lobe's share weighed against its own
+/// sampling (the power heuristic). Zero where the light lies behind the surface or is blocked.
 pub fn direct_light(
     scene: &SceneData,
     params: &SppmParams,
     hit: &SurfaceHit,
     outgoing: Vec3,
     lit: &LitLobes,
+    medium: u32,
     u: [f32; 3],
 ) -> Vec3 {
     let facing = lit.lobe.facing(hit.shading);
@@ -667,11 +687,16 @@ pub fn direct_light(
     if response.max_element() <= 0.0 {
         return Vec3::ZERO;
     }
+    // The medium the shadow ray runs through: a refraction out of a solid leaves it.
+    let mut shadow_medium = medium;
     let origin = if light.direction.dot(hit.shading) < 0.0 {
         // Through the glass (a refraction out, a sheet's transmission): beyond the geometric
         // surface too, from just beyond it.
         if light.direction.dot(hit.geometric) >= 0.0 {
             return Vec3::ZERO;
+        }
+        if lit.lobe.refraction_eta > 0.0 {
+            shadow_medium = NO_MEDIUM;
         }
         hit.position - params.epsilon * hit.geometric
     } else {
@@ -692,7 +717,7 @@ pub fn direct_light(
     if !unoccluded(scene, params, origin, direction, distance) {
         return Vec3::ZERO;
     }
-    light.incident * response
+    light.incident * response * medium_transmittance(scene, shadow_medium, distance)
 }
 
 /// Hash build, first half, photon `index`: raises its entry's priority to the photon's and

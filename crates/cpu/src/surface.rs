@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
+use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
@@ -186,14 +187,48 @@ pub fn emitted(scene: &SceneData, material: &Material, hit: &SurfaceHit) -> Vec3
     material.emission * texture(&scene.textures, material.emission_texture, hit.uv).truncate()
 }
 
-/// What a path keeps of its light over the segment that ended at `hit`: Beer–Lambert over
-/// the segment's length where it ends at a solid dielectric's back face (it ran inside the
-/// solid), all of it elsewhere.
-pub fn transmittance_to(material: &Material, hit: &SurfaceHit) -> Vec3 {
-    if hit.front {
+/// What a path in `medium` (`render::medium`) keeps of its light over the segment that ended
+/// at `hit`, whose material is still the root one (a blend's root carries the absorption):
+/// Beer–Lambert in the medium the segment ran through, all of it outside every solid.
+pub fn transmittance_to(scene: &SceneData, medium: u32, hit: &SurfaceHit) -> Vec3 {
+    let root = &scene.materials[hit.material as usize];
+    let absorbs_inside = root.interior_absorption().max_element() > 0.0;
+    let medium = segment_medium(medium, hit.material, absorbs_inside, hit.front);
+    if medium == NO_MEDIUM {
         return Vec3::ONE;
     }
-    (-material.interior_absorption() * hit.distance).exp()
+    let absorption = scene.materials[medium as usize].interior_absorption();
+    transmittance(absorption, hit.distance)
+}
+
+/// What a path in `medium` keeps of its light over `distance` (infinite: it left the scene).
+pub fn medium_transmittance(scene: &SceneData, medium: u32, distance: f32) -> Vec3 {
+    if medium == NO_MEDIUM {
+        return Vec3::ONE;
+    }
+    transmittance(
+        scene.materials[medium as usize].interior_absorption(),
+        distance,
+    )
+}
+
+/// The medium a path in `medium` is in after leaving `hit` along `next`, `material` being the
+/// surface it bounced off (a blend's member) and `root` the hit's own material.
+pub fn medium_after_bounce(
+    material: &Material,
+    root: u32,
+    medium: u32,
+    hit: &SurfaceHit,
+    next: Vec3,
+) -> u32 {
+    let crosses = next.dot(hit.geometric) < 0.0;
+    medium_after(
+        medium,
+        root,
+        material.surface.is_solid_dielectric(),
+        hit.front,
+        crosses,
+    )
 }
 
 /// The direction a non-diffuse surface sends `incoming` on and its weight (the tint aside):

@@ -281,15 +281,19 @@ fn sppm_matches_mitsuba_through_blends() {
     );
 }
 
-/// A surface under water against Mitsuba's `dielectric`: `scenes/cornell-pool.gltf`, the room
-/// flooded to a wavy surface (ior 1.33) over the floor and a diffuse sphere. Eye paths refract
-/// into the water and end on the floor inside it, where they gather photons that crossed the
+/// Surfaces under tinted water against Mitsuba's `volpath` through a `dielectric` around an
+/// absorbing `homogeneous` medium: `scenes/cornell-pool.gltf`, the room flooded to a wavy
+/// surface (ior 1.33) closed by a flat front, the floor and a diffuse sphere inside. Eye paths
+/// refract into the water and end on the floor, where they gather photons that crossed the
 /// surface once themselves: the eye side carries radiance's 1 / n² through the crossing
-/// (`render::optics::eye_refraction_scale`); without it the pixels that see the water came
-/// out 1.41× Mitsuba's (measured). With it, seeds 11–16 give 0.980–1.003 of Mitsuba's there
-/// (mean 0.993; the wave caustics on the floor are SPPM's noisiest light here), so they are
-/// held within 3 % (this test's seed: 0.980), the whole image to the other references'
-/// tolerances (measured: relMSE 0.0036, means within 0.3 %).
+/// (`render::optics::eye_refraction_scale`; without it the water came out 1.41× Mitsuba's,
+/// measured on the clear pool of session 25). Their segments inside end at the floor's and
+/// the sphere's front faces, so only a path that knows it is in the water absorbs there
+/// (`render::medium`; without it the pixels that see the water came out 2.43× Mitsuba's in
+/// red, measured). With both, seeds 11–14 give 0.987–0.996 of Mitsuba's in the lower third of
+/// the image (the path tracer 1.003–1.010), so the water pixels are held within 3 % (this
+/// test's seed: 0.982–0.987), the whole image to the other references' tolerances
+/// (measured: relMSE 0.0031, means within 0.3 %).
 #[test]
 fn sppm_matches_mitsuba_under_water() {
     check_against(

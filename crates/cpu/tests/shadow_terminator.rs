@@ -6,6 +6,7 @@
 
 use glam::{Vec2, Vec3};
 use render::buffers::{RAY_T_MAX, SppmParams};
+use render::medium::NO_MEDIUM;
 use scene::{Material, PunctualKind, PunctualLight, SceneBuilder, Triangle, Vertex};
 
 /// A unit UV sphere of 8 segments × 4 rings at the origin, exact normals, facing outwards.
@@ -105,8 +106,15 @@ fn shadow_rays_from_the_smooth_surface_clear_the_coarse_sphere() {
                 diffuse: Vec3::ONE,
                 ..Default::default()
             };
-            let light =
-                cpu::kernels::direct_light(&data, &params, &hit, hit.shading, &diffuse, [0.5; 3]);
+            let light = cpu::kernels::direct_light(
+                &data,
+                &params,
+                &hit,
+                hit.shading,
+                &diffuse,
+                NO_MEDIUM,
+                [0.5; 3],
+            );
             dark += usize::from(light.max_element() <= 0.0);
         }
     }

@@ -126,6 +126,8 @@ pub(crate) struct SceneFeatures {
     pub frosted_glass: bool,
     /// Some material is a blend (`BLENDS`).
     pub blends: bool,
+    /// Some solid absorbs inside (`MEDIA`).
+    pub media: bool,
 }
 
 impl SceneFeatures {
@@ -138,16 +140,18 @@ impl SceneFeatures {
             ),
             frosted_glass: any(|m| matches!(m.surface, scene::Surface::RoughDielectric { .. })),
             blends: any(|m| m.blend.is_some()),
+            media: any(|m| m.interior_absorption().max_element() > 0.0),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 4] {
+    fn constants(self) -> [(&'static str, f64); 5] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
             ("ROUGH_COATS", flag(self.rough_coats)),
             ("FROSTED_GLASS", flag(self.frosted_glass)),
             ("BLENDS", flag(self.blends)),
+            ("MEDIA", flag(self.media)),
         ]
     }
 }

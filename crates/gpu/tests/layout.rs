@@ -359,7 +359,7 @@ fn sppm_types_layout_matches_render_buffers() {
             ("direction", offset_of!(PathSlot, direction)),
             ("pass_throughs", offset_of!(PathSlot, pass_throughs)),
             ("flux", offset_of!(PathSlot, flux)),
-            ("bounced", offset_of!(PathSlot, bounced)),
+            ("state", offset_of!(PathSlot, state)),
         ],
     );
     assert_layout(

@@ -161,6 +161,7 @@ fn slot_errors(g: &PathSlot, c: &PathSlot, diagonal: f32) -> Vec<(&'static str, 
     vec![
         ("depth", exact(g.depth, c.depth)),
         ("pass_throughs", exact(g.pass_throughs, c.pass_throughs)),
+        ("state", exact(g.state, c.state)),
         (
             "origin",
             absolute(g.origin, c.origin, POSITION_TOLERANCE * diagonal),
@@ -647,6 +648,15 @@ fn every_kernel_matches_its_twin_through_frosted_glass() {
 #[test]
 fn every_kernel_matches_its_twin_through_absorbing_glass() {
     every_kernel_matches_its_twin(scene::testing::cornell_tinted(), DirectLight::Sampled);
+}
+
+/// The same under tinted water (`scene::testing::cornell_pool`): the medium a path is in
+/// (`render::medium`) absorbs over segments that end at the floor, the walls and the sphere
+/// under the surface, photon slots carry it from pass to pass in their state word, and eye
+/// paths' light samples and glass probes take theirs.
+#[test]
+fn every_kernel_matches_its_twin_under_tinted_water() {
+    every_kernel_matches_its_twin(scene::testing::cornell_pool(), DirectLight::Sampled);
 }
 
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and

@@ -13,12 +13,13 @@ use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use render::blend::blend_member;
-use render::buffers::{LIGHT_TRIANGLE, Light};
+use render::buffers::{LIGHT_TRIANGLE, Light, RAY_T_MAX};
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
     light_area_density, light_table, light_table_triangles, triangle_barycentrics,
 };
 use render::light_sampling::power_heuristic;
+use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
 use render::normal_map::mapped_normal;
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
@@ -288,33 +289,36 @@ impl<'a> PathTracer<'a> {
         let mut throughput = Vec3::ONE;
         let mut arrival = Arrival::Unsampled;
         let (mut depth, mut passes) = (0, 0);
+        // The solid the path is inside (`render::medium`): the camera is outside every one.
+        let mut medium = NO_MEDIUM;
         while depth < max_depth {
             let Some(mut point) = self.intersect(origin, direction) else {
                 // Out of the scene: the sky, weighed against the light sample that could
-                // have drawn it.
+                // have drawn it (and absorbed by water around the path).
                 if let Some(sky) = &self.scene.lights.sky {
                     let weight = arrival.sky_weight(&self.lights, direction);
-                    radiance += throughput * sky.radiance * weight;
+                    let kept = self.transmittance(medium, RAY_T_MAX);
+                    radiance += throughput * sky.radiance * weight * kept;
                 }
                 break;
             };
             let material = &self.scene.materials[point.material as usize];
             let front = direction.dot(point.geometric) < 0.0;
+            // Beer–Lambert over the segment in the medium it ran through.
+            let absorbs_inside = material.interior_absorption().max_element() > 0.0;
+            let segment = segment_medium(medium, point.material, absorbs_inside, front);
+            throughput *= self.transmittance(segment, (point.position - origin).length());
             if self.cut_out(material, point.uv) && passes < MAX_PASS_THROUGH {
                 passes += 1;
                 origin = point.position + direction * self.epsilon;
                 continue;
-            }
-            if !front {
-                // The segment ran inside a solid dielectric: Beer–Lambert over its length.
-                let length = (point.position - origin).length();
-                throughput *= (-material.interior_absorption() * length).exp();
             }
             if front || material.double_sided {
                 let area_density = self.light_area_density[point.material as usize];
                 let weight = arrival.emitter_weight(area_density, &point, direction);
                 radiance += throughput * weight * self.emission(material, point.uv);
             }
+            let root = point.material;
             // A blend's member for this path (`render::blend`), drawn only at blends.
             if material.blend.is_some() {
                 point.material =
@@ -329,7 +333,8 @@ impl<'a> PathTracer<'a> {
             let coat = &self.coats[point.material as usize];
             let lit = LitLobes::of(material, coat, tint, (-direction, shading), front);
             if lit.is_lit() && !self.lights.is_empty() {
-                radiance += throughput * self.direct_light(&point, front, -direction, &lit, rng);
+                let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
+                radiance += throughput * light;
             }
             let Some((next, weight, lobe)) = self.scatter(material, &point, direction, front, rng)
             else {
@@ -345,6 +350,9 @@ impl<'a> PathTracer<'a> {
                 Lobe::Specular => Arrival::Unsampled,
             };
             throughput *= weight;
+            let crosses = (next.dot(point.geometric) < 0.0) == front;
+            let solid = material.surface.is_solid_dielectric();
+            medium = medium_after(medium, root, solid, front, crosses);
             depth += 1;
             if depth > ROULETTE_AFTER {
                 let survive = throughput.max_element().min(0.95);
@@ -365,15 +373,26 @@ impl<'a> PathTracer<'a> {
         radiance
     }
 
+    /// What a path in `medium` keeps of its light over `distance` (from [`RAY_T_MAX`]: it
+    /// left the scene).
+    fn transmittance(&self, medium: u32, distance: f32) -> Vec3 {
+        if medium == NO_MEDIUM {
+            return Vec3::ONE;
+        }
+        let absorption = self.scene.materials[medium as usize].interior_absorption();
+        transmittance(absorption, distance)
+    }
+
     /// One light sample from the table at `point` (reached from its `front` or back), seen
-    /// along `outgoing`: what arrives unoccluded through the lobes `lit` names, each weighed
-    /// against its own sampling (the path's throughput aside).
+    /// along `outgoing` by a path in `medium`: what arrives unoccluded through the lobes `lit`
+    /// names, each weighed against its own sampling (the path's throughput aside).
     fn direct_light(
         &self,
         point: &SurfacePoint,
         front: bool,
         outgoing: Vec3,
         lit: &LitLobes,
+        medium: u32,
         rng: &mut Rng,
     ) -> Vec3 {
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
@@ -391,7 +410,7 @@ impl<'a> PathTracer<'a> {
                 point,
                 (geometric, shading),
                 outgoing,
-                lit,
+                (lit, medium),
                 &light,
                 u,
             );
@@ -416,18 +435,18 @@ impl<'a> PathTracer<'a> {
         if !self.visible(origin, direction, distance) {
             return Vec3::ZERO;
         }
-        self.incident(&light, u) * response
+        self.incident(&light, u) * response * self.transmittance(medium, distance)
     }
 
     /// [`Self::direct_light`] of a `light` beyond the surface (sampled with `u`), through a
-    /// refraction out (solid frosted glass from inside) or a sheet's transmission: only beyond
-    /// the geometric surface too.
+    /// refraction out (solid frosted glass from inside, which leaves the path's `medium`) or a
+    /// sheet's transmission: only beyond the geometric surface too.
     fn direct_light_through(
         &self,
         point: &SurfacePoint,
         (geometric, shading): (Vec3, Vec3),
         outgoing: Vec3,
-        lit: &LitLobes,
+        (lit, medium): (&LitLobes, u32),
         light: &LightSample,
         u: [f32; 3],
     ) -> Vec3 {
@@ -443,7 +462,12 @@ impl<'a> PathTracer<'a> {
         if !self.visible(origin, direction, distance) {
             return Vec3::ZERO;
         }
-        self.incident(light, u) * response
+        let medium = if lit.lobe.refraction_eta > 0.0 {
+            NO_MEDIUM
+        } else {
+            medium
+        };
+        self.incident(light, u) * response * self.transmittance(medium, distance)
     }
 
     /// Radiance arriving from a light sample drawn with `u`, divided by its density: the
@@ -789,6 +813,41 @@ mod tests {
             assert!(
                 error < 0.01 * expected,
                 "at ({x}, {z}): {measured} against {expected}"
+            );
+        }
+    }
+
+    /// The sky over the diffuse plane under index-matched absorbing water
+    /// (`testing::plane_under_water`), seen straight down: ρ·L·2E₃(τ)·exp(−τ) per channel
+    /// (`testing::plane_under_water_radiance`). The camera ray's segment under the layer ends
+    /// at the plane's front face, absorbed only by a path that knows it is in the water
+    /// (`render::medium`); light samples are blocked by the layer, so the sky comes by the
+    /// bounces, each cosine-drawn way up absorbed over depth/μ. 16,384 paths: the mean's
+    /// standard error is under 0.5 %; tolerance 2 %.
+    #[test]
+    fn sky_through_absorbing_water_follows_beer_lambert() {
+        let (sky, depth) = (2.0f32, 0.02f32);
+        let absorption = Vec3::new(25.0, 12.5, 5.0);
+        let mut scene = testing::plane_under_water(depth, absorption);
+        let bounds = scene.bounds();
+        scene.lights.set_sky(Vec3::splat(sky), bounds);
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let mut rng = Rng::new(5, 0);
+        let samples = 16_384;
+        let origin = Vec3::new(0.1, 0.5, -0.1);
+        let sum: Vec3 = (0..samples)
+            .map(|_| tracer.radiance(origin, Vec3::NEG_Y, 8, &mut rng))
+            .sum();
+        let measured = sum / samples as f32;
+        for channel in 0..3 {
+            let expected =
+                testing::plane_under_water_radiance(depth, absorption[channel], sky, 1.0);
+            let error = (measured[channel] / expected - 1.0).abs();
+            assert!(
+                error < 0.02,
+                "channel {channel}: {} against {expected}",
+                measured[channel]
             );
         }
     }

@@ -23,9 +23,10 @@ pub struct PathSlot {
     pub pass_throughs: u32,
     /// The path's flux (RGB, watts in scene units).
     pub flux: [f32; 3],
-    /// 1 once the path has left a diffuse surface: its later photons are indirect, not
-    /// caustic ([`crate::packing::photon_normal`]).
-    pub bounced: u32,
+    /// Whether the path has left a diffuse surface (its later photons are indirect, not
+    /// caustic: [`crate::packing::photon_normal`]) and the solid it is inside
+    /// ([`crate::medium`]), packed by [`crate::medium::pack_slot_state`].
+    pub state: u32,
 }
 
 impl PathSlot {
@@ -36,7 +37,7 @@ impl PathSlot {
         direction: [0.0; 3],
         pass_throughs: 0,
         flux: [0.0; 3],
-        bounced: 0,
+        state: 0,
     };
 }
 

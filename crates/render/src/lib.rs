@@ -15,6 +15,7 @@ pub mod image;
 pub mod integrator;
 pub mod kdtree;
 pub mod light_sampling;
+pub mod medium;
 pub mod microfacet;
 pub mod normal_map;
 pub mod optics;

@@ -301,7 +301,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
 
 // cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
 // names.
-fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
+fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
     let facing = lit_facing(lit, hit);
     let light = sample_light(u0, u1, u2, hit.position, facing);
     if !light.found {
@@ -316,11 +316,16 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1
         return vec3<f32>(0.0);
     }
     var origin: vec3<f32>;
+    // cpu::kernels::direct_light: the shadow ray's medium; a refraction out of a solid leaves it.
+    var shadow_medium = medium;
     if FROSTED_GLASS && dot(light.direction, hit.shading) < 0.0 {
         // cpu::kernels::direct_light: through the glass (a refraction out, a sheet's
         // transmission), from just beyond it.
         if dot(light.direction, hit.geometric) >= 0.0 {
             return vec3<f32>(0.0);
+        }
+        if lit.refraction_eta > 0.0 {
+            shadow_medium = NO_MEDIUM;
         }
         origin = hit.position - params.epsilon * hit.geometric;
     } else {
@@ -335,7 +340,7 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, u0: f32, u1
     if !unoccluded(origin, shadow.xyz, shadow.w) {
         return vec3<f32>(0.0);
     }
-    return light.incident * response;
+    return light.incident * response * medium_transmittance(shadow_medium, shadow.w);
 }
 
 // cpu::kernels::GlossyVertex: where an eye path last left a glossy lobe (pdf 0: it did not).
@@ -414,8 +419,13 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         slot.depth = SLOT_IDLE;
         return PhotonStep(slot, photon, emitted);
     }
-    let root = materials[hit.material];
+    // cpu::kernels: the medium the path is in absorbs along the segment, up to a cut-out too.
+    let medium = slot_medium(slot.state);
+    let flux = slot.flux * transmittance_to(medium, hit);
+    let root_id = hit.material;
+    let root = materials[root_id];
     if is_cut_out(root, hit.uv) {
+        slot.flux = flux;
         slot.pass_throughs += 1u;
         slot.origin = hit.position + params.epsilon * direction;
         if slot.pass_throughs > MAX_PASS_THROUGHS {
@@ -454,25 +464,26 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if BLENDS && keeper != hit.material {
         keeper_surface = materials[keeper].surface;
     }
+    var bounced = slot_bounced(slot.state);
     if keeper_surface == SURFACE_DIFFUSE || keeper_surface == SURFACE_PLASTIC {
         if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
             if keeper_surface == SURFACE_PLASTIC {
                 share = coat_transmittance_of(keeper, dot(direction, hit.shading));
             }
-            photon = Photon(hit.position, photon_normal(hit.shading, slot.bounced == 0u), slot.flux * (arrival * share), 0u);
+            photon = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (arrival * share), 0u);
         }
     }
     if material.surface == SURFACE_DIFFUSE {
         // Its later photons are indirect (if it goes on; an ended slot's is not read).
-        slot.bounced = 1u;
+        bounced = true;
         let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
         next = bounce.direction;
         weight = bounce.weight;
     } else if plastic {
         let choice = plastic_bounce(material, hit, direction, u_choice, u_direction0, u_direction1);
         if choice.base {
-            slot.bounced = 1u;
+            bounced = true;
             let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
             next = bounce.direction;
             weight = bounce.weight;
@@ -494,7 +505,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
-        slot.flux = slot.flux * transmittance_to(root, hit) * tint * (weight / survival);
+        slot.flux = flux * tint * (weight / survival);
+        slot.state = pack_slot_state(bounced, medium_after_bounce(material, root_id, medium, hit, next));
     } else {
         slot.depth = SLOT_IDLE;
     }
@@ -593,6 +605,11 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
     var probe_direction = vec3<f32>(0.0);
     var probe_weight = vec3<f32>(0.0);
     var probe_pass_throughs = 0u;
+    // What the probe's medium lets through so far (cpu::kernels::emission_seen's `kept`).
+    var probe_medium = NO_MEDIUM;
+    var probe_kept = vec3<f32>(1.0);
+    // cpu::kernels::eye_path: the solid the path is inside; the camera is outside every one.
+    var medium = NO_MEDIUM;
     let sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
     // cpu::kernels::eye_path's glossy vertex: emission met next is weighed against the light
     // sample taken there.
@@ -601,24 +618,30 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
         var hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
         if probing {
             if !hit.found {
-                direct += probe_weight * sky;
+                direct += probe_weight * (probe_kept * sky * medium_transmittance(probe_medium, RAY_T_MAX));
                 probing = false;
-            } else if is_cut_out(materials[hit.material], hit.uv) {
+                continue;
+            }
+            probe_kept *= transmittance_to(probe_medium, hit);
+            if is_cut_out(materials[hit.material], hit.uv) {
                 probe_pass_throughs += 1u;
                 probe_origin = hit.position + params.epsilon * probe_direction;
                 probing = probe_pass_throughs <= MAX_PASS_THROUGHS;
             } else {
-                direct += probe_weight * emitted(materials[hit.material], hit);
+                direct += probe_weight * (probe_kept * emitted(materials[hit.material], hit));
                 probing = false;
             }
             continue;
         }
         if !hit.found {
-            // Out of the scene: the sky (zero without one).
-            direct += throughput * emission_share * sky * sky_weight(glossy, direction);
+            // Out of the scene: the sky (zero without one), less what water around the path
+            // absorbs.
+            direct += throughput * emission_share * (sky * medium_transmittance(medium, RAY_T_MAX)) * sky_weight(glossy, direction);
             break;
         }
-        let root = materials[hit.material];
+        throughput *= transmittance_to(medium, hit);
+        let root_id = hit.material;
+        let root = materials[root_id];
         if is_cut_out(root, hit.uv) {
             pass_throughs += 1u;
             if pass_throughs > MAX_PASS_THROUGHS {
@@ -627,7 +650,6 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        throughput *= transmittance_to(root, hit);
         let emission = emitted(root, hit);
         if max3(emission) > 0.0 {
             direct += throughput * emission_share * emission * emitter_weight(glossy, hit, direction);
@@ -720,7 +742,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             let u0 = next_f32(rng);
             let u1 = next_f32(rng);
             let u2 = next_f32(rng);
-            direct += direct_light(hit, -direction, lit, u0, u1, u2);
+            direct += direct_light(hit, -direction, lit, medium, u0, u1, u2);
         }
         if base || bounce.weight <= 0.0 {
             break;
@@ -747,10 +769,13 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
                 probe_origin = offset_origin(hit, other, params.epsilon);
                 probe_direction = other;
                 probe_weight = throughput * (other_share * eye_crossing_scale(material, hit, other));
+                probe_medium = medium_after_bounce(material, root_id, medium, hit, other);
+                probe_kept = vec3<f32>(1.0);
                 emission_share = 1.0 - other_share;
             }
         }
         throughput *= eye_crossing_scale(material, hit, bounce.direction);
+        medium = medium_after_bounce(material, root_id, medium, hit, bounce.direction);
         origin = offset_origin(hit, bounce.direction, params.epsilon);
         direction = bounce.direction;
     }

@@ -311,13 +311,68 @@ fn emitted(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {
     return material.emission * sample_texture(material.emission_texture, hit.uv).xyz;
 }
 
-// cpu::surface::transmittance_to: Beer–Lambert over a segment that ended at a solid
-// dielectric's back face (absorption is 0 for every other material).
-fn transmittance_to(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {
-    if hit.front {
+// ---- render::medium ----
+// The solid a path is inside, for Beer–Lambert absorption; NO_MEDIUM outside every one.
+const NO_MEDIUM: u32 = 0xffffffffu;
+
+// Whether some solid absorbs inside (a material with interior absorption); compiled out as
+// NORMAL_MAPS is: without one every transmittance is 1 and paths need no medium.
+override MEDIA: bool = true;
+
+// render::medium::medium_after.
+fn medium_after(medium: u32, root: u32, solid: bool, front: bool, crosses: bool) -> u32 {
+    if !(solid && crosses) {
+        return medium;
+    }
+    return select(NO_MEDIUM, root, front);
+}
+
+// render::medium::segment_medium.
+fn segment_medium(medium: u32, root: u32, absorbs_inside: bool, front: bool) -> u32 {
+    return select(medium, root, !front && absorbs_inside);
+}
+
+// cpu::surface::medium_transmittance (render::medium::transmittance): from RAY_T_MAX on the
+// distance is infinite.
+fn medium_transmittance(medium: u32, distance: f32) -> vec3<f32> {
+    if !MEDIA || medium == NO_MEDIUM {
         return vec3<f32>(1.0);
     }
-    return exp(-material.absorption * hit.distance);
+    let absorption = materials[medium].absorption;
+    if distance < RAY_T_MAX {
+        return exp(-absorption * distance);
+    }
+    return select(vec3<f32>(1.0), vec3<f32>(0.0), absorption > vec3<f32>(0.0));
+}
+
+// cpu::surface::transmittance_to: what a path in `medium` keeps over the segment that ended at
+// `hit` (its material still the root one).
+fn transmittance_to(medium: u32, hit: SurfaceHit) -> vec3<f32> {
+    if !MEDIA {
+        return vec3<f32>(1.0);
+    }
+    let absorbs_inside = max3(materials[hit.material].absorption) > 0.0;
+    return medium_transmittance(segment_medium(medium, hit.material, absorbs_inside, hit.front), hit.distance);
+}
+
+// cpu::surface::medium_after_bounce.
+fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: SurfaceHit, next: vec3<f32>) -> u32 {
+    let dielectric = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
+    let solid = dielectric && (material.flags & MATERIAL_THIN_WALLED) == 0u;
+    return medium_after(medium, root, solid, hit.front, dot(next, hit.geometric) < 0.0);
+}
+
+// render::medium::pack_slot_state, slot_bounced and slot_medium.
+fn pack_slot_state(bounced: bool, medium: u32) -> u32 {
+    return ((medium + 1u) << 1u) | select(0u, 1u, bounced);
+}
+
+fn slot_bounced(state: u32) -> bool {
+    return (state & 1u) != 0u;
+}
+
+fn slot_medium(state: u32) -> u32 {
+    return (state >> 1u) - 1u;
 }
 
 // ---- render::microfacet ----

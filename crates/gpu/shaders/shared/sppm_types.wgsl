@@ -6,7 +6,8 @@ struct PathSlot {
     direction: vec3<f32>,
     pass_throughs: u32,
     flux: vec3<f32>,
-    bounced: u32,
+    // render::buffers::PathSlot::state (render::medium::pack_slot_state).
+    state: u32,
 }
 
 struct Photon {

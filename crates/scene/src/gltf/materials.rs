@@ -27,7 +27,10 @@
 //!   warning (kousen has no partial transparency).
 //!
 //! - a solid dielectric's `KHR_materials_volume` attenuation (colour after distance) →
-//!   Beer–Lambert absorption inside it.
+//!   Beer–Lambert absorption inside it, along every segment of a path that entered it
+//!   (`render::medium`): what lies inside (a floor under water) is seen through it. Solids do
+//!   not nest (a path leaving one is outside every solid), and touching solids (a liquid in a
+//!   glass) have no interface of their own.
 //!
 //! - `KHR_texture_transform` on the base colour texture (else the emissive one) → applied to
 //!   the texture coordinates of the material's primitives (one transform a material: kousen's

@@ -266,28 +266,36 @@ pub const POOL_LEVEL: f32 = 150.0;
 pub const POOL_WAVE_AMPLITUDE: f64 = 5.0;
 pub const POOL_WAVELENGTHS: [f64; 2] = [130.0, 85.0];
 pub const POOL_IOR: f32 = 1.33;
+/// The water's tint (`KHR_materials_volume`): white light turns this colour after this many
+/// millimetres in it, so that red fades first, as in a pool.
+pub const POOL_ATTENUATION: Vec3 = Vec3::new(0.5, 0.82, 0.88);
+pub const POOL_ATTENUATION_DISTANCE: f32 = 250.0;
 /// Quads along each side of the water surface's grid.
 pub const POOL_GRID: u32 = 40;
 
 /// [`cornell_caustics`]'s room flooded to [`POOL_LEVEL`]: the water's surface a grid of
 /// [`POOL_GRID`]² quads over the floor's footprint, displaced by two crossing sine waves
-/// with exact normals, its front face up, a solid dielectric of [`POOL_IOR`] (kousen needs no
-/// closed volume: everything below the surface's back face is water), so the floor, the
-/// walls' lower parts and a blue diffuse sphere back left (radius 100, its top 50 above the
-/// water) lie under water. The waves focus the light into a network of caustics on the floor;
+/// with exact normals, its front face up, a solid dielectric of [`POOL_IOR`], closed towards
+/// the camera by a flat front in the room's open side (the floor and walls close the rest),
+/// so the floor, the walls' lower parts and a blue diffuse sphere back left (radius 100, its
+/// top 50 above the water) lie under water. The waves focus the light into a network of caustics on the floor;
 /// eye paths end on the floor inside the water, whose photons crossed the surface once
-/// (`render::optics::eye_refraction_scale`).
+/// (`render::optics::eye_refraction_scale`). The water is tinted ([`POOL_ATTENUATION`]): its
+/// segments end at front faces of the floor, walls and sphere, so only a path that knows it
+/// is in the water absorbs along them (`render::medium`).
 pub fn cornell_pool() -> Scene {
     let mut f = Fixture::new("testing::cornell_pool");
     cornell_room(&mut f);
-    let water = f.material(
-        "water",
-        Surface::Dielectric {
+    let water = f.builder.add_material(Material {
+        name: "water".into(),
+        surface: Surface::Dielectric {
             ior: POOL_IOR,
             thin_walled: false,
         },
-        Vec3::ONE,
-    );
+        base_color: Vec3::ONE,
+        absorption: crate::absorption_from_attenuation(POOL_ATTENUATION, POOL_ATTENUATION_DISTANCE),
+        ..Material::default()
+    });
     let blue = f.material("blue", Surface::Diffuse, Vec3::new(0.1, 0.25, 0.7));
     f.sphere(Vec3::new(370.0, 100.0, 360.0), 100.0, blue, false);
     // Heights and slopes in f64, rounded once (the shipped file regenerates byte for byte).
@@ -320,6 +328,22 @@ pub fn cornell_pool() -> Scene {
             f.triangle([p, q, r], water, Vec3::Y);
             f.triangle([p, r, t], water, Vec3::Y);
         }
+    }
+    // The water's front, in the room's open side: from the floor's front edge up to the
+    // surface's, sharing its vertices, so that the water is a closed volume (with the floor
+    // and walls) and the camera sees the water below its surface through it, as into a tank.
+    for i in 0..POOL_GRID {
+        let [p, q] = [point(i, 0), point(i + 1, 0)];
+        let on_floor = |v: Vertex| Vertex {
+            position: Vec3::new(v.position.x, 0.0, v.position.z),
+            ..Vertex::default()
+        };
+        let flat = |v: Vertex| Vertex {
+            normal: Vec3::ZERO,
+            ..v
+        };
+        f.triangle([on_floor(p), on_floor(q), flat(q)], water, Vec3::NEG_Z);
+        f.triangle([on_floor(p), flat(q), flat(p)], water, Vec3::NEG_Z);
     }
     f.finish()
 }
@@ -618,6 +642,55 @@ pub fn punctual_plane(lights: &[PunctualLight]) -> Scene {
     let eye = Vec3::new(0.0, 2.0, 2.0);
     f.camera(eye, -eye, 60f32.to_radians(), None, "above");
     f.finish()
+}
+
+/// [`punctual_plane`] under a layer of index-matched absorbing "water" `depth` deep: a solid
+/// dielectric of ior 1 (no refraction, no reflection) with `absorption`, an open sheet the
+/// plane's size facing up, so that the plane lies inside it (below its back face). Light
+/// reaching the plane and leaving it loses exp(−absorption · length) over its way through the
+/// layer, which the plane's own front face cannot tell (`render::medium`).
+pub fn plane_under_water(depth: f32, absorption: Vec3) -> Scene {
+    let mut f = Fixture::new("testing::plane_under_water");
+    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
+    let water = f.builder.add_material(Material {
+        name: "index-matched water".into(),
+        surface: Surface::Dielectric {
+            ior: 1.0,
+            thin_walled: false,
+        },
+        base_color: Vec3::ONE,
+        absorption,
+        ..Material::default()
+    });
+    let half = PUNCTUAL_PLANE_HALF_SIZE;
+    let square = |y: f32| {
+        [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+            .map(|[x, z]| Vec3::new(x * half, y, z * half))
+    };
+    f.quad(square(0.0), plane, Vec3::Y);
+    f.quad(square(depth), water, Vec3::Y);
+    let eye = Vec3::new(0.0, 2.0, 2.0);
+    f.camera(eye, -eye, 60f32.to_radians(), None, "above");
+    f.finish()
+}
+
+/// The radiance of [`plane_under_water`]'s plane (one channel's `absorption`) under a uniform
+/// sky of radiance `sky`, seen from above the layer at `cos_view` from the vertical: sky light
+/// reaching the plane at cosine μ crossed depth/μ of water, so its irradiance is
+/// 2π·sky·∫₀¹ μ·exp(−τ/μ) dμ = 2π·sky·E₃(τ) with τ = absorption·depth, and the plane's
+/// radiance ρ/π of that loses exp(−τ/cos_view) on its way up. E₃ by the midpoint rule.
+pub fn plane_under_water_radiance(depth: f32, absorption: f32, sky: f32, cos_view: f32) -> f32 {
+    let tau = absorption as f64 * depth as f64;
+    let steps = 100_000;
+    let e3 = (0..steps)
+        .map(|i| {
+            let mu = (i as f64 + 0.5) / steps as f64;
+            mu * (-tau / mu).exp()
+        })
+        .sum::<f64>()
+        / steps as f64;
+    let kept = (-tau / cos_view as f64).exp();
+    (LIT_PLANE_ALBEDO as f64 * sky as f64 * 2.0 * e3 * kept) as f32
 }
 
 /// [`cornell_box`] with four more lights: a point light in the middle of the room, a spot

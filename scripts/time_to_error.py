@@ -84,7 +84,9 @@ def main():
                 check=True, capture_output=True, text=True)
             # The script's own render loop time (scene loading and the first JIT included).
             seconds = float(re.findall(r"spp in \d+ passes, ([0-9.]+) s", run.stderr)[-1])
-            rows.append({"renderer": "mitsuba", "config": "path", "budget": "%d spp" % spp,
+            # `volpath` where the scene has absorbing media (the script says so), else `path`.
+            integrator = "volpath" if "volpath" in run.stderr + run.stdout else "path"
+            rows.append({"renderer": "mitsuba", "config": integrator, "budget": "%d spp" % spp,
                          "seconds": seconds})
             rows[-1]["image"] = out
             log("mitsuba %d spp: %.2f s" % (spp, seconds))

@@ -76,7 +76,7 @@ pub fn photon_pass_with<R: StreamRng>(
             direction: e.direction.to_array(),
             pass_throughs: 0,
             flux: e.flux.to_array(),
-            state: 0,
+            state: pack_slot_state(false, e.medium),
         };
         emitted = true;
     }
@@ -349,8 +349,8 @@ fn eye_path(
     // Where the path last left a glossy lobe, and the lobe's density for the way it took:
     // emission met next is weighed against the light sample taken there (0: not glossy).
     let mut glossy = GlossyVertex::default();
-    // The solid the path is inside (`render::medium`): the camera is outside every one.
-    let mut medium = NO_MEDIUM;
+    // The solid the path is inside (`render::medium`): where the camera is, to begin with.
+    let mut medium = params.camera_medium;
     while depth < params.max_depth {
         let Some(mut hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one), unless water around the path

@@ -413,7 +413,7 @@ fn sppm_types_layout_matches_render_buffers() {
             ("edge2", offset_of!(Light, edge2)),
             ("kind", offset_of!(Light, kind)),
             ("flux", offset_of!(Light, flux)),
-            ("pad", offset_of!(Light, pad)),
+            ("medium", offset_of!(Light, medium)),
         ],
     );
     // Rust's `storage_origin: [f32; 3]` is WGSL's origin_x..origin_z (a vec3 would be 16-byte
@@ -448,6 +448,10 @@ fn sppm_types_layout_matches_render_buffers() {
             ("cut_outs", offset_of!(SppmParams, cut_outs)),
             ("eye_every", offset_of!(SppmParams, eye_every)),
             ("indirect_alpha", offset_of!(SppmParams, indirect_alpha)),
+            ("camera_medium", offset_of!(SppmParams, camera_medium)),
+            ("pad1", offset_of!(SppmParams, pad)),
+            ("pad2", offset_of!(SppmParams, pad) + 4),
+            ("pad3", offset_of!(SppmParams, pad) + 8),
         ],
     );
 }

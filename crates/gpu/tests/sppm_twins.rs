@@ -659,6 +659,21 @@ fn every_kernel_matches_its_twin_under_tinted_water() {
     every_kernel_matches_its_twin(scene::testing::cornell_pool(), DirectLight::Sampled);
 }
 
+/// The same with the lamp and the camera inside the water (`scene::testing::underwater_lamp`):
+/// photon slots start in the light's medium (`Light::medium`), eye paths in the camera's
+/// (`SppmParams::camera_medium`), which sees the plane and, above, the water's surface from
+/// beneath. Photons carry the lamp's direct light here, so that the plane stores some.
+#[test]
+fn every_kernel_matches_its_twin_with_the_lamp_and_camera_under_water() {
+    let scene = scene::testing::underwater_lamp();
+    let lights = render::emission::light_table(&scene);
+    assert!(
+        lights.iter().all(|l| l.medium == 1),
+        "the lamp is in the water"
+    );
+    every_kernel_matches_its_twin(scene, DirectLight::Photons);
+}
+
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and
 /// back wall, a diffuse sphere and a mirror one: bent shading normals in every kernel, and
 /// the photons' shading-normal weights where they land and bounce.

@@ -19,7 +19,7 @@ use render::emission::{
     light_area_density, light_table, light_table_triangles, triangle_barycentrics,
 };
 use render::light_sampling::power_heuristic;
-use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
+use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
 use render::normal_map::mapped_normal;
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
@@ -63,6 +63,8 @@ pub struct PathTracer<'a> {
     has_cut_outs: bool,
     /// Offset of a continuation ray's origin, relative to the scene's size.
     epsilon: f32,
+    /// The absorbing solid the camera is in (`render::medium`), where every path starts.
+    camera_medium: u32,
 }
 
 /// What the tracer needs to know about a hit.
@@ -236,6 +238,7 @@ impl<'a> PathTracer<'a> {
             .iter()
             .any(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }));
         PathTracer {
+            camera_medium: MediumLocator::new(scene).medium_at(camera.eye),
             scene,
             wide: bvh::WideMtbvh::new(bvh).ok(),
             bvh,
@@ -289,8 +292,8 @@ impl<'a> PathTracer<'a> {
         let mut throughput = Vec3::ONE;
         let mut arrival = Arrival::Unsampled;
         let (mut depth, mut passes) = (0, 0);
-        // The solid the path is inside (`render::medium`): the camera is outside every one.
-        let mut medium = NO_MEDIUM;
+        // The solid the path is inside (`render::medium`): the camera's, to begin with.
+        let mut medium = self.camera_medium;
         while depth < max_depth {
             let Some(mut point) = self.intersect(origin, direction) else {
                 // Out of the scene: the sky, weighed against the light sample that could
@@ -850,6 +853,31 @@ mod tests {
                 measured[channel]
             );
         }
+    }
+
+    /// An underwater lamp (`testing::underwater_lamp`): the point light and the camera in
+    /// index-matched water of absorption σ. A path from the camera's medium straight down to
+    /// the plane below the lamp sees ρ/π · I/h² · exp(−σ(h + d)), d the way down from the
+    /// origin; the light sample is the only way the lamp arrives and it is exact but for the
+    /// shadow ray's absorption, taken over a ray that stops just short of the light (1e-4
+    /// relative, measured): tolerance 5e-4. Without the camera's medium it came out 3.3× too
+    /// bright in red (measured: nothing absorbed).
+    #[test]
+    fn an_underwater_lamp_is_seen_through_the_water() {
+        let scene = testing::underwater_lamp();
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let mut rng = Rng::new(9, 0);
+        let (h, d) = (testing::UNDERWATER_LAMP_HEIGHT, 0.5);
+        let intensity = testing::UNDERWATER_LAMP_INTENSITY;
+        let measured = tracer.radiance(Vec3::new(0.0, d, 0.0), Vec3::NEG_Y, 8, &mut rng);
+        let sigma = testing::UNDERWATER_ABSORPTION;
+        let expected = testing::LIT_PLANE_ALBEDO / std::f32::consts::PI * intensity / (h * h)
+            * (-sigma * (h + d)).exp();
+        assert!(
+            ((measured - expected) / expected).abs().max_element() < 5e-4,
+            "{measured} against {expected}"
+        );
     }
 
     /// A point light and a directional one over the diffuse plane: ρ/π · I·h/r³ and

@@ -138,7 +138,7 @@ pub const SPECULAR_EXTRA_PATHS: u32 = 1;
 ///
 /// A spot's photons are also weighted by [`scene::lights::spot_falloff`] at their direction.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Light {
     pub v0: [f32; 3],
     /// Probability of picking this light or one before it (the last is exactly 1).
@@ -151,7 +151,19 @@ pub struct Light {
     pub kind: u32,
     /// Flux a path leaving this light carries: see the table above.
     pub flux: [f32; 3],
-    pub pad: u32,
+    /// The absorbing solid its paths start in (`crate::medium::MediumLocator`), or
+    /// `crate::medium::NO_MEDIUM`.
+    pub medium: u32,
+}
+
+impl Default for Light {
+    /// All zero, outside every solid.
+    fn default() -> Light {
+        Light {
+            medium: crate::medium::NO_MEDIUM,
+            ..Zeroable::zeroed()
+        }
+    }
 }
 
 /// [`Light::kind`] of an emissive triangle.
@@ -173,9 +185,9 @@ pub const SAMPLE_AT_VISIBLE_POINTS: u32 = 1;
 /// the lobe's own sampling.
 pub const SAMPLE_AT_GLOSSY: u32 = 2;
 
-/// Render-wide constants (uniform buffer, 128 bytes).
+/// Render-wide constants (uniform buffer, 144 bytes).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct SppmParams {
     pub eye: [f32; 3],
     pub width: u32,
@@ -217,6 +229,20 @@ pub struct SppmParams {
     pub eye_every: u32,
     /// SPPM's α for the indirect photons (`alpha` is the caustic photons').
     pub indirect_alpha: f32,
+    /// The absorbing solid the camera is in (`crate::medium::MediumLocator`), where eye paths
+    /// start, or `crate::medium::NO_MEDIUM`.
+    pub camera_medium: u32,
+    pub pad: [u32; 3],
+}
+
+impl Default for SppmParams {
+    /// All zero, the camera outside every solid.
+    fn default() -> SppmParams {
+        SppmParams {
+            camera_medium: crate::medium::NO_MEDIUM,
+            ..Zeroable::zeroed()
+        }
+    }
 }
 
 impl SppmParams {

@@ -18,8 +18,8 @@ use crate::sampling::{
     about_axis, cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk,
 };
 
-/// The light table of a scene, in CDF order: emissive triangles, punctual lights, the sky. Empty
-/// if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
+/// The light table of a scene, in CDF order: emissive triangles, punctual lights, the sky, each
+/// with the solid its paths start in (`crate::medium`). Empty if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
 /// same for power).
 pub fn light_table(scene: &Scene) -> Vec<Light> {
     let weight = pick_weight;
@@ -69,6 +69,8 @@ pub fn light_table(scene: &Scene) -> Vec<Light> {
     if let Some(last) = table.last_mut() {
         last.cdf = 1.0;
     }
+    // Where each light's paths start: a lamp may be inside water or glass.
+    crate::medium::MediumLocator::new(scene).set_light_media(&mut table);
     table
 }
 
@@ -158,6 +160,8 @@ pub struct Emission {
     pub normal: Vec3,
     pub direction: Vec3,
     pub flux: Vec3,
+    /// The solid the path starts in (`Light::medium`).
+    pub medium: u32,
 }
 
 /// Index of the light whose CDF interval holds `u` (a binary search, as the kernel does it).
@@ -177,7 +181,7 @@ pub fn pick_light(lights: &[Light], u: f32) -> usize {
 /// A light path's start from five uniform numbers. `lights` must not be empty.
 pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
     let light = &lights[pick_light(lights, u[0])];
-    match light.kind {
+    let emission = match light.kind {
         LIGHT_POINT => {
             let direction = uniform_cone(u[3], u[4], -1.0);
             emission_along(vec3(light.v0), direction, vec3(light.flux))
@@ -204,6 +208,10 @@ pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
             emission_along(origin, direction, vec3(light.flux))
         }
         _ => triangle_emission(light, u),
+    };
+    Emission {
+        medium: light.medium,
+        ..emission
     }
 }
 
@@ -220,6 +228,8 @@ fn emission_along(origin: Vec3, direction: Vec3, flux: Vec3) -> Emission {
         normal: direction,
         direction,
         flux,
+        // sample_emission sets the light's own.
+        medium: crate::medium::NO_MEDIUM,
     }
 }
 
@@ -257,6 +267,7 @@ fn triangle_emission(light: &Light, u: [f32; 5]) -> Emission {
         normal,
         direction: about_axis(normal, cosine_hemisphere(u3, u[4])).normalize(),
         flux: vec3(light.flux),
+        medium: light.medium,
     }
 }
 

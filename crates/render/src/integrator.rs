@@ -12,6 +12,7 @@ use scene::{Camera, Scene};
 use crate::backend::{Backend, BackendError, Setup};
 use crate::buffers::SppmParams;
 use crate::emission::light_table;
+use crate::medium::MediumLocator;
 use crate::settings::{Budget, INITIAL_RADIUS_FOOTPRINTS, Settings, SettingsError};
 use crate::{Image, resolve};
 
@@ -162,6 +163,9 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
             .any(|m| m.alpha_mode != scene::AlphaMode::Opaque) as u32,
         eye_every: settings.eye_every,
         indirect_alpha: settings.indirect_alpha,
+        // Eye paths start where the camera is: under water, say.
+        camera_medium: MediumLocator::new(scene).medium_at(camera.eye),
+        pad: [0; 3],
     }
 }
 

@@ -9,13 +9,15 @@
 //! thin sheets and cut-outs leave the medium as it is. Solids do not nest: leaving one puts the
 //! path outside every solid.
 //!
-//! A segment that ends at the back face of an absorbing solid ran inside it whatever the path
-//! believed (a light inside water: its paths start outside every solid), so there the solid's
-//! own absorption counts.
+//! Paths start in the medium where they start: a camera under water, a lamp inside a glass
+//! block ([`MediumLocator`], once a render for the camera and each light). A segment that
+//! ends at the back face of an absorbing solid ran inside it whatever the path believed, so
+//! there the solid's own absorption counts.
 
 use glam::Vec3;
+use scene::{Scene, Triangle};
 
-use crate::buffers::RAY_T_MAX;
+use crate::buffers::{LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, Light, RAY_T_MAX, vec3};
 
 /// The medium of a path outside every solid.
 pub const NO_MEDIUM: u32 = u32::MAX;
@@ -68,6 +70,80 @@ pub fn slot_bounced(state: u32) -> bool {
 /// A slot's medium ([`pack_slot_state`]).
 pub fn slot_medium(state: u32) -> u32 {
     (state >> 1).wrapping_sub(1)
+}
+
+/// Which absorbing solid a point lies in, for the places paths start: a tree over the
+/// triangles of the solids that absorb (no other surface bounds a medium's absorption), and a
+/// ray from the point in a fixed direction, mostly up: the point is inside the solid whose
+/// surface the ray meets first from behind. Up, because open water (a pool's surface, closed
+/// by the floor and walls) is left through its surface. Empty where no solid absorbs.
+pub struct MediumLocator {
+    bvh: Option<bvh::PackedBvh>,
+}
+
+/// The direction [`MediumLocator`] looks in: up, tilted off the axes so that it does not run
+/// along the edges of axis-aligned meshes.
+const LOCATOR_DIRECTION: Vec3 = Vec3::new(0.123, 0.985, 0.122);
+
+impl MediumLocator {
+    pub fn new(scene: &Scene) -> MediumLocator {
+        let absorbs: Vec<bool> = scene
+            .materials
+            .iter()
+            .map(|m| m.interior_absorption().max_element() > 0.0)
+            .collect();
+        let solids: Vec<Triangle> = scene
+            .triangles
+            .iter()
+            .filter(|t| absorbs[t.material as usize])
+            .copied()
+            .collect();
+        let bvh = (!solids.is_empty())
+            .then(|| bvh::PackedBvh::build(&solids, &bvh::BuildOptions::default()));
+        MediumLocator { bvh }
+    }
+
+    /// The medium at `point`: the absorbing solid it lies in, or [`NO_MEDIUM`].
+    pub fn medium_at(&self, point: Vec3) -> u32 {
+        let Some(bvh) = &self.bvh else {
+            return NO_MEDIUM;
+        };
+        let direction = LOCATOR_DIRECTION.normalize();
+        let ray = bvh::Ray {
+            origin: point,
+            direction,
+            t_max: f32::INFINITY,
+        };
+        let Some(hit) = bvh::closest_hit_mtbvh(bvh, &ray) else {
+            return NO_MEDIUM;
+        };
+        let triangle = &bvh.triangles[hit.triangle as usize];
+        let [a, b, c] = triangle.positions();
+        let from_behind = (b - a).cross(c - a).dot(direction) > 0.0;
+        if from_behind {
+            triangle.material()
+        } else {
+            NO_MEDIUM
+        }
+    }
+
+    /// Where each light's paths start, for [`Light::medium`]: a point or spot light's position,
+    /// a triangle's centroid just off its emitting face (the front, or either for a
+    /// double-sided one: the front); the sky and directional lights start outside the scene.
+    pub fn set_light_media(&self, lights: &mut [Light]) {
+        for light in lights {
+            light.medium = match light.kind {
+                LIGHT_POINT | LIGHT_SPOT => self.medium_at(vec3(light.v0)),
+                LIGHT_TRIANGLE => {
+                    let (v0, e1, e2) = (vec3(light.v0), vec3(light.edge1), vec3(light.edge2));
+                    let normal = e1.cross(e2).normalize_or_zero();
+                    let size = e1.length().max(e2.length());
+                    self.medium_at(v0 + (e1 + e2) / 3.0 + 1e-4 * size * normal)
+                }
+                _ => NO_MEDIUM,
+            };
+        }
+    }
 }
 
 #[cfg(test)]
@@ -126,5 +202,49 @@ mod tests {
         }
         // A fresh slot (state 0) has not bounced and is outside every solid.
         assert_eq!(pack_slot_state(false, NO_MEDIUM), 0);
+    }
+
+    /// Points under the pool's open surface (closed by the floor and walls) and inside the
+    /// tinted glass spheres are found in them; points above the water, outside the spheres
+    /// and in scenes where nothing absorbs are outside every solid.
+    #[test]
+    fn the_locator_finds_points_inside_water_and_glass() {
+        let pool = scene::testing::cornell_pool();
+        let water = pool
+            .materials
+            .iter()
+            .position(|m| m.name == "water")
+            .unwrap() as u32;
+        let locator = MediumLocator::new(&pool);
+        let level = scene::testing::POOL_LEVEL;
+        let lamp = scene::testing::underwater_lamp();
+        let camera = lamp.camera(None).unwrap();
+        assert_eq!(MediumLocator::new(&lamp).medium_at(camera.eye), 1);
+        assert_eq!(locator.medium_at(Vec3::new(278.0, 40.0, 100.0)), water);
+        assert_eq!(
+            locator.medium_at(Vec3::new(100.0, level - 20.0, 500.0)),
+            water
+        );
+        assert_eq!(
+            locator.medium_at(Vec3::new(278.0, level + 20.0, 100.0)),
+            NO_MEDIUM
+        );
+        assert_eq!(
+            locator.medium_at(Vec3::new(278.0, 273.0, -800.0)),
+            NO_MEDIUM
+        );
+
+        let tinted = scene::testing::cornell_tinted();
+        let locator = MediumLocator::new(&tinted);
+        let teal = tinted
+            .materials
+            .iter()
+            .position(|m| m.name == "teal glass")
+            .unwrap() as u32;
+        assert_eq!(locator.medium_at(Vec3::new(180.0, 90.0, 170.0)), teal);
+        assert_eq!(locator.medium_at(Vec3::new(180.0, 90.0, 60.0)), NO_MEDIUM);
+
+        let clear = MediumLocator::new(&scene::testing::cornell_caustics());
+        assert_eq!(clear.medium_at(Vec3::new(278.0, 100.0, 200.0)), NO_MEDIUM);
     }
 }

@@ -106,7 +106,8 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         }
         direction = normalize(cosine_direction(normal, u_direction, u4));
     }
-    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, 0u);
+    // render::emission::sample_emission: the path starts in the light's medium.
+    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, pack_slot_state(false, light.medium));
 }
 
 // render::direct::LightSample; `found` false where the light sends nothing this way.
@@ -608,8 +609,8 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
     // What the probe's medium lets through so far (cpu::kernels::emission_seen's `kept`).
     var probe_medium = NO_MEDIUM;
     var probe_kept = vec3<f32>(1.0);
-    // cpu::kernels::eye_path: the solid the path is inside; the camera is outside every one.
-    var medium = NO_MEDIUM;
+    // cpu::kernels::eye_path: the solid the path is inside, where the camera is to begin with.
+    var medium = params.camera_medium;
     let sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
     // cpu::kernels::eye_path's glossy vertex: emission met next is weighed against the light
     // sample taken there.

@@ -47,7 +47,8 @@ struct Light {
     edge2: vec3<f32>,
     kind: u32,
     flux: vec3<f32>,
-    pad: u32,
+    // render::buffers::Light::medium.
+    medium: u32,
 }
 
 struct SppmParams {
@@ -78,6 +79,11 @@ struct SppmParams {
     cut_outs: u32,
     eye_every: u32,
     indirect_alpha: f32,
+    // render::buffers::SppmParams::camera_medium.
+    camera_medium: u32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

@@ -651,6 +651,14 @@ pub fn punctual_plane(lights: &[PunctualLight]) -> Scene {
 /// layer, which the plane's own front face cannot tell (`render::medium`).
 pub fn plane_under_water(depth: f32, absorption: Vec3) -> Scene {
     let mut f = Fixture::new("testing::plane_under_water");
+    plane_and_water(&mut f, depth, absorption);
+    let eye = Vec3::new(0.0, 2.0, 2.0);
+    f.camera(eye, -eye, 60f32.to_radians(), None, "above");
+    f.finish()
+}
+
+/// [`punctual_plane`]'s plane and [`plane_under_water`]'s layer over it.
+fn plane_and_water(f: &mut Fixture, depth: f32, absorption: Vec3) {
     let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
     let water = f.builder.add_material(Material {
         name: "index-matched water".into(),
@@ -669,10 +677,42 @@ pub fn plane_under_water(depth: f32, absorption: Vec3) -> Scene {
     };
     f.quad(square(0.0), plane, Vec3::Y);
     f.quad(square(depth), water, Vec3::Y);
-    let eye = Vec3::new(0.0, 2.0, 2.0);
-    f.camera(eye, -eye, 60f32.to_radians(), None, "above");
+}
+
+/// An underwater lamp: [`plane_under_water`] [`UNDERWATER_DEPTH`] deep with
+/// [`UNDERWATER_ABSORPTION`], a point light of [`UNDERWATER_LAMP_INTENSITY`] candela
+/// [`UNDERWATER_LAMP_HEIGHT`] above the plane's centre and the camera, both in the water:
+/// paths from the lamp and from the camera start inside it (`render::medium::MediumLocator`),
+/// so that the plane's radiance is ρ/π · I·h/r³ · exp(−σr) seen through
+/// exp(−σ·distance to the eye).
+pub fn underwater_lamp() -> Scene {
+    let mut f = Fixture::new("testing::underwater_lamp");
+    plane_and_water(&mut f, UNDERWATER_DEPTH, UNDERWATER_ABSORPTION);
+    f.builder
+        .add_punctual_light(PunctualLight {
+            kind: PunctualKind::Point,
+            position: Vec3::new(0.0, UNDERWATER_LAMP_HEIGHT, 0.0),
+            direction: Vec3::ZERO,
+            intensity: Vec3::splat(UNDERWATER_LAMP_INTENSITY),
+        })
+        .expect("a valid light");
+    // Looking slightly down: the plane below, the water's surface from beneath above.
+    let eye = Vec3::new(0.0, 0.6, 0.8);
+    f.camera(
+        eye,
+        Vec3::new(0.0, -0.15, -1.0),
+        60f32.to_radians(),
+        None,
+        "under water",
+    );
     f.finish()
 }
+
+/// [`underwater_lamp`]'s water depth, absorption, lamp height and intensity.
+pub const UNDERWATER_DEPTH: f32 = 1.2;
+pub const UNDERWATER_ABSORPTION: Vec3 = Vec3::new(0.8, 0.4, 0.2);
+pub const UNDERWATER_LAMP_HEIGHT: f32 = 1.0;
+pub const UNDERWATER_LAMP_INTENSITY: f32 = 2.0;
 
 /// The radiance of [`plane_under_water`]'s plane (one channel's `absorption`) under a uniform
 /// sky of radiance `sky`, seen from above the layer at `cos_view` from the vertical: sky light

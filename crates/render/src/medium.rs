@@ -73,17 +73,27 @@ pub fn slot_medium(state: u32) -> u32 {
 }
 
 /// Which absorbing solid a point lies in, for the places paths start: a tree over the
-/// triangles of the solids that absorb (no other surface bounds a medium's absorption), and a
-/// ray from the point in a fixed direction, mostly up: the point is inside the solid whose
-/// surface the ray meets first from behind. Up, because open water (a pool's surface, closed
-/// by the floor and walls) is left through its surface. Empty where no solid absorbs.
+/// triangles of the solids that absorb (no other surface bounds a medium's absorption), and
+/// rays from the point: the point is inside the solid whose surface the first ray that meets
+/// one meets from behind. The rays look up first, tilted four ways, then down: open water (a
+/// pool's surface, closed by the floor and walls) is left through its surface, and a point
+/// near the edge of an open sheet finds it on another side. Empty where no solid absorbs.
 pub struct MediumLocator {
     bvh: Option<bvh::PackedBvh>,
 }
 
-/// The direction [`MediumLocator`] looks in: up, tilted off the axes so that it does not run
-/// along the edges of axis-aligned meshes.
-const LOCATOR_DIRECTION: Vec3 = Vec3::new(0.123, 0.985, 0.122);
+/// The directions [`MediumLocator`] looks in, in order: up, tilted off the axes (so as not to
+/// run along the edges of axis-aligned meshes) four ways, then down likewise.
+const LOCATOR_DIRECTIONS: [Vec3; 8] = [
+    Vec3::new(0.123, 0.985, 0.122),
+    Vec3::new(-0.122, 0.985, 0.123),
+    Vec3::new(-0.123, 0.985, -0.122),
+    Vec3::new(0.122, 0.985, -0.123),
+    Vec3::new(0.123, -0.985, 0.122),
+    Vec3::new(-0.122, -0.985, 0.123),
+    Vec3::new(-0.123, -0.985, -0.122),
+    Vec3::new(0.122, -0.985, -0.123),
+];
 
 impl MediumLocator {
     pub fn new(scene: &Scene) -> MediumLocator {
@@ -108,23 +118,25 @@ impl MediumLocator {
         let Some(bvh) = &self.bvh else {
             return NO_MEDIUM;
         };
-        let direction = LOCATOR_DIRECTION.normalize();
-        let ray = bvh::Ray {
-            origin: point,
-            direction,
-            t_max: f32::INFINITY,
-        };
-        let Some(hit) = bvh::closest_hit_mtbvh(bvh, &ray) else {
-            return NO_MEDIUM;
-        };
-        let triangle = &bvh.triangles[hit.triangle as usize];
-        let [a, b, c] = triangle.positions();
-        let from_behind = (b - a).cross(c - a).dot(direction) > 0.0;
-        if from_behind {
-            triangle.material()
-        } else {
-            NO_MEDIUM
+        for direction in LOCATOR_DIRECTIONS.map(Vec3::normalize) {
+            let ray = bvh::Ray {
+                origin: point,
+                direction,
+                t_max: f32::INFINITY,
+            };
+            let Some(hit) = bvh::closest_hit_mtbvh(bvh, &ray) else {
+                continue;
+            };
+            let triangle = &bvh.triangles[hit.triangle as usize];
+            let [a, b, c] = triangle.positions();
+            let from_behind = (b - a).cross(c - a).dot(direction) > 0.0;
+            return if from_behind {
+                triangle.material()
+            } else {
+                NO_MEDIUM
+            };
         }
+        NO_MEDIUM
     }
 
     /// Where each light's paths start, for [`Light::medium`]: a point or spot light's position,
@@ -219,7 +231,12 @@ mod tests {
         let level = scene::testing::POOL_LEVEL;
         let lamp = scene::testing::underwater_lamp();
         let camera = lamp.camera(None).unwrap();
-        assert_eq!(MediumLocator::new(&lamp).medium_at(camera.eye), 1);
+        let in_lamp_scene = MediumLocator::new(&lamp);
+        assert_eq!(in_lamp_scene.medium_at(camera.eye), 1);
+        // Near the open layer's edge the first ray up passes beside it; another finds it.
+        assert_eq!(in_lamp_scene.medium_at(Vec3::new(0.0, 0.6, 0.95)), 1);
+        assert_eq!(in_lamp_scene.medium_at(Vec3::new(0.0, 0.6, 1.5)), NO_MEDIUM);
+        assert_eq!(in_lamp_scene.medium_at(Vec3::new(0.0, 1.5, 0.0)), NO_MEDIUM);
         assert_eq!(locator.medium_at(Vec3::new(278.0, 40.0, 100.0)), water);
         assert_eq!(
             locator.medium_at(Vec3::new(100.0, level - 20.0, 500.0)),

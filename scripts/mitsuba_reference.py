@@ -55,7 +55,9 @@ not used, so nothing about the mapping is hidden):
   transform (lights shine down their local -z). Spot lights are refused: Mitsuba's spot
   falloff is not glTF's. `--point X,Y,Z --point-intensity R,G,B` adds a point light to any
   scene (kousen's tests add the same light in code).
-- Camera: the first camera node in the scene's depth-first node order; perspective yfov
+- Camera: the first camera node in the scene's depth-first node order (`--camera I`: the I-th,
+  as kousen's `--camera` counts them; `--camera-medium NAME` puts it inside the absorbing
+  medium of material NAME, as kousen's own camera would find itself); perspective yfov
   (vertical field of view); the aspect ratio comes from the image size. glTF cameras look down
   their local -z with +y up. Pixels: `box` reconstruction filter (each sample lands in the one
   pixel whose area it was drawn from), i.e. the average of radiance over the pixel's area.
@@ -354,15 +356,19 @@ def gather_primitives(doc, buffers):
     return prims
 
 
-def first_camera(doc):
+def nth_camera(doc, n):
+    """The `n`-th camera node in depth-first node order (kousen's `--camera` index)."""
+    found = 0
     for node_index, world in walk_nodes(doc):
         node = doc["nodes"][node_index]
         if "camera" in node:
-            cam = doc["cameras"][node["camera"]]
-            if cam.get("type") != "perspective":
-                raise NotImplementedError("only perspective cameras are supported")
-            return world, cam["perspective"]["yfov"]
-    raise ValueError("the scene has no camera")
+            if found == n:
+                cam = doc["cameras"][node["camera"]]
+                if cam.get("type") != "perspective":
+                    raise NotImplementedError("only perspective cameras are supported")
+                return world, cam["perspective"]["yfov"]
+            found += 1
+    raise ValueError("the scene has no camera %d (%d cameras)" % (n, found))
 
 
 def punctual_lights(doc, extra_points):
@@ -393,8 +399,9 @@ def punctual_lights(doc, extra_points):
     return out
 
 
-def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra_points=()):
-    world, yfov = first_camera(doc)
+def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra_points=(),
+                camera=0, camera_medium=None):
+    world, yfov = nth_camera(doc, camera)
     eye = world[:3, 3]
     forward = -world[:3, 2] / np.linalg.norm(world[:3, 2])
     up = world[:3, 1] / np.linalg.norm(world[:3, 1])
@@ -417,7 +424,7 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         },
     }
     ntri = 0
-    media = False
+    media = {}
     for k, (p, n, tri, mat) in enumerate(gather_primitives(doc, buffers)):
         members, emission, double_sided, name = material_info(doc, mat)
         params = next((q for _, _, q in members if "absorption" in q), {})
@@ -432,10 +439,11 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         props["bsdf"] = mi.load_dict(mitsuba_blend(members))
         if "absorption" in params:
             # Absorption only: a medium that scatters nothing (albedo 0) inside the shape.
-            props["interior"] = mi.load_dict({
+            medium = media.get(name) or mi.load_dict({
                 "type": "homogeneous", "albedo": 0.0,
                 "sigma_t": {"type": "rgb", "value": params["absorption"]}})
-            media = True
+            props["interior"] = medium
+            media[name] = medium
         if emissive:
             if double_sided:
                 raise NotImplementedError("material %r: double-sided emission" % name)
@@ -468,6 +476,13 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
     log("%d triangles; camera eye %s forward %s up %s, yfov %.4f deg"
         % (ntri, eye.round(4).tolist(), forward.round(6).tolist(), up.round(6).tolist(),
            math.degrees(yfov)))
+    if camera_medium is not None:
+        # The camera sits inside this material's medium (kousen finds that itself).
+        if camera_medium not in media:
+            raise ValueError("--camera-medium %r: no absorbing material of that name (%s)"
+                             % (camera_medium, ", ".join(media) or "none"))
+        scene["sensor"]["medium"] = media[camera_medium]
+        log("camera inside the medium of %r" % camera_medium)
     if media:
         # The path tracer ignores media; its volumetric twin absorbs inside them.
         scene["integrator"]["type"] = "volpath"
@@ -489,6 +504,9 @@ def main():
     ap.add_argument("--point", default=None, help="add a point light at X,Y,Z")
     ap.add_argument("--point-intensity", default="1,1,1",
                     help="its intensity R,G,B (power per steradian)")
+    ap.add_argument("--camera", type=int, default=0, help="the I-th camera (default 0)")
+    ap.add_argument("--camera-medium", default=None,
+                    help="the camera sits inside this absorbing material's medium")
     ap.add_argument("--pass-samples", type=int, default=1 << 22,
                     help="most samples (pixels x spp) in one Mitsuba render call")
     args = ap.parse_args()
@@ -504,7 +522,7 @@ def main():
     triple = lambda text: [float(x) for x in text.split(",")]
     extra_points = [(triple(args.point), triple(args.point_intensity))] if args.point else []
     scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log,
-                        extra_points)
+                        extra_points, args.camera, args.camera_medium)
 
     pixels = args.width * height
     per_pass = max(1, min(args.spp, args.pass_samples // pixels))

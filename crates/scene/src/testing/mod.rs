@@ -278,11 +278,12 @@ pub const POOL_GRID: u32 = 40;
 /// with exact normals, its front face up, a solid dielectric of [`POOL_IOR`], closed towards
 /// the camera by a flat front in the room's open side (the floor and walls close the rest),
 /// so the floor, the walls' lower parts and a blue diffuse sphere back left (radius 100, its
-/// top 50 above the water) lie under water. The waves focus the light into a network of caustics on the floor;
-/// eye paths end on the floor inside the water, whose photons crossed the surface once
-/// (`render::optics::eye_refraction_scale`). The water is tinted ([`POOL_ATTENUATION`]): its
-/// segments end at front faces of the floor, walls and sphere, so only a path that knows it
-/// is in the water absorbs along them (`render::medium`).
+/// top 50 above the water) lie under water. The waves focus the light into a network of
+/// caustics on the floor; eye paths end on the floor inside the water, whose photons crossed
+/// the surface once (`render::optics::eye_refraction_scale`). The water is tinted
+/// ([`POOL_ATTENUATION`]): its segments end at front faces of the floor, walls and sphere, so
+/// only a path that knows it is in the water absorbs along them (`render::medium`). Camera 0
+/// is the Cornell camera; camera 1 looks from under water, where its paths start.
 pub fn cornell_pool() -> Scene {
     let mut f = Fixture::new("testing::cornell_pool");
     cornell_room(&mut f);
@@ -345,6 +346,17 @@ pub fn cornell_pool() -> Scene {
         f.triangle([on_floor(p), on_floor(q), flat(q)], water, Vec3::NEG_Z);
         f.triangle([on_floor(p), flat(q), flat(p)], water, Vec3::NEG_Z);
     }
+    // A second camera under water, behind the front, looking at the ball and up at the
+    // surface from beneath (`kousen render --camera 1`): its paths start in the water.
+    let eye = Vec3::new(120.0, 40.0, 30.0);
+    let target = Vec3::new(300.0, 150.0, 500.0);
+    f.camera(
+        eye,
+        target - eye,
+        60f32.to_radians(),
+        Some(1.0),
+        "under water",
+    );
     f.finish()
 }
 

@@ -182,11 +182,13 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
     }
     assert_eq!(loaded.cameras.len(), fixture.cameras.len());
     for (x, y) in loaded.cameras.iter().zip(&fixture.cameras) {
+        // An oblique camera's frame goes through the file as an f32 quaternion: its forward
+        // and up come back within a few 1e-6 (measured 3e-6 for cornell-pool's under water).
         assert!(
-            close(x.eye, y.eye, 1e-6) && close(x.forward, y.forward, 1e-6),
+            close(x.eye, y.eye, 1e-6) && close(x.forward, y.forward, 1e-5),
             "{stem}: {x:?} vs {y:?}"
         );
-        assert!(close(x.up, y.up, 1e-6), "{stem}");
+        assert!(close(x.up, y.up, 1e-5), "{stem}");
         assert_eq!((x.yfov, x.aspect_ratio), (y.yfov, y.aspect_ratio), "{stem}");
     }
     assert!(

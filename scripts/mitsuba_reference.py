@@ -55,6 +55,10 @@ not used, so nothing about the mapping is hidden):
   transform (lights shine down their local -z). Spot lights are refused: Mitsuba's spot
   falloff is not glTF's. `--point X,Y,Z --point-intensity R,G,B` adds a point light to any
   scene (kousen's tests add the same light in code).
+- Nesting: `--exterior NAME=SOLID` says material NAME lies inside the solid dielectric SOLID
+  (kousen finds this from the geometry, crates/render/src/nesting.rs): NAME's dielectric and
+  plastic members get ext_ior = SOLID's ior, and its shapes SOLID's absorbing medium as their
+  exterior medium.
 - Camera: the first camera node in the scene's depth-first node order (`--camera I`: the I-th,
   as kousen's `--camera` counts them; `--camera-medium NAME` puts it inside the absorbing
   medium of material NAME, as kousen's own camera would find itself); perspective yfov
@@ -298,22 +302,22 @@ def mitsuba_bsdf(kind, params):
                                              "specular_reflectance": rgb(params["color"])}}
     if kind == "dielectric":
         return {"type": "thindielectric" if params["thin"] else "dielectric",
-                "int_ior": params["ior"], "ext_ior": 1.0,
+                "int_ior": params["ior"], "ext_ior": params.get("ext_ior", 1.0),
                 "specular_reflectance": rgb(params["color"]),
                 "specular_transmittance": rgb(params["color"])}
     if kind == "roughdielectric":
         return {"type": "roughdielectric", "distribution": "ggx", "alpha": params["alpha"],
-                "sample_visible": True, "int_ior": params["ior"], "ext_ior": 1.0,
+                "sample_visible": True, "int_ior": params["ior"], "ext_ior": params.get("ext_ior", 1.0),
                 "specular_reflectance": rgb(params["color"]),
                 "specular_transmittance": rgb(params["color"])}
     if kind == "plastic" and params["alpha"] == 0.0:
         return {"type": "twosided", "bsdf": {"type": "plastic", "int_ior": params["ior"],
-                                             "ext_ior": 1.0, "nonlinear": False,
+                                             "ext_ior": params.get("ext_ior", 1.0), "nonlinear": False,
                                              "diffuse_reflectance": rgb(params["color"])}}
     if kind == "plastic":
         return {"type": "twosided", "bsdf": {"type": "roughplastic", "distribution": "ggx",
                                              "alpha": params["alpha"], "sample_visible": True,
-                                             "int_ior": params["ior"], "ext_ior": 1.0,
+                                             "int_ior": params["ior"], "ext_ior": params.get("ext_ior", 1.0),
                                              "nonlinear": False,
                                              "diffuse_reflectance": rgb(params["color"])}}
     raise ValueError(kind)
@@ -399,8 +403,23 @@ def punctual_lights(doc, extra_points):
     return out
 
 
+def solid_of(doc, name):
+    """The solid dielectric member's params of the material called `name` (its ior, and its
+    absorption where it has one)."""
+    for index in range(len(doc.get("materials", []))):
+        members, _, _, found = material_info(doc, index)
+        if found != name:
+            continue
+        for _, kind, params in members:
+            if kind in ("dielectric", "roughdielectric") and not params["thin"]:
+                return params
+        raise ValueError("material %r is not a solid dielectric" % name)
+    raise ValueError("no material called %r" % name)
+
+
 def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra_points=(),
-                camera=0, camera_medium=None):
+                camera=0, camera_medium=None, exteriors=None):
+    exteriors = exteriors or {}
     world, yfov = nth_camera(doc, camera)
     eye = world[:3, 3]
     forward = -world[:3, 2] / np.linalg.norm(world[:3, 2])
@@ -425,9 +444,24 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
     }
     ntri = 0
     media = {}
+
+    def medium_of(name, params):
+        # Absorption only: a medium that scatters nothing (albedo 0).
+        if name not in media:
+            media[name] = mi.load_dict({
+                "type": "homogeneous", "albedo": 0.0,
+                "sigma_t": {"type": "rgb", "value": params["absorption"]}})
+        return media[name]
+
     for k, (p, n, tri, mat) in enumerate(gather_primitives(doc, buffers)):
         members, emission, double_sided, name = material_info(doc, mat)
         params = next((q for _, _, q in members if "absorption" in q), {})
+        around = None
+        if name in exteriors:
+            # Nested (kousen's render/src/nesting.rs): indices relative to the solid around,
+            # whose medium surrounds this shape.
+            around = solid_of(doc, exteriors[name])
+            members = [(w, kind, dict(q, ext_ior=around["ior"])) for w, kind, q in members]
         emissive = max(emission) > 0.0
         # Winding against the given normals, for the record (Mitsuba shades with the normals).
         fn = np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])
@@ -438,12 +472,9 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
         props = mi.Properties()
         props["bsdf"] = mi.load_dict(mitsuba_blend(members))
         if "absorption" in params:
-            # Absorption only: a medium that scatters nothing (albedo 0) inside the shape.
-            medium = media.get(name) or mi.load_dict({
-                "type": "homogeneous", "albedo": 0.0,
-                "sigma_t": {"type": "rgb", "value": params["absorption"]}})
-            props["interior"] = medium
-            media[name] = medium
+            props["interior"] = medium_of(name, params)
+        if around is not None and "absorption" in around:
+            props["exterior"] = medium_of(exteriors[name], around)
         if emissive:
             if double_sided:
                 raise NotImplementedError("material %r: double-sided emission" % name)
@@ -469,7 +500,8 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
                 for p, kind, q in members),
             (", emits %s (front face)" % [round(e, 6) for e in emission]) if emissive else "")
             + (", absorbs %s per unit" % [round(a, 6) for a in params["absorption"]]
-               if "absorption" in params else ""))
+               if "absorption" in params else "")
+            + (", inside %r (ior %g)" % (exteriors[name], around["ior"]) if around else ""))
     for k, light in enumerate(punctual_lights(doc, extra_points)):
         scene["light_%d" % k] = light
         log("light %d: %s" % (k, light))
@@ -507,6 +539,9 @@ def main():
     ap.add_argument("--camera", type=int, default=0, help="the I-th camera (default 0)")
     ap.add_argument("--camera-medium", default=None,
                     help="the camera sits inside this absorbing material's medium")
+    ap.add_argument("--exterior", action="append", default=[], metavar="NAME=SOLID",
+                    help="material NAME lies inside solid material SOLID (its indices relative "
+                         "to SOLID's, SOLID's medium around it), as kousen finds itself")
     ap.add_argument("--pass-samples", type=int, default=1 << 22,
                     help="most samples (pixels x spp) in one Mitsuba render call")
     args = ap.parse_args()
@@ -522,7 +557,8 @@ def main():
     triple = lambda text: [float(x) for x in text.split(",")]
     extra_points = [(triple(args.point), triple(args.point_intensity))] if args.point else []
     scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log,
-                        extra_points, args.camera, args.camera_medium)
+                        extra_points, args.camera, args.camera_medium,
+                        dict(e.split("=", 1) for e in args.exterior))
 
     pixels = args.width * height
     per_pass = max(1, min(args.spp, args.pass_samples // pixels))

@@ -16,7 +16,7 @@ use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
-use render::medium::{NO_MEDIUM, pack_slot_state, slot_bounced, slot_medium};
+use render::medium::{pack_slot_state, slot_bounced, slot_medium};
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
@@ -193,7 +193,7 @@ pub fn photon_pass_with<R: StreamRng>(
             slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
             slot.direction = next.to_array();
             slot.flux = (flux * tint * (weight / survival)).to_array();
-            let medium = medium_after_bounce(material, root, medium, &hit, next);
+            let medium = medium_after_bounce(scene, material, root, medium, &hit, next);
             slot.state = pack_slot_state(bounced, medium);
         }
         _ => slot.depth = SLOT_IDLE,
@@ -527,7 +527,7 @@ fn eye_path(
                     params,
                     offset_origin(&hit, other, params.epsilon),
                     other,
-                    medium_after_bounce(material, root, medium, &hit, other),
+                    medium_after_bounce(scene, material, root, medium, &hit, other),
                 );
                 let crossing = eye_crossing_scale(material, &hit, other);
                 direct += throughput * (other_share * crossing) * seen;
@@ -535,7 +535,7 @@ fn eye_path(
             }
         }
         throughput *= eye_crossing_scale(material, &hit, next);
-        medium = medium_after_bounce(material, root, medium, &hit, next);
+        medium = medium_after_bounce(scene, material, root, medium, &hit, next);
         origin = offset_origin(&hit, next, params.epsilon);
         direction = next;
     }
@@ -696,7 +696,7 @@ pub fn direct_light(
             return Vec3::ZERO;
         }
         if lit.lobe.refraction_eta > 0.0 {
-            shadow_medium = NO_MEDIUM;
+            shadow_medium = scene.exterior[hit.material as usize];
         }
         hit.position - params.epsilon * hit.geometric
     } else {

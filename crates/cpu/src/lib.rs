@@ -28,7 +28,11 @@ pub struct SceneData {
     /// The same tree four-wide, which the CPU traverses faster (same hits); `None` where the
     /// tree has leaves too large for it, and the kernels trace through `bvh`.
     pub wide: Option<bvh::WideMtbvh>,
+    /// The scene's materials, indices of refraction relative to the solids they lie in
+    /// (`render::nesting::Nesting::materials`).
     pub materials: Vec<Material>,
+    /// Per material, the solid around it (`render::nesting::Nesting::exterior`).
+    pub exterior: Vec<u32>,
     pub textures: TextureArray,
     pub lights: Vec<Light>,
     /// Per material, the density per area with which light sampling lands on it
@@ -40,14 +44,16 @@ pub struct SceneData {
 
 impl SceneData {
     pub fn new(scene: &Scene, bvh: bvh::PackedBvh) -> SceneData {
+        let nesting = render::nesting::Nesting::of(scene);
         SceneData {
             wide: bvh::WideMtbvh::new(&bvh).ok(),
             bvh,
-            materials: scene.materials.clone(),
+            coats: render::plastic::coats_of(&nesting.materials),
+            materials: nesting.materials,
+            exterior: nesting.exterior,
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
             lights: render::emission::light_table(scene),
             light_area_density: render::emission::light_area_density(scene),
-            coats: render::plastic::coats_of(&scene.materials),
         }
     }
 }

@@ -215,6 +215,7 @@ pub fn medium_transmittance(scene: &SceneData, medium: u32, distance: f32) -> Ve
 /// The medium a path in `medium` is in after leaving `hit` along `next`, `material` being the
 /// surface it bounced off (a blend's member) and `root` the hit's own material.
 pub fn medium_after_bounce(
+    scene: &SceneData,
     material: &Material,
     root: u32,
     medium: u32,
@@ -225,6 +226,7 @@ pub fn medium_after_bounce(
     medium_after(
         medium,
         root,
+        scene.exterior[root as usize],
         material.surface.is_solid_dielectric(),
         hit.front,
         crosses,
@@ -279,16 +281,8 @@ pub fn specular_direction(
 /// The eye-path factor [`eye_refraction_scale`] where `next` crosses the surface of a solid
 /// dielectric at `hit` (refracts into or out of it); 1 for every other way on.
 pub fn eye_crossing_scale(material: &Material, hit: &SurfaceHit, next: Vec3) -> f32 {
-    match material.surface {
-        Surface::Dielectric {
-            ior,
-            thin_walled: false,
-        }
-        | Surface::RoughDielectric {
-            ior,
-            thin_walled: false,
-            ..
-        } if next.dot(hit.geometric) < 0.0 => {
+    match material.surface.solid_ior() {
+        Some(ior) if next.dot(hit.geometric) < 0.0 => {
             eye_refraction_scale(relative_eta(ior, hit.front, false))
         }
         _ => 1.0,

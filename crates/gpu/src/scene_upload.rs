@@ -326,17 +326,19 @@ impl GpuScene {
         bvh: &PackedBvh,
         materials: &[Material],
     ) -> Result<GpuScene, GpuError> {
-        GpuScene::upload_lit(context, bvh, materials, &[])
+        GpuScene::upload_lit(context, bvh, materials, &[], &[])
     }
 
     /// [`GpuScene::upload`] with each material's light-sampling density per area
     /// (`render::emission::light_area_density`; missing entries are 0), which the SPPM eye
-    /// pass weighs emitters met after glossy reflections by.
+    /// pass weighs emitters met after glossy reflections by, and the solid around it
+    /// (`render::nesting::Nesting::exterior`; missing entries: none).
     pub fn upload_lit(
         context: &GpuContext,
         bvh: &PackedBvh,
         materials: &[Material],
         light_area_density: &[f32],
+        exterior: &[u32],
     ) -> Result<GpuScene, GpuError> {
         let storage = context.scene_storage;
         check_scene_fits(bvh, materials.len(), &context.limits, storage)?;
@@ -356,6 +358,9 @@ impl GpuScene {
             .collect();
         for (gpu, &density) in gpu_materials.iter_mut().zip(light_area_density) {
             gpu.light_area_density = density;
+        }
+        for (gpu, &around) in gpu_materials.iter_mut().zip(exterior) {
+            gpu.exterior = around;
         }
         for (id, gpu) in gpu_materials.iter_mut().enumerate() {
             gpu.blend_photon_member = render::blend::blend_photon_member(materials, id as u32);

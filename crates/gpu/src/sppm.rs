@@ -272,8 +272,15 @@ impl GpuBackend {
             context.scene_storage = storage;
         }
         let light_area_density = render::emission::light_area_density(scene);
-        let gpu_scene =
-            GpuScene::upload_lit(&context, &bvh, &scene.materials, &light_area_density)?;
+        // Indices of refraction relative to the solids materials lie in (`render::nesting`).
+        let nesting = render::nesting::Nesting::of(scene);
+        let gpu_scene = GpuScene::upload_lit(
+            &context,
+            &bvh,
+            &nesting.materials,
+            &light_area_density,
+            &nesting.exterior,
+        )?;
         let device = &context.device;
         let layout = state_layout(device);
         let texture_layout = textures_layout(device);

@@ -163,7 +163,10 @@ pub struct GpuMaterial {
     /// The member keeping photons that land on this material (`render::blend::
     /// blend_photon_member`; the upload sets it, itself where it was not told).
     pub blend_photon_member: u32,
-    pub pad: u32,
+    /// The solid this material lies in (`render::nesting::Nesting::exterior`), which a path
+    /// leaving it through a back face enters; `render::medium::NO_MEDIUM` for none (the
+    /// upload sets it).
+    pub exterior: u32,
 }
 
 impl GpuMaterial {
@@ -213,7 +216,7 @@ impl GpuMaterial {
             blend_weight: material.blend.map_or(1.0, |b| b.weight),
             blend_other: material.blend.map_or(0, |b| b.other),
             blend_photon_member: 0,
-            pad: 0,
+            exterior: render::medium::NO_MEDIUM,
         }
     }
 }

@@ -324,7 +324,7 @@ fn gpu_types_layout_matches_rust() {
                 "blend_photon_member",
                 offset_of!(GpuMaterial, blend_photon_member),
             ),
-            ("pad", offset_of!(GpuMaterial, pad)),
+            ("exterior", offset_of!(GpuMaterial, exterior)),
         ],
     );
     assert_layout(

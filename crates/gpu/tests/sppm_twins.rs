@@ -674,6 +674,24 @@ fn every_kernel_matches_its_twin_with_the_lamp_and_camera_under_water() {
     every_kernel_matches_its_twin(scene, DirectLight::Photons);
 }
 
+/// The same with a glass marble under the tinted water (`scene::testing::cornell_marble`):
+/// indices relative to the water (`render::nesting`, uploaded as the CPU backend holds them),
+/// and paths leaving the marble in the water again (`GpuMaterial::exterior`).
+#[test]
+fn every_kernel_matches_its_twin_with_a_marble_under_water() {
+    every_kernel_matches_its_twin(scene::testing::cornell_marble(), DirectLight::Sampled);
+}
+
+/// The same with the underwater lamp shining through an invisible marble
+/// (`scene::testing::underwater_lamp_with_marble`), photons carrying its direct light.
+#[test]
+fn every_kernel_matches_its_twin_through_a_marble_around_the_lamp() {
+    every_kernel_matches_its_twin(
+        scene::testing::underwater_lamp_with_marble(),
+        DirectLight::Photons,
+    );
+}
+
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and
 /// back wall, a diffuse sphere and a mirror one: bent shading normals in every kernel, and
 /// the photons' shading-normal weights where they land and bounce.

@@ -17,6 +17,7 @@ pub mod kdtree;
 pub mod light_sampling;
 pub mod medium;
 pub mod microfacet;
+pub mod nesting;
 pub mod normal_map;
 pub mod optics;
 pub mod packing;

@@ -1,13 +1,14 @@
 //! The medium a path travels through, for Beer–Lambert absorption inside solid dielectrics
 //! (glTF's `KHR_materials_volume` attenuation, `scene::Material::absorption`).
 //!
-//! A path is outside every solid until it refracts into one through its front face, and inside
-//! it until it refracts out through a back face: the solid's material id is the path's medium,
-//! and every segment it then travels absorbs, whatever surface ends it. A floor under
-//! coloured water, a sphere inside a glass block: their segments inside end at front faces of
-//! other materials, which the side of the hit alone cannot tell. Reflections, diffuse bounces,
-//! thin sheets and cut-outs leave the medium as it is. Solids do not nest: leaving one puts the
-//! path outside every solid.
+//! A path is in the medium around the scene's surfaces until it refracts into a solid through
+//! its front face, and inside it until it refracts out through a back face, into the solid
+//! around it (`crate::nesting`: a marble in water, whose back face leads back into the water)
+//! or outside every solid: the solid's material id is the path's medium, and every segment it
+//! then travels absorbs, whatever surface ends it. A floor under coloured water, a sphere
+//! inside a glass block: their segments inside end at front faces of other materials, which
+//! the side of the hit alone cannot tell. Reflections, diffuse bounces, thin sheets and
+//! cut-outs leave the medium as it is.
 //!
 //! Paths start in the medium where they start: a camera under water, a lamp inside a glass
 //! block ([`MediumLocator`], once a render for the camera and each light). A segment that
@@ -24,12 +25,20 @@ pub const NO_MEDIUM: u32 = u32::MAX;
 
 /// The medium after a path leaves a surface of material `root` (a blend's root: it carries
 /// the solid's absorption) along a way that `crosses` the surface or not, the surface being a
-/// `solid` dielectric (its member, for blends) met from its `front` or from inside.
-pub fn medium_after(medium: u32, root: u32, solid: bool, front: bool, crosses: bool) -> u32 {
+/// `solid` dielectric (its member, for blends) met from its `front` or from inside, and
+/// `exterior` the solid around `root` (`crate::nesting::Nesting::exterior`, or [`NO_MEDIUM`]).
+pub fn medium_after(
+    medium: u32,
+    root: u32,
+    exterior: u32,
+    solid: bool,
+    front: bool,
+    crosses: bool,
+) -> u32 {
     match (solid && crosses, front) {
         (false, _) => medium,
         (true, true) => root,
-        (true, false) => NO_MEDIUM,
+        (true, false) => exterior,
     }
 }
 
@@ -72,14 +81,18 @@ pub fn slot_medium(state: u32) -> u32 {
     (state >> 1).wrapping_sub(1)
 }
 
-/// Which absorbing solid a point lies in, for the places paths start: a tree over the
-/// triangles of the solids that absorb (no other surface bounds a medium's absorption), and
-/// rays from the point: the point is inside the solid whose surface the first ray that meets
-/// one meets from behind. The rays look up first, tilted four ways, then down: open water (a
+/// Which solid dielectric a point lies in, for the places paths start and for how solids
+/// nest (`crate::nesting`): a tree over the solids' triangles (no other surface bounds a
+/// medium), and rays from the point. A ray walks through the solids it enters (front faces)
+/// until it leaves one it had not entered (a back face): the point lies in that solid, the
+/// innermost one around it; a ray that meets surfaces and leaves the scene finds the point
+/// outside every solid. The rays look up first, tilted four ways, then down: open water (a
 /// pool's surface, closed by the floor and walls) is left through its surface, and a point
-/// near the edge of an open sheet finds it on another side. Empty where no solid absorbs.
+/// near the edge of an open sheet finds it on another side. Empty where no solid is.
 pub struct MediumLocator {
     bvh: Option<bvh::PackedBvh>,
+    /// How far past a surface a walking ray goes on (a millionth of the solids' size).
+    step: f32,
 }
 
 /// The directions [`MediumLocator`] looks in, in order: up, tilted off the axes (so as not to
@@ -95,48 +108,74 @@ const LOCATOR_DIRECTIONS: [Vec3; 8] = [
     Vec3::new(0.122, -0.985, -0.123),
 ];
 
+/// The most surfaces one [`MediumLocator`] ray walks through.
+const LOCATOR_MAX_SURFACES: usize = 64;
+
 impl MediumLocator {
     pub fn new(scene: &Scene) -> MediumLocator {
-        let absorbs: Vec<bool> = scene
+        let solid: Vec<bool> = scene
             .materials
             .iter()
-            .map(|m| m.interior_absorption().max_element() > 0.0)
+            .enumerate()
+            .map(|(id, _)| crate::nesting::is_solid(&scene.materials, id as u32))
             .collect();
         let solids: Vec<Triangle> = scene
             .triangles
             .iter()
-            .filter(|t| absorbs[t.material as usize])
+            .filter(|t| solid[t.material as usize])
             .copied()
             .collect();
         let bvh = (!solids.is_empty())
             .then(|| bvh::PackedBvh::build(&solids, &bvh::BuildOptions::default()));
-        MediumLocator { bvh }
+        MediumLocator {
+            bvh,
+            step: 1e-6 * scene.bounds().extent().length().max(1e-3),
+        }
     }
 
-    /// The medium at `point`: the absorbing solid it lies in, or [`NO_MEDIUM`].
+    /// The medium at `point`: the innermost solid it lies in, or [`NO_MEDIUM`].
     pub fn medium_at(&self, point: Vec3) -> u32 {
         let Some(bvh) = &self.bvh else {
             return NO_MEDIUM;
         };
         for direction in LOCATOR_DIRECTIONS.map(Vec3::normalize) {
+            if let Some(medium) = self.walk(bvh, point, direction) {
+                return medium;
+            }
+        }
+        NO_MEDIUM
+    }
+
+    /// One ray's answer: the first solid it leaves without having entered it, [`NO_MEDIUM`]
+    /// where it meets surfaces and leaves the scene (or meets too many), `None` where it
+    /// meets none.
+    fn walk(&self, bvh: &bvh::PackedBvh, point: Vec3, direction: Vec3) -> Option<u32> {
+        let mut entered: Vec<u32> = Vec::new();
+        let mut origin = point;
+        for surfaces in 0..LOCATOR_MAX_SURFACES {
             let ray = bvh::Ray {
-                origin: point,
+                origin,
                 direction,
                 t_max: f32::INFINITY,
             };
             let Some(hit) = bvh::closest_hit_mtbvh(bvh, &ray) else {
-                continue;
+                return (surfaces > 0).then_some(NO_MEDIUM);
             };
             let triangle = &bvh.triangles[hit.triangle as usize];
             let [a, b, c] = triangle.positions();
-            let from_behind = (b - a).cross(c - a).dot(direction) > 0.0;
-            return if from_behind {
-                triangle.material()
+            let material = triangle.material();
+            if (b - a).cross(c - a).dot(direction) > 0.0 {
+                // Leaving a solid: one this ray entered, or the one around the point.
+                match entered.iter().rposition(|&m| m == material) {
+                    Some(at) => entered.truncate(at),
+                    None => return Some(material),
+                }
             } else {
-                NO_MEDIUM
-            };
+                entered.push(material);
+            }
+            origin = ray.origin + direction * hit.t + direction * self.step;
         }
-        NO_MEDIUM
+        Some(NO_MEDIUM)
     }
 
     /// Where each light's paths start, for [`Light::medium`]: a point or spot light's position,
@@ -165,15 +204,38 @@ mod tests {
     #[test]
     fn crossings_enter_and_leave_solids_and_nothing_else_changes_the_medium() {
         let water = 7;
+        let marble = 8;
         // Into the water through its front face, out through its back face.
-        assert_eq!(medium_after(NO_MEDIUM, water, true, true, true), water);
-        assert_eq!(medium_after(water, water, true, false, true), NO_MEDIUM);
+        assert_eq!(
+            medium_after(NO_MEDIUM, water, NO_MEDIUM, true, true, true),
+            water
+        );
+        assert_eq!(
+            medium_after(water, water, NO_MEDIUM, true, false, true),
+            NO_MEDIUM
+        );
+        // Into a marble in the water and out of it again, into the water.
+        assert_eq!(medium_after(water, marble, water, true, true, true), marble);
+        assert_eq!(
+            medium_after(marble, marble, water, true, false, true),
+            water
+        );
         // Reflections off the water (either side) keep the medium.
-        assert_eq!(medium_after(NO_MEDIUM, water, true, true, false), NO_MEDIUM);
-        assert_eq!(medium_after(water, water, true, false, false), water);
+        assert_eq!(
+            medium_after(NO_MEDIUM, water, NO_MEDIUM, true, true, false),
+            NO_MEDIUM
+        );
+        assert_eq!(
+            medium_after(water, water, NO_MEDIUM, true, false, false),
+            water
+        );
+        assert_eq!(
+            medium_after(marble, marble, water, true, false, false),
+            marble
+        );
         // A thin sheet or an opaque surface under water, crossed or not, keeps it.
         for crosses in [false, true] {
-            assert_eq!(medium_after(water, 3, false, true, crosses), water);
+            assert_eq!(medium_after(water, 3, water, false, true, crosses), water);
         }
     }
 

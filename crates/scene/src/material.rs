@@ -134,16 +134,23 @@ impl Surface {
 
     /// Whether it is a solid (not thin-walled) dielectric, with an inside that absorbs.
     pub fn is_solid_dielectric(self) -> bool {
-        matches!(
-            self,
+        self.solid_ior().is_some()
+    }
+
+    /// A solid (not thin-walled) dielectric's index of refraction, smooth or rough.
+    pub fn solid_ior(self) -> Option<f32> {
+        match self {
             Surface::Dielectric {
+                ior,
                 thin_walled: false,
-                ..
-            } | Surface::RoughDielectric {
-                thin_walled: false,
-                ..
             }
-        )
+            | Surface::RoughDielectric {
+                ior,
+                thin_walled: false,
+                ..
+            } => Some(ior),
+            _ => None,
+        }
     }
 }
 

@@ -326,7 +326,7 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32
             return vec3<f32>(0.0);
         }
         if lit.refraction_eta > 0.0 {
-            shadow_medium = NO_MEDIUM;
+            shadow_medium = materials[hit.material].exterior;
         }
         origin = hit.position - params.epsilon * hit.geometric;
     } else {

@@ -52,5 +52,6 @@ struct GpuMaterial {
     blend_weight: f32,
     blend_other: u32,
     blend_photon_member: u32,
-    pad: u32,
+    // render::nesting::Nesting::exterior.
+    exterior: u32,
 }

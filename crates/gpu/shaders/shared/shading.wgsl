@@ -320,11 +320,11 @@ const NO_MEDIUM: u32 = 0xffffffffu;
 override MEDIA: bool = true;
 
 // render::medium::medium_after.
-fn medium_after(medium: u32, root: u32, solid: bool, front: bool, crosses: bool) -> u32 {
+fn medium_after(medium: u32, root: u32, exterior: u32, solid: bool, front: bool, crosses: bool) -> u32 {
     if !(solid && crosses) {
         return medium;
     }
-    return select(NO_MEDIUM, root, front);
+    return select(exterior, root, front);
 }
 
 // render::medium::segment_medium.
@@ -359,7 +359,8 @@ fn transmittance_to(medium: u32, hit: SurfaceHit) -> vec3<f32> {
 fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: SurfaceHit, next: vec3<f32>) -> u32 {
     let dielectric = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
     let solid = dielectric && (material.flags & MATERIAL_THIN_WALLED) == 0u;
-    return medium_after(medium, root, solid, hit.front, dot(next, hit.geometric) < 0.0);
+    let exterior = materials[root].exterior;
+    return medium_after(medium, root, exterior, solid, hit.front, dot(next, hit.geometric) < 0.0);
 }
 
 // render::medium::pack_slot_state, slot_bounced and slot_medium.

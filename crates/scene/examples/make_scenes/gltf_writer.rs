@@ -36,7 +36,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 10] = [
+pub const SHIPPED: [(&str, Fixture); 11] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -47,6 +47,7 @@ pub const SHIPPED: [(&str, Fixture); 10] = [
     ("cornell-bumpy", scene::testing::cornell_bumpy),
     ("cornell-blended", scene::testing::cornell_blended),
     ("cornell-pool", scene::testing::cornell_pool),
+    ("cornell-marble", scene::testing::cornell_marble),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;

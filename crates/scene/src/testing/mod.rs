@@ -286,7 +286,45 @@ pub const POOL_GRID: u32 = 40;
 /// is the Cornell camera; camera 1 looks from under water, where its paths start.
 pub fn cornell_pool() -> Scene {
     let mut f = Fixture::new("testing::cornell_pool");
-    cornell_room(&mut f);
+    flooded_room(&mut f);
+    f.finish()
+}
+
+/// The glass marble of [`cornell_marble`]: its index, centre and radius (millimetres), and
+/// its amber tint (white light turns this colour after [`MARBLE_ATTENUATION_DISTANCE`]).
+pub const MARBLE_IOR: f32 = 1.5;
+pub const MARBLE_CENTRE: Vec3 = Vec3::new(165.0, 70.0, 230.0);
+pub const MARBLE_RADIUS: f32 = 65.0;
+pub const MARBLE_ATTENUATION: Vec3 = Vec3::new(0.92, 0.62, 0.3);
+pub const MARBLE_ATTENUATION_DISTANCE: f32 = 120.0;
+
+/// [`cornell_pool`] with an amber glass marble of [`MARBLE_IOR`] lying under the water, front
+/// right: solids nested (`render::nesting`). Light crossing from the water into the marble
+/// bends by 1.5 / 1.33 (so it focuses far less than in air) and, leaving it, is in the water
+/// again, which absorbs on. Same two cameras.
+pub fn cornell_marble() -> Scene {
+    let mut f = Fixture::new("testing::cornell_marble");
+    flooded_room(&mut f);
+    let marble = f.builder.add_material(Material {
+        name: "marble".into(),
+        surface: Surface::Dielectric {
+            ior: MARBLE_IOR,
+            thin_walled: false,
+        },
+        base_color: Vec3::ONE,
+        absorption: crate::absorption_from_attenuation(
+            MARBLE_ATTENUATION,
+            MARBLE_ATTENUATION_DISTANCE,
+        ),
+        ..Material::default()
+    });
+    f.sphere(MARBLE_CENTRE, MARBLE_RADIUS, marble, false);
+    f.finish()
+}
+
+/// [`cornell_pool`]'s room, water, ball and cameras.
+fn flooded_room(f: &mut Fixture) {
+    cornell_room(f);
     let water = f.builder.add_material(Material {
         name: "water".into(),
         surface: Surface::Dielectric {
@@ -357,7 +395,6 @@ pub fn cornell_pool() -> Scene {
         Some(1.0),
         "under water",
     );
-    f.finish()
 }
 
 /// The room of [`cornell_caustics`] with normal maps (`Material::normal_texture`): the floor
@@ -699,7 +736,13 @@ fn plane_and_water(f: &mut Fixture, depth: f32, absorption: Vec3) {
 /// exp(−σ·distance to the eye).
 pub fn underwater_lamp() -> Scene {
     let mut f = Fixture::new("testing::underwater_lamp");
-    plane_and_water(&mut f, UNDERWATER_DEPTH, UNDERWATER_ABSORPTION);
+    lamp_in_water(&mut f);
+    f.finish()
+}
+
+/// [`underwater_lamp`]'s plane, water, lamp and camera.
+fn lamp_in_water(f: &mut Fixture) {
+    plane_and_water(f, UNDERWATER_DEPTH, UNDERWATER_ABSORPTION);
     f.builder
         .add_punctual_light(PunctualLight {
             kind: PunctualKind::Point,
@@ -717,8 +760,39 @@ pub fn underwater_lamp() -> Scene {
         None,
         "under water",
     );
+}
+
+/// [`underwater_lamp`] with an invisible marble between the lamp and the plane: a solid
+/// sphere ([`UNDERWATER_MARBLE_CENTRE`], [`UNDERWATER_MARBLE_RADIUS`]) of the water's own
+/// index and absorption, its surface a different material inside the water's, so that the
+/// plane's radiance is [`underwater_lamp`]'s. Light leaving the marble is in the water again
+/// (`render::nesting`): a path that believed itself outside every solid there would cross the
+/// water below the marble unabsorbed.
+pub fn underwater_lamp_with_marble() -> Scene {
+    let mut f = Fixture::new("testing::underwater_lamp_with_marble");
+    lamp_in_water(&mut f);
+    let marble = f.builder.add_material(Material {
+        name: "invisible marble".into(),
+        surface: Surface::Dielectric {
+            ior: 1.0,
+            thin_walled: false,
+        },
+        base_color: Vec3::ONE,
+        absorption: UNDERWATER_ABSORPTION,
+        ..Material::default()
+    });
+    f.sphere(
+        UNDERWATER_MARBLE_CENTRE,
+        UNDERWATER_MARBLE_RADIUS,
+        marble,
+        false,
+    );
     f.finish()
 }
+
+/// [`underwater_lamp_with_marble`]'s marble.
+pub const UNDERWATER_MARBLE_CENTRE: Vec3 = Vec3::new(0.0, 0.3, 0.0);
+pub const UNDERWATER_MARBLE_RADIUS: f32 = 0.12;
 
 /// [`underwater_lamp`]'s water depth, absorption, lamp height and intensity.
 pub const UNDERWATER_DEPTH: f32 = 1.2;

@@ -108,6 +108,30 @@ fn info_counts_blends() {
     assert_eq!(info_json(&shipped("cornell-box.gltf"))["blends"], 0);
 }
 
+/// `kousen info` names the materials that lie inside solids (`render::nesting`), with the
+/// solid, in its JSON and its table: the marble and the half-sunk ball in the pool's water.
+#[test]
+fn info_names_materials_inside_solids() {
+    let scene = shipped("cornell-marble.gltf");
+    let info = info_json(&scene);
+    let pairs: Vec<(String, String)> = info["inside_solids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["material"].to_string(), p["solid"].to_string()))
+        .collect();
+    let pair = |a: &str, b: &str| (format!("\"{a}\""), format!("\"{b}\""));
+    assert_eq!(pairs, [pair("blue", "water"), pair("marble", "water")]);
+    let table = kousen(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        text.contains("inside solids        blue in water, marble in water"),
+        "{text}"
+    );
+    let caustics = info_json(&shipped("cornell-caustics.gltf"));
+    assert_eq!(caustics["inside_solids"].as_array().unwrap().len(), 0);
+}
+
 /// `kousen info` counts the materials with normal maps, in its JSON and its table.
 #[test]
 fn info_counts_normal_mapped_materials() {

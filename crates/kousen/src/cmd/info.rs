@@ -21,6 +21,9 @@ struct Info {
     /// Blends (`scene::Blend`: glTF's partial metallic or transmission factors), each a
     /// chain of member materials counted among `materials`.
     blends: usize,
+    /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
+    /// their indices of refraction count against its.
+    inside_solids: Vec<InsideSolid>,
     textures: usize,
     cameras: usize,
     emissive_triangles: usize,
@@ -33,6 +36,25 @@ struct Info {
     bvh: BvhInfo,
     memory: MemoryInfo,
     warnings: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct InsideSolid {
+    material: String,
+    solid: String,
+}
+
+/// The materials `render::nesting` finds inside solids, by name.
+fn inside_solids(scene: &scene::Scene) -> Vec<InsideSolid> {
+    let nesting = render::nesting::Nesting::of(scene);
+    let name = |id: usize| scene.materials[id].name.clone();
+    (nesting.exterior.iter().enumerate())
+        .filter(|(_, around)| **around != render::medium::NO_MEDIUM)
+        .map(|(id, &around)| InsideSolid {
+            material: name(id),
+            solid: name(around as usize),
+        })
+        .collect()
 }
 
 #[derive(Serialize)]
@@ -237,6 +259,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             .filter(|m| m.normal_texture.is_some())
             .count(),
         blends: blend_count(&scene.materials),
+        inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
         emissive_triangles: scene.lights.triangles.len(),
@@ -353,6 +376,17 @@ fn print_table(info: &Info) {
                 "{} (their member surfaces among the materials)",
                 info.blends
             ),
+        ),
+        (
+            "inside solids",
+            if info.inside_solids.is_empty() {
+                "none".to_string()
+            } else {
+                let pairs: Vec<String> = (info.inside_solids.iter())
+                    .map(|n| format!("{} in {}", n.material, n.solid))
+                    .collect();
+                pairs.join(", ")
+            },
         ),
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),

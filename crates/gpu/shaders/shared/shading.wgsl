@@ -359,8 +359,13 @@ fn transmittance_to(medium: u32, hit: SurfaceHit) -> vec3<f32> {
 fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: SurfaceHit, next: vec3<f32>) -> u32 {
     let dielectric = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
     let solid = dielectric && (material.flags & MATERIAL_THIN_WALLED) == 0u;
-    let exterior = materials[root].exterior;
-    return medium_after(medium, root, exterior, solid, hit.front, dot(next, hit.geometric) < 0.0);
+    let crosses = dot(next, hit.geometric) < 0.0;
+    // The solid around, read only where the path leaves one.
+    var exterior = NO_MEDIUM;
+    if solid && crosses && !hit.front {
+        exterior = materials[root].exterior;
+    }
+    return medium_after(medium, root, exterior, solid, hit.front, crosses);
 }
 
 // render::medium::pack_slot_state, slot_bounced and slot_medium.

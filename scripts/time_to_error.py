@@ -66,6 +66,9 @@ def main():
     ap.add_argument("--config", action="append", required=True,
                     help="NAME=kousen render arguments (may be given several times)")
     ap.add_argument("--seed", type=int, default=7, help="Mitsuba's seed")
+    ap.add_argument("--mitsuba-args", default="",
+                    help="more arguments for mitsuba_reference.py (e.g. \"--exterior "
+                         "marble=water\")")
     ap.add_argument("--seeds", default="7",
                     help="kousen's seeds: each budget is rendered once per seed and its error is "
                          "the mean over them (one seed's error moves ~15 %% between seeds)")
@@ -80,7 +83,8 @@ def main():
             out = os.path.join(tmp, "mitsuba-%d.exr" % spp)
             run = subprocess.run(
                 [sys.executable, os.path.join(here, "mitsuba_reference.py"), args.scene, out,
-                 "--width", str(args.width), "--spp", str(spp), "--seed", str(args.seed)],
+                 "--width", str(args.width), "--spp", str(spp), "--seed", str(args.seed)]
+                + shlex.split(args.mitsuba_args),
                 check=True, capture_output=True, text=True)
             # The script's own render loop time (scene loading and the first JIT included).
             seconds = float(re.findall(r"spp in \d+ passes, ([0-9.]+) s", run.stderr)[-1])

@@ -12,6 +12,7 @@ use render::buffers::{
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
+use render::dispersion::draws_channel;
 use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
@@ -28,9 +29,10 @@ use scene::Surface;
 
 use crate::SceneData;
 use crate::surface::{
-    PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce, emitted,
-    eye_crossing_scale, is_cut_out, medium_after_bounce, medium_transmittance, offset_origin,
-    plastic_bounce, shadow_ray_origin, specular_direction, trace, transmittance_to, unoccluded,
+    PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce, dispersed_surface,
+    emitted, eye_crossing_scale, is_cut_out, medium_after_bounce, medium_transmittance,
+    offset_origin, plastic_bounce, shadow_ray_origin, specular_direction, trace, transmittance_to,
+    unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -128,6 +130,13 @@ pub fn photon_pass_with<R: StreamRng>(
     } else {
         0.0
     };
+    // Dispersive glass keeps one colour channel of a path that carries more, chosen with one
+    // more number (`render::dispersion`); other surfaces draw none.
+    let u_channel = if draws_channel(material.dispersion, flux) {
+        rng.next_f32()
+    } else {
+        0.0
+    };
     // Photons are weighted where the shading normal is not the geometric one (interpolated or
     // normal-mapped): by `arrival` where they land, and by it and the departure factor where
     // they go on (`render::normal_map`).
@@ -176,8 +185,9 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         _ => {
             let [u0, u1] = u_direction;
-            let next = specular_direction(material, &hit, direction, [u0, u1, u_choice]);
-            (next, tint)
+            let (surface, channel) = dispersed_surface(material, flux, u_channel);
+            let next = specular_direction(surface, &hit, direction, [u0, u1, u_choice]);
+            (next, tint * channel)
         }
     };
     let next = next.map(|(next, weight)| {
@@ -388,6 +398,8 @@ fn eye_path(
         // frosted glass's reflection)
         // always, the Lambertian one where the path ends on it (below).
         let mut lit = LitLobes::default();
+        // The surface the path meets: dispersive glass's, for one colour channel.
+        let mut surface = material.surface;
         let bounce = match material.surface {
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
@@ -456,7 +468,17 @@ fn eye_path(
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
-                let next = specular_direction(material, &hit, direction, [u, u_second, u_third]);
+                // Dispersive glass keeps one colour channel (`render::dispersion`), with one
+                // more number where the path carries more than one.
+                let u_channel = if draws_channel(material.dispersion, throughput) {
+                    rng.next_f32()
+                } else {
+                    0.0
+                };
+                let channel;
+                (surface, channel) = dispersed_surface(material, throughput, u_channel);
+                throughput *= channel;
+                let next = specular_direction(surface, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
                 specular_first |= depth == 0;
@@ -510,7 +532,7 @@ fn eye_path(
         // otherwise seen by a few eye paths in twenty. Only at the first glass surface of the
         // path: deeper ones (inside a glass sphere) add little and cost most (lavapipe's eye
         // pass on cornell-caustics: +7 % probing at the first, +23 % at every one).
-        if let Surface::Dielectric { ior, thin_walled } = material.surface
+        if let Surface::Dielectric { ior, thin_walled } = surface
             && !met_glass
             && depth < params.max_depth
         {
@@ -529,12 +551,12 @@ fn eye_path(
                     other,
                     medium_after_bounce(scene, material, root, medium, &hit, other),
                 );
-                let crossing = eye_crossing_scale(material, &hit, other);
+                let crossing = eye_crossing_scale(surface, &hit, other);
                 direct += throughput * (other_share * crossing) * seen;
                 emission_share = 1.0 - other_share;
             }
         }
-        throughput *= eye_crossing_scale(material, &hit, next);
+        throughput *= eye_crossing_scale(surface, &hit, next);
         medium = medium_after_bounce(scene, material, root, medium, &hit, next);
         origin = offset_origin(&hit, next, params.epsilon);
         direction = next;

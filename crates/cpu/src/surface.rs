@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
+use render::dispersion::{channel_ior, dispersed_channel};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
@@ -240,13 +241,13 @@ pub fn medium_after_bounce(
 /// [`plastic_bounce`] decides), or where a micro-normal sends the path to the wrong side of the
 /// surface (it ends).
 pub fn specular_direction(
-    material: &Material,
+    surface: Surface,
     hit: &SurfaceHit,
     incoming: Vec3,
     u: [f32; 3],
 ) -> Option<(Vec3, f32)> {
     let normal = hit.shading;
-    let direction = match material.surface {
+    let direction = match surface {
         Surface::Diffuse | Surface::Plastic { .. } => return None,
         Surface::RoughConductor { alpha } => {
             let (next, weight) = rough_reflection(incoming, normal, alpha, u[0], u[1])?;
@@ -278,14 +279,33 @@ pub fn specular_direction(
     Some((direction, 1.0))
 }
 
-/// The eye-path factor [`eye_refraction_scale`] where `next` crosses the surface of a solid
+/// The eye-path factor [`eye_refraction_scale`] where `next` crosses the `surface` of a solid
 /// dielectric at `hit` (refracts into or out of it); 1 for every other way on.
-pub fn eye_crossing_scale(material: &Material, hit: &SurfaceHit, next: Vec3) -> f32 {
-    match material.surface.solid_ior() {
+pub fn eye_crossing_scale(surface: Surface, hit: &SurfaceHit, next: Vec3) -> f32 {
+    match surface.solid_ior() {
         Some(ior) if next.dot(hit.geometric) < 0.0 => {
             eye_refraction_scale(relative_eta(ior, hit.front, false))
         }
         _ => 1.0,
+    }
+}
+
+/// The surface a path of `throughput` meets at `material` and the weight its throughput
+/// takes: dispersive glass refracts with the index of one channel (`render::dispersion`,
+/// chosen with `u` where `draws_channel` says so); every other surface is itself, weight 1.
+pub fn dispersed_surface(material: &Material, throughput: Vec3, u: f32) -> (Surface, Vec3) {
+    match (
+        material.surface,
+        dispersed_channel(material.dispersion, throughput, u),
+    ) {
+        (Surface::Dielectric { ior, thin_walled }, Some((channel, weight))) => (
+            Surface::Dielectric {
+                ior: channel_ior(ior, material.dispersion, channel),
+                thin_walled,
+            },
+            weight,
+        ),
+        (surface, _) => (surface, Vec3::ONE),
     }
 }
 

@@ -128,6 +128,8 @@ pub(crate) struct SceneFeatures {
     pub blends: bool,
     /// Some solid absorbs inside (`MEDIA`).
     pub media: bool,
+    /// Some glass disperses (`DISPERSION`).
+    pub dispersion: bool,
 }
 
 impl SceneFeatures {
@@ -141,10 +143,11 @@ impl SceneFeatures {
             frosted_glass: any(|m| matches!(m.surface, scene::Surface::RoughDielectric { .. })),
             blends: any(|m| m.blend.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
+            dispersion: any(|m| m.dispersion > 0.0),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 5] {
+    fn constants(self) -> [(&'static str, f64); 6] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -152,6 +155,7 @@ impl SceneFeatures {
             ("FROSTED_GLASS", flag(self.frosted_glass)),
             ("BLENDS", flag(self.blends)),
             ("MEDIA", flag(self.media)),
+            ("DISPERSION", flag(self.dispersion)),
         ]
     }
 }

@@ -122,7 +122,7 @@ pub const NO_TEXTURE: u32 = u32::MAX;
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 
-/// One material (160 bytes).
+/// One material (176 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -167,6 +167,9 @@ pub struct GpuMaterial {
     /// leaving it through a back face enters; `render::medium::NO_MEDIUM` for none (the
     /// upload sets it).
     pub exterior: u32,
+    /// Smooth solid glass's dispersion (`scene::Material::dispersion`; 0: none).
+    pub dispersion: f32,
+    pub pad: [u32; 3],
 }
 
 impl GpuMaterial {
@@ -217,6 +220,8 @@ impl GpuMaterial {
             blend_other: material.blend.map_or(0, |b| b.other),
             blend_photon_member: 0,
             exterior: render::medium::NO_MEDIUM,
+            dispersion: material.dispersion,
+            pad: [0; 3],
         }
     }
 }

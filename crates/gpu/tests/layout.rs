@@ -325,6 +325,10 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, blend_photon_member),
             ),
             ("exterior", offset_of!(GpuMaterial, exterior)),
+            ("dispersion", offset_of!(GpuMaterial, dispersion)),
+            ("pad1", offset_of!(GpuMaterial, pad)),
+            ("pad2", offset_of!(GpuMaterial, pad) + 4),
+            ("pad3", offset_of!(GpuMaterial, pad) + 8),
         ],
     );
     assert_layout(

@@ -692,6 +692,15 @@ fn every_kernel_matches_its_twin_through_a_marble_around_the_lamp() {
     );
 }
 
+/// The same through dispersive glass (`scene::testing::cornell_dispersion`: the spot light's
+/// caustic through flint): paths carrying more than one colour channel keep one at the glass,
+/// drawn with one more number, and refract with its index (`render::dispersion`, WGSL
+/// `dispersed_material`); photons and eye paths alike.
+#[test]
+fn every_kernel_matches_its_twin_through_dispersive_glass() {
+    every_kernel_matches_its_twin(scene::testing::cornell_dispersion(), DirectLight::Sampled);
+}
+
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and
 /// back wall, a diffuse sphere and a mirror one: bent shading normals in every kernel, and
 /// the photons' shading-normal weights where they land and bounce.

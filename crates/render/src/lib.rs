@@ -7,6 +7,7 @@ pub mod blend;
 pub mod buffers;
 pub mod density;
 pub mod direct;
+pub mod dispersion;
 pub mod emission;
 pub mod framing;
 pub mod half_storage;

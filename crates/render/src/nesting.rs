@@ -129,6 +129,7 @@ fn relative_to(material: &Material, outside: f32) -> Material {
         match &mut material.surface {
             Surface::Dielectric { ior, .. } | Surface::RoughDielectric { ior, .. } => {
                 *ior /= outside;
+                material.dispersion /= outside;
             }
             Surface::Plastic { ior, .. } => *ior = (*ior / outside).max(1.0),
             Surface::Diffuse | Surface::Mirror | Surface::RoughConductor { .. } => {}

@@ -27,6 +27,7 @@ pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{
     AlphaMode, Blend, MAX_BLEND_MEMBERS, Material, Surface, absorption_from_attenuation,
+    dispersion_from_abbe,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use textures::{Texels, Texture, TextureId};

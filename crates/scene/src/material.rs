@@ -70,6 +70,20 @@ pub struct Material {
     pub normal_scale: f32,
     /// Where the material is a mixture of surfaces ([`Blend`]); `None` for one surface.
     pub blend: Option<Blend>,
+    /// A smooth solid dielectric's dispersion: its index at wavelength λ (nanometres) is
+    /// `ior + dispersion · (523655 / λ² − 1.5168)`, the Cauchy form glTF's
+    /// `KHR_materials_dispersion` gives, whose `dispersion` is 20 / V for Abbe number V, so this
+    /// is (ior − 1) / V ([`dispersion_from_abbe`]). Zero: none.
+    pub dispersion: f32,
+}
+
+/// [`Material::dispersion`] of glass of index `ior` and Abbe number `abbe` (infinite: none).
+pub fn dispersion_from_abbe(ior: f32, abbe: f32) -> f32 {
+    if abbe.is_finite() && abbe > 0.0 {
+        (ior - 1.0) / abbe
+    } else {
+        0.0
+    }
 }
 
 /// A material that is one of several surfaces, chosen at random at each hit (glTF's
@@ -121,6 +135,7 @@ impl Default for Material {
             normal_texture: None,
             normal_scale: 1.0,
             blend: None,
+            dispersion: 0.0,
         }
     }
 }

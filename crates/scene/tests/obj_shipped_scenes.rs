@@ -98,6 +98,12 @@ fn gltf_writer_extensions(document: &gltf::Gltf) -> Vec<String> {
         if material.volume().is_some() {
             names.push("KHR_materials_volume".to_string());
         }
+        if material
+            .extension_value("KHR_materials_dispersion")
+            .is_some()
+        {
+            names.push("KHR_materials_dispersion".to_string());
+        }
     }
     names
 }
@@ -165,6 +171,12 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             y.absorption
         );
         assert_eq!(x.normal_scale, y.normal_scale, "{stem}: normal scale");
+        assert!(
+            (x.dispersion - y.dispersion).abs() <= 1e-6 * y.dispersion,
+            "{stem}: dispersion {} vs {}",
+            x.dispersion,
+            y.dispersion
+        );
         match (x.blend, y.blend) {
             (Some(a), Some(b)) => assert!(
                 a.other == b.other && (a.weight - b.weight).abs() < 1e-6,

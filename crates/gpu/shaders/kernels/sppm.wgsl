@@ -453,6 +453,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if material.surface == SURFACE_ROUGH_DIELECTRIC || material.surface == SURFACE_PLASTIC {
         u_choice = next_f32(&rng);
     }
+    // cpu::kernels: dispersive glass keeps one colour channel, chosen with one more number.
+    var u_channel = 0.0;
+    if draws_channel(material.dispersion, flux) {
+        u_channel = next_f32(&rng);
+    }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
     var tint = surface_tint;
@@ -496,9 +501,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             tint = vec3<f32>(1.0);
         }
     } else {
-        let bounce = specular_direction(material, hit, direction, u_direction0, u_direction1, u_choice);
+        let dispersed = dispersed_material(material, flux, u_channel);
+        let bounce = specular_direction(dispersed.material, hit, direction, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
         weight = bounce.weight;
+        tint = surface_tint * dispersed.weight;
     }
     weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric));
     let survival = min(max3(tint), 1.0);
@@ -734,6 +741,14 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
                 lit.alpha = material.roughness_alpha;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
+            // cpu::kernels: dispersive glass keeps one colour channel (its index from here on).
+            var u_channel = 0.0;
+            if draws_channel(material.dispersion, throughput) {
+                u_channel = next_f32(rng);
+            }
+            let dispersed = dispersed_material(material, throughput, u_channel);
+            material = dispersed.material;
+            throughput *= dispersed.weight;
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }
         if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {

@@ -54,4 +54,9 @@ struct GpuMaterial {
     blend_photon_member: u32,
     // render::nesting::Nesting::exterior.
     exterior: u32,
+    // scene::Material::dispersion (render::dispersion).
+    dispersion: f32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }

@@ -381,6 +381,59 @@ fn slot_medium(state: u32) -> u32 {
     return (state >> 1u) - 1u;
 }
 
+// ---- render::dispersion ----
+// Whether some glass disperses; compiled out as MEDIA is.
+override DISPERSION: bool = true;
+
+// The one channel `throughput` carries, else 3 (render::dispersion's single_channel).
+fn single_channel(throughput: vec3<f32>) -> u32 {
+    let bits = select(vec3<u32>(0u), vec3<u32>(1u, 2u, 4u), throughput > vec3<f32>(0.0));
+    switch bits.x | bits.y | bits.z {
+        case 1u: {
+            return 0u;
+        }
+        case 2u: {
+            return 1u;
+        }
+        case 4u: {
+            return 2u;
+        }
+        default: {
+            return 3u;
+        }
+    }
+}
+
+// render::dispersion::draws_channel.
+fn draws_channel(dispersion: f32, throughput: vec3<f32>) -> bool {
+    return DISPERSION && dispersion > 0.0 && single_channel(throughput) == 3u;
+}
+
+struct Dispersed {
+    material: GpuMaterial,
+    weight: vec3<f32>,
+}
+
+// cpu::surface::dispersed_surface: smooth glass of one channel's index (render::dispersion's
+// dispersed_channel and channel_ior), and the weight the throughput takes.
+fn dispersed_material(material: GpuMaterial, throughput: vec3<f32>, u: f32) -> Dispersed {
+    var out = Dispersed(material, vec3<f32>(1.0));
+    if !DISPERSION || material.dispersion <= 0.0 || material.surface != SURFACE_DIELECTRIC {
+        return out;
+    }
+    var channel = single_channel(throughput);
+    if channel == 3u {
+        channel = min(u32(u * 3.0), 2u);
+        out.weight = vec3<f32>(0.0);
+        out.weight[channel] = 3.0;
+    }
+    // render::dispersion::CHANNEL_WAVELENGTHS.
+    var wavelengths = array<f32, 3>(611.3, 549.1, 464.3);
+    let lambda = wavelengths[channel];
+    out.material.ior = material.ior + material.dispersion * (523655.0 / (lambda * lambda) - 1.5168);
+    return out;
+}
+
 // ---- render::microfacet ----
 fn sample_visible_normal(view: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
     let stretched = normalize(vec3<f32>(alpha * view.x, alpha * view.y, view.z));

@@ -9,7 +9,8 @@
 //! - a blend (`scene::Blend`) → metallic the metal members' probability, transmission the glass
 //!   member's share of the rest, the one roughness of its rough members;
 //! - dielectric → `KHR_materials_transmission` 1 and `KHR_materials_ior`, with
-//!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid;
+//!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid, and
+//!   `KHR_materials_dispersion` where it disperses;
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -36,7 +37,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 11] = [
+pub const SHIPPED: [(&str, Fixture); 12] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -48,6 +49,7 @@ pub const SHIPPED: [(&str, Fixture); 11] = [
     ("cornell-blended", scene::testing::cornell_blended),
     ("cornell-pool", scene::testing::cornell_pool),
     ("cornell-marble", scene::testing::cornell_marble),
+    ("cornell-dispersion", scene::testing::cornell_dispersion),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -367,6 +369,14 @@ impl Document {
                     volume["attenuationColor"] = numbers(&color.to_array());
                 }
                 extensions.insert("KHR_materials_volume".into(), volume);
+                if m.dispersion > 0.0 {
+                    // The extension's 20 / V, V the Abbe number (ior − 1) / dispersion.
+                    let strength = 20.0 * m.dispersion / (ior - 1.0);
+                    extensions.insert(
+                        "KHR_materials_dispersion".into(),
+                        json!({ "dispersion": number(strength) }),
+                    );
+                }
             }
         }
         let coat_ior = members.iter().find_map(|(_, s)| match s {
@@ -437,6 +447,7 @@ fn blend_members(materials: &[Material], id: u32) -> Vec<(f32, Surface)> {
 
 fn known_extension(name: &str) -> &'static str {
     [
+        "KHR_materials_dispersion",
         "KHR_materials_emissive_strength",
         "KHR_materials_ior",
         "KHR_materials_transmission",

@@ -28,9 +28,12 @@
 //!
 //! - a solid dielectric's `KHR_materials_volume` attenuation (colour after distance) →
 //!   Beer–Lambert absorption inside it, along every segment of a path that entered it
-//!   (`render::medium`): what lies inside (a floor under water) is seen through it. Solids do
-//!   not nest (a path leaving one is outside every solid), and touching solids (a liquid in a
-//!   glass) have no interface of their own.
+//!   (`render::medium`): what lies inside (a floor under water) is seen through it. Solids
+//!   nest (`render::nesting` finds which lies in which), but touching solids (a liquid filling
+//!   a glass exactly) have no interface of their own.
+//! - `KHR_materials_dispersion` on smooth solid glass (not blended) → `Material::dispersion`,
+//!   the Cauchy form the extension gives (`render::dispersion`); elsewhere warned about and
+//!   ignored.
 //!
 //! - `KHR_texture_transform` on the base colour texture (else the emissive one) → applied to
 //!   the texture coordinates of the material's primitives (one transform a material: kousen's
@@ -153,6 +156,7 @@ impl Materials {
         let metallic = check.unit(pbr.metallic_factor.0, "metallicFactor")?;
         let roughness = check.unit(pbr.roughness_factor.0, "roughnessFactor")?;
         let members = surface_members(&check, m, metallic, roughness)?;
+        let dispersion = dispersion(&check, m, &members, builder)?;
         let absorption = absorption(&check, m, &members)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
@@ -200,6 +204,7 @@ impl Materials {
             normal_texture,
             normal_scale: m.normal_texture.as_ref().map_or(1.0, |n| n.scale),
             blend: None,
+            dispersion,
         };
         Ok((material, members))
     }
@@ -472,6 +477,54 @@ fn surface_members(
 fn has_specular_layer(m: &json::Material) -> bool {
     let specular = m.extensions.as_ref().and_then(|e| e.specular.as_ref());
     specular.is_none_or(|s| s.specular_factor.0 > 0.0)
+}
+
+/// `KHR_materials_dispersion` as [`Material::dispersion`]: (ior − 1) / V with the Abbe
+/// number V = 20 / the extension's `dispersion`, on smooth solid glass of one surface (a
+/// warning and none elsewhere).
+fn dispersion(
+    check: &Check,
+    m: &json::Material,
+    members: &[(f32, Surface)],
+    builder: &mut SceneBuilder,
+) -> Result<f32, SceneError> {
+    let Some(value) = m
+        .extensions
+        .as_ref()
+        .and_then(|e| e.others.get("KHR_materials_dispersion"))
+    else {
+        return Ok(0.0);
+    };
+    let strength = value
+        .get("dispersion")
+        .and_then(|d| d.as_f64())
+        .unwrap_or(0.0) as f32;
+    if !strength.is_finite() || strength < 0.0 {
+        return Err(check.error(format!(
+            "KHR_materials_dispersion's dispersion {strength} is not a finite number from 0"
+        )));
+    }
+    if strength == 0.0 {
+        return Ok(0.0);
+    }
+    match members {
+        [
+            (
+                _,
+                Surface::Dielectric {
+                    ior,
+                    thin_walled: false,
+                },
+            ),
+        ] => Ok(crate::dispersion_from_abbe(*ior, 20.0 / strength)),
+        _ => {
+            builder.warn(format!(
+                "{}: KHR_materials_dispersion is rendered on smooth solid glass only; ignored",
+                check.label
+            ));
+            Ok(0.0)
+        }
+    }
 }
 
 /// A solid dielectric's absorption from `KHR_materials_volume`'s attenuation colour (each in

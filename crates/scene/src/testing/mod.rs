@@ -614,6 +614,55 @@ pub fn furnace_sphere() -> Scene {
     f.finish()
 }
 
+/// Dense flint glass, strongly dispersive: its index (at the d line, 587.6 nm) and Abbe number.
+pub const FLINT_IOR: f32 = 1.75;
+pub const FLINT_ABBE: f32 = 25.0;
+
+/// [`furnace_sphere`] with a ball of dispersive flint glass ([`FLINT_IOR`], [`FLINT_ABBE`])
+/// in view, radius 0.3 and half a unit ahead of the camera: lossless, so in the furnace it is
+/// invisible, each colour channel refracting its own way through it.
+pub fn furnace_with_dispersive_glass() -> Scene {
+    let mut f = Fixture::new("testing::furnace_with_dispersive_glass");
+    let inside = f.builder.add_material(Material {
+        name: "furnace".into(),
+        base_color: Vec3::splat(FURNACE_ALBEDO),
+        emission: Vec3::splat(FURNACE_EMISSION),
+        ..Material::default()
+    });
+    let flint = f.builder.add_material(Material {
+        name: "flint glass".into(),
+        surface: Surface::Dielectric {
+            ior: FLINT_IOR,
+            thin_walled: false,
+        },
+        base_color: Vec3::ONE,
+        dispersion: crate::dispersion_from_abbe(FLINT_IOR, FLINT_ABBE),
+        ..Material::default()
+    });
+    f.sphere(Vec3::ZERO, 1.0, inside, true);
+    f.sphere(Vec3::new(0.0, 0.0, -0.5), 0.3, flint, false);
+    f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
+    f.finish()
+}
+
+/// [`cornell_spot`] with its glass sphere of dispersive flint ([`FLINT_IOR`], [`FLINT_ABBE`]):
+/// the spot's caustic splits by colour, blue focused nearest the sphere.
+pub fn cornell_dispersion() -> Scene {
+    let mut scene = cornell_spot();
+    let glass = scene
+        .materials
+        .iter_mut()
+        .find(|m| m.name == "glass")
+        .expect("cornell_caustics has glass");
+    glass.name = "flint glass".into();
+    glass.surface = Surface::Dielectric {
+        ior: FLINT_IOR,
+        thin_walled: false,
+    };
+    glass.dispersion = crate::dispersion_from_abbe(FLINT_IOR, FLINT_ABBE);
+    scene
+}
+
 /// [`furnace_sphere`] whose inside is a blend (`Material::blend`) of a mirror and a diffuse
 /// surface of different reflectances ([`FURNACE_BLEND_MIRROR_WEIGHT`] and the constants after
 /// it), both emitting [`FURNACE_EMISSION`]: every pixel's radiance is [`FURNACE_RADIANCE`].

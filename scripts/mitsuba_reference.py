@@ -217,6 +217,9 @@ def material_info(doc, index):
             raise NotImplementedError("material %r: textures are not supported" % m.get("name"))
     if "emissiveTexture" in m:
         raise NotImplementedError("material %r: textures are not supported" % m.get("name"))
+    if "KHR_materials_dispersion" in m.get("extensions", {}):
+        raise NotImplementedError("material %r: KHR_materials_dispersion (Mitsuba's RGB variants "
+                                  "have no dispersion)" % m.get("name"))
     if m.get("alphaMode", "OPAQUE") != "OPAQUE":
         raise NotImplementedError("material %r: alphaMode is not supported" % m.get("name"))
     base = [float(c) for c in pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])[:3]]

@@ -12,7 +12,6 @@ use render::buffers::{
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
-use render::dispersion::draws_channel;
 use render::emission::sample_emission;
 use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
 use render::integrator::camera_direction;
@@ -132,11 +131,7 @@ pub fn photon_pass_with<R: StreamRng>(
     };
     // Dispersive glass keeps one colour channel of a path that carries more, chosen with one
     // more number (`render::dispersion`); other surfaces draw none.
-    let u_channel = if draws_channel(material.dispersion, flux) {
-        rng.next_f32()
-    } else {
-        0.0
-    };
+    let (dispersed, channel) = dispersed_surface(material, flux, || rng.next_f32());
     // Photons are weighted where the shading normal is not the geometric one (interpolated or
     // normal-mapped): by `arrival` where they land, and by it and the departure factor where
     // they go on (`render::normal_map`).
@@ -185,8 +180,7 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         _ => {
             let [u0, u1] = u_direction;
-            let (surface, channel) = dispersed_surface(material, flux, u_channel);
-            let next = specular_direction(surface, &hit, direction, [u0, u1, u_choice]);
+            let next = specular_direction(dispersed, &hit, direction, [u0, u1, u_choice]);
             (next, tint * channel)
         }
     };
@@ -470,13 +464,8 @@ fn eye_path(
                 }
                 // Dispersive glass keeps one colour channel (`render::dispersion`), with one
                 // more number where the path carries more than one.
-                let u_channel = if draws_channel(material.dispersion, throughput) {
-                    rng.next_f32()
-                } else {
-                    0.0
-                };
                 let channel;
-                (surface, channel) = dispersed_surface(material, throughput, u_channel);
+                (surface, channel) = dispersed_surface(material, throughput, || rng.next_f32());
                 throughput *= channel;
                 let next = specular_direction(surface, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
-use render::dispersion::{channel_ior, dispersed_channel};
+use render::dispersion::{channel_ior, dispersed_channel, draws_channel};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
@@ -292,8 +292,18 @@ pub fn eye_crossing_scale(surface: Surface, hit: &SurfaceHit, next: Vec3) -> f32
 
 /// The surface a path of `throughput` meets at `material` and the weight its throughput
 /// takes: dispersive glass refracts with the index of one channel (`render::dispersion`,
-/// chosen with `u` where `draws_channel` says so); every other surface is itself, weight 1.
-pub fn dispersed_surface(material: &Material, throughput: Vec3, u: f32) -> (Surface, Vec3) {
+/// chosen with a number from `draw`, called only where `draws_channel` says so, so that other
+/// surfaces leave the random stream as it was); every other surface is itself, weight 1.
+pub fn dispersed_surface(
+    material: &Material,
+    throughput: Vec3,
+    draw: impl FnOnce() -> f32,
+) -> (Surface, Vec3) {
+    let u = if draws_channel(material.dispersion, throughput) {
+        draw()
+    } else {
+        0.0
+    };
     match (
         material.surface,
         dispersed_channel(material.dispersion, throughput, u),

@@ -347,13 +347,8 @@ impl<'a> PathTracer<'a> {
                 radiance += throughput * light;
             }
             // Dispersive glass keeps one colour channel (`render::dispersion`).
-            let u_channel = if render::dispersion::draws_channel(material.dispersion, throughput) {
-                rng.next_f32()
-            } else {
-                0.0
-            };
             let (surface, channel) =
-                cpu::surface::dispersed_surface(material, throughput, u_channel);
+                cpu::surface::dispersed_surface(material, throughput, || rng.next_f32());
             throughput *= channel;
             let scattered = self.scatter(material, surface, &point, direction, front, rng);
             let Some((next, weight, lobe)) = scattered else {

@@ -6,7 +6,7 @@ use std::f32::consts::FRAC_1_PI;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use glam::Vec3;
-use render::blend::{blend_member, blend_photon_member};
+use render::blend::{blend_member, blend_photon_member, mapped_material, mapped_surface};
 use render::buffers::{
     HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, RAY_T_MAX, SAMPLE_AT_GLOSSY,
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
@@ -24,7 +24,7 @@ use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
 use render::shadow_terminator::is_lifted;
-use scene::Surface;
+use scene::{Material, Surface};
 
 use crate::SceneData;
 use crate::surface::{
@@ -113,10 +113,13 @@ pub fn photon_pass_with<R: StreamRng>(
     // A blend keeps the photon for its Lambertian member whichever member the path takes
     // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
     let keeper = blend_photon_member(&scene.materials, hit.material);
+    let texel = |texture| scene.textures.sample(texture, hit.uv);
     if material.blend.is_some() {
-        hit.material = blend_member(&scene.materials, hit.material, rng.next_f32());
+        hit.material = blend_member(&scene.materials, hit.material, rng.next_f32(), texel);
     }
-    let material = &scene.materials[hit.material as usize];
+    // Where a metallic-roughness texture maps the member, its surface here (`render::blend`).
+    let member = mapped_material(&scene.materials[hit.material as usize], texel);
+    let material: &Material = &member;
     let tint = base_color(scene, material, hit.uv);
     let (u_roulette, u_direction) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
     // Rough glass chooses its way with a third number, and plastic between its coat and its
@@ -141,7 +144,7 @@ pub fn photon_pass_with<R: StreamRng>(
     // themselves when `sample_lights` says so.
     let coat = || &scene.coats[hit.material as usize];
     let mut bounced = slot_bounced(slot.state);
-    let base_share = match scene.materials[keeper as usize].surface {
+    let base_share = match mapped_surface(&scene.materials[keeper as usize], texel) {
         Surface::Diffuse => Some(1.0),
         Surface::Plastic { .. } => {
             Some(scene.coats[keeper as usize].transmittance(direction.dot(hit.shading)))
@@ -381,10 +384,13 @@ fn eye_path(
         emission_share = 1.0;
         let root = hit.material;
         // A blend's member for this path (`render::blend`), drawn only at blends.
+        let texel = |texture| scene.textures.sample(texture, hit.uv);
         if material.blend.is_some() {
-            hit.material = blend_member(&scene.materials, hit.material, rng.next_f32());
+            hit.material = blend_member(&scene.materials, hit.material, rng.next_f32(), texel);
         }
-        let material = &scene.materials[hit.material as usize];
+        // Where a metallic-roughness texture maps the member, its surface here.
+        let member = mapped_material(&scene.materials[hit.material as usize], texel);
+        let material: &Material = &member;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
         let mut base_weight = 1.0;

@@ -130,6 +130,8 @@ pub(crate) struct SceneFeatures {
     pub media: bool,
     /// Some glass disperses (`DISPERSION`).
     pub dispersion: bool,
+    /// Some member's surface follows a metallic-roughness texture (`ROUGHNESS_MAPS`).
+    pub roughness_maps: bool,
 }
 
 impl SceneFeatures {
@@ -144,10 +146,11 @@ impl SceneFeatures {
             blends: any(|m| m.blend.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
+            roughness_maps: any(|m| m.roughness_map.is_some()),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 6] {
+    fn constants(self) -> [(&'static str, f64); 7] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -156,6 +159,7 @@ impl SceneFeatures {
             ("BLENDS", flag(self.blends)),
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
+            ("ROUGHNESS_MAPS", flag(self.roughness_maps)),
         ]
     }
 }

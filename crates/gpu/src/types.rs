@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use bvh::bench_rays::BenchCamera;
 use bvh::{Hit, PackedBvh, Ray};
-use scene::{AlphaMode, Material, Surface};
+use scene::{AlphaMode, Material, Surface, TexturedLobe};
 
 /// `GpuHit::triangle` of a ray that hit nothing.
 pub const NO_HIT: u32 = u32::MAX;
@@ -121,6 +121,11 @@ pub const NO_TEXTURE: u32 = u32::MAX;
 /// `GpuMaterial::flags` bits.
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
+/// A blend's first material (`scene::Blend`), whose hits draw a member.
+pub const MATERIAL_BLEND: u32 = 4;
+/// `GpuMaterial::roughness_lobe` values (`scene::TexturedLobe`).
+pub const ROUGHNESS_METAL: u32 = 0;
+pub const ROUGHNESS_COATED: u32 = 1;
 
 /// One material (176 bytes).
 #[repr(C)]
@@ -169,7 +174,13 @@ pub struct GpuMaterial {
     pub exterior: u32,
     /// Smooth solid glass's dispersion (`scene::Material::dispersion`; 0: none).
     pub dispersion: f32,
-    pub pad: [u32; 3],
+    /// glTF's metallic-roughness texture mapping this member (`scene::RoughnessMap`), or
+    /// `NO_TEXTURE`.
+    pub roughness_texture: u32,
+    /// glTF's `roughnessFactor` (with a `roughness_texture`).
+    pub roughness_factor: f32,
+    /// `ROUGHNESS_METAL` or `ROUGHNESS_COATED` (with a `roughness_texture`).
+    pub roughness_lobe: u32,
 }
 
 impl GpuMaterial {
@@ -197,7 +208,9 @@ impl GpuMaterial {
         let nodes = coat.transmittance_nodes;
         let flag = |on: bool, bit: u32| if on { bit } else { 0 };
         let flags = flag(material.double_sided, MATERIAL_DOUBLE_SIDED)
-            | flag(thin_walled, MATERIAL_THIN_WALLED);
+            | flag(thin_walled, MATERIAL_THIN_WALLED)
+            | flag(material.blend.is_some(), MATERIAL_BLEND);
+        let map = material.roughness_map;
         GpuMaterial {
             base_color: material.base_color.to_array(),
             surface,
@@ -221,7 +234,12 @@ impl GpuMaterial {
             blend_photon_member: 0,
             exterior: render::medium::NO_MEDIUM,
             dispersion: material.dispersion,
-            pad: [0; 3],
+            roughness_texture: map.map_or(NO_TEXTURE, |m| m.texture),
+            roughness_factor: map.map_or(0.0, |m| m.roughness_factor),
+            roughness_lobe: match map.map(|m| m.lobe) {
+                Some(TexturedLobe::Coated) => ROUGHNESS_COATED,
+                _ => ROUGHNESS_METAL,
+            },
         }
     }
 }

@@ -326,9 +326,12 @@ fn gpu_types_layout_matches_rust() {
             ),
             ("exterior", offset_of!(GpuMaterial, exterior)),
             ("dispersion", offset_of!(GpuMaterial, dispersion)),
-            ("pad1", offset_of!(GpuMaterial, pad)),
-            ("pad2", offset_of!(GpuMaterial, pad) + 4),
-            ("pad3", offset_of!(GpuMaterial, pad) + 8),
+            (
+                "roughness_texture",
+                offset_of!(GpuMaterial, roughness_texture),
+            ),
+            ("roughness_factor", offset_of!(GpuMaterial, roughness_factor)),
+            ("roughness_lobe", offset_of!(GpuMaterial, roughness_lobe)),
         ],
     );
     assert_layout(

@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
-use render::blend::blend_member;
+use render::blend::{blend_member, mapped_material};
 use render::buffers::{LIGHT_TRIANGLE, Light, RAY_T_MAX};
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
@@ -331,10 +331,13 @@ impl<'a> PathTracer<'a> {
             }
             let root = point.material;
             // A blend's member for this path (`render::blend`), drawn only at blends.
+            let texel = |texture| self.texture(Some(texture), point.uv);
             if material.blend.is_some() {
-                point.material = blend_member(&self.materials, point.material, rng.next_f32());
+                point.material = blend_member(&self.materials, root, rng.next_f32(), texel);
             }
-            let material = &self.materials[point.material as usize];
+            // Where a metallic-roughness texture maps the member, its surface here.
+            let member = mapped_material(&self.materials[point.material as usize], texel);
+            let material: &Material = &member;
             let (_, shading) = facing_normals(&point, front);
             // Next-event estimation on the lobes light sampling serves: Lambertian ones (a
             // diffuse surface, plastic's base, which the coat lets light into and out of:

@@ -1,26 +1,70 @@
 //! Blended materials (`scene::Blend`): which member surface a hit takes, and which member
-//! keeps the photons that land on the blend. The kernels' twins (`blend_member`,
-//! `blend_photon_member` in `shading.wgsl`) run the same arithmetic.
+//! keeps the photons that land on the blend; and where glTF's metallic-roughness texture maps
+//! a material (`scene::RoughnessMap`), the member's weight and surface at the hit. The
+//! kernels' twins (`blend_member`, `mapped_material` in `shading.wgsl`) run the same arithmetic.
 
-use scene::{MAX_BLEND_MEMBERS, Material};
+use std::borrow::Cow;
+
+use glam::Vec4;
+use scene::{MAX_BLEND_MEMBERS, Material, Surface, TextureId};
 
 /// The member of the blend starting at material `id` that a hit takes for a uniform `u`:
 /// the chain's first material whose weight `u` falls under, `u` rescaled onto the rest of
 /// the interval at each step, so one number decides the whole chain. `id` itself for a
-/// material without a blend.
-pub fn blend_member(materials: &[Material], id: u32, u: f32) -> u32 {
+/// material without a blend. `texel` reads the hit's texture where the first material's
+/// weight is a textured metal's ([`scene::RoughnessMap::blend_weight`]).
+pub fn blend_member(
+    materials: &[Material],
+    id: u32,
+    u: f32,
+    texel: impl FnOnce(TextureId) -> Vec4,
+) -> u32 {
+    let first = &materials[id as usize];
+    let Some(blend) = first.blend else {
+        return id;
+    };
+    let mut weight = match first.roughness_map {
+        Some(map) => map.blend_weight(blend.weight, texel(map.texture)),
+        None => blend.weight,
+    };
     let (mut id, mut u) = (id, u);
     for _ in 1..MAX_BLEND_MEMBERS {
         let Some(blend) = materials[id as usize].blend else {
             break;
         };
-        if u < blend.weight {
+        if u < weight {
             break;
         }
-        u = (u - blend.weight) / (1.0 - blend.weight);
+        u = (u - weight) / (1.0 - weight);
         id = blend.other;
+        weight = materials[id as usize].blend.map_or(1.0, |b| b.weight);
     }
     id
+}
+
+/// The surface a hit meets on `material` (a blend's member): its own, or where a
+/// metallic-roughness texture maps it, the one the texel `texel` reads makes.
+pub fn mapped_surface(material: &Material, texel: impl FnOnce(TextureId) -> Vec4) -> Surface {
+    match material.roughness_map {
+        Some(map) => map.surface(material.surface, texel(map.texture)),
+        None => material.surface,
+    }
+}
+
+/// `material` with [`mapped_surface`]: itself where no texture maps it (the hits of most
+/// materials copy nothing).
+pub fn mapped_material(
+    material: &Material,
+    texel: impl FnOnce(TextureId) -> Vec4,
+) -> Cow<'_, Material> {
+    if material.roughness_map.is_none() {
+        return Cow::Borrowed(material);
+    }
+    Cow::Owned(Material {
+        name: String::new(),
+        surface: mapped_surface(material, texel),
+        ..*material
+    })
 }
 
 /// The member that keeps photons landing on the blend starting at `id`: its last, the one
@@ -66,7 +110,7 @@ mod tests {
         let mut counts = [0u32; 3];
         for i in 0..n {
             let u = (i as f32 + 0.5) / n as f32;
-            let member = blend_member(&materials, root, u);
+            let member = blend_member(&materials, root, u, |_| Vec4::ONE);
             counts[(member - root) as usize] += 1;
         }
         let shares = counts.map(|c| c as f32 / n as f32);
@@ -80,7 +124,7 @@ mod tests {
         );
         assert_eq!(blend_photon_member(&materials, root), root + 2);
         // Not a blend: itself, whatever the number.
-        assert_eq!(blend_member(&materials, 0, 0.99), 0);
+        assert_eq!(blend_member(&materials, 0, 0.99, |_| Vec4::ONE), 0);
         assert_eq!(blend_photon_member(&materials, 0), 0);
     }
 }

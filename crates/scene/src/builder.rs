@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::{
-    Blend, Camera, Lights, MAX_BLEND_MEMBERS, Material, PunctualKind, PunctualLight, Scene,
-    SceneError, Surface, Texture, TextureId, Triangle,
+    Blend, Camera, Lights, MAX_BLEND_MEMBERS, Material, PunctualKind, PunctualLight,
+    RoughnessMap, Scene, SceneError, Surface, Texture, TextureId, TexturedLobe, Triangle,
 };
 
 pub struct SceneBuilder {
@@ -43,15 +43,30 @@ impl SceneBuilder {
     /// With no member of positive probability, more than [`MAX_BLEND_MEMBERS`] distinct
     /// surfaces, or two with Lambertian lobes: the loaders never ask for these.
     pub fn add_blend(&mut self, base: Material, members: &[(f32, Surface)]) -> u32 {
-        let mut distinct: Vec<(f32, Surface)> = Vec::new();
-        for &(probability, surface) in members.iter().filter(|(p, _)| *p > 0.0) {
-            match distinct.iter_mut().find(|(_, s)| *s == surface) {
-                Some((p, _)) => *p += probability,
-                None => distinct.push((probability, surface)),
+        let members: Vec<_> = members.iter().map(|&(p, s)| (p, s, None)).collect();
+        self.add_mapped_blend(base, &members)
+    }
+
+    /// [`SceneBuilder::add_blend`] with members that may carry a [`RoughnessMap`] (members
+    /// merge where surface and map are equal).
+    pub fn add_mapped_blend(
+        &mut self,
+        base: Material,
+        members: &[(f32, Surface, Option<RoughnessMap>)],
+    ) -> u32 {
+        type Member = (f32, Surface, Option<RoughnessMap>);
+        let mut distinct: Vec<Member> = Vec::new();
+        for &(probability, surface, map) in members.iter().filter(|(p, ..)| *p > 0.0) {
+            match distinct
+                .iter_mut()
+                .find(|(_, s, m)| *s == surface && *m == map)
+            {
+                Some((p, ..)) => *p += probability,
+                None => distinct.push((probability, surface, map)),
             }
         }
         // The member with a Lambertian lobe last: the photon pass finds it at the chain's end.
-        distinct.sort_by_key(|(_, surface)| surface.has_diffuse_lobe());
+        distinct.sort_by_key(|(_, surface, _)| surface.has_diffuse_lobe());
         assert!(
             !distinct.is_empty() && distinct.len() <= MAX_BLEND_MEMBERS,
             "a blend of {} surfaces",
@@ -60,15 +75,15 @@ impl SceneBuilder {
         assert!(
             distinct
                 .iter()
-                .filter(|(_, s)| s.has_diffuse_lobe())
+                .filter(|(_, s, _)| s.has_diffuse_lobe())
                 .count()
                 <= 1,
             "a blend with two Lambertian lobes: {distinct:?}"
         );
         let first = self.scene.materials.len() as u32;
-        let mut left: f32 = distinct.iter().map(|(p, _)| p).sum();
+        let mut left: f32 = distinct.iter().map(|(p, ..)| p).sum();
         let last = distinct.len() - 1;
-        for (k, &(probability, surface)) in distinct.iter().enumerate() {
+        for (k, &(probability, surface, roughness_map)) in distinct.iter().enumerate() {
             let blend = (k < last).then(|| Blend {
                 weight: (probability / left).clamp(f32::MIN_POSITIVE, 1.0 - f32::EPSILON),
                 other: first + k as u32 + 1,
@@ -77,10 +92,61 @@ impl SceneBuilder {
             self.add_material(Material {
                 surface,
                 blend,
+                roughness_map,
                 ..base.clone()
             });
         }
         first
+    }
+
+    /// glTF's metal of probability `metallic` (in (0, 1]) whose metalness and roughness a
+    /// texture maps (`metal`'s map, of [`TexturedLobe::Metal`]), blended with the
+    /// `dielectric` members ([`SceneBuilder::add_mapped_blend`]): the metal first, its weight
+    /// `metallic` multiplied per hit by the texel's metalness, so even 1 stays a blend. Returns
+    /// the metal's id.
+    ///
+    /// # Panics
+    /// Where `metallic` is outside (0, 1], the map is not a metal's or the dielectric members
+    /// are more than [`MAX_BLEND_MEMBERS`] − 1 after merging.
+    pub fn add_textured_metal_blend(
+        &mut self,
+        base: Material,
+        metallic: f32,
+        metal: (Surface, RoughnessMap),
+        dielectric: &[(f32, Surface, Option<RoughnessMap>)],
+    ) -> u32 {
+        assert!(metallic > 0.0 && metallic <= 1.0, "metallic {metallic}");
+        assert_eq!(metal.1.lobe, TexturedLobe::Metal);
+        let id = self.scene.materials.len() as u32;
+        self.add_material(Material {
+            surface: metal.0,
+            blend: Some(Blend {
+                weight: metallic,
+                other: id + 1,
+            }),
+            roughness_map: Some(metal.1),
+            ..base.clone()
+        });
+        self.add_mapped_blend(base, dielectric);
+        let members = self.blend_length(id);
+        assert!(members <= MAX_BLEND_MEMBERS, "a blend of {members} surfaces");
+        id
+    }
+
+    /// How many materials the blend starting at `id` chains.
+    fn blend_length(&self, id: u32) -> usize {
+        let mut id = id as usize;
+        let mut length = 1;
+        while let Some(blend) = self.scene.materials[id].blend {
+            id = blend.other as usize;
+            length += 1;
+        }
+        length
+    }
+
+    /// A texture added so far.
+    pub fn texture(&self, id: TextureId) -> &Texture {
+        &self.scene.textures[id as usize]
     }
 
     pub fn materials(&self) -> &[Material] {

@@ -26,8 +26,9 @@ pub use camera::Camera;
 pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{
-    AlphaMode, Blend, MAX_BLEND_MEMBERS, Material, Surface, absorption_from_attenuation,
-    dispersion_from_abbe,
+    AlphaMode, Blend, DIFFUSE_MIN_ROUGHNESS, MAX_BLEND_MEMBERS, MIRROR_MAX_ROUGHNESS, Material,
+    RoughnessMap, Surface, TexturedLobe, absorption_from_attenuation, dispersion_from_abbe,
+    metal_surface,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use textures::{Texels, Texture, TextureId};

@@ -75,6 +75,76 @@ pub struct Material {
     /// `KHR_materials_dispersion` gives, whose `dispersion` is 20 / V for Abbe number V, so this
     /// is (ior − 1) / V ([`dispersion_from_abbe`]). Zero: none.
     pub dispersion: f32,
+    /// glTF's `metallicRoughnessTexture` on this member of the material: its surface follows
+    /// the texture's roughness at each hit, and a metal root's blend weight its metalness.
+    pub roughness_map: Option<RoughnessMap>,
+}
+
+/// Metal smoother than this (glTF roughness) is a mirror, glass smoother than this smooth.
+pub const MIRROR_MAX_ROUGHNESS: f32 = 0.01;
+/// Metal, and a dielectric's specular coat, at least this rough is Lambertian: so broad a lobe
+/// sends light out nearly as a diffuse surface does, and SPPM gathers at diffuse points where
+/// it would otherwise trace eye paths on through it.
+pub const DIFFUSE_MIN_ROUGHNESS: f32 = 0.5;
+
+/// glTF's metal of roughness `roughness`: a mirror, a rough conductor of GGX width
+/// roughness², or Lambertian ([`MIRROR_MAX_ROUGHNESS`], [`DIFFUSE_MIN_ROUGHNESS`]).
+pub fn metal_surface(roughness: f32) -> Surface {
+    if roughness < MIRROR_MAX_ROUGHNESS {
+        Surface::Mirror
+    } else if roughness < DIFFUSE_MIN_ROUGHNESS {
+        Surface::RoughConductor {
+            alpha: roughness * roughness,
+        }
+    } else {
+        Surface::Diffuse
+    }
+}
+
+/// A member of a material whose glTF roughness (and, for the metal, metalness) comes from a
+/// texture, per hit: linear data, roughness in green and metalness in blue, each multiplied
+/// by its factor (glTF's `metallicRoughnessTexture`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoughnessMap {
+    pub texture: TextureId,
+    /// glTF's `roughnessFactor`.
+    pub roughness_factor: f32,
+    pub lobe: TexturedLobe,
+}
+
+/// Which of glTF's lobes a [`RoughnessMap`] member is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TexturedLobe {
+    /// The metal ([`metal_surface`] of the texel's roughness). As a blend's first member its
+    /// weight (`metallicFactor`) is multiplied by the texel's metalness.
+    Metal,
+    /// The opaque dielectric under its specular coat: the member's own [`Surface::Plastic`]
+    /// below [`DIFFUSE_MIN_ROUGHNESS`] (one coat width stands for all its texels: the coat's
+    /// tables are made per material), Lambertian from there.
+    Coated,
+}
+
+impl RoughnessMap {
+    /// The surface of `member` (whose map this is) where the texture reads `texel` (linear
+    /// RGBA).
+    pub fn surface(&self, member: Surface, texel: glam::Vec4) -> Surface {
+        let roughness = (self.roughness_factor * texel.y).clamp(0.0, 1.0);
+        match self.lobe {
+            TexturedLobe::Metal => metal_surface(roughness),
+            TexturedLobe::Coated if roughness < DIFFUSE_MIN_ROUGHNESS => member,
+            TexturedLobe::Coated => Surface::Diffuse,
+        }
+    }
+
+    /// A blend's weight where this map is its first member's and the texture reads `texel`:
+    /// a metal's `weight` (glTF's `metallicFactor`) times the texel's metalness; other
+    /// members' weights are not textured.
+    pub fn blend_weight(&self, weight: f32, texel: glam::Vec4) -> f32 {
+        match self.lobe {
+            TexturedLobe::Metal => weight * texel.z.clamp(0.0, 1.0),
+            TexturedLobe::Coated => weight,
+        }
+    }
 }
 
 /// [`Material::dispersion`] of glass of index `ior` and Abbe number `abbe` (infinite: none).
@@ -96,7 +166,8 @@ pub fn dispersion_from_abbe(ior: f32, abbe: f32) -> f32 {
 /// whichever member the photon's own path then takes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Blend {
-    /// Probability of this material's own surface, in (0, 1).
+    /// Probability of this material's own surface, in (0, 1); in (0, 1] where a metal's
+    /// [`RoughnessMap`] multiplies it by the texel's metalness.
     pub weight: f32,
     /// The material taken otherwise: a later id.
     pub other: u32,
@@ -136,6 +207,7 @@ impl Default for Material {
             normal_scale: 1.0,
             blend: None,
             dispersion: 0.0,
+            roughness_map: None,
         }
     }
 }

@@ -56,7 +56,8 @@ struct GpuMaterial {
     exterior: u32,
     // scene::Material::dispersion (render::dispersion).
     dispersion: f32,
-    pad1: u32,
-    pad2: u32,
-    pad3: u32,
+    // scene::RoughnessMap (render::blend::mapped_material): NO_TEXTURE for none.
+    roughness_texture: u32,
+    roughness_factor: f32,
+    roughness_lobe: u32,
 }

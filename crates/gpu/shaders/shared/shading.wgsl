@@ -211,21 +211,58 @@ override FROSTED_GLASS: bool = true;
 // Whether some material is a blend (scene::Blend), whose member each hit draws.
 override BLENDS: bool = true;
 
+// Whether some material's surface follows a metallic-roughness texture (scene::RoughnessMap);
+// compiled out as NORMAL_MAPS is.
+override ROUGHNESS_MAPS: bool = true;
+
 // render::blend::blend_member: the member of the blend starting at material `id` that a hit
-// takes for a uniform `u`, which is rescaled onto the rest of its interval at each step.
-// Materials without a blend have weight 1, so `u` always stops at them.
-fn blend_member(id: u32, u: f32) -> u32 {
+// at `uv` takes for a uniform `u`, which is rescaled onto the rest of its interval at each
+// step; a textured metal's weight is multiplied by its texel's metalness. Materials without a
+// blend have weight 1, so `u` always stops at them.
+fn blend_member(id: u32, u: f32, uv: vec2<f32>) -> u32 {
     var member = id;
     var rest = u;
+    var weight = materials[id].blend_weight;
+    let map = materials[id].roughness_texture;
+    if ROUGHNESS_MAPS && map != NO_TEXTURE && materials[id].roughness_lobe == ROUGHNESS_METAL {
+        weight *= clamp(sample_texture(map, uv).z, 0.0, 1.0);
+    }
     for (var i = 1u; i < MAX_BLEND_MEMBERS; i += 1u) {
-        let weight = materials[member].blend_weight;
         if rest < weight {
             break;
         }
         rest = (rest - weight) / (1.0 - weight);
         member = materials[member].blend_other;
+        weight = materials[member].blend_weight;
     }
     return member;
+}
+
+// render::blend::mapped_material (scene::RoughnessMap::surface): the member as a hit at `uv`
+// meets it, its surface (and GGX width) from its metallic-roughness texel where one maps it.
+fn mapped_material(material: GpuMaterial, uv: vec2<f32>) -> GpuMaterial {
+    var mapped = material;
+    if !ROUGHNESS_MAPS || material.roughness_texture == NO_TEXTURE {
+        return mapped;
+    }
+    let roughness = clamp(material.roughness_factor * sample_texture(material.roughness_texture, uv).y, 0.0, 1.0);
+    if material.roughness_lobe == ROUGHNESS_METAL {
+        // scene::metal_surface.
+        if roughness < MIRROR_MAX_ROUGHNESS {
+            mapped.surface = SURFACE_MIRROR;
+            mapped.roughness_alpha = 0.0;
+        } else if roughness < DIFFUSE_MIN_ROUGHNESS {
+            mapped.surface = SURFACE_ROUGH_CONDUCTOR;
+            mapped.roughness_alpha = roughness * roughness;
+        } else {
+            mapped.surface = SURFACE_DIFFUSE;
+            mapped.roughness_alpha = 0.0;
+        }
+    } else if roughness >= DIFFUSE_MIN_ROUGHNESS {
+        mapped.surface = SURFACE_DIFFUSE;
+        mapped.roughness_alpha = 0.0;
+    }
+    return mapped;
 }
 
 fn trace_surface(origin: vec3<f32>, direction: vec3<f32>) -> SurfaceHit {

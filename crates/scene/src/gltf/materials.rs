@@ -58,14 +58,11 @@ use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
-    AlphaMode, Material, SceneBuilder, SceneError, Surface, Texture, TextureId,
-    absorption_from_attenuation as scene_absorption,
+    AlphaMode, DIFFUSE_MIN_ROUGHNESS, MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, SceneBuilder,
+    SceneError, Surface, Texture, TextureId, TexturedLobe,
+    absorption_from_attenuation as scene_absorption, metal_surface,
 };
 
-/// Metal smoother than this (`roughnessFactor`) is a mirror, glass smoother than this smooth.
-pub const MIRROR_MAX_ROUGHNESS: f32 = 0.01;
-/// Metal at least this rough is diffuse.
-pub const DIFFUSE_MIN_ROUGHNESS: f32 = 0.5;
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
 pub const DEFAULT_IOR: f32 = 1.5;
 /// glTF's default `alphaCutoff`, also used for BLEND.
@@ -128,7 +125,15 @@ impl Materials {
             return Ok(id);
         }
         let (material, members) = self.convert(input, builder, index)?;
-        let id = builder.add_blend(material, &members);
+        let id = match members.textured_metal {
+            Some((metallic, surface, map)) => builder.add_textured_metal_blend(
+                material,
+                metallic,
+                (surface, map),
+                &members.dielectric,
+            ),
+            None => builder.add_mapped_blend(material, &members.dielectric),
+        };
         self.ids[index] = Some(id);
         Ok(id)
     }
@@ -138,7 +143,7 @@ impl Materials {
         input: &Input,
         builder: &mut SceneBuilder,
         index: usize,
-    ) -> Result<(Material, Vec<(f32, Surface)>), SceneError> {
+    ) -> Result<(Material, Members), SceneError> {
         let m = &input.root.materials[index];
         let label = match &m.name {
             Some(name) => format!("material {index} ({})", quoted(name)),
@@ -155,9 +160,43 @@ impl Materials {
         }
         let metallic = check.unit(pbr.metallic_factor.0, "metallicFactor")?;
         let roughness = check.unit(pbr.roughness_factor.0, "roughnessFactor")?;
-        let members = surface_members(&check, m, metallic, roughness)?;
-        let dispersion = dispersion(&check, m, &members, builder)?;
-        let absorption = absorption(&check, m, &members)?;
+        let transmission = transmission(&check, m)?;
+        let mapped = match &pbr.metallic_roughness_texture {
+            Some(info) => {
+                let slot = TextureSlot::data(info, "metallicRoughnessTexture");
+                let texture = self.texture(input, builder, slot, &label)?;
+                Some((texture, info))
+            }
+            None => None,
+        };
+        let members = match mapped {
+            None => Members::plain(surface_members(
+                &check,
+                m,
+                metallic,
+                transmission,
+                roughness,
+            )?),
+            Some((texture, _)) => {
+                let texels = TexelRoughness::of(builder.texture(texture), roughness);
+                if transmission > 0.0 {
+                    builder.warn(format!(
+                        "{label}: metallicRoughnessTexture's roughness is not applied texel by \
+                         texel to transmission; the glass takes its mean, {:.3}",
+                        texels.mean
+                    ));
+                }
+                let map = |lobe| RoughnessMap {
+                    texture,
+                    roughness_factor: roughness,
+                    lobe,
+                };
+                mapped_members(&check, m, metallic, transmission, &texels, map)?
+            }
+        };
+        let surfaces = members.surfaces();
+        let dispersion = dispersion(&check, m, &surfaces, builder)?;
+        let absorption = absorption(&check, m, &surfaces)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
         let mut texture = |info: &Option<json::texture::Info>, slot: &'static str| {
@@ -184,15 +223,25 @@ impl Materials {
                 }
                 let slot = TextureSlot::normal(normal);
                 let id = self.texture(input, builder, slot, &label)?;
-                warn_normal_transform(normal, transform, &label, builder);
+                let own = normal
+                    .extensions
+                    .as_ref()
+                    .and_then(|e| e.others.get("KHR_texture_transform"))
+                    .and_then(|v| serde_json::from_value(v.clone()).ok())
+                    .map(|t| transform_of(&t));
+                warn_own_transform("normalTexture", own, transform, &label, builder);
                 Some(id)
             }
             None => None,
         };
+        if let Some((_, info)) = mapped {
+            let own = slot_transform(info);
+            warn_own_transform("metallicRoughnessTexture", own, transform, &label, builder);
+        }
         self.uv_transforms[index] = transform;
         let material = Material {
             name: m.name.clone().unwrap_or_else(|| label.clone()),
-            surface: members[0].1,
+            surface: surfaces[0].1,
             base_color: Vec3::new(base[0], base[1], base[2]),
             base_color_texture,
             emission,
@@ -205,6 +254,7 @@ impl Materials {
             normal_scale: m.normal_texture.as_ref().map_or(1.0, |n| n.scale),
             blend: None,
             dispersion,
+            roughness_map: None,
         };
         Ok((material, members))
     }
@@ -282,6 +332,16 @@ impl TextureSlot {
         }
     }
 
+    /// A slot of linear data (not colour).
+    fn data(info: &json::texture::Info, name: &'static str) -> TextureSlot {
+        TextureSlot {
+            name,
+            texture: info.index.value(),
+            tex_coord: info.tex_coord,
+            srgb: false,
+        }
+    }
+
     fn normal(normal: &json::material::NormalTexture) -> TextureSlot {
         TextureSlot {
             name: "normalTexture",
@@ -292,25 +352,19 @@ impl TextureSlot {
     }
 }
 
-/// Warns where the normal map's `KHR_texture_transform` differs from the transform the
-/// material's coordinates were given (kousen keeps one set of coordinates a vertex).
-fn warn_normal_transform(
-    normal: &json::material::NormalTexture,
+/// Warns where a data texture's own `KHR_texture_transform` (`own`) differs from the
+/// transform the material's coordinates were given (kousen keeps one set of coordinates a
+/// vertex).
+fn warn_own_transform(
+    slot: &str,
+    own: Option<Affine2>,
     transform: Option<Affine2>,
     label: &str,
     builder: &mut SceneBuilder,
 ) {
-    let own = normal
-        .extensions
-        .as_ref()
-        .and_then(|e| e.others.get("KHR_texture_transform"))
-        .and_then(|v| {
-            serde_json::from_value::<json::extensions::texture::TextureTransform>(v.clone()).ok()
-        })
-        .map(|t| transform_of(&t));
     if own.unwrap_or(Affine2::IDENTITY) != transform.unwrap_or(Affine2::IDENTITY) {
         builder.warn(format!(
-            "{label}: normalTexture's KHR_texture_transform differs from the base colour's; \
+            "{label}: {slot}'s KHR_texture_transform differs from the base colour's; \
              the base colour's is used for both"
         ));
     }
@@ -399,21 +453,25 @@ impl Check<'_> {
     }
 }
 
-/// glTF's BRDF as kousen's surfaces, each with its probability: `mix(dielectric, metal,
-/// metallic)`, the dielectric being `mix(opaque, glass, transmission)` under its specular
-/// layer. Factors of 0 or 1 leave one surface; others make a blend (`SceneBuilder::add_blend`),
-/// whose equal surfaces merge (rough metal and rough plastic are both Lambertian).
-fn surface_members(
-    check: &Check,
-    m: &json::Material,
-    metallic: f32,
-    roughness: f32,
-) -> Result<Vec<(f32, Surface)>, SceneError> {
-    let extensions = m.extensions.as_ref();
-    let transmission = extensions
+/// glTF's lobes as kousen's surfaces at one roughness.
+struct Lobes {
+    metal: Surface,
+    glass: Surface,
+    /// The opaque dielectric under its specular layer.
+    opaque: Surface,
+}
+
+/// `KHR_materials_transmission`'s factor (0 without it).
+fn transmission(check: &Check, m: &json::Material) -> Result<f32, SceneError> {
+    let transmission = (m.extensions.as_ref())
         .and_then(|e| e.transmission.as_ref())
         .map_or(0.0, |t| t.transmission_factor.0);
-    let transmission = check.unit(transmission, "transmissionFactor")?;
+    check.unit(transmission, "transmissionFactor")
+}
+
+/// The surfaces glTF's metal, glass and opaque dielectric make at `roughness`.
+fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, SceneError> {
+    let extensions = m.extensions.as_ref();
     let ior = extensions
         .and_then(|e| e.ior.as_ref())
         .map_or(DEFAULT_IOR, |i| i.ior.0);
@@ -426,15 +484,6 @@ fn surface_members(
     let thickness = check.non_negative(thickness, "thicknessFactor")?;
     // GGX width of the rough lobes; `None` where glTF's roughness is smooth.
     let rough_alpha = (roughness >= MIRROR_MAX_ROUGHNESS).then_some(roughness * roughness);
-    let metal = if roughness < MIRROR_MAX_ROUGHNESS {
-        Surface::Mirror
-    } else if roughness < DIFFUSE_MIN_ROUGHNESS {
-        Surface::RoughConductor {
-            alpha: roughness * roughness,
-        }
-    } else {
-        Surface::Diffuse
-    };
     let glass = if ior == 0.0 {
         // The extension's "F0 = 1": the specular layer reflects everything.
         Surface::Mirror
@@ -461,15 +510,117 @@ fn surface_members(
     } else {
         Surface::Diffuse
     };
+    Ok(Lobes {
+        metal: metal_surface(roughness),
+        glass,
+        opaque,
+    })
+}
+
+/// glTF's BRDF as kousen's surfaces, each with its probability: `mix(dielectric, metal,
+/// metallic)`, the dielectric being `mix(opaque, glass, transmission)` under its specular
+/// layer. Factors of 0 or 1 leave one surface; others make a blend (`SceneBuilder::add_blend`),
+/// whose equal surfaces merge (rough metal and rough plastic are both Lambertian).
+fn surface_members(
+    check: &Check,
+    m: &json::Material,
+    metallic: f32,
+    transmission: f32,
+    roughness: f32,
+) -> Result<Vec<(f32, Surface)>, SceneError> {
+    let lobes = lobes(check, m, roughness)?;
     let dielectric = 1.0 - metallic;
     Ok(vec![
-        (metallic, metal),
-        (dielectric * transmission, glass),
-        (dielectric * (1.0 - transmission), opaque),
+        (metallic, lobes.metal),
+        (dielectric * transmission, lobes.glass),
+        (dielectric * (1.0 - transmission), lobes.opaque),
     ]
     .into_iter()
     .filter(|(probability, _)| *probability > 0.0)
     .collect())
+}
+
+/// A material's members as the builder takes them: a textured metal first where its
+/// metalness comes from a texture, then the others (`SceneBuilder::add_mapped_blend`).
+struct Members {
+    /// The metal's probability (glTF's `metallicFactor`), its surface at the texture's mean
+    /// roughness and its map.
+    textured_metal: Option<(f32, Surface, RoughnessMap)>,
+    dielectric: Vec<(f32, Surface, Option<RoughnessMap>)>,
+}
+
+impl Members {
+    fn plain(members: Vec<(f32, Surface)>) -> Members {
+        Members {
+            textured_metal: None,
+            dielectric: members.into_iter().map(|(p, s)| (p, s, None)).collect(),
+        }
+    }
+
+    /// Every member's surface with its probability (the dielectric's relative to the rest).
+    fn surfaces(&self) -> Vec<(f32, Surface)> {
+        let metal = self.textured_metal.map(|(p, s, _)| (p, s));
+        let rest = self.dielectric.iter().map(|&(p, s, _)| (p, s));
+        metal.into_iter().chain(rest).collect()
+    }
+}
+
+/// The roughness a metallic-roughness texture gives (green × `roughnessFactor`), summed up
+/// for the lobes that cannot follow it texel by texel.
+struct TexelRoughness {
+    /// Over all texels: the glass's roughness, and the metal's surface outside the kernels.
+    mean: f32,
+    /// Over the texels where the coat is not Lambertian (below `DIFFUSE_MIN_ROUGHNESS`): the
+    /// roughness of the coat, whose tables are made per material; `None` where there are none.
+    coat: Option<f32>,
+}
+
+impl TexelRoughness {
+    fn of(texture: &Texture, factor: f32) -> TexelRoughness {
+        let (mut sum, mut coat_sum, mut coat_count) = (0.0f64, 0.0f64, 0u64);
+        for y in 0..texture.height {
+            for x in 0..texture.width {
+                let roughness = (factor * texture.texel_linear(x, y).y).clamp(0.0, 1.0);
+                sum += f64::from(roughness);
+                if roughness < DIFFUSE_MIN_ROUGHNESS {
+                    coat_sum += f64::from(roughness);
+                    coat_count += 1;
+                }
+            }
+        }
+        TexelRoughness {
+            mean: (sum / texture.texel_count().max(1) as f64) as f32,
+            coat: (coat_count > 0).then(|| (coat_sum / coat_count as f64) as f32),
+        }
+    }
+}
+
+/// [`Members`] of a material with a metallic-roughness texture: the metal (where
+/// `metallicFactor` > 0) follows the texel's metalness and roughness; the opaque dielectric
+/// is plastic of the coat texels' mean roughness or Lambertian, by the texel's roughness; the
+/// glass takes the mean roughness.
+fn mapped_members(
+    check: &Check,
+    m: &json::Material,
+    metallic: f32,
+    transmission: f32,
+    texels: &TexelRoughness,
+    map: impl Fn(TexturedLobe) -> RoughnessMap,
+) -> Result<Members, SceneError> {
+    let mean = lobes(check, m, texels.mean)?;
+    let coat = lobes(check, m, texels.coat.unwrap_or(0.0))?.opaque;
+    let coat_map = matches!(coat, Surface::Plastic { .. }).then(|| map(TexturedLobe::Coated));
+    let dielectric = [
+        (transmission, mean.glass, None),
+        (1.0 - transmission, coat, coat_map),
+    ]
+    .into_iter()
+    .filter(|(probability, ..)| *probability > 0.0)
+    .collect();
+    Ok(Members {
+        textured_metal: (metallic > 0.0).then(|| (metallic, mean.metal, map(TexturedLobe::Metal))),
+        dielectric,
+    })
 }
 
 /// Whether a non-metal wears glTF's dielectric specular layer: always, unless

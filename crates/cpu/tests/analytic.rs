@@ -267,6 +267,61 @@ fn lit_plane_matches_analytic_irradiance() {
     }
 }
 
+/// The lit plane tiled by a metallic-roughness texture (`testing::lit_plane_metallic_tiles`):
+/// mirror tiles show the light overhead (0.5), Lambertian ones the plane's analytic radiance
+/// (0.26–0.29), half-metal ones the mean of the two, and metal of roughness 1 is Lambertian:
+/// each texel's metalness weighs the blend (its photons all kept for the Lambertian member)
+/// and its roughness picks the metal's surface. Pixels whose footprint reaches a tile's edge
+/// (where the texture filter blends tiles) are left out: 100 of 256 remain.
+///
+/// The lit plane's settings (1024 passes, 1.4 s). Measured over seeds 2–5: image mean −0.40 %,
+/// −0.18 %, +0.04 %, +0.03 %, per-pixel rms 2.3–3.2 %, worst pixel 6.6–11 %. Tolerances as the
+/// lit plane's: mean within 2.5 %, per-pixel rms below 6 %, every pixel within 20 % (the
+/// texture's green and blue channels swapped: mean −11 %, rms 16 %; the metalness ignored:
+/// mean +13 %, rms 21 %).
+#[test]
+fn a_metallic_roughness_texture_tiles_the_lit_plane() {
+    let scene = testing::lit_plane_metallic_tiles();
+    let view = TopView::new(0.4, 16);
+    let seed = std::env::var("KOUSEN_TEST_SEED").map_or(2, |s| s.parse().unwrap());
+    let (image, _, out) = render_top_view(&scene, &view, seed, 1024);
+    let pixel = 2.0 * 0.4 / 16.0;
+    let expected: Vec<(usize, f32)> = (0..image.len())
+        .filter_map(|i| {
+            let (x, z) = view.point(i);
+            testing::lit_plane_metallic_tile_radiance(x, z, 0.5 * pixel).map(|l| (i, l))
+        })
+        .collect();
+    let (mean, rms, worst) =
+        relative_errors(expected.iter().map(|&(i, l)| (image[i].x, l)));
+    println!(
+        "tiled lit plane: {} pixels, mean error {:+.2}%, per-pixel rms {:.2}%, worst {:.1}%, \
+         {} passes, {:.2} s",
+        expected.len(),
+        100.0 * mean,
+        100.0 * rms,
+        100.0 * worst,
+        out.passes,
+        out.seconds
+    );
+    assert!(image.iter().all(|p| p.is_finite()), "non-finite pixels");
+    assert!(expected.len() >= 64, "{} pixels inside tiles", expected.len());
+    assert!(
+        mean.abs() < 0.025,
+        "image mean off by {:+.2}% (> 2.5%)",
+        100.0 * mean
+    );
+    assert!(rms < 0.06, "per-pixel rms error {:.2}% (> 6%)", 100.0 * rms);
+    for &(i, l) in &expected {
+        let (x, z) = view.point(i);
+        assert!(
+            (image[i].x / l - 1.0).abs() < 0.20,
+            "pixel {i} at ({x}, {z}): {} against {l} (> 20% off)",
+            image[i].x
+        );
+    }
+}
+
 /// A square camera straight above the origin seeing the plane y = 0 for |x|, |z| ≤ `half_view`.
 ///
 /// Two settings differ from a default render, for reasons of these scenes, not of SPPM:

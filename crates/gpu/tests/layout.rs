@@ -330,7 +330,10 @@ fn gpu_types_layout_matches_rust() {
                 "roughness_texture",
                 offset_of!(GpuMaterial, roughness_texture),
             ),
-            ("roughness_factor", offset_of!(GpuMaterial, roughness_factor)),
+            (
+                "roughness_factor",
+                offset_of!(GpuMaterial, roughness_factor),
+            ),
             ("roughness_lobe", offset_of!(GpuMaterial, roughness_lobe)),
         ],
     );

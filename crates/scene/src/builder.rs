@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::{
-    Blend, Camera, Lights, MAX_BLEND_MEMBERS, Material, PunctualKind, PunctualLight,
-    RoughnessMap, Scene, SceneError, Surface, Texture, TextureId, TexturedLobe, Triangle,
+    Blend, Camera, Lights, MAX_BLEND_MEMBERS, Material, PunctualKind, PunctualLight, RoughnessMap,
+    Scene, SceneError, Surface, Texture, TextureId, TexturedLobe, Triangle,
 };
 
 pub struct SceneBuilder {
@@ -129,7 +129,10 @@ impl SceneBuilder {
         });
         self.add_mapped_blend(base, dielectric);
         let members = self.blend_length(id);
-        assert!(members <= MAX_BLEND_MEMBERS, "a blend of {members} surfaces");
+        assert!(
+            members <= MAX_BLEND_MEMBERS,
+            "a blend of {members} surfaces"
+        );
         id
     }
 

@@ -27,8 +27,8 @@ pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{
     AlphaMode, Blend, DIFFUSE_MIN_ROUGHNESS, MAX_BLEND_MEMBERS, MIRROR_MAX_ROUGHNESS, Material,
-    RoughnessMap, Surface, TexturedLobe, absorption_from_attenuation, dispersion_from_abbe,
-    metal_surface,
+    RoughnessMap, Surface, TextureRoughness, TexturedLobe, absorption_from_attenuation,
+    dispersion_from_abbe, metal_surface,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use textures::{Texels, Texture, TextureId};

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use crate::TextureId;
+use crate::{Texture, TextureId};
 
 /// How light leaves the surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,6 +147,64 @@ impl RoughnessMap {
     }
 }
 
+/// The roughness a metallic-roughness texture gives (green × `roughnessFactor`), summed up
+/// for the lobes that cannot follow it texel by texel, over the texels where the dielectric
+/// shows (weighted by 1 − metalness, blue × `metallicFactor`).
+pub struct TextureRoughness {
+    /// Where the dielectric shows: the glass's roughness.
+    pub mean: f32,
+    /// Over all texels: the metal's stored surface (what is not a hit sees: `kousen info`).
+    pub metal_mean: f32,
+    /// Over the texels where the coat is not Lambertian (below [`DIFFUSE_MIN_ROUGHNESS`]): the
+    /// roughness of the coat, whose tables are made per material; `None` where there are none.
+    pub coat: Option<f32>,
+}
+
+impl TextureRoughness {
+    pub fn of(texture: &Texture, roughness_factor: f32, metallic_factor: f32) -> TextureRoughness {
+        let mut all = MeanOf::default();
+        let mut dielectric = MeanOf::default();
+        let mut coat = MeanOf::default();
+        for y in 0..texture.height {
+            for x in 0..texture.width {
+                let texel = texture
+                    .texel_linear(x, y)
+                    .clamp(glam::Vec4::ZERO, glam::Vec4::ONE);
+                let roughness = roughness_factor * texel.y;
+                let shows = 1.0 - metallic_factor * texel.z;
+                all.add(roughness, 1.0);
+                dielectric.add(roughness, shows);
+                if roughness < DIFFUSE_MIN_ROUGHNESS {
+                    coat.add(roughness, shows);
+                }
+            }
+        }
+        TextureRoughness {
+            mean: dielectric.mean().or(all.mean()).unwrap_or(0.0),
+            metal_mean: all.mean().unwrap_or(0.0),
+            coat: coat.mean(),
+        }
+    }
+}
+
+/// A weighted mean, summed in f64.
+#[derive(Default)]
+struct MeanOf {
+    sum: f64,
+    weight: f64,
+}
+
+impl MeanOf {
+    fn add(&mut self, value: f32, weight: f32) {
+        self.sum += f64::from(value) * f64::from(weight);
+        self.weight += f64::from(weight);
+    }
+
+    fn mean(&self) -> Option<f32> {
+        (self.weight > 0.0).then(|| (self.sum / self.weight) as f32)
+    }
+}
+
 /// [`Material::dispersion`] of glass of index `ior` and Abbe number `abbe` (infinite: none).
 pub fn dispersion_from_abbe(ior: f32, abbe: f32) -> f32 {
     if abbe.is_finite() && abbe > 0.0 {
@@ -262,6 +320,38 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A mapped metal is a mirror, a rough conductor of α = roughness² or Lambertian by its
+    /// texel's roughness (green × factor), and its blend weight scales with the texel's
+    /// metalness (blue); a mapped coat is its own plastic below roughness 0.5, Lambertian
+    /// from there.
+    #[test]
+    fn a_roughness_map_follows_the_texel() {
+        let map = |lobe| RoughnessMap {
+            texture: 0,
+            roughness_factor: 0.5,
+            lobe,
+        };
+        let texel = |green: f32, blue: f32| glam::Vec4::new(0.9, green, blue, 1.0);
+        let metal = map(TexturedLobe::Metal);
+        let member = Surface::RoughConductor { alpha: 0.3 };
+        assert_eq!(metal.surface(member, texel(0.01, 1.0)), Surface::Mirror);
+        assert_eq!(
+            metal.surface(member, texel(0.6, 1.0)),
+            Surface::RoughConductor { alpha: 0.09 }
+        );
+        assert_eq!(metal.surface(member, texel(1.0, 1.0)), Surface::Diffuse);
+        assert_eq!(metal.blend_weight(0.8, texel(0.6, 0.25)), 0.2);
+        assert_eq!(metal.blend_weight(0.8, texel(0.6, 1.5)), 0.8, "clamped");
+        let coat = map(TexturedLobe::Coated);
+        let plastic = Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.04,
+        };
+        assert_eq!(coat.surface(plastic, texel(0.98, 0.0)), plastic);
+        assert_eq!(coat.surface(plastic, texel(1.0, 0.0)), Surface::Diffuse);
+        assert_eq!(coat.blend_weight(0.8, texel(0.6, 0.25)), 0.8);
+    }
 
     /// Light crossing the attenuation distance keeps the attenuation colour; twice as far, its
     /// square; an infinite distance absorbs nothing and a black channel nearly everything.

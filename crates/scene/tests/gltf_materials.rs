@@ -722,3 +722,100 @@ fn dispersion_is_read_on_smooth_solid_glass() {
     let error = glass(0.0, -1.0).expect_err("a negative dispersion is refused");
     assert!(error.to_string().contains("dispersion"), "{error}");
 }
+
+/// A quad whose material is `material` with image 0 ([`tiny_png`]) as its
+/// metallic-roughness texture: texel 0 reads roughness 0 and metalness 0, texel 1 roughness
+/// 128/255 and metalness 1.
+fn metallic_roughness_quad(mut material: Value) -> Scene {
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": 0 });
+    let material = doc.material(material);
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    doc.load().expect("loads")
+}
+
+/// glTF's metallic-roughness texture: decoded as linear data; the metal comes first, its
+/// weight the metallic factor (1 included: the texel's metalness scales it per hit), its
+/// surface following the texel's roughness (`RoughnessMap`); the opaque dielectric is plastic
+/// whose coat takes the mean roughness of the texels where it shows and is not Lambertian
+/// (weighted by 1 − metalness); the glass takes the mean roughness where it shows, with a
+/// warning; without a metallic factor there is no metal.
+#[test]
+fn a_metallic_roughness_texture_maps_the_metal_and_the_coat() {
+    use scene::{RoughnessMap, TexturedLobe};
+    let roughness_factor = 0.8;
+    // The texels' roughness: 0 and 0.8 × 128/255, both below 0.5.
+    let mean = 0.5 * roughness_factor * 128.0 / 255.0;
+    let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+    let scene = metallic_roughness_quad(pbr(1.0, roughness_factor));
+    let root = scene.triangles[0].material;
+    let metal = &scene.materials[root as usize];
+    let map = |lobe| RoughnessMap {
+        texture: 0,
+        roughness_factor,
+        lobe,
+    };
+    assert_eq!(metal.roughness_map, Some(map(TexturedLobe::Metal)));
+    assert!(
+        matches!(metal.surface, Surface::RoughConductor { alpha } if close(alpha, mean * mean))
+    );
+    let blend = metal.blend.expect("a metal factor of 1 still blends");
+    assert_eq!(blend.weight, 1.0);
+    let coat = &scene.materials[blend.other as usize];
+    assert_eq!(coat.roughness_map, Some(map(TexturedLobe::Coated)));
+    // The coat shows only on texel 0, of roughness 0: smooth.
+    let smooth = Surface::Plastic {
+        ior: 1.5,
+        alpha: 0.0,
+    };
+    assert_eq!(coat.surface, smooth);
+    assert_eq!(coat.blend, None);
+    let Texels::LinearF32(texels) = &scene.textures[0].texels else {
+        panic!("a metallic-roughness texture is linear data");
+    };
+    assert_eq!(texels[1], [0.0, 128.0 / 255.0, 1.0, 64.0 / 255.0]);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+
+    // Half transmissive and not metallic: no metal; frosted glass of the mean roughness.
+    let mut material = pbr(0.0, roughness_factor);
+    material["extensions"] = json!({ "KHR_materials_transmission": { "transmissionFactor": 0.5 } });
+    let scene = metallic_roughness_quad(material);
+    let root = scene.triangles[0].material as usize;
+    let glass = &scene.materials[root];
+    assert!(
+        matches!(glass.surface, Surface::RoughDielectric { alpha, .. } if close(alpha, mean * mean)),
+        "{:?}",
+        glass.surface
+    );
+    assert_eq!(glass.roughness_map, None);
+    assert_eq!(glass.blend.map(|b| b.weight), Some(0.5));
+    let coat = &scene.materials[root + 1];
+    assert_eq!(coat.roughness_map, Some(map(TexturedLobe::Coated)));
+    assert!(
+        matches!(coat.surface, Surface::Plastic { ior: 1.5, alpha } if close(alpha, mean * mean)),
+        "{:?}",
+        coat.surface
+    );
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("not applied texel by texel to transmission")),
+        "{:?}",
+        scene.warnings
+    );
+
+    // Without a specular layer the opaque dielectric is Lambertian whatever the texel says.
+    let mut material = pbr(0.5, roughness_factor);
+    material["extensions"] = json!({ "KHR_materials_specular": { "specularFactor": 0.0 } });
+    let scene = metallic_roughness_quad(material);
+    let root = scene.triangles[0].material as usize;
+    assert_eq!(scene.materials[root].blend.map(|b| b.weight), Some(0.5));
+    let opaque = &scene.materials[root + 1];
+    assert_eq!(
+        (opaque.surface, opaque.roughness_map),
+        (Surface::Diffuse, None)
+    );
+}

@@ -28,8 +28,8 @@ use image::ExtendedColorType;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 use scene::{
-    AlphaMode, Camera, Material, PunctualKind, PunctualLight, Scene, Surface, Texels, Texture,
-    Triangle,
+    AlphaMode, Camera, Material, PunctualKind, PunctualLight, RoughnessMap, Scene, Surface, Texels,
+    Texture, Triangle,
 };
 use serde_json::{Map, Value, json};
 
@@ -37,7 +37,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 12] = [
+pub const SHIPPED: [(&str, Fixture); 13] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -50,6 +50,10 @@ pub const SHIPPED: [(&str, Fixture); 12] = [
     ("cornell-pool", scene::testing::cornell_pool),
     ("cornell-marble", scene::testing::cornell_marble),
     ("cornell-dispersion", scene::testing::cornell_dispersion),
+    (
+        "cornell-metallic-roughness",
+        scene::testing::cornell_metallic_roughness,
+    ),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -98,7 +102,13 @@ pub fn encode(scene: &Scene, stem: &str) -> Encoded {
         .iter()
         .map(|&m| {
             let chain = blend_members(&scene.materials, m);
-            doc.material(&scene.materials[m as usize], &chain, thickness(scene, m))
+            let map = roughness_map(&scene.materials, m);
+            doc.material(
+                &scene.materials[m as usize],
+                &chain,
+                map,
+                thickness(scene, m),
+            )
         })
         .collect();
     let mut nodes = vec![json!({ "name": stem, "mesh": 0 })];
@@ -301,8 +311,14 @@ impl Document {
     }
 
     /// Material `m`, whose surfaces (its blend's, or its own) are `members` with their
-    /// probabilities.
-    fn material(&mut self, m: &Material, members: &[(f32, Surface)], thickness: f32) -> Value {
+    /// probabilities, and which a metallic-roughness texture may map.
+    fn material(
+        &mut self,
+        m: &Material,
+        members: &[(f32, Surface)],
+        map: Option<RoughnessMap>,
+        thickness: f32,
+    ) -> Value {
         let metallic: f32 = members
             .iter()
             .filter(|(_, s)| matches!(s, Surface::Mirror | Surface::RoughConductor { .. }))
@@ -417,6 +433,13 @@ impl Document {
         if let Some(texture) = m.emission_texture {
             value["emissiveTexture"] = json!({ "index": texture });
         }
+        if let Some(map) = map {
+            // The metal's weight is the metallic factor already; the members' surfaces are
+            // the loader's summaries of the texture, which it makes again from it.
+            let pbr = &mut value["pbrMetallicRoughness"];
+            pbr["roughnessFactor"] = number(map.roughness_factor);
+            pbr["metallicRoughnessTexture"] = json!({ "index": map.texture });
+        }
         if let Some(texture) = m.normal_texture {
             value["normalTexture"] = json!({ "index": texture });
             if m.normal_scale != 1.0 {
@@ -443,6 +466,18 @@ fn blend_members(materials: &[Material], id: u32) -> Vec<(f32, Surface)> {
     }
     members.push((left, materials[id].surface));
     members
+}
+
+/// The metallic-roughness texture mapping a member of the blend starting at material `id`.
+fn roughness_map(materials: &[Material], id: u32) -> Option<RoughnessMap> {
+    let mut id = Some(id as usize);
+    std::iter::from_fn(|| {
+        let material = &materials[id?];
+        id = material.blend.map(|b| b.other as usize);
+        Some(material.roughness_map)
+    })
+    .flatten()
+    .next()
 }
 
 fn known_extension(name: &str) -> &'static str {

@@ -42,7 +42,17 @@
 //! - `normalTexture` (with its `scale`) → a tangent-space normal map bending the shading normal,
 //!   in the frame of each triangle's texture-coordinate gradients (`render::normal_map`).
 //!
-//! Ignored: metallic-roughness, occlusion, transmission and thickness textures,
+//! - `metallicRoughnessTexture` (linear data: roughness × `roughnessFactor` in green,
+//!   metalness × `metallicFactor` in blue) → `scene::RoughnessMap` on the metal and the
+//!   opaque dielectric, read at each hit: the metal's probability is the texel's metalness and
+//!   its surface follows the texel's roughness as above (mirror, rough conductor of α =
+//!   roughness², Lambertian); the opaque dielectric is plastic where the texel's roughness is
+//!   below 0.5 and Lambertian above, its coat of one width for the whole material (the mean
+//!   roughness of its non-Lambertian texels: the coat's tables are made per material). The
+//!   glass does not follow it texel by texel: it takes the texture's mean roughness, with a
+//!   warning.
+//!
+//! Ignored: occlusion (a path tracer's light needs none), transmission and thickness textures,
 //! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
 //! as sRGB, each image once however many materials use it.
 
@@ -59,7 +69,7 @@ use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, DIFFUSE_MIN_ROUGHNESS, MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, SceneBuilder,
-    SceneError, Surface, Texture, TextureId, TexturedLobe,
+    SceneError, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
     absorption_from_attenuation as scene_absorption, metal_surface,
 };
 
@@ -178,7 +188,7 @@ impl Materials {
                 roughness,
             )?),
             Some((texture, _)) => {
-                let texels = TexelRoughness::of(builder.texture(texture), roughness);
+                let texels = TextureRoughness::of(builder.texture(texture), roughness, metallic);
                 if transmission > 0.0 {
                     builder.warn(format!(
                         "{label}: metallicRoughnessTexture's roughness is not applied texel by \
@@ -565,36 +575,6 @@ impl Members {
     }
 }
 
-/// The roughness a metallic-roughness texture gives (green × `roughnessFactor`), summed up
-/// for the lobes that cannot follow it texel by texel.
-struct TexelRoughness {
-    /// Over all texels: the glass's roughness, and the metal's surface outside the kernels.
-    mean: f32,
-    /// Over the texels where the coat is not Lambertian (below `DIFFUSE_MIN_ROUGHNESS`): the
-    /// roughness of the coat, whose tables are made per material; `None` where there are none.
-    coat: Option<f32>,
-}
-
-impl TexelRoughness {
-    fn of(texture: &Texture, factor: f32) -> TexelRoughness {
-        let (mut sum, mut coat_sum, mut coat_count) = (0.0f64, 0.0f64, 0u64);
-        for y in 0..texture.height {
-            for x in 0..texture.width {
-                let roughness = (factor * texture.texel_linear(x, y).y).clamp(0.0, 1.0);
-                sum += f64::from(roughness);
-                if roughness < DIFFUSE_MIN_ROUGHNESS {
-                    coat_sum += f64::from(roughness);
-                    coat_count += 1;
-                }
-            }
-        }
-        TexelRoughness {
-            mean: (sum / texture.texel_count().max(1) as f64) as f32,
-            coat: (coat_count > 0).then(|| (coat_sum / coat_count as f64) as f32),
-        }
-    }
-}
-
 /// [`Members`] of a material with a metallic-roughness texture: the metal (where
 /// `metallicFactor` > 0) follows the texel's metalness and roughness; the opaque dielectric
 /// is plastic of the coat texels' mean roughness or Lambertian, by the texel's roughness; the
@@ -604,10 +584,11 @@ fn mapped_members(
     m: &json::Material,
     metallic: f32,
     transmission: f32,
-    texels: &TexelRoughness,
+    texels: &TextureRoughness,
     map: impl Fn(TexturedLobe) -> RoughnessMap,
 ) -> Result<Members, SceneError> {
     let mean = lobes(check, m, texels.mean)?;
+    let metal = metal_surface(texels.metal_mean);
     let coat = lobes(check, m, texels.coat.unwrap_or(0.0))?.opaque;
     let coat_map = matches!(coat, Surface::Plastic { .. }).then(|| map(TexturedLobe::Coated));
     let dielectric = [
@@ -618,7 +599,7 @@ fn mapped_members(
     .filter(|(probability, ..)| *probability > 0.0)
     .collect();
     Ok(Members {
-        textured_metal: (metallic > 0.0).then(|| (metallic, mean.metal, map(TexturedLobe::Metal))),
+        textured_metal: (metallic > 0.0).then(|| (metallic, metal, map(TexturedLobe::Metal))),
         dielectric,
     })
 }

@@ -25,6 +25,10 @@
 //! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
 //! these by `cargo run -p scene --example make_scenes -- scenes/`.
 
+mod metallic_roughness;
+
+pub use metallic_roughness::*;
+
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};

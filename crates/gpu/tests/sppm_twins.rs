@@ -726,6 +726,19 @@ fn every_kernel_matches_its_twin_through_blends() {
     every_kernel_matches_its_twin(scene::testing::cornell_blended(), DirectLight::Sampled);
 }
 
+/// The same with glTF's metallic-roughness texture (`scene::RoughnessMap`,
+/// `render::blend::mapped_material` and its WGSL twin): on the tiled floor and sphere each hit
+/// reads its texel, which weighs the metal's share and picks the metal's surface (mirror or
+/// rough) and the coat's (plastic or Lambertian); photons are kept by the member's surface
+/// there.
+#[test]
+fn every_kernel_matches_its_twin_through_metallic_roughness_tiles() {
+    every_kernel_matches_its_twin(
+        scene::testing::cornell_metallic_roughness(),
+        DirectLight::Sampled,
+    );
+}
+
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     every_kernel_matches_its_twin_on(context(), scene, direct);
 }

@@ -867,6 +867,35 @@ mod tests {
         }
     }
 
+    /// The lit plane tiled by a metallic-roughness texture (`testing::lit_plane_metallic_tiles`)
+    /// seen straight down at the centre of a tile of each kind: a mirror (the light overhead,
+    /// 0.5), Lambertian, half of each, and metal of roughness 1 (Lambertian): the texel's
+    /// metalness weighs the blend and its roughness picks the metal's surface. 16,384 paths a
+    /// point: measured over seeds 1–4 within 0.93 % (the mirror exact); tolerance 2 % (the
+    /// metalness ignored: +39 % on the Lambertian tile).
+    #[test]
+    fn a_metallic_roughness_texture_tiles_the_lit_plane() {
+        let scene = testing::lit_plane_metallic_tiles();
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let mut rng = Rng::new(3, 0);
+        for x in [-0.375, -0.125, 0.125, 0.375] {
+            let z = -0.375;
+            let origin = Vec3::new(x, 0.5, z);
+            let samples = 16384;
+            let sum: Vec3 = (0..samples)
+                .map(|_| tracer.radiance(origin, Vec3::NEG_Y, 8, &mut rng))
+                .sum();
+            let measured = sum / samples as f32;
+            let expected = testing::lit_plane_metallic_tile_radiance(x, z, 0.0).unwrap();
+            let error = (measured - Vec3::splat(expected)).abs().max_element();
+            assert!(
+                error < 0.02 * expected,
+                "at ({x}, {z}): {measured} against {expected}"
+            );
+        }
+    }
+
     /// The sky over the diffuse plane under index-matched absorbing water
     /// (`testing::plane_under_water`), seen straight down: ρ·L·2E₃(τ)·exp(−τ) per channel
     /// (`testing::plane_under_water_radiance`). The camera ray's segment under the layer ends

@@ -1,0 +1,78 @@
+//! glTF's metallic-roughness texture (`scene::RoughnessMap`) against the factors it stands
+//! for: where the texture reads the same everywhere, a render must be the render of the
+//! untextured blend glTF's factors would make, bit for bit (the same random numbers are drawn
+//! and the same surfaces met), the factors being the texel as the texture array keeps it. The texel picks each lobe's surface: mirror or rough metal,
+//! plastic or Lambertian coat.
+
+use glam::Vec2;
+use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
+use render::{Budget, Image, Settings, Sppm};
+use scene::{Scene, Surface, Texels, metal_surface, testing};
+
+fn render(scene: &Scene) -> Image {
+    let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
+    let camera = scene.camera(None).unwrap();
+    let backend = cpu::CpuBackend::new(cpu::SceneData::new(scene, bvh));
+    let settings = Settings {
+        seed: 3,
+        eye_every: 2,
+        ..Settings::new(24, 24, 4096)
+    };
+    let mut sppm = Sppm::new(backend, scene, &camera, settings).unwrap();
+    sppm.run(Budget::Passes(6), &mut |_| {}).unwrap().image
+}
+
+/// `testing::cornell_metallic_roughness` whose texture reads (`green`, `blue`) everywhere,
+/// and the id of its tiled material (the metal, first of its blend).
+fn uniform(green: u8, blue: u8) -> (Scene, usize) {
+    let mut scene = testing::cornell_metallic_roughness();
+    let Texels::LinearF32(texels) = &mut scene.textures[0].texels else {
+        panic!("the tiles are linear data");
+    };
+    for texel in texels.iter_mut() {
+        *texel = [0.0, f32::from(green) / 255.0, f32::from(blue) / 255.0, 1.0];
+    }
+    let tiled = (scene.materials.iter())
+        .position(|m| m.roughness_map.is_some())
+        .expect("a mapped material");
+    (scene, tiled)
+}
+
+/// [`uniform`] with the texture gone: the metal's weight is the metalness, its surface glTF's
+/// metal at that roughness, the coat its plastic below roughness 0.5 and Lambertian above
+/// (the texel as the renderers' texture array stores it: 8 bits in sRGB's encoding).
+fn factored(green: u8, blue: u8) -> Scene {
+    let (mut scene, metal) = uniform(green, blue);
+    let array = TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE);
+    let texel = array.sample(0, Vec2::splat(0.3));
+    let roughness = texel.y;
+    let blend = scene.materials[metal].blend.as_mut().unwrap();
+    blend.weight = texel.z;
+    let coat = blend.other as usize;
+    scene.materials[metal].surface = metal_surface(roughness);
+    if roughness >= scene::DIFFUSE_MIN_ROUGHNESS {
+        scene.materials[coat].surface = Surface::Diffuse;
+    }
+    for id in [metal, coat] {
+        scene.materials[id].roughness_map = None;
+    }
+    scene
+}
+
+#[test]
+fn a_uniform_texture_renders_as_the_factors_it_reads() {
+    // Brushed metal over glossy plastic; a polished mirror over a matte (Lambertian) coat.
+    for (green, blue) in [(64, 153), (0, 102), (200, 51)] {
+        let (textured, _) = uniform(green, blue);
+        let image = render(&textured);
+        assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
+        assert_eq!(
+            image,
+            render(&factored(green, blue)),
+            "texel ({green}, {blue}) renders otherwise than its factors"
+        );
+        // And the texel matters: another one gives another image.
+        let (other, _) = uniform(blue, green);
+        assert_ne!(image, render(&other), "texel ({green}, {blue}) swapped");
+    }
+}

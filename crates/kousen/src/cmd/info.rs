@@ -18,6 +18,9 @@ struct Info {
     material_kinds: Vec<MaterialKind>,
     /// Materials with a normal map (glTF `normalTexture`).
     normal_mapped_materials: usize,
+    /// Materials (blend members) whose surface a metallic-roughness texture picks at each hit
+    /// (`scene::RoughnessMap`); the kinds above are theirs at the texture's mean.
+    roughness_mapped_materials: usize,
     /// Blends (`scene::Blend`: glTF's partial metallic or transmission factors), each a
     /// chain of member materials counted among `materials`.
     blends: usize,
@@ -258,6 +261,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         normal_mapped_materials: (scene.materials.iter())
             .filter(|m| m.normal_texture.is_some())
             .count(),
+        roughness_mapped_materials: (scene.materials.iter())
+            .filter(|m| m.roughness_map.is_some())
+            .count(),
         blends: blend_count(&scene.materials),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
@@ -369,6 +375,13 @@ fn print_table(info: &Info) {
         (
             "normal maps",
             format!("{} materials", info.normal_mapped_materials),
+        ),
+        (
+            "roughness maps",
+            format!(
+                "{} materials (metallic-roughness texture: surface per texel)",
+                info.roughness_mapped_materials
+            ),
         ),
         (
             "blends",

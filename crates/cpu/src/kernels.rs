@@ -13,7 +13,10 @@ use render::buffers::{
 };
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::sample_emission;
-use render::hash::{cell_of, cell_size, entry_of, largest_radius, priority, query_entries};
+use render::hash::{
+    cell_of, cell_size, class_entry, entry_of, largest_radius, photon_class, priority,
+    query_entries,
+};
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium};
@@ -781,7 +784,9 @@ fn photon_key(
     }
     let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
     let cell = cell_of(vec3(photon.position), cell_size);
-    let entry = entry_of(cell, params.hash_size) as usize * HASH_ENTRY_WORDS;
+    let class = photon_class(photon.flux, params.hash_classes());
+    let entry = class_entry(entry_of(cell, params.hash_size), class, params.hash_size);
+    let entry = entry as usize * HASH_ENTRY_WORDS;
     let pass = counters[counter::PASS].load(Relaxed);
     Some((entry, priority(params.seed, pass, index)))
 }
@@ -858,7 +863,7 @@ impl GatherSum {
 }
 
 /// The stochastic hash's query: each distinct entry the sphere overlaps gives its kept photon,
-/// weighted by the entry's count.
+/// weighted by the entry's count, in each photon class's table (`render::hash::photon_class`).
 pub fn stochastic_query(
     params: &SppmParams,
     hash: &[AtomicU32],
@@ -872,14 +877,17 @@ pub fn stochastic_query(
         params.hash_size,
     );
     let mut sum = GatherSum::default();
-    for &entry in &entries[..count] {
-        let word = entry as usize * HASH_ENTRY_WORDS;
-        let photons_in_entry = hash[word + hash_word::COUNT].load(Relaxed);
-        if photons_in_entry == 0 {
-            continue;
+    for class in 0..params.hash_classes() {
+        for &entry in &entries[..count] {
+            let entry = class_entry(entry, class, params.hash_size);
+            let word = entry as usize * HASH_ENTRY_WORDS;
+            let photons_in_entry = hash[word + hash_word::COUNT].load(Relaxed);
+            if photons_in_entry == 0 {
+                continue;
+            }
+            let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
+            sum.add_if_near(query, photon, photons_in_entry);
         }
-        let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
-        sum.add_if_near(query, photon, photons_in_entry);
     }
     sum
 }

@@ -172,7 +172,7 @@ impl Backend for CpuBackend {
             ],
             hash: atomics(std::iter::repeat_n(
                 0,
-                params.hash_size as usize * HASH_ENTRY_WORDS,
+                params.hash_entries() * HASH_ENTRY_WORDS,
             )),
             counters: atomics(initial_counters(setup.initial_radius)),
             path_segments: Vec::new(),

@@ -21,6 +21,11 @@ struct Table {
 
 impl Table {
     fn new(hash_size: u32, seed: u32, cell: f32, alpha: f32) -> Table {
+        Table::with_classes(hash_size, seed, cell, alpha, 1)
+    }
+
+    /// A table keeping `classes` photon classes apart (`render::hash::photon_class`).
+    fn with_classes(hash_size: u32, seed: u32, cell: f32, alpha: f32, classes: u32) -> Table {
         let counters: Vec<AtomicU32> = (0..counter::COUNT).map(|_| AtomicU32::new(0)).collect();
         counters[counter::CELL_SIZE].store(cell.to_bits(), Relaxed);
         Table {
@@ -29,10 +34,11 @@ impl Table {
                 seed,
                 alpha,
                 indirect_alpha: alpha,
+                photon_classes: classes,
                 ..SppmParams::default()
             },
             counters,
-            hash: (0..hash_size as usize * HASH_ENTRY_WORDS)
+            hash: (0..(hash_size * classes) as usize * HASH_ENTRY_WORDS)
                 .map(|_| AtomicU32::new(0))
                 .collect(),
         }
@@ -218,11 +224,24 @@ fn the_pick_is_uniform_for_consecutive_indices() {
 /// Φ = τ'/α and M = N'/α.
 #[test]
 fn the_gather_estimate_is_unbiased() {
+    assert_gather_estimate_unbiased(1);
+}
+
+/// The same where the hash keeps photon classes apart (a dispersive scene's,
+/// `render::hash::PHOTON_CLASSES`): every other photon carries one colour channel (as
+/// dispersive glass leaves them), kept in its class's own table; the estimate, summed over
+/// the classes, is still the full gather's.
+#[test]
+fn the_gather_estimate_is_unbiased_with_photon_classes() {
+    assert_gather_estimate_unbiased(render::hash::PHOTON_CLASSES);
+}
+
+fn assert_gather_estimate_unbiased(classes: u32) {
     const TRIALS: u32 = 100_000;
     const ALPHA: f32 = 0.5;
     let radius = 0.3;
     let cell = cell_size(radius);
-    let table = Table::new(3, 11, cell, ALPHA);
+    let table = Table::with_classes(3, 11, cell, ALPHA, classes);
     // A visible point near a corner of its cell, so its sphere spans 2 × 2 × 2 cells.
     let position = Vec3::new(0.58 * cell, 0.97 * cell, 1.05 * cell);
     let normal = Vec3::Y;
@@ -245,7 +264,14 @@ fn the_gather_estimate_is_unbiased() {
             // One photon in six arrives on the other side of the surface.
             let facing = if i % 6 == 1 { -normal } else { normal };
             let tilt = (rng.vec3() - Vec3::splat(0.5)) * 0.5;
-            let flux = Vec3::new(0.2, 0.5, 1.0) + 2.0 * rng.vec3();
+            let mut flux = Vec3::new(0.2, 0.5, 1.0) + 2.0 * rng.vec3();
+            if classes > 1 && i % 2 == 0 {
+                // One channel, three times as bright (`render::dispersion`'s weight).
+                let channel = (i / 2) % 3;
+                flux = Vec3::from_array(std::array::from_fn(|c| {
+                    if c == channel { 3.0 * flux[c] } else { 0.0 }
+                }));
+            }
             photon(at, (facing + tilt).normalize(), flux)
         })
         .collect();
@@ -280,6 +306,27 @@ fn the_gather_estimate_is_unbiased() {
     assert!(cells > 8, "photons must lie outside the query's cells too");
 
     let order: Vec<usize> = (0..photons.len()).collect();
+    if classes > 1 {
+        // The one-channel photons filled the classes' own tables.
+        table.build(0, &photons, &order);
+        let class_counts: u32 = (table.hash.iter().skip(3 * HASH_ENTRY_WORDS))
+            .skip(hash_word::COUNT)
+            .step_by(HASH_ENTRY_WORDS)
+            .map(|w| w.load(Relaxed))
+            .sum();
+        let one_channel = (photons.iter())
+            .filter(|p| p.is_stored() && p.flux.iter().filter(|&&c| c > 0.0).count() == 1)
+            .count();
+        assert!(one_channel >= 10, "{one_channel} one-channel photons");
+        let gathered_one_channel = (gathered.iter())
+            .filter(|p| p.flux.iter().filter(|&&c| c > 0.0).count() == 1)
+            .count();
+        assert!(
+            gathered_one_channel >= 2,
+            "{gathered_one_channel} one-channel photons gathered"
+        );
+        assert_eq!(class_counts as usize, one_channel);
+    }
     let (mut sum, mut sum_sq) = ([0f64; 4], [0f64; 4]);
     for pass in 0..TRIALS {
         table.build(pass, &photons, &order);

@@ -372,7 +372,7 @@ impl GpuBackend {
             (
                 "hash_table",
                 "hash",
-                params.hash_size as u64 * HASH_ENTRY_WORDS as u64 * 4,
+                params.hash_entries() as u64 * HASH_ENTRY_WORDS as u64 * 4,
             ),
             (
                 "lights",
@@ -560,7 +560,7 @@ impl GpuBackend {
 
     /// The hash table's words (entry-major: priority, count, winner).
     pub fn read_hash(&mut self) -> Result<Vec<u32>, BackendError> {
-        self.read_state(|s| (&s.hash, s.params.hash_size as usize * HASH_ENTRY_WORDS))
+        self.read_state(|s| (&s.hash, s.params.hash_entries() * HASH_ENTRY_WORDS))
     }
 
     pub fn counters(&mut self) -> Result<Vec<u32>, BackendError> {

@@ -459,9 +459,9 @@ fn sppm_types_layout_matches_render_buffers() {
             ("eye_every", offset_of!(SppmParams, eye_every)),
             ("indirect_alpha", offset_of!(SppmParams, indirect_alpha)),
             ("camera_medium", offset_of!(SppmParams, camera_medium)),
+            ("photon_classes", offset_of!(SppmParams, photon_classes)),
             ("pad1", offset_of!(SppmParams, pad)),
             ("pad2", offset_of!(SppmParams, pad) + 4),
-            ("pad3", offset_of!(SppmParams, pad) + 8),
         ],
     );
 }

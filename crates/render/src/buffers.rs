@@ -232,7 +232,11 @@ pub struct SppmParams {
     /// The absorbing solid the camera is in (`crate::medium::MediumLocator`), where eye paths
     /// start, or `crate::medium::NO_MEDIUM`.
     pub camera_medium: u32,
-    pub pad: [u32; 3],
+    /// Photon classes the stochastic hash keeps apart, each in its own table of `hash_size`
+    /// entries (`crate::hash::photon_class`): [`crate::hash::PHOTON_CLASSES`] where some
+    /// glass disperses, else 1.
+    pub photon_classes: u32,
+    pub pad: [u32; 2],
 }
 
 impl Default for SppmParams {
@@ -240,12 +244,24 @@ impl Default for SppmParams {
     fn default() -> SppmParams {
         SppmParams {
             camera_medium: crate::medium::NO_MEDIUM,
+            photon_classes: 1,
             ..Zeroable::zeroed()
         }
     }
 }
 
 impl SppmParams {
+    /// The stochastic hash's photon classes ([`SppmParams::photon_classes`]; params made
+    /// without them, all zero, have one).
+    pub fn hash_classes(&self) -> u32 {
+        self.photon_classes.max(1)
+    }
+
+    /// Entries of the stochastic hash's tables, all classes.
+    pub fn hash_entries(&self) -> usize {
+        self.hash_size as usize * self.hash_classes() as usize
+    }
+
     pub fn pixel_count(&self) -> u32 {
         self.width * self.height
     }

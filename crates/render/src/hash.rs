@@ -50,6 +50,34 @@ pub fn entry_of(cell: IVec3, table_size: u32) -> u32 {
 
 /// The random priority of photon `index` in pass `pass`: never 0, so an entry whose priority
 /// is 0 holds no photon. The largest priority wins an entry, a uniform pick.
+/// Classes of photons the stochastic hash keeps apart where a scene disperses: photons of
+/// every colour channel (class 0), and those dispersive glass left carrying one (1 red,
+/// 2 green, 3 blue; `crate::dispersion`). One photon kept for a cell of both kinds made the
+/// cell's whole estimate one channel's for the pass whenever a one-channel photon won: a
+/// correlated colour error (±10 % a channel in the dispersive furnace at 64 and 256 passes
+/// alike). Each class has its own table of `hash_size` entries, so a cell's photons of each
+/// class keep one of their own, weighted by their own count.
+pub const PHOTON_CLASSES: u32 = 4;
+
+/// The class of a photon of `flux` (`PHOTON_CLASSES`) among `classes` (1: one class for all).
+pub fn photon_class(flux: [f32; 3], classes: u32) -> u32 {
+    if classes <= 1 {
+        return 0;
+    }
+    match flux.map(|c| c > 0.0) {
+        [true, false, false] => 1,
+        [false, true, false] => 2,
+        [false, false, true] => 3,
+        _ => 0,
+    }
+}
+
+/// The entry of table `entry` in class `class`'s table (each `table_size` entries, class 0
+/// first).
+pub fn class_entry(entry: u32, class: u32, table_size: u32) -> u32 {
+    class * table_size + entry
+}
+
 pub fn priority(seed: u32, pass: u32, index: u32) -> u32 {
     stream_key(seed, HASH_STREAM, pass, index) | 1
 }

@@ -165,7 +165,12 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
         indirect_alpha: settings.indirect_alpha,
         // Eye paths start where the camera is: under water, say.
         camera_medium: MediumLocator::new(scene).medium_at(camera.eye),
-        pad: [0; 3],
+        photon_classes: if scene.materials.iter().any(|m| m.dispersion > 0.0) {
+            crate::hash::PHOTON_CLASSES
+        } else {
+            1
+        },
+        pad: [0; 2],
     }
 }
 

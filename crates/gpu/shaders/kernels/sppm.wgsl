@@ -820,7 +820,8 @@ fn photon_key(index: u32) -> PhotonKey {
         return PhotonKey(0u, 0u, false);
     }
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
-    let entry = entry_of(cell_of(photon.position, cell_size), params.hash_size) * HASH_ENTRY_WORDS;
+    let photon_table = photon_class(photon.flux);
+    let entry = (photon_table * params.hash_size + entry_of(cell_of(photon.position, cell_size), params.hash_size)) * HASH_ENTRY_WORDS;
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
     let priority = stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;
     return PhotonKey(entry, priority, true);

@@ -807,6 +807,30 @@ fn cell_of(position: vec3<f32>, cell_size: f32) -> vec3<i32> {
     return vec3<i32>(floor(position / cell_size + 0.5));
 }
 
+// render::buffers::SppmParams::hash_classes.
+fn hash_classes() -> u32 {
+    return max(params.photon_classes, 1u);
+}
+
+// render::hash::photon_class: 1–3 for a photon carrying one colour channel where the scene
+// keeps classes apart, 0 otherwise.
+fn photon_class(flux: vec3<f32>) -> u32 {
+    if hash_classes() <= 1u {
+        return 0u;
+    }
+    let lit = flux > vec3<f32>(0.0);
+    if lit.x && !lit.y && !lit.z {
+        return 1u;
+    }
+    if !lit.x && lit.y && !lit.z {
+        return 2u;
+    }
+    if !lit.x && !lit.y && lit.z {
+        return 3u;
+    }
+    return 0u;
+}
+
 fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {
     let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z))));
     return h % table_size;

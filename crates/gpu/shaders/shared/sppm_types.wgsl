@@ -81,9 +81,10 @@ struct SppmParams {
     indirect_alpha: f32,
     // render::buffers::SppmParams::camera_medium.
     camera_medium: u32,
+    // render::buffers::SppmParams::photon_classes (render::hash::photon_class).
+    photon_classes: u32,
     pad1: u32,
     pad2: u32,
-    pad3: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

@@ -140,7 +140,8 @@ pub fn lit_plane_metallic_tiles() -> Scene {
     let texels = (0..LIT_TILES_SIDE * LIT_TILES_SIDE)
         .map(|i| {
             let (x, y) = (i % LIT_TILES_SIDE, i / LIT_TILES_SIDE);
-            let (green, blue) = LIT_TILES_GREEN_BLUE[lit_tile_kind(x / TILE_TEXELS, y / TILE_TEXELS)];
+            let (green, blue) =
+                LIT_TILES_GREEN_BLUE[lit_tile_kind(x / TILE_TEXELS, y / TILE_TEXELS)];
             [0.0, f32::from(green) / 255.0, f32::from(blue) / 255.0, 1.0]
         })
         .collect();
@@ -152,7 +153,11 @@ pub fn lit_plane_metallic_tiles() -> Scene {
         texels: Texels::LinearF32(texels),
     });
     let plane = scene.materials[0].clone();
-    assert_eq!(plane.surface, Surface::Diffuse, "lit_plane's material 0 is its plane");
+    assert_eq!(
+        plane.surface,
+        Surface::Diffuse,
+        "lit_plane's material 0 is its plane"
+    );
     let roughness = TextureRoughness::of(&scene.textures[texture as usize], 1.0, 1.0);
     let metal = scene.materials.len() as u32;
     scene.materials.push(Material {

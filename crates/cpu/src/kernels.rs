@@ -25,7 +25,7 @@ use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
-use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter};
+use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_channel, pixel_jitter};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -311,12 +311,14 @@ pub fn eye_pass(
     extra: u32,
 ) -> EyeStep {
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
-    let [jx, jy] = pixel_jitter(params.seed, index, pass / params.eye_every.max(1));
-    let first = eye_path(scene, params, &mut rng, index, [jx, jy]);
+    let eye_pass = pass / params.eye_every.max(1);
+    let [jx, jy] = pixel_jitter(params.seed, index, eye_pass);
+    let channel = pixel_channel(params.seed, index, eye_pass);
+    let first = eye_path(scene, params, &mut rng, index, [jx, jy], Some(channel));
     let mut direct = first.direct;
     for _ in 0..extra {
         let jitter = [rng.next_f32(), rng.next_f32()];
-        direct += eye_path(scene, params, &mut rng, index, jitter).direct;
+        direct += eye_path(scene, params, &mut rng, index, jitter, None).direct;
     }
     EyeStep {
         visible_point: first.visible_point,
@@ -334,13 +336,16 @@ struct EyePath {
     specular_first: bool,
 }
 
-/// A camera path through pixel `index` at sub-pixel `jitter`.
+/// A camera path through pixel `index` at sub-pixel `jitter`; at the first dispersive glass
+/// where it chooses a colour channel it takes `channel`'s number if given
+/// (`render::rng::pixel_channel`), else draws one.
 fn eye_path(
     scene: &SceneData,
     params: &SppmParams,
     rng: &mut KernelRng,
     index: u32,
     [jx, jy]: [f32; 2],
+    mut channel: Option<f32>,
 ) -> EyePath {
     let (x, y) = (index % params.width, index / params.width);
     let sx = (x as f32 + jx) / params.width as f32 * 2.0 - 1.0;
@@ -472,10 +477,13 @@ fn eye_path(
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
                 // Dispersive glass keeps one colour channel (`render::dispersion`), with one
-                // more number where the path carries more than one.
-                let channel;
-                (surface, channel) = dispersed_surface(material, throughput, || rng.next_f32());
-                throughput *= channel;
+                // more number where the path carries more than one: the pixel's own for this
+                // eye pass at the first such glass.
+                let weight;
+                (surface, weight) = dispersed_surface(material, throughput, || {
+                    channel.take().unwrap_or_else(|| rng.next_f32())
+                });
+                throughput *= weight;
                 let next = specular_direction(surface, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.

@@ -546,6 +546,12 @@ fn pixel_jitter(index: u32, eye_pass: u32) -> vec2<f32> {
     return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
 }
 
+// render::rng::pixel_channel: a third further each eye pass, rotated per pixel.
+fn pixel_channel(index: u32, eye_pass: u32) -> f32 {
+    let shift = stream_key(params.seed, JITTER_STREAM, 2u, index);
+    return f32((eye_pass * THIRD_STEP + shift) >> 8u) * (1.0 / 16777216.0);
+}
+
 // cpu::kernels::eye_pass_pixel and eye_pass: the first path leaves the visible point; where an
 // earlier eye pass met a specular surface first, SPECULAR_EXTRA_PATHS more paths add what they
 // see, averaged with the first path's.
@@ -563,15 +569,19 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     }
     // One call site in a loop over the paths: a second call of eye_path made the kernel a third
     // slower through lavapipe even where no pixel took the extra path.
-    var jitter = pixel_jitter(index, pass_index / max(params.eye_every, 1u));
+    let eye_pass_index = pass_index / max(params.eye_every, 1u);
+    var jitter = pixel_jitter(index, eye_pass_index);
+    // render::rng::pixel_channel for the first path; negative: the extra paths draw theirs.
+    var channel = pixel_channel(index, eye_pass_index);
     var direct = vec3<f32>(0.0);
     for (var path_index = 0u; path_index <= extra; path_index += 1u) {
         if path_index > 0u {
             let jx = next_f32(&rng);
             let jy = next_f32(&rng);
             jitter = vec2<f32>(jx, jy);
+            channel = -1.0;
         }
-        let path = eye_path(index, jitter, &rng);
+        let path = eye_path(index, jitter, channel, &rng);
         direct += path.direct;
         if path_index == 0u {
             store_visible_point(index, path.point);
@@ -590,8 +600,10 @@ struct EyePath {
     specular_first: bool,
 }
 
-// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`.
-fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
+// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, choosing
+// its colour channel at the first dispersive glass with `channel` where that is not negative.
+fn eye_path(index: u32, jitter: vec2<f32>, channel: f32, rng: ptr<function, Rng>) -> EyePath {
+    var pending_channel = channel;
     let x = index % params.width;
     let y = index / params.width;
     let sx = (f32(x) + jitter.x) / f32(params.width) * 2.0 - 1.0;
@@ -749,7 +761,12 @@ fn eye_path(index: u32, jitter: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
             // cpu::kernels: dispersive glass keeps one colour channel (its index from here on).
             var u_channel = 0.0;
             if draws_channel(material.dispersion, throughput) {
-                u_channel = next_f32(rng);
+                if pending_channel >= 0.0 {
+                    u_channel = pending_channel;
+                    pending_channel = -1.0;
+                } else {
+                    u_channel = next_f32(rng);
+                }
             }
             let dispersed = dispersed_material(material, throughput, u_channel);
             material = dispersed.material;

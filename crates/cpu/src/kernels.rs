@@ -313,12 +313,12 @@ pub fn eye_pass(
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
     let eye_pass = pass / params.eye_every.max(1);
     let [jx, jy] = pixel_jitter(params.seed, index, eye_pass);
-    let channel = pixel_channel(params.seed, index, eye_pass);
-    let first = eye_path(scene, params, &mut rng, index, [jx, jy], Some(channel));
+    let channel = |path| Some(pixel_channel(params.seed, index, eye_pass, path));
+    let first = eye_path(scene, params, &mut rng, index, [jx, jy], channel(0));
     let mut direct = first.direct;
-    for _ in 0..extra {
+    for path in 1..=extra {
         let jitter = [rng.next_f32(), rng.next_f32()];
-        direct += eye_path(scene, params, &mut rng, index, jitter, None).direct;
+        direct += eye_path(scene, params, &mut rng, index, jitter, channel(path)).direct;
     }
     EyeStep {
         visible_point: first.visible_point,
@@ -337,8 +337,9 @@ struct EyePath {
 }
 
 /// A camera path through pixel `index` at sub-pixel `jitter`; at the first dispersive glass
-/// where it chooses a colour channel it takes `channel`'s number if given
-/// (`render::rng::pixel_channel`), else draws one.
+/// where it chooses a colour channel it takes `channel`'s number
+/// (`render::rng::pixel_channel`), at later ones (a path that refracted out into white light
+/// again cannot: it carries one channel) a drawn one.
 fn eye_path(
     scene: &SceneData,
     params: &SppmParams,

@@ -33,15 +33,18 @@ pub fn pixel_jitter(seed: u32, index: u32, eye_pass: u32) -> [f32; 2] {
 /// 2³² / 3 rounded up: a step of a third of the unit interval in 32-bit fixed point.
 pub const THIRD_STEP: u32 = 0x5555_5556;
 
-/// The number eye pass `eye_pass`'s first camera path through pixel `index` chooses its colour
-/// channel with at dispersive glass (`crate::dispersion`), in [0, 1): a third further each eye
-/// pass from a random offset per pixel, so that any three consecutive eye passes take each
-/// channel once (independent draws left the glass in colour noise until many eye passes had
-/// averaged it), while each pass's number alone is uniform. In 32-bit fixed point as
+/// The number camera path `path` (0: the first; then the extra paths of pixels showing glass,
+/// `crate::buffers::SPECULAR_EXTRA_PATHS`) of eye pass `eye_pass` through pixel `index`
+/// chooses its colour channel with at dispersive glass (`crate::dispersion`), in [0, 1): a
+/// third further each eye pass and each path from a random offset per pixel, so that any three
+/// consecutive eye passes' first paths take each channel once, and a pass's paths take
+/// different channels (independent draws left the glass in colour noise until many eye passes
+/// had averaged it), while each number alone is uniform. In 32-bit fixed point as
 /// [`pixel_jitter`], from its stream with axis 2.
-pub fn pixel_channel(seed: u32, index: u32, eye_pass: u32) -> f32 {
+pub fn pixel_channel(seed: u32, index: u32, eye_pass: u32, path: u32) -> f32 {
     let shift = stream_key(seed, JITTER_STREAM, 2, index);
-    let fixed = eye_pass.wrapping_mul(THIRD_STEP).wrapping_add(shift);
+    let step = eye_pass.wrapping_add(path);
+    let fixed = step.wrapping_mul(THIRD_STEP).wrapping_add(shift);
     (fixed >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 

@@ -546,10 +546,11 @@ fn pixel_jitter(index: u32, eye_pass: u32) -> vec2<f32> {
     return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
 }
 
-// render::rng::pixel_channel: a third further each eye pass, rotated per pixel.
-fn pixel_channel(index: u32, eye_pass: u32) -> f32 {
+// render::rng::pixel_channel: a third further each eye pass and path (`step`: their sum),
+// rotated per pixel.
+fn pixel_channel(index: u32, step: u32) -> f32 {
     let shift = stream_key(params.seed, JITTER_STREAM, 2u, index);
-    return f32((eye_pass * THIRD_STEP + shift) >> 8u) * (1.0 / 16777216.0);
+    return f32((step * THIRD_STEP + shift) >> 8u) * (1.0 / 16777216.0);
 }
 
 // cpu::kernels::eye_pass_pixel and eye_pass: the first path leaves the visible point; where an
@@ -571,15 +572,16 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     // slower through lavapipe even where no pixel took the extra path.
     let eye_pass_index = pass_index / max(params.eye_every, 1u);
     var jitter = pixel_jitter(index, eye_pass_index);
-    // render::rng::pixel_channel for the first path; negative: the extra paths draw theirs.
-    var channel = pixel_channel(index, eye_pass_index);
+    var channel = 0.0;
     var direct = vec3<f32>(0.0);
     for (var path_index = 0u; path_index <= extra; path_index += 1u) {
         if path_index > 0u {
             let jx = next_f32(&rng);
             let jy = next_f32(&rng);
             jitter = vec2<f32>(jx, jy);
-            channel = -1.0;
+        }
+        if DISPERSION {
+            channel = pixel_channel(index, eye_pass_index + path_index);
         }
         let path = eye_path(index, jitter, channel, &rng);
         direct += path.direct;
@@ -601,7 +603,7 @@ struct EyePath {
 }
 
 // cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, choosing
-// its colour channel at the first dispersive glass with `channel` where that is not negative.
+// its colour channel at the first dispersive glass with `channel` (later ones draw).
 fn eye_path(index: u32, jitter: vec2<f32>, channel: f32, rng: ptr<function, Rng>) -> EyePath {
     var pending_channel = channel;
     let x = index % params.width;

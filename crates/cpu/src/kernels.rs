@@ -14,8 +14,8 @@ use render::buffers::{
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::sample_emission;
 use render::hash::{
-    cell_of, cell_size, class_entry, entry_of, largest_radius, photon_class, priority,
-    query_entries,
+    cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, largest_radius,
+    photon_class, priority, query_entries,
 };
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
@@ -758,9 +758,12 @@ pub fn hash_count(
     index: u32,
     photon: &Photon,
 ) {
-    if let Some((entry, priority)) = photon_key(params, counters, index, photon) {
-        hash[entry + hash_word::PRIORITY].fetch_max(priority, Relaxed);
-        hash[entry + hash_word::COUNT].fetch_add(1, Relaxed);
+    if let Some(key) = photon_key(params, counters, index, photon) {
+        hash[key.word + hash_word::PRIORITY].fetch_max(key.priority, Relaxed);
+        hash[key.word + hash_word::COUNT].fetch_add(1, Relaxed);
+        if key.class > 0 {
+            hash[key.class_zero_word + hash_word::COUNT].fetch_or(class_mark(key.class), Relaxed);
+        }
     }
 }
 
@@ -773,31 +776,44 @@ pub fn hash_select(
     index: u32,
     photon: &Photon,
 ) {
-    if let Some((entry, priority)) = photon_key(params, counters, index, photon)
-        && hash[entry + hash_word::PRIORITY].load(Relaxed) == priority
+    if let Some(key) = photon_key(params, counters, index, photon)
+        && hash[key.word + hash_word::PRIORITY].load(Relaxed) == key.priority
     {
-        hash[entry + hash_word::WINNER].fetch_max(index, Relaxed);
+        hash[key.word + hash_word::WINNER].fetch_max(index, Relaxed);
     }
 }
 
-/// A stored photon's first hash-entry word and its priority this pass; `None` if the slot
-/// stored no photon.
+/// Where a stored photon goes in the hash this pass.
+struct PhotonKey {
+    /// Its entry's first word, in its class's table.
+    word: usize,
+    /// The first word of the class-0 entry of the same index (which marks the class).
+    class_zero_word: usize,
+    class: u32,
+    priority: u32,
+}
+
+/// A stored photon's [`PhotonKey`]; `None` if the slot stored no photon.
 fn photon_key(
     params: &SppmParams,
     counters: &[AtomicU32],
     index: u32,
     photon: &Photon,
-) -> Option<(usize, u32)> {
+) -> Option<PhotonKey> {
     if !photon.is_stored() {
         return None;
     }
     let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
     let cell = cell_of(vec3(photon.position), cell_size);
     let class = photon_class(photon.flux, params.hash_classes());
-    let entry = class_entry(entry_of(cell, params.hash_size), class, params.hash_size);
-    let entry = entry as usize * HASH_ENTRY_WORDS;
+    let entry = entry_of(cell, params.hash_size);
     let pass = counters[counter::PASS].load(Relaxed);
-    Some((entry, priority(params.seed, pass, index)))
+    Some(PhotonKey {
+        word: class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS,
+        class_zero_word: entry as usize * HASH_ENTRY_WORDS,
+        class,
+        priority: priority(params.seed, pass, index),
+    })
 }
 
 /// Gather and update, one pixel: the visible point reads the hash entries its radius
@@ -872,7 +888,8 @@ impl GatherSum {
 }
 
 /// The stochastic hash's query: each distinct entry the sphere overlaps gives its kept photon,
-/// weighted by the entry's count, in each photon class's table (`render::hash::photon_class`).
+/// weighted by the entry's count, in class 0's table and each other photon class's table its
+/// count word marks (`render::hash::photon_class`, `class_mark`).
 pub fn stochastic_query(
     params: &SppmParams,
     hash: &[AtomicU32],
@@ -885,12 +902,17 @@ pub fn stochastic_query(
         query.cell_size,
         params.hash_size,
     );
+    let classes = params.hash_classes();
     let mut sum = GatherSum::default();
-    for class in 0..params.hash_classes() {
-        for &entry in &entries[..count] {
-            let entry = class_entry(entry, class, params.hash_size);
-            let word = entry as usize * HASH_ENTRY_WORDS;
-            let photons_in_entry = hash[word + hash_word::COUNT].load(Relaxed);
+    for &entry in &entries[..count] {
+        let marks = hash[entry as usize * HASH_ENTRY_WORDS + hash_word::COUNT].load(Relaxed);
+        for class in 0..classes {
+            if class > 0 && marks & class_mark(class) == 0 {
+                continue;
+            }
+            let word = class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS;
+            let photons_in_entry =
+                entry_count(hash[word + hash_word::COUNT].load(Relaxed), classes);
             if photons_in_entry == 0 {
                 continue;
             }

@@ -81,6 +81,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("R2_STEP_X", U32(rng::R2_STEP[0])),
         ("R2_STEP_Y", U32(rng::R2_STEP[1])),
         ("THIRD_STEP", U32(rng::THIRD_STEP)),
+        ("CLASS_MARK_SHIFT", U32(render::hash::CLASS_MARK_SHIFT)),
         ("HASH_STREAM", U32(rng::HASH_STREAM)),
         ("CELL_SLACK", F32(render::hash::CELL_SLACK)),
         ("HASH_ENTRY_WORDS", U32(buffers::HASH_ENTRY_WORDS as u32)),

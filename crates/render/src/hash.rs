@@ -78,6 +78,36 @@ pub fn class_entry(entry: u32, class: u32, table_size: u32) -> u32 {
     class * table_size + entry
 }
 
+/// Where photons are kept in classes, a class-0 entry's count word keeps the count below this
+/// bit and above it one mark per other class, set where that class's entry of the same index
+/// holds photons: the gather reads only the classes marked (most cells have no one-channel
+/// photon). Renders with classes keep fewer photon slots than 2²⁹ ([`classes_for`]).
+pub const CLASS_MARK_SHIFT: u32 = 29;
+
+/// The count in a count word of a table of `classes` classes (the marks cleared).
+pub fn entry_count(word: u32, classes: u32) -> u32 {
+    if classes > 1 {
+        word & ((1 << CLASS_MARK_SHIFT) - 1)
+    } else {
+        word
+    }
+}
+
+/// The mark in a class-0 count word saying class `class` (1–3) has photons at that entry.
+pub fn class_mark(class: u32) -> u32 {
+    1 << (CLASS_MARK_SHIFT + class - 1)
+}
+
+/// The photon classes of a render with `slots` photon slots of a scene where glass does or
+/// does not `disperse`: [`PHOTON_CLASSES`] where it does and the counts fit below the marks.
+pub fn classes_for(disperses: bool, slots: u32) -> u32 {
+    if disperses && slots < 1 << CLASS_MARK_SHIFT {
+        PHOTON_CLASSES
+    } else {
+        1
+    }
+}
+
 pub fn priority(seed: u32, pass: u32, index: u32) -> u32 {
     stream_key(seed, HASH_STREAM, pass, index) | 1
 }

@@ -165,11 +165,10 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
         indirect_alpha: settings.indirect_alpha,
         // Eye paths start where the camera is: under water, say.
         camera_medium: MediumLocator::new(scene).medium_at(camera.eye),
-        photon_classes: if scene.materials.iter().any(|m| m.dispersion > 0.0) {
-            crate::hash::PHOTON_CLASSES
-        } else {
-            1
-        },
+        photon_classes: crate::hash::classes_for(
+            scene.materials.iter().any(|m| m.dispersion > 0.0),
+            settings.photons,
+        ),
         pad: [0; 2],
     }
 }

@@ -826,24 +826,29 @@ fn eye_path(index: u32, jitter: vec2<f32>, channel: f32, rng: ptr<function, Rng>
 // priority this pass; `stored` false if the slot stored none (or lies past the slots).
 struct PhotonKey {
     entry: u32,
+    // The class-0 entry of the same index's first word, which marks the photon's class
+    // (photon_table > 0).
+    class_zero_entry: u32,
+    photon_table: u32,
     priority: u32,
     stored: bool,
 }
 
 fn photon_key(index: u32) -> PhotonKey {
     if index >= params.slot_count {
-        return PhotonKey(0u, 0u, false);
+        return PhotonKey(0u, 0u, 0u, 0u, false);
     }
     let photon = load_photon(index);
     if !any(photon.flux != vec3<f32>(0.0)) {
-        return PhotonKey(0u, 0u, false);
+        return PhotonKey(0u, 0u, 0u, 0u, false);
     }
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
     let photon_table = photon_class(photon.flux);
-    let entry = (photon_table * params.hash_size + entry_of(cell_of(photon.position, cell_size), params.hash_size)) * HASH_ENTRY_WORDS;
+    let entry = entry_of(cell_of(photon.position, cell_size), params.hash_size);
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
     let priority = stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;
-    return PhotonKey(entry, priority, true);
+    let word = (photon_table * params.hash_size + entry) * HASH_ENTRY_WORDS;
+    return PhotonKey(word, entry * HASH_ENTRY_WORDS, photon_table, priority, true);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -852,6 +857,9 @@ fn hash_count(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
     if key.stored {
         atomicMax(&hash[key.entry + HASH_PRIORITY], key.priority);
         atomicAdd(&hash[key.entry + HASH_COUNT], 1u);
+        if key.photon_table > 0u {
+            atomicOr(&hash[key.class_zero_entry + HASH_COUNT], class_mark(key.photon_table));
+        }
     }
 }
 

@@ -1,18 +1,24 @@
 // The stochastic spatial hash's query (cpu::kernels::stochastic_query): each distinct table
 // entry the gather sphere's box touches gives its kept photon, weighted by the entry's count,
-// in each photon class's table (render::hash::photon_class).
+// in class 0's table and each other photon class's table its count word marks
+// (render::hash::photon_class, class_mark).
 
 fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
     var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
     let touched = query_entries(position, reach(radii), cell_size);
-    for (var table = 0u; table < hash_classes(); table += 1u) {
-        for (var slot = 0u; slot < 8u; slot += 1u) {
-            let entry = query_entry(touched, slot);
-            if entry == NO_CELL {
+    let classes = hash_classes();
+    for (var slot = 0u; slot < 8u; slot += 1u) {
+        let entry = query_entry(touched, slot);
+        if entry == NO_CELL {
+            continue;
+        }
+        let marks = atomicLoad(&hash[entry * HASH_ENTRY_WORDS + HASH_COUNT]);
+        for (var table = 0u; table < classes; table += 1u) {
+            if table > 0u && (marks & class_mark(table)) == 0u {
                 continue;
             }
             let word = (table * params.hash_size + entry) * HASH_ENTRY_WORDS;
-            let in_entry = atomicLoad(&hash[word + HASH_COUNT]);
+            let in_entry = class_entry_count(atomicLoad(&hash[word + HASH_COUNT]), classes);
             if in_entry != 0u {
                 let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));
                 add_if_near(&sum, position, normal, radii, photon, in_entry);

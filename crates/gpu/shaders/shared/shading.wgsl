@@ -831,6 +831,19 @@ fn photon_class(flux: vec3<f32>) -> u32 {
     return 0u;
 }
 
+// render::hash::entry_count: a count word's count, the class marks cleared.
+fn class_entry_count(word: u32, classes: u32) -> u32 {
+    if classes > 1u {
+        return word & ((1u << CLASS_MARK_SHIFT) - 1u);
+    }
+    return word;
+}
+
+// render::hash::class_mark.
+fn class_mark(photon_table: u32) -> u32 {
+    return 1u << (CLASS_MARK_SHIFT + photon_table - 1u);
+}
+
 fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {
     let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z))));
     return h % table_size;

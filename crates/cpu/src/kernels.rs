@@ -905,14 +905,19 @@ pub fn stochastic_query(
     let classes = params.hash_classes();
     let mut sum = GatherSum::default();
     for &entry in &entries[..count] {
-        let marks = hash[entry as usize * HASH_ENTRY_WORDS + hash_word::COUNT].load(Relaxed);
+        // Class 0's count, and the other classes' marks above it.
+        let count_word = hash[entry as usize * HASH_ENTRY_WORDS + hash_word::COUNT].load(Relaxed);
         for class in 0..classes {
-            if class > 0 && marks & class_mark(class) == 0 {
+            if class > 0 && count_word & class_mark(class) == 0 {
                 continue;
             }
             let word = class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS;
-            let photons_in_entry =
-                entry_count(hash[word + hash_word::COUNT].load(Relaxed), classes);
+            let counted = if class == 0 {
+                count_word
+            } else {
+                hash[word + hash_word::COUNT].load(Relaxed)
+            };
+            let photons_in_entry = entry_count(counted, classes);
             if photons_in_entry == 0 {
                 continue;
             }

@@ -12,16 +12,28 @@ fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_
         if entry == NO_CELL {
             continue;
         }
-        let marks = atomicLoad(&hash[entry * HASH_ENTRY_WORDS + HASH_COUNT]);
-        for (var table = 0u; table < classes; table += 1u) {
-            if table > 0u && (marks & class_mark(table)) == 0u {
-                continue;
-            }
-            let word = (table * params.hash_size + entry) * HASH_ENTRY_WORDS;
-            let in_entry = class_entry_count(atomicLoad(&hash[word + HASH_COUNT]), classes);
-            if in_entry != 0u {
-                let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));
-                add_if_near(&sum, position, normal, radii, photon, in_entry);
+        let word = entry * HASH_ENTRY_WORDS;
+        // Class 0's count, and where glass disperses the other classes' marks above it.
+        let count_word = atomicLoad(&hash[word + HASH_COUNT]);
+        var in_entry = count_word;
+        if DISPERSION {
+            in_entry = class_entry_count(count_word, classes);
+        }
+        if in_entry != 0u {
+            let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));
+            add_if_near(&sum, position, normal, radii, photon, in_entry);
+        }
+        if DISPERSION {
+            for (var table = 1u; table < classes; table += 1u) {
+                if (count_word & class_mark(table)) == 0u {
+                    continue;
+                }
+                let class_word = (table * params.hash_size + entry) * HASH_ENTRY_WORDS;
+                let in_class = class_entry_count(atomicLoad(&hash[class_word + HASH_COUNT]), classes);
+                if in_class != 0u {
+                    let photon = load_photon(atomicLoad(&hash[class_word + HASH_WINNER]));
+                    add_if_near(&sum, position, normal, radii, photon, in_class);
+                }
             }
         }
     }

@@ -153,7 +153,8 @@ impl RoughnessMap {
 pub struct TextureRoughness {
     /// Where the dielectric shows: the glass's roughness.
     pub mean: f32,
-    /// Over all texels: the metal's stored surface (what is not a hit sees: `kousen info`).
+    /// Over all texels: the roughness of the metal's stored surface, which what reads the
+    /// material outside a hit sees (`kousen info`).
     pub metal_mean: f32,
     /// Over the texels where the coat is not Lambertian (below [`DIFFUSE_MIN_ROUGHNESS`]): the
     /// roughness of the coat, whose tables are made per material; `None` where there are none.
@@ -161,6 +162,7 @@ pub struct TextureRoughness {
 }
 
 impl TextureRoughness {
+    /// The summaries of `texture` under glTF's `roughnessFactor` and `metallicFactor`.
     pub fn of(texture: &Texture, roughness_factor: f32, metallic_factor: f32) -> TextureRoughness {
         let mut all = MeanOf::default();
         let mut dielectric = MeanOf::default();

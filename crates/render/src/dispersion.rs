@@ -45,7 +45,7 @@ pub fn draws_channel(dispersion: f32, throughput: Vec3) -> bool {
 }
 
 /// The one channel `throughput` carries, where the other two are zero.
-fn single_channel(throughput: Vec3) -> Option<usize> {
+pub fn single_channel(throughput: Vec3) -> Option<usize> {
     let carried = throughput.cmpgt(Vec3::ZERO).bitmask();
     match carried {
         0b001 => Some(0),

@@ -64,12 +64,7 @@ pub fn photon_class(flux: [f32; 3], classes: u32) -> u32 {
     if classes <= 1 {
         return 0;
     }
-    match flux.map(|c| c > 0.0) {
-        [true, false, false] => 1,
-        [false, true, false] => 2,
-        [false, false, true] => 3,
-        _ => 0,
-    }
+    crate::dispersion::single_channel(Vec3::from_array(flux)).map_or(0, |c| c as u32 + 1)
 }
 
 /// The entry of table `entry` in class `class`'s table (each `table_size` entries, class 0

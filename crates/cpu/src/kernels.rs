@@ -31,10 +31,10 @@ use scene::{Material, Surface};
 
 use crate::SceneData;
 use crate::surface::{
-    PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce, dispersed_surface,
-    emitted, eye_crossing_scale, is_cut_out, medium_after_bounce, medium_transmittance,
-    offset_origin, plastic_bounce, shadow_ray_origin, specular_direction, trace, transmittance_to,
-    unoccluded,
+    HitTexel, PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce,
+    dispersed_surface, emitted, eye_crossing_scale, is_cut_out, medium_after_bounce,
+    medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin, specular_direction,
+    trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -116,7 +116,8 @@ pub fn photon_pass_with<R: StreamRng>(
     // A blend keeps the photon for its Lambertian member whichever member the path takes
     // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
     let keeper = blend_photon_member(&scene.materials, hit.material);
-    let texel = |texture| scene.textures.sample(texture, hit.uv);
+    let hit_texel = HitTexel::new(&scene.textures, hit.uv);
+    let texel = |texture| hit_texel.get(texture);
     if material.blend.is_some() {
         hit.material = blend_member(&scene.materials, hit.material, rng.next_f32(), texel);
     }
@@ -393,7 +394,8 @@ fn eye_path(
         emission_share = 1.0;
         let root = hit.material;
         // A blend's member for this path (`render::blend`), drawn only at blends.
-        let texel = |texture| scene.textures.sample(texture, hit.uv);
+        let hit_texel = HitTexel::new(&scene.textures, hit.uv);
+        let texel = |texture| hit_texel.get(texture);
         if material.blend.is_some() {
             hit.material = blend_member(&scene.materials, hit.material, rng.next_f32(), texel);
         }

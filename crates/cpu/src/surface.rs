@@ -165,6 +165,37 @@ pub fn texture(textures: &TextureArray, id: Option<u32>, uv: Vec2) -> Vec4 {
     id.map_or(Vec4::ONE, |t| textures.sample(t, uv))
 }
 
+/// A hit's texel of the texture `render::blend` asks for (a material's metallic-roughness
+/// texture, asked once for the blend's weight and again for each member's surface), sampled
+/// once per texture.
+pub struct HitTexel<'a> {
+    textures: &'a TextureArray,
+    uv: Vec2,
+    sampled: std::cell::Cell<Option<(u32, Vec4)>>,
+}
+
+impl<'a> HitTexel<'a> {
+    pub fn new(textures: &'a TextureArray, uv: Vec2) -> HitTexel<'a> {
+        HitTexel {
+            textures,
+            uv,
+            sampled: std::cell::Cell::new(None),
+        }
+    }
+
+    /// Texture `id`'s texel at the hit.
+    pub fn get(&self, id: u32) -> Vec4 {
+        match self.sampled.get() {
+            Some((sampled, texel)) if sampled == id => texel,
+            _ => {
+                let texel = self.textures.sample(id, self.uv);
+                self.sampled.set(Some((id, texel)));
+                texel
+            }
+        }
+    }
+}
+
 /// Whether an alpha cut-out lets the ray through here.
 pub fn is_cut_out(scene: &SceneData, material: &Material, uv: Vec2) -> bool {
     match material.alpha_mode {

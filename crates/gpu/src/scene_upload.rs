@@ -364,6 +364,9 @@ impl GpuScene {
         }
         for (id, gpu) in gpu_materials.iter_mut().enumerate() {
             gpu.blend_photon_member = render::blend::blend_photon_member(materials, id as u32);
+            if let Some(texture) = render::blend::roughness_texture(materials, id as u32) {
+                gpu.roughness_texture = texture;
+            }
         }
         if gpu_materials.is_empty() {
             // A binding cannot be empty; no triangle refers to this one.

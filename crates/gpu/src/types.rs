@@ -123,9 +123,10 @@ pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 /// A blend's first material (`scene::Blend`), whose hits draw a member.
 pub const MATERIAL_BLEND: u32 = 4;
-/// `GpuMaterial::roughness_lobe` values (`scene::TexturedLobe`).
+/// `GpuMaterial::roughness_lobe` values (`scene::TexturedLobe`, or none).
 pub const ROUGHNESS_METAL: u32 = 0;
 pub const ROUGHNESS_COATED: u32 = 1;
+pub const ROUGHNESS_UNMAPPED: u32 = 2;
 
 /// One material (176 bytes).
 #[repr(C)]
@@ -174,12 +175,14 @@ pub struct GpuMaterial {
     pub exterior: u32,
     /// Smooth solid glass's dispersion (`scene::Material::dispersion`; 0: none).
     pub dispersion: f32,
-    /// glTF's metallic-roughness texture mapping this member (`scene::RoughnessMap`), or
-    /// `NO_TEXTURE`.
+    /// The metallic-roughness texture of this material's blend (`scene::RoughnessMap`: its
+    /// mapped members share one; the upload gives it every member, so the kernels read the
+    /// texel once at the hit's first material), or `NO_TEXTURE`.
     pub roughness_texture: u32,
-    /// glTF's `roughnessFactor` (with a `roughness_texture`).
+    /// glTF's `roughnessFactor` (of a mapped member).
     pub roughness_factor: f32,
-    /// `ROUGHNESS_METAL` or `ROUGHNESS_COATED` (with a `roughness_texture`).
+    /// `ROUGHNESS_METAL` or `ROUGHNESS_COATED` for a mapped member, `ROUGHNESS_UNMAPPED`
+    /// otherwise.
     pub roughness_lobe: u32,
 }
 
@@ -237,8 +240,9 @@ impl GpuMaterial {
             roughness_texture: map.map_or(NO_TEXTURE, |m| m.texture),
             roughness_factor: map.map_or(0.0, |m| m.roughness_factor),
             roughness_lobe: match map.map(|m| m.lobe) {
+                Some(TexturedLobe::Metal) => ROUGHNESS_METAL,
                 Some(TexturedLobe::Coated) => ROUGHNESS_COATED,
-                _ => ROUGHNESS_METAL,
+                None => ROUGHNESS_UNMAPPED,
             },
         }
     }

@@ -67,6 +67,21 @@ pub fn mapped_material(
     })
 }
 
+/// The metallic-roughness texture of the blend starting at material `id`: its first mapped
+/// member's (`scene::SceneBuilder` gives all mapped members of a blend one texture), `None`
+/// where no member is mapped.
+pub fn roughness_texture(materials: &[Material], id: u32) -> Option<TextureId> {
+    let mut id = id;
+    for _ in 0..MAX_BLEND_MEMBERS {
+        let material = &materials[id as usize];
+        if let Some(map) = material.roughness_map {
+            return Some(map.texture);
+        }
+        id = material.blend?.other;
+    }
+    None
+}
+
 /// The member that keeps photons landing on the blend starting at `id`: its last, the one
 /// with a Lambertian lobe if any (`scene::SceneBuilder::add_blend` puts it there). Photons
 /// are kept for it whichever member the photon's path then takes, since the eye paths that

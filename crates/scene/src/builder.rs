@@ -48,7 +48,8 @@ impl SceneBuilder {
     }
 
     /// [`SceneBuilder::add_blend`] with members that may carry a [`RoughnessMap`] (members
-    /// merge where surface and map are equal).
+    /// merge where surface and map are equal; mapped members share one texture, so that the
+    /// kernels read one texel a hit: a panic otherwise).
     pub fn add_mapped_blend(
         &mut self,
         base: Material,
@@ -80,6 +81,14 @@ impl SceneBuilder {
                 <= 1,
             "a blend with two Lambertian lobes: {distinct:?}"
         );
+        let mut textures = distinct
+            .iter()
+            .filter_map(|(.., map)| map.map(|m| m.texture));
+        let texture = textures.next();
+        assert!(
+            textures.all(|t| Some(t) == texture),
+            "a blend's mapped members with different textures"
+        );
         let first = self.scene.materials.len() as u32;
         let mut left: f32 = distinct.iter().map(|(p, ..)| p).sum();
         let last = distinct.len() - 1;
@@ -106,8 +115,9 @@ impl SceneBuilder {
     /// the metal's id.
     ///
     /// # Panics
-    /// Where `metallic` is outside (0, 1], the map is not a metal's or the dielectric members
-    /// are more than [`MAX_BLEND_MEMBERS`] − 1 after merging.
+    /// Where `metallic` is outside (0, 1], the map is not a metal's, a dielectric member's map
+    /// has another texture or the dielectric members are more than [`MAX_BLEND_MEMBERS`] − 1
+    /// after merging.
     pub fn add_textured_metal_blend(
         &mut self,
         base: Material,
@@ -117,6 +127,10 @@ impl SceneBuilder {
     ) -> u32 {
         assert!(metallic > 0.0 && metallic <= 1.0, "metallic {metallic}");
         assert_eq!(metal.1.lobe, TexturedLobe::Metal);
+        assert!(
+            (dielectric.iter()).all(|(.., map)| map.is_none_or(|m| m.texture == metal.1.texture)),
+            "a blend's mapped members with different textures"
+        );
         let id = self.scene.materials.len() as u32;
         self.add_material(Material {
             surface: metal.0,

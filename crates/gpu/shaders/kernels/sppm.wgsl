@@ -438,13 +438,14 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // path takes; the member is drawn only at blends.
     var keeper = hit.material;
     var material = root;
+    let map_texel = roughness_texel(root, hit.uv);
     if BLENDS && (root.flags & MATERIAL_BLEND) != 0u {
         keeper = root.blend_photon_member;
-        hit.material = blend_member(hit.material, next_f32(&rng), hit.uv);
+        hit.material = blend_member(hit.material, next_f32(&rng), map_texel);
         material = materials[hit.material];
     }
     // cpu::kernels: where a metallic-roughness texture maps the member, its surface here.
-    material = mapped_material(material, hit.uv);
+    material = mapped_material(material, map_texel);
     let surface_tint = base_color(material, hit.uv);
     let u_roulette = next_f32(&rng);
     let u_direction0 = next_f32(&rng);
@@ -470,7 +471,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let plastic = material.surface == SURFACE_PLASTIC;
     var keeper_surface = material.surface;
     if BLENDS && keeper != hit.material {
-        keeper_surface = mapped_material(materials[keeper], hit.uv).surface;
+        keeper_surface = mapped_material(materials[keeper], map_texel).surface;
     }
     var bounced = slot_bounced(slot.state);
     if keeper_surface == SURFACE_DIFFUSE || keeper_surface == SURFACE_PLASTIC {
@@ -681,13 +682,14 @@ fn eye_path(index: u32, jitter: vec2<f32>, channel: f32, rng: ptr<function, Rng>
         emission_share = 1.0;
         // cpu::kernels::eye_path: a blend's member, drawn only at blends.
         var material = root;
+        let map_texel = roughness_texel(root, hit.uv);
         if BLENDS && (root.flags & MATERIAL_BLEND) != 0u {
-            hit.material = blend_member(hit.material, next_f32(rng), hit.uv);
+            hit.material = blend_member(hit.material, next_f32(rng), map_texel);
             material = materials[hit.material];
         }
         // cpu::kernels::eye_path: where a metallic-roughness texture maps the member, its
         // surface here.
-        material = mapped_material(material, hit.uv);
+        material = mapped_material(material, map_texel);
         let tint = max(base_color(material, hit.uv), vec3<f32>(0.0));
         let u = next_f32(rng);
         // cpu::kernels::eye_path: plastic's coat or its base, chosen by Fresnel; the lobes a

@@ -215,17 +215,26 @@ override BLENDS: bool = true;
 // compiled out as NORMAL_MAPS is.
 override ROUGHNESS_MAPS: bool = true;
 
+// The metallic-roughness texel at `uv` of the material whose hit is on `root` (its members
+// share one texture, which the upload gives every member: GpuMaterial::roughness_texture), read
+// once a hit for blend_member and mapped_material; white where none maps it.
+fn roughness_texel(root: GpuMaterial, uv: vec2<f32>) -> vec4<f32> {
+    if !ROUGHNESS_MAPS || root.roughness_texture == NO_TEXTURE {
+        return vec4<f32>(1.0);
+    }
+    return sample_texture(root.roughness_texture, uv);
+}
+
 // render::blend::blend_member: the member of the blend starting at material `id` that a hit
-// at `uv` takes for a uniform `u`, which is rescaled onto the rest of its interval at each
-// step; a textured metal's weight is multiplied by its texel's metalness. Materials without a
-// blend have weight 1, so `u` always stops at them.
-fn blend_member(id: u32, u: f32, uv: vec2<f32>) -> u32 {
+// takes for a uniform `u`, which is rescaled onto the rest of its interval at each step; a
+// textured metal's weight is multiplied by the hit's metalness (`texel`, roughness_texel).
+// Materials without a blend have weight 1, so `u` always stops at them.
+fn blend_member(id: u32, u: f32, texel: vec4<f32>) -> u32 {
     var member = id;
     var rest = u;
     var weight = materials[id].blend_weight;
-    let map = materials[id].roughness_texture;
-    if ROUGHNESS_MAPS && map != NO_TEXTURE && materials[id].roughness_lobe == ROUGHNESS_METAL {
-        weight *= clamp(sample_texture(map, uv).z, 0.0, 1.0);
+    if ROUGHNESS_MAPS && materials[id].roughness_lobe == ROUGHNESS_METAL {
+        weight *= clamp(texel.z, 0.0, 1.0);
     }
     for (var i = 1u; i < MAX_BLEND_MEMBERS; i += 1u) {
         if rest < weight {
@@ -238,14 +247,14 @@ fn blend_member(id: u32, u: f32, uv: vec2<f32>) -> u32 {
     return member;
 }
 
-// render::blend::mapped_material (scene::RoughnessMap::surface): the member as a hit at `uv`
-// meets it, its surface (and GGX width) from its metallic-roughness texel where one maps it.
-fn mapped_material(material: GpuMaterial, uv: vec2<f32>) -> GpuMaterial {
+// render::blend::mapped_material (scene::RoughnessMap::surface): the member as a hit meets
+// it, its surface (and GGX width) from the hit's metallic-roughness `texel` where one maps it.
+fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
     var mapped = material;
-    if !ROUGHNESS_MAPS || material.roughness_texture == NO_TEXTURE {
+    if !ROUGHNESS_MAPS || material.roughness_lobe == ROUGHNESS_UNMAPPED {
         return mapped;
     }
-    let roughness = clamp(material.roughness_factor * sample_texture(material.roughness_texture, uv).y, 0.0, 1.0);
+    let roughness = clamp(material.roughness_factor * texel.y, 0.0, 1.0);
     if material.roughness_lobe == ROUGHNESS_METAL {
         // scene::metal_surface.
         if roughness < MIRROR_MAX_ROUGHNESS {
@@ -818,17 +827,8 @@ fn photon_class(flux: vec3<f32>) -> u32 {
     if hash_classes() <= 1u {
         return 0u;
     }
-    let lit = flux > vec3<f32>(0.0);
-    if lit.x && !lit.y && !lit.z {
-        return 1u;
-    }
-    if !lit.x && lit.y && !lit.z {
-        return 2u;
-    }
-    if !lit.x && !lit.y && lit.z {
-        return 3u;
-    }
-    return 0u;
+    // single_channel's 3 (several channels or none) is class 0.
+    return (single_channel(flux) + 1u) % 4u;
 }
 
 // render::hash::entry_count: a count word's count, the class marks cleared.

@@ -80,14 +80,7 @@ pub fn cornell_metallic_roughness() -> Scene {
     );
     let white = f.material("white", Surface::Diffuse, super::CORNELL_WHITE);
     cornell_room_on(&mut f, white, tiled);
-    let glass = f.material(
-        "glass",
-        Surface::Dielectric {
-            ior: 1.5,
-            thin_walled: false,
-        },
-        Vec3::ONE,
-    );
+    let glass = f.clear_glass();
     let front = Vec3::new(180.0, 90.0, 170.0);
     f.sphere(front, 90.0, tiled, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, glass, false);

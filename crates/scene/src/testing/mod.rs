@@ -112,14 +112,7 @@ pub fn cornell_box() -> Scene {
 pub fn cornell_caustics() -> Scene {
     let mut f = Fixture::new("testing::cornell_caustics");
     cornell_room(&mut f);
-    let glass = f.material(
-        "glass",
-        Surface::Dielectric {
-            ior: 1.5,
-            thin_walled: false,
-        },
-        Vec3::ONE,
-    );
+    let glass = f.clear_glass();
     let mirror = f.material("mirror", Surface::Mirror, Vec3::splat(0.9));
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, glass, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, mirror, false);
@@ -1060,6 +1053,15 @@ impl Fixture {
     }
 
     /// A planar convex quad as two triangles (0, 1, 2) and (0, 2, 3), front facing `facing`.
+    /// Clear solid glass of ior 1.5, named "glass".
+    fn clear_glass(&mut self) -> u32 {
+        let glass = Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: false,
+        };
+        self.material("glass", glass, Vec3::ONE)
+    }
+
     fn quad(&mut self, corners: [Vec3; 4], material: u32, facing: Vec3) {
         let v = corners.map(|position| Vertex {
             position,

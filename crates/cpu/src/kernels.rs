@@ -12,6 +12,7 @@ use render::buffers::{
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
+use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
 use render::hash::{
     cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, largest_radius,
@@ -19,13 +20,13 @@ use render::hash::{
 };
 use render::integrator::camera_direction;
 use render::light_sampling::power_heuristic;
-use render::medium::{pack_slot_state, slot_bounced, slot_medium};
+use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
-use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_channel, pixel_jitter};
+use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_wavelength};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -80,7 +81,7 @@ pub fn photon_pass_with<R: StreamRng>(
             direction: e.direction.to_array(),
             pass_throughs: 0,
             flux: e.flux.to_array(),
-            state: pack_slot_state(false, e.medium),
+            state: pack_slot_state(false, e.medium, WHOLE_SPECTRUM),
         };
         emitted = true;
     }
@@ -136,9 +137,10 @@ pub fn photon_pass_with<R: StreamRng>(
     } else {
         0.0
     };
-    // Dispersive glass keeps one colour channel of a path that carries more, chosen with one
-    // more number (`render::dispersion`); other surfaces draw none.
-    let (dispersed, channel) = dispersed_surface(material, flux, || rng.next_f32());
+    // Dispersive glass keeps one wavelength of a path that carries the whole spectrum, drawn
+    // with one more number (`render::dispersion`); other surfaces draw none.
+    let (dispersed, wavelength, spectral_weight) =
+        dispersed_surface(material, slot_wavelength(slot.state), || rng.next_f32());
     // Photons are weighted where the shading normal is not the geometric one (interpolated or
     // normal-mapped): by `arrival` where they land, and by it and the departure factor where
     // they go on (`render::normal_map`).
@@ -188,7 +190,7 @@ pub fn photon_pass_with<R: StreamRng>(
         _ => {
             let [u0, u1] = u_direction;
             let next = specular_direction(dispersed, &hit, direction, [u0, u1, u_choice]);
-            (next, tint * channel)
+            (next, tint * spectral_weight)
         }
     };
     let next = next.map(|(next, weight)| {
@@ -205,7 +207,7 @@ pub fn photon_pass_with<R: StreamRng>(
             slot.direction = next.to_array();
             slot.flux = (flux * tint * (weight / survival)).to_array();
             let medium = medium_after_bounce(scene, material, root, medium, &hit, next);
-            slot.state = pack_slot_state(bounced, medium);
+            slot.state = pack_slot_state(bounced, medium, wavelength);
         }
         _ => slot.depth = SLOT_IDLE,
     }
@@ -314,12 +316,12 @@ pub fn eye_pass(
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
     let eye_pass = pass / params.eye_every.max(1);
     let [jx, jy] = pixel_jitter(params.seed, index, eye_pass);
-    let channel = |path| Some(pixel_channel(params.seed, index, eye_pass, path));
-    let first = eye_path(scene, params, &mut rng, index, [jx, jy], channel(0));
+    let wavelength = |path| Some(pixel_wavelength(params.seed, index, eye_pass, path));
+    let first = eye_path(scene, params, &mut rng, index, [jx, jy], wavelength(0));
     let mut direct = first.direct;
     for path in 1..=extra {
         let jitter = [rng.next_f32(), rng.next_f32()];
-        direct += eye_path(scene, params, &mut rng, index, jitter, channel(path)).direct;
+        direct += eye_path(scene, params, &mut rng, index, jitter, wavelength(path)).direct;
     }
     EyeStep {
         visible_point: first.visible_point,
@@ -338,16 +340,15 @@ struct EyePath {
 }
 
 /// A camera path through pixel `index` at sub-pixel `jitter`; at the first dispersive glass
-/// where it chooses a colour channel it takes `channel`'s number
-/// (`render::rng::pixel_channel`), at later ones (a path that refracted out into white light
-/// again cannot: it carries one channel) a drawn one.
+/// it draws its wavelength with `wavelength_number` (`render::rng::pixel_wavelength`); it
+/// keeps that wavelength at later ones (`render::dispersion`).
 fn eye_path(
     scene: &SceneData,
     params: &SppmParams,
     rng: &mut KernelRng,
     index: u32,
     [jx, jy]: [f32; 2],
-    mut channel: Option<f32>,
+    mut wavelength_number: Option<f32>,
 ) -> EyePath {
     let (x, y) = (index % params.width, index / params.width);
     let sx = (x as f32 + jx) / params.width as f32 * 2.0 - 1.0;
@@ -368,6 +369,8 @@ fn eye_path(
     let mut glossy = GlossyVertex::default();
     // The solid the path is inside (`render::medium`): where the camera is, to begin with.
     let mut medium = params.camera_medium;
+    // The wavelength the path keeps since its first dispersive glass.
+    let mut wavelength = WHOLE_SPECTRUM;
     while depth < params.max_depth {
         let Some(mut hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one), unless water around the path
@@ -409,7 +412,7 @@ fn eye_path(
         // frosted glass's reflection)
         // always, the Lambertian one where the path ends on it (below).
         let mut lit = LitLobes::default();
-        // The surface the path meets: dispersive glass's, for one colour channel.
+        // The surface the path meets: dispersive glass's, for the path's wavelength.
         let mut surface = material.surface;
         let bounce = match material.surface {
             Surface::Diffuse => None,
@@ -479,12 +482,12 @@ fn eye_path(
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
-                // Dispersive glass keeps one colour channel (`render::dispersion`), with one
-                // more number where the path carries more than one: the pixel's own for this
-                // eye pass at the first such glass.
+                // Dispersive glass keeps one wavelength (`render::dispersion`), drawn where
+                // the path carries the whole spectrum with the pixel's own number for this
+                // eye pass.
                 let weight;
-                (surface, weight) = dispersed_surface(material, throughput, || {
-                    channel.take().unwrap_or_else(|| rng.next_f32())
+                (surface, wavelength, weight) = dispersed_surface(material, wavelength, || {
+                    wavelength_number.take().unwrap_or_else(|| rng.next_f32())
                 });
                 throughput *= weight;
                 let next = specular_direction(surface, &hit, direction, [u, u_second, u_third]);

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
-use render::dispersion::{channel_ior, dispersed_channel, draws_channel};
+use render::dispersion::{disperse, draws_wavelength};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{rough_dielectric, rough_reflection};
 use render::normal_map::mapped_normal;
@@ -321,32 +321,37 @@ pub fn eye_crossing_scale(surface: Surface, hit: &SurfaceHit, next: Vec3) -> f32
     }
 }
 
-/// The surface a path of `throughput` meets at `material` and the weight its throughput
-/// takes: dispersive glass refracts with the index of one channel (`render::dispersion`,
-/// chosen with a number from `draw`, called only where `draws_channel` says so, so that other
-/// surfaces leave the random stream as it was); every other surface is itself, weight 1.
+/// The surface a path carrying `wavelength` (`render::dispersion`: a level or
+/// `WHOLE_SPECTRUM`) meets at `material`, the wavelength it carries from there on and the
+/// weight its throughput takes: dispersive glass refracts with the index of the path's
+/// wavelength, drawn with a number from `draw` where the path carries the whole spectrum
+/// (called only where `draws_wavelength` says so, so that other surfaces leave the random
+/// stream as it was); every other surface is itself, weight 1.
 pub fn dispersed_surface(
     material: &Material,
-    throughput: Vec3,
+    wavelength: u32,
     draw: impl FnOnce() -> f32,
-) -> (Surface, Vec3) {
-    let u = if draws_channel(material.dispersion, throughput) {
+) -> (Surface, u32, Vec3) {
+    let u = if draws_wavelength(material.dispersion, wavelength) {
         draw()
     } else {
         0.0
     };
-    match (
-        material.surface,
-        dispersed_channel(material.dispersion, throughput, u),
-    ) {
-        (Surface::Dielectric { ior, thin_walled }, Some((channel, weight))) => (
-            Surface::Dielectric {
-                ior: channel_ior(ior, material.dispersion, channel),
-                thin_walled,
-            },
-            weight,
-        ),
-        (surface, _) => (surface, Vec3::ONE),
+    match material.surface {
+        Surface::Dielectric { ior, thin_walled } => {
+            match disperse(ior, material.dispersion, wavelength, u) {
+                Some(d) => (
+                    Surface::Dielectric {
+                        ior: d.ior,
+                        thin_walled,
+                    },
+                    d.wavelength,
+                    d.weight,
+                ),
+                None => (material.surface, wavelength, Vec3::ONE),
+            }
+        }
+        surface => (surface, wavelength, Vec3::ONE),
     }
 }
 

@@ -162,16 +162,17 @@ fn blended_furnace_converges_to_the_mixture_s_radiance() {
 
 /// The furnace with a ball of dispersive flint glass in view
 /// (`testing::furnace_with_dispersive_glass`): lossless, so every pixel still converges to
-/// L = 1 in every channel. Paths meeting the glass keep one colour channel, weighted by 3
-/// (`render::dispersion`); without the weight the pixels through the ball would be a third
-/// as bright, and a channel chosen unevenly would colour the image. Settings as the plain
-/// furnace's but the full per-cell lists (the stochastic hash's own test follows). Eye paths
-/// take their channel from `render::rng::pixel_channel`, so any three consecutive eye passes
-/// of a pixel see the ball in each channel once, and a pixel's extra path another channel than
-/// its first. Seeds 1–4: channel means 0.979–1.011, per-pixel rms 12–16 % (the extra paths
-/// drawing theirs: 20–23 %; every channel drawn independently: means 0.969–1.038, rms 39–43 %;
-/// 10.6 % with clear glass). Tolerances: the average within 3 %, each channel within 5 %,
-/// per-pixel rms below 20 %.
+/// L = 1 in every channel. Paths meeting the glass keep one wavelength, weighted by its colour
+/// over its probability (`render::dispersion`); without the weight the pixels through the
+/// ball would take the wavelengths' colours, and weights not averaging to white would colour
+/// the image. Settings as the plain furnace's but the full per-cell lists (the stochastic
+/// hash's own test follows). Eye paths draw their wavelength from
+/// `render::rng::pixel_wavelength`, so a pixel's eye passes spread theirs over the spectrum.
+/// Seeds 1–4: channel means 0.978–1.005, per-pixel rms 11–16 % (three channels at 611, 549
+/// and 464 nm, kousen's dispersion before: 0.979–1.011 and 12–16 %; with a pixel's numbers a
+/// third apart, as the three channels were stratified, each pixel saw three wavelengths only:
+/// rms up to 44 %; 10.6 % with clear glass). Tolerances: the average within 3 %, each channel
+/// within 5 %, per-pixel rms below 20 %.
 #[test]
 fn dispersive_glass_in_the_furnace_is_invisible() {
     let scene = testing::furnace_with_dispersive_glass();
@@ -209,11 +210,12 @@ fn dispersive_glass_in_the_furnace_is_invisible() {
 }
 
 /// The dispersive furnace through the stochastic hash (the GPUs' default), which keeps
-/// photons carrying one colour channel apart from the others, one of each class a cell
-/// (`render::hash::photon_class`): kept together, a one-channel photon winning a cell made
-/// the cell's whole estimate that channel's for the pass. Seeds 1–4, 64 passes: the twelve
-/// channel means deviate by 3.9 % rms, worst 6.4 % (the lists: 0.979–1.011); with one class
-/// for all, 9.2 % rms, worst 24 %. Tolerances: rms of the channel means' deviations below 6 %,
+/// photons of one hue (a zero channel: what dispersive glass leaves) apart from the others by
+/// their brightest channel, one of each class a cell (`render::hash::photon_class`): kept
+/// together, a dispersed photon winning a cell made the cell's whole estimate its hue for the
+/// pass. Seeds 1–4, 64 passes: the twelve channel means deviate by 3.9 % rms, worst 6.8 % (the
+/// lists: 0.978–1.005; three channels, kousen's dispersion before: 3.9 % and 6.4 %; with one
+/// class for all, 9.2 % rms, worst 24 %). Tolerances: rms of the channel means' deviations below 6 %,
 /// their average within 3 %.
 #[test]
 fn dispersive_glass_in_the_furnace_is_invisible_through_the_stochastic_hash() {

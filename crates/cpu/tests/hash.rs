@@ -228,8 +228,8 @@ fn the_gather_estimate_is_unbiased() {
 }
 
 /// The same where the hash keeps photon classes apart (a dispersive scene's,
-/// `render::hash::PHOTON_CLASSES`): every other photon carries one colour channel (as
-/// dispersive glass leaves them), kept in its class's own table; the estimate, summed over
+/// `render::hash::PHOTON_CLASSES`): every other photon carries one colour channel (a
+/// hue with a zero channel, as dispersive glass leaves them), kept in its class's own table; the estimate, summed over
 /// the classes, is still the full gather's.
 #[test]
 fn the_gather_estimate_is_unbiased_with_photon_classes() {

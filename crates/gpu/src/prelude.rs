@@ -6,7 +6,7 @@
 use std::fmt::Write;
 
 use render::buffers::{self, counter};
-use render::rng;
+use render::{dispersion, rng};
 
 use crate::types;
 
@@ -80,8 +80,12 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("JITTER_STREAM", U32(rng::JITTER_STREAM)),
         ("R2_STEP_X", U32(rng::R2_STEP[0])),
         ("R2_STEP_Y", U32(rng::R2_STEP[1])),
-        ("THIRD_STEP", U32(rng::THIRD_STEP)),
+        ("GOLDEN_STEP", U32(rng::GOLDEN_STEP)),
         ("CLASS_MARK_SHIFT", U32(render::hash::CLASS_MARK_SHIFT)),
+        ("WAVELENGTH_SHIFT", U32(render::medium::WAVELENGTH_SHIFT)),
+        ("MEDIUM_MASK", U32(render::medium::MEDIUM_MASK)),
+        ("WAVELENGTH_LEVELS", U32(dispersion::WAVELENGTH_LEVELS)),
+        ("WHOLE_SPECTRUM", U32(dispersion::WHOLE_SPECTRUM)),
         ("HASH_STREAM", U32(rng::HASH_STREAM)),
         ("CELL_SLACK", F32(render::hash::CELL_SLACK)),
         ("HASH_ENTRY_WORDS", U32(buffers::HASH_ENTRY_WORDS as u32)),

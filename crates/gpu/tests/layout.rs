@@ -281,6 +281,7 @@ fn gpu_types_layout_matches_rust() {
             ("triangle_count", offset_of!(SceneInfo, triangle_count)),
             ("tbvh_record_base", offset_of!(SceneInfo, tbvh_record_base)),
             ("pad", offset_of!(SceneInfo, pad)),
+            ("spectrum", offset_of!(SceneInfo, spectrum)),
         ],
     );
     assert_layout(

@@ -693,8 +693,8 @@ fn every_kernel_matches_its_twin_through_a_marble_around_the_lamp() {
 }
 
 /// The same through dispersive glass (`scene::testing::cornell_dispersion`: the spot light's
-/// caustic through flint): paths carrying more than one colour channel keep one at the glass,
-/// drawn with one more number, and refract with its index (`render::dispersion`, WGSL
+/// caustic through flint): paths carrying the whole spectrum keep one wavelength at the glass,
+/// drawn with one more number, and refract with its index there and after (`render::dispersion`, WGSL
 /// `dispersed_material`); photons and eye paths alike.
 #[test]
 fn every_kernel_matches_its_twin_through_dispersive_glass() {

@@ -14,8 +14,9 @@ use serde::{Deserialize, Serialize};
 use render::{Checkpoint, Settings, Snapshot};
 
 const MAGIC: &[u8; 8] = b"KOUSENCP";
-/// 2: pixel statistics hold caustic and indirect sets (session 11).
-const FORMAT: u32 = 2;
+/// 2: pixel statistics hold caustic and indirect sets (session 11). 3: a photon slot's state
+/// word keeps the wavelength its path keeps (`render::medium::pack_slot_state`, session 29).
+const FORMAT: u32 = 3;
 
 /// The settings a continued render must share with the stopped one, each with the option
 /// that sets it (for messages).

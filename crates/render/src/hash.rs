@@ -48,23 +48,31 @@ pub fn entry_of(cell: IVec3, table_size: u32) -> u32 {
     h % table_size
 }
 
-/// The random priority of photon `index` in pass `pass`: never 0, so an entry whose priority
-/// is 0 holds no photon. The largest priority wins an entry, a uniform pick.
-/// Classes of photons the stochastic hash keeps apart where a scene disperses: photons of
-/// every colour channel (class 0), and those dispersive glass left carrying one (1 red,
-/// 2 green, 3 blue; `crate::dispersion`). One photon kept for a cell of both kinds made the
-/// cell's whole estimate one channel's for the pass whenever a one-channel photon won: a
+/// Classes of photons the stochastic hash keeps apart where a scene disperses: photons that
+/// carry every colour channel (class 0), and those with a channel of zero, by their brightest
+/// channel (1 red, 2 green, 3 blue): what dispersive glass leaves (a wavelength's colour has a
+/// zero channel, `crate::dispersion::spectral_rgb`). One photon kept for a cell of both kinds
+/// made the cell's whole estimate one hue's for the pass whenever a dispersed photon won: a
 /// correlated colour error (±10 % a channel in the dispersive furnace at 64 and 256 passes
 /// alike). Each class has its own table of `hash_size` entries, so a cell's photons of each
-/// class keep one of their own, weighted by their own count.
+/// class keep one of their own, weighted by their own count. Any classing keeps the estimate
+/// unbiased; this one only decides which photons share a table.
 pub const PHOTON_CLASSES: u32 = 4;
 
 /// The class of a photon of `flux` (`PHOTON_CLASSES`) among `classes` (1: one class for all).
 pub fn photon_class(flux: [f32; 3], classes: u32) -> u32 {
-    if classes <= 1 {
+    let [r, g, b] = flux;
+    if classes <= 1 || r.min(g).min(b) > 0.0 {
         return 0;
     }
-    crate::dispersion::single_channel(Vec3::from_array(flux)).map_or(0, |c| c as u32 + 1)
+    // The brightest channel, the first of equals.
+    if r >= g && r >= b {
+        1
+    } else if g >= b {
+        2
+    } else {
+        3
+    }
 }
 
 /// The entry of table `entry` in class `class`'s table (each `table_size` entries, class 0
@@ -75,8 +83,8 @@ pub fn class_entry(entry: u32, class: u32, table_size: u32) -> u32 {
 
 /// Where photons are kept in classes, a class-0 entry's count word keeps the count below this
 /// bit and above it one mark per other class, set where that class's entry of the same index
-/// holds photons: the gather reads only the classes marked (most cells have no one-channel
-/// photon). Renders with classes keep fewer photon slots than 2²⁹ ([`classes_for`]).
+/// holds photons: the gather reads only the classes marked (most cells have no photon of
+/// one hue). Renders with classes keep fewer photon slots than 2²⁹ ([`classes_for`]).
 pub const CLASS_MARK_SHIFT: u32 = 29;
 
 /// The count in a count word of a table of `classes` classes (the marks cleared).
@@ -103,6 +111,8 @@ pub fn classes_for(disperses: bool, slots: u32) -> u32 {
     }
 }
 
+/// The random priority of photon `index` in pass `pass`: never 0, so an entry whose priority
+/// is 0 holds no photon. The largest priority wins an entry, a uniform pick.
 pub fn priority(seed: u32, pass: u32, index: u32) -> u32 {
     stream_key(seed, HASH_STREAM, pass, index) | 1
 }

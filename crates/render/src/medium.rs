@@ -19,6 +19,7 @@ use glam::Vec3;
 use scene::{Scene, Triangle};
 
 use crate::buffers::{LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, Light, RAY_T_MAX, vec3};
+use crate::dispersion::WAVELENGTH_LEVELS;
 
 /// The medium of a path outside every solid.
 pub const NO_MEDIUM: u32 = u32::MAX;
@@ -65,11 +66,21 @@ pub fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
 }
 
 /// A path slot's state word (`buffers::PathSlot::state`): bit 0 whether the path has left a
-/// diffuse surface, the bits above its medium plus one (so [`NO_MEDIUM`] packs to 0: material
-/// ids stay below 2³¹ − 1).
-pub fn pack_slot_state(bounced: bool, medium: u32) -> u32 {
-    (medium.wrapping_add(1) << 1) | bounced as u32
+/// diffuse surface; bits 1–24 its medium plus one (so [`NO_MEDIUM`] packs to 0: material ids
+/// stay below 2²⁴ − 1, `bvh::PackedTriangle::MAX_MATERIAL`); bits 25–31 the wavelength it
+/// keeps plus one (`crate::dispersion`: [`WHOLE_SPECTRUM`](crate::dispersion::WHOLE_SPECTRUM)
+/// packs to 0).
+pub fn pack_slot_state(bounced: bool, medium: u32, wavelength: u32) -> u32 {
+    (wavelength.wrapping_add(1) << WAVELENGTH_SHIFT)
+        | ((medium.wrapping_add(1) & MEDIUM_MASK) << 1)
+        | bounced as u32
 }
+
+/// Where a slot's wavelength starts in its state word ([`pack_slot_state`]).
+pub const WAVELENGTH_SHIFT: u32 = 25;
+const _: () = assert!(WAVELENGTH_LEVELS < 1 << (32 - WAVELENGTH_SHIFT));
+/// A slot's medium plus one, shifted down ([`pack_slot_state`]).
+pub const MEDIUM_MASK: u32 = (1 << 24) - 1;
 
 /// Whether a slot's path has left a diffuse surface ([`pack_slot_state`]).
 pub fn slot_bounced(state: u32) -> bool {
@@ -78,7 +89,13 @@ pub fn slot_bounced(state: u32) -> bool {
 
 /// A slot's medium ([`pack_slot_state`]).
 pub fn slot_medium(state: u32) -> u32 {
-    (state >> 1).wrapping_sub(1)
+    ((state >> 1) & MEDIUM_MASK).wrapping_sub(1)
+}
+
+/// The wavelength a slot's path keeps, or `crate::dispersion::WHOLE_SPECTRUM`
+/// ([`pack_slot_state`]).
+pub fn slot_wavelength(state: u32) -> u32 {
+    (state >> WAVELENGTH_SHIFT).wrapping_sub(1)
 }
 
 /// Which solid dielectric a point lies in, for the places paths start and for how solids
@@ -266,16 +283,27 @@ mod tests {
     }
 
     #[test]
-    fn slot_state_round_trips_the_flag_and_the_medium() {
+    fn slot_state_round_trips_the_flag_the_medium_and_the_wavelength() {
+        use crate::dispersion::WHOLE_SPECTRUM;
         for bounced in [false, true] {
-            for medium in [NO_MEDIUM, 0, 1, 12345, (1 << 31) - 2] {
-                let state = pack_slot_state(bounced, medium);
-                assert_eq!(slot_bounced(state), bounced);
-                assert_eq!(slot_medium(state), medium);
+            for medium in [
+                NO_MEDIUM,
+                0,
+                1,
+                12345,
+                bvh::PackedTriangle::MAX_MATERIAL - 1,
+            ] {
+                for wavelength in [WHOLE_SPECTRUM, 0, 77, WAVELENGTH_LEVELS - 1] {
+                    let state = pack_slot_state(bounced, medium, wavelength);
+                    assert_eq!(slot_bounced(state), bounced);
+                    assert_eq!(slot_medium(state), medium);
+                    assert_eq!(slot_wavelength(state), wavelength);
+                }
             }
         }
-        // A fresh slot (state 0) has not bounced and is outside every solid.
-        assert_eq!(pack_slot_state(false, NO_MEDIUM), 0);
+        // A fresh slot (state 0) has not bounced, is outside every solid and carries the
+        // whole spectrum.
+        assert_eq!(pack_slot_state(false, NO_MEDIUM, WHOLE_SPECTRUM), 0);
     }
 
     /// Points under the pool's open surface (closed by the floor and walls) and inside the

@@ -30,21 +30,23 @@ pub fn pixel_jitter(seed: u32, index: u32, eye_pass: u32) -> [f32; 2] {
     })
 }
 
-/// 2³² / 3 rounded up: a step of a third of the unit interval in 32-bit fixed point.
-pub const THIRD_STEP: u32 = 0x5555_5556;
+/// 2³² / φ (the golden ratio), rounded: the step of the Kronecker sequence of 1/φ (the R1
+/// sequence) in 32-bit fixed point.
+pub const GOLDEN_STEP: u32 = 0x9e37_79b9;
 
 /// The number camera path `path` (0: the first; then the extra paths of pixels showing glass,
 /// `crate::buffers::SPECULAR_EXTRA_PATHS`) of eye pass `eye_pass` through pixel `index`
-/// chooses its colour channel with at dispersive glass (`crate::dispersion`), in [0, 1): a
-/// third further each eye pass and each path from a random offset per pixel, so that any three
-/// consecutive eye passes' first paths take each channel once, and a pass's paths take
-/// different channels (independent draws left the glass in colour noise until many eye passes
-/// had averaged it), while each number alone is uniform. In 32-bit fixed point as
-/// [`pixel_jitter`], from its stream with axis 2.
-pub fn pixel_channel(seed: u32, index: u32, eye_pass: u32, path: u32) -> f32 {
+/// draws its wavelength with at dispersive glass (`crate::dispersion`), in [0, 1): the R1
+/// sequence, 1/φ further each eye pass and each path, from a random offset per pixel. Any run
+/// of consecutive eye passes spreads a pixel's numbers evenly over the spectrum (three take a
+/// third each, roughly: blue, green, red), and a pass's paths take numbers far apart, while
+/// each number alone is uniform: independent draws left dispersive glass in colour noise
+/// until many eye passes had averaged it. In 32-bit fixed point as [`pixel_jitter`], from its
+/// stream with axis 2.
+pub fn pixel_wavelength(seed: u32, index: u32, eye_pass: u32, path: u32) -> f32 {
     let shift = stream_key(seed, JITTER_STREAM, 2, index);
     let step = eye_pass.wrapping_add(path);
-    let fixed = step.wrapping_mul(THIRD_STEP).wrapping_add(shift);
+    let fixed = step.wrapping_mul(GOLDEN_STEP).wrapping_add(shift);
     (fixed >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 

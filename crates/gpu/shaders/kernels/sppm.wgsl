@@ -107,7 +107,7 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         direction = normalize(cosine_direction(normal, u_direction, u4));
     }
     // render::emission::sample_emission: the path starts in the light's medium.
-    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, pack_slot_state(false, light.medium));
+    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, pack_slot_state(false, light.medium, WHOLE_SPECTRUM));
 }
 
 // render::direct::LightSample; `found` false where the light sends nothing this way.
@@ -456,10 +456,12 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if material.surface == SURFACE_ROUGH_DIELECTRIC || material.surface == SURFACE_PLASTIC {
         u_choice = next_f32(&rng);
     }
-    // cpu::kernels: dispersive glass keeps one colour channel, chosen with one more number.
-    var u_channel = 0.0;
-    if draws_channel(material.dispersion, flux) {
-        u_channel = next_f32(&rng);
+    // cpu::kernels: dispersive glass keeps one wavelength of a path that carries the whole
+    // spectrum, drawn with one more number.
+    var wavelength = slot_wavelength(slot.state);
+    var u_wavelength = 0.0;
+    if draws_wavelength(material.dispersion, wavelength) {
+        u_wavelength = next_f32(&rng);
     }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
@@ -504,11 +506,12 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             tint = vec3<f32>(1.0);
         }
     } else {
-        let dispersed = dispersed_material(material, flux, u_channel);
+        let dispersed = dispersed_material(material, wavelength, u_wavelength);
         let bounce = specular_direction(dispersed.material, hit, direction, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
         weight = bounce.weight;
         tint = surface_tint * dispersed.weight;
+        wavelength = dispersed.wavelength;
     }
     weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric));
     let survival = min(max3(tint), 1.0);
@@ -517,7 +520,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         slot.origin = offset_origin(hit, next, params.epsilon);
         slot.direction = next;
         slot.flux = flux * tint * (weight / survival);
-        slot.state = pack_slot_state(bounced, medium_after_bounce(material, root_id, medium, hit, next));
+        slot.state = pack_slot_state(bounced, medium_after_bounce(material, root_id, medium, hit, next), wavelength);
     } else {
         slot.depth = SLOT_IDLE;
     }
@@ -547,11 +550,11 @@ fn pixel_jitter(index: u32, eye_pass: u32) -> vec2<f32> {
     return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
 }
 
-// render::rng::pixel_channel: a third further each eye pass and path (`step`: their sum),
+// render::rng::pixel_wavelength: 1/φ further each eye pass and path (`step`: their sum),
 // rotated per pixel.
-fn pixel_channel(index: u32, step: u32) -> f32 {
+fn pixel_wavelength(index: u32, step: u32) -> f32 {
     let shift = stream_key(params.seed, JITTER_STREAM, 2u, index);
-    return f32((step * THIRD_STEP + shift) >> 8u) * (1.0 / 16777216.0);
+    return f32((step * GOLDEN_STEP + shift) >> 8u) * (1.0 / 16777216.0);
 }
 
 // cpu::kernels::eye_pass_pixel and eye_pass: the first path leaves the visible point; where an
@@ -573,7 +576,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     // slower through lavapipe even where no pixel took the extra path.
     let eye_pass_index = pass_index / max(params.eye_every, 1u);
     var jitter = pixel_jitter(index, eye_pass_index);
-    var channel = 0.0;
+    var wavelength_number = 0.0;
     var direct = vec3<f32>(0.0);
     for (var path_index = 0u; path_index <= extra; path_index += 1u) {
         if path_index > 0u {
@@ -582,9 +585,9 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             jitter = vec2<f32>(jx, jy);
         }
         if DISPERSION {
-            channel = pixel_channel(index, eye_pass_index + path_index);
+            wavelength_number = pixel_wavelength(index, eye_pass_index + path_index);
         }
-        let path = eye_path(index, jitter, channel, &rng);
+        let path = eye_path(index, jitter, wavelength_number, &rng);
         direct += path.direct;
         if path_index == 0u {
             store_visible_point(index, path.point);
@@ -603,10 +606,11 @@ struct EyePath {
     specular_first: bool,
 }
 
-// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, choosing
-// its colour channel at the first dispersive glass with `channel` (later ones draw).
-fn eye_path(index: u32, jitter: vec2<f32>, channel: f32, rng: ptr<function, Rng>) -> EyePath {
-    var pending_channel = channel;
+// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, drawing
+// its wavelength at the first dispersive glass with `wavelength_number`, keeping it after.
+fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<function, Rng>) -> EyePath {
+    var pending_number = wavelength_number;
+    var wavelength = WHOLE_SPECTRUM;
     let x = index % params.width;
     let y = index / params.width;
     let sx = (f32(x) + jitter.x) / f32(params.width) * 2.0 - 1.0;
@@ -762,18 +766,19 @@ fn eye_path(index: u32, jitter: vec2<f32>, channel: f32, rng: ptr<function, Rng>
                 lit.alpha = material.roughness_alpha;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
-            // cpu::kernels: dispersive glass keeps one colour channel (its index from here on).
-            var u_channel = 0.0;
-            if draws_channel(material.dispersion, throughput) {
-                if pending_channel >= 0.0 {
-                    u_channel = pending_channel;
-                    pending_channel = -1.0;
+            // cpu::kernels: dispersive glass keeps one wavelength (its index from here on).
+            var u_wavelength = 0.0;
+            if draws_wavelength(material.dispersion, wavelength) {
+                if pending_number >= 0.0 {
+                    u_wavelength = pending_number;
+                    pending_number = -1.0;
                 } else {
-                    u_channel = next_f32(rng);
+                    u_wavelength = next_f32(rng);
                 }
             }
-            let dispersed = dispersed_material(material, throughput, u_channel);
+            let dispersed = dispersed_material(material, wavelength, u_wavelength);
             material = dispersed.material;
+            wavelength = dispersed.wavelength;
             throughput *= dispersed.weight;
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }

@@ -26,6 +26,8 @@ struct SceneInfo {
     triangle_count: u32,
     tbvh_record_base: u32,
     pad: u32,
+    // gpu::types::SceneInfo::spectrum: per level, its wavelength and weight.
+    spectrum: array<vec4<f32>, WAVELENGTH_LEVELS>,
 }
 
 // One material (144 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;

@@ -414,9 +414,9 @@ fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: Surfa
     return medium_after(medium, root, exterior, solid, hit.front, crosses);
 }
 
-// render::medium::pack_slot_state, slot_bounced and slot_medium.
-fn pack_slot_state(bounced: bool, medium: u32) -> u32 {
-    return ((medium + 1u) << 1u) | select(0u, 1u, bounced);
+// render::medium::pack_slot_state, slot_bounced, slot_medium and slot_wavelength.
+fn pack_slot_state(bounced: bool, medium: u32, wavelength: u32) -> u32 {
+    return ((wavelength + 1u) << WAVELENGTH_SHIFT) | (((medium + 1u) & MEDIUM_MASK) << 1u) | select(0u, 1u, bounced);
 }
 
 fn slot_bounced(state: u32) -> bool {
@@ -424,58 +424,46 @@ fn slot_bounced(state: u32) -> bool {
 }
 
 fn slot_medium(state: u32) -> u32 {
-    return (state >> 1u) - 1u;
+    return ((state >> 1u) & MEDIUM_MASK) - 1u;
+}
+
+fn slot_wavelength(state: u32) -> u32 {
+    return (state >> WAVELENGTH_SHIFT) - 1u;
 }
 
 // ---- render::dispersion ----
 // Whether some glass disperses; compiled out as MEDIA is.
 override DISPERSION: bool = true;
 
-// The one channel `throughput` carries, else 3 (render::dispersion's single_channel).
-fn single_channel(throughput: vec3<f32>) -> u32 {
-    let bits = select(vec3<u32>(0u), vec3<u32>(1u, 2u, 4u), throughput > vec3<f32>(0.0));
-    switch bits.x | bits.y | bits.z {
-        case 1u: {
-            return 0u;
-        }
-        case 2u: {
-            return 1u;
-        }
-        case 4u: {
-            return 2u;
-        }
-        default: {
-            return 3u;
-        }
-    }
+// render::dispersion::level_wavelength, from the scene's table (wavelength, then weight).
+fn level_wavelength(level: u32) -> f32 {
+    return scene_info.spectrum[level].x;
 }
 
-// render::dispersion::draws_channel.
-fn draws_channel(dispersion: f32, throughput: vec3<f32>) -> bool {
-    return DISPERSION && dispersion > 0.0 && single_channel(throughput) == 3u;
+// render::dispersion::draws_wavelength.
+fn draws_wavelength(dispersion: f32, wavelength: u32) -> bool {
+    return DISPERSION && dispersion > 0.0 && wavelength == WHOLE_SPECTRUM;
 }
 
 struct Dispersed {
     material: GpuMaterial,
+    wavelength: u32,
     weight: vec3<f32>,
 }
 
-// cpu::surface::dispersed_surface: smooth glass of one channel's index (render::dispersion's
-// dispersed_channel and channel_ior), and the weight the throughput takes.
-fn dispersed_material(material: GpuMaterial, throughput: vec3<f32>, u: f32) -> Dispersed {
-    var out = Dispersed(material, vec3<f32>(1.0));
+// cpu::surface::dispersed_surface (render::dispersion::disperse): smooth glass of the index
+// of the path's wavelength, drawn with `u` where it carries the whole spectrum, the wavelength
+// it keeps and the weight the throughput takes.
+fn dispersed_material(material: GpuMaterial, wavelength: u32, u: f32) -> Dispersed {
+    var out = Dispersed(material, wavelength, vec3<f32>(1.0));
     if !DISPERSION || material.dispersion <= 0.0 || material.surface != SURFACE_DIELECTRIC {
         return out;
     }
-    var channel = single_channel(throughput);
-    if channel == 3u {
-        channel = min(u32(u * 3.0), 2u);
-        out.weight = vec3<f32>(0.0);
-        out.weight[channel] = 3.0;
+    if wavelength == WHOLE_SPECTRUM {
+        out.wavelength = min(u32(u * f32(WAVELENGTH_LEVELS)), WAVELENGTH_LEVELS - 1u);
+        out.weight = scene_info.spectrum[out.wavelength].yzw;
     }
-    // render::dispersion::CHANNEL_WAVELENGTHS.
-    var wavelengths = array<f32, 3>(611.3, 549.1, 464.3);
-    let lambda = wavelengths[channel];
+    let lambda = level_wavelength(out.wavelength);
     out.material.ior = material.ior + material.dispersion * (523655.0 / (lambda * lambda) - 1.5168);
     return out;
 }
@@ -821,14 +809,16 @@ fn hash_classes() -> u32 {
     return max(params.photon_classes, 1u);
 }
 
-// render::hash::photon_class: 1–3 for a photon carrying one colour channel where the scene
-// keeps classes apart, 0 otherwise.
+// render::hash::photon_class: where the scene keeps classes apart, 1–3 for a photon with a
+// channel of zero (its brightest channel, the first of equals), 0 otherwise.
 fn photon_class(flux: vec3<f32>) -> u32 {
-    if hash_classes() <= 1u {
+    if hash_classes() <= 1u || min(min(flux.x, flux.y), flux.z) > 0.0 {
         return 0u;
     }
-    // single_channel's 3 (several channels or none) is class 0.
-    return (single_channel(flux) + 1u) % 4u;
+    if flux.x >= flux.y && flux.x >= flux.z {
+        return 1u;
+    }
+    return select(3u, 2u, flux.y >= flux.z);
 }
 
 // render::hash::entry_count: a count word's count, the class marks cleared.

@@ -37,7 +37,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 13] = [
+pub const SHIPPED: [(&str, Fixture); 14] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -54,6 +54,7 @@ pub const SHIPPED: [(&str, Fixture); 13] = [
         "cornell-metallic-roughness",
         scene::testing::cornell_metallic_roughness,
     ),
+    ("prism", scene::testing::prism),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;

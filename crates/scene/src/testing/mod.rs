@@ -26,8 +26,10 @@
 //! these by `cargo run -p scene --example make_scenes -- scenes/`.
 
 mod metallic_roughness;
+mod prism;
 
 pub use metallic_roughness::*;
+pub use prism::*;
 
 use std::path::{Path, PathBuf};
 
@@ -617,7 +619,7 @@ pub const FLINT_ABBE: f32 = 25.0;
 
 /// [`furnace_sphere`] with a ball of dispersive flint glass ([`FLINT_IOR`], [`FLINT_ABBE`])
 /// in view, radius 0.3 and half a unit ahead of the camera: lossless, so in the furnace it is
-/// invisible, each colour channel refracting its own way through it.
+/// invisible, each wavelength refracting its own way through it.
 pub fn furnace_with_dispersive_glass() -> Scene {
     let mut f = Fixture::new("testing::furnace_with_dispersive_glass");
     let inside = f.builder.add_material(Material {

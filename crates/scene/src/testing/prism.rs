@@ -42,7 +42,7 @@ pub fn prism() -> Scene {
         base_color: Vec3::ZERO,
         ..Material::default()
     });
-    let (x0, x1, z0, z1) = (-2.0, 3.0, -1.0, 3.0);
+    let (x0, x1, z0, z1) = (-3.0, 5.0, -1.0, 4.0);
     let floor = [[x0, z0], [x1, z0], [x1, z1], [x0, z1]].map(|[x, z]| Vec3::new(x, 0.0, z));
     f.quad(floor, white, Vec3::Y);
     let wall = [[x0, 0.0], [x1, 0.0], [x1, 2.5], [x0, 2.5]].map(|[x, y]| Vec3::new(x, y, z0));

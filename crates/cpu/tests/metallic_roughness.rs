@@ -1,8 +1,9 @@
 //! glTF's metallic-roughness texture (`scene::RoughnessMap`) against the factors it stands
 //! for: where the texture reads the same everywhere, a render must be the render of the
 //! untextured blend glTF's factors would make, bit for bit (the same random numbers are drawn
-//! and the same surfaces met), the factors being the texel as the texture array keeps it. The texel picks each lobe's surface: mirror or rough metal,
-//! plastic or Lambertian coat.
+//! and the same surfaces met), the factors being the texel as the texture array keeps it. The
+//! texel picks each lobe's surface: mirror or rough metal, plastic or Lambertian coat, clear or
+//! frosted glass.
 
 use glam::Vec2;
 use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
@@ -39,8 +40,9 @@ fn uniform(green: u8, blue: u8) -> (Scene, usize) {
 }
 
 /// [`uniform`] with the texture gone: the metal's weight is the metalness, its surface glTF's
-/// metal at that roughness, the coat its plastic below roughness 0.5 and Lambertian above
-/// (the texel as the renderers' texture array stores it: 8 bits in sRGB's encoding).
+/// metal at that roughness, the coat its plastic below roughness 0.5 and Lambertian above,
+/// the glass smooth below roughness 0.01 and frosted above (the texel as the renderers'
+/// texture array stores it: 8 bits in sRGB's encoding).
 fn factored(green: u8, blue: u8) -> Scene {
     let (mut scene, metal) = uniform(green, blue);
     let array = TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE);
@@ -53,7 +55,11 @@ fn factored(green: u8, blue: u8) -> Scene {
     if roughness >= scene::DIFFUSE_MIN_ROUGHNESS {
         scene.materials[coat].surface = Surface::Diffuse;
     }
-    for id in [metal, coat] {
+    let glass = (scene.materials.iter())
+        .position(|m| m.name == "tiled glass")
+        .expect("the mapped glass sphere");
+    scene.materials[glass].surface = scene::glass_surface(1.5, false, roughness);
+    for id in [metal, coat, glass] {
         scene.materials[id].roughness_map = None;
     }
     scene
@@ -61,7 +67,8 @@ fn factored(green: u8, blue: u8) -> Scene {
 
 #[test]
 fn a_uniform_texture_renders_as_the_factors_it_reads() {
-    // Brushed metal over glossy plastic; a polished mirror over a matte (Lambertian) coat.
+    // Brushed metal over glossy plastic, frosted glass; a polished mirror over a matte
+    // (Lambertian) coat, clear glass; rough metal, very frosted glass.
     for (green, blue) in [(64, 153), (0, 102), (200, 51)] {
         let (textured, _) = uniform(green, blue);
         let image = render(&textured);

@@ -58,6 +58,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MATERIAL_BLEND", U32(types::MATERIAL_BLEND)),
         ("ROUGHNESS_METAL", U32(types::ROUGHNESS_METAL)),
         ("ROUGHNESS_UNMAPPED", U32(types::ROUGHNESS_UNMAPPED)),
+        ("ROUGHNESS_GLASS", U32(types::ROUGHNESS_GLASS)),
         ("MIRROR_MAX_ROUGHNESS", F32(scene::MIRROR_MAX_ROUGHNESS)),
         ("DIFFUSE_MIN_ROUGHNESS", F32(scene::DIFFUSE_MIN_ROUGHNESS)),
         ("SLOT_IDLE", U32(buffers::SLOT_IDLE)),

@@ -122,7 +122,8 @@ pub(crate) struct SceneFeatures {
     pub normal_maps: bool,
     /// Some material is rough plastic (`ROUGH_COATS`).
     pub rough_coats: bool,
-    /// Some material is frosted glass, solid or a thin sheet (`FROSTED_GLASS`).
+    /// Some material is frosted glass, solid or a thin sheet, or glass a metallic-roughness
+    /// texture may frost (`FROSTED_GLASS`).
     pub frosted_glass: bool,
     /// Some material is a blend (`BLENDS`).
     pub blends: bool,
@@ -142,7 +143,11 @@ impl SceneFeatures {
             rough_coats: any(
                 |m| matches!(m.surface, scene::Surface::Plastic { alpha, .. } if alpha > 0.0),
             ),
-            frosted_glass: any(|m| matches!(m.surface, scene::Surface::RoughDielectric { .. })),
+            frosted_glass: any(|m| {
+                matches!(m.surface, scene::Surface::RoughDielectric { .. })
+                    || m.roughness_map
+                        .is_some_and(|map| map.lobe == scene::TexturedLobe::Glass)
+            }),
             blends: any(|m| m.blend.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),

@@ -138,6 +138,7 @@ pub const MATERIAL_BLEND: u32 = 4;
 pub const ROUGHNESS_METAL: u32 = 0;
 pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
+pub const ROUGHNESS_GLASS: u32 = 3;
 
 /// One material (176 bytes).
 #[repr(C)]
@@ -192,8 +193,8 @@ pub struct GpuMaterial {
     pub roughness_texture: u32,
     /// glTF's `roughnessFactor` (of a mapped member).
     pub roughness_factor: f32,
-    /// `ROUGHNESS_METAL` or `ROUGHNESS_COATED` for a mapped member, `ROUGHNESS_UNMAPPED`
-    /// otherwise.
+    /// `ROUGHNESS_METAL`, `ROUGHNESS_COATED` or `ROUGHNESS_GLASS` for a mapped member,
+    /// `ROUGHNESS_UNMAPPED` otherwise.
     pub roughness_lobe: u32,
 }
 
@@ -253,6 +254,7 @@ impl GpuMaterial {
             roughness_lobe: match map.map(|m| m.lobe) {
                 Some(TexturedLobe::Metal) => ROUGHNESS_METAL,
                 Some(TexturedLobe::Coated) => ROUGHNESS_COATED,
+                Some(TexturedLobe::Glass) => ROUGHNESS_GLASS,
                 None => ROUGHNESS_UNMAPPED,
             },
         }

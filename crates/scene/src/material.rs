@@ -101,6 +101,20 @@ pub fn metal_surface(roughness: f32) -> Surface {
     }
 }
 
+/// glTF's glass of index `ior` at `roughness`: smooth below [`MIRROR_MAX_ROUGHNESS`], frosted
+/// (GGX α = roughness²) from there.
+pub fn glass_surface(ior: f32, thin_walled: bool, roughness: f32) -> Surface {
+    if roughness < MIRROR_MAX_ROUGHNESS {
+        Surface::Dielectric { ior, thin_walled }
+    } else {
+        Surface::RoughDielectric {
+            ior,
+            thin_walled,
+            alpha: roughness * roughness,
+        }
+    }
+}
+
 /// A member of a material whose glTF roughness (and, for the metal, metalness) comes from a
 /// texture, per hit: linear data, roughness in green and metalness in blue, each multiplied
 /// by its factor (glTF's `metallicRoughnessTexture`).
@@ -122,6 +136,9 @@ pub enum TexturedLobe {
     /// below [`DIFFUSE_MIN_ROUGHNESS`] (one coat width stands for all its texels: the coat's
     /// tables are made per material), Lambertian from there.
     Coated,
+    /// The glass (glTF's transmission): [`glass_surface`] of the member's index and walls at
+    /// the texel's roughness, smooth or frosted.
+    Glass,
 }
 
 impl RoughnessMap {
@@ -133,6 +150,13 @@ impl RoughnessMap {
             TexturedLobe::Metal => metal_surface(roughness),
             TexturedLobe::Coated if roughness < DIFFUSE_MIN_ROUGHNESS => member,
             TexturedLobe::Coated => Surface::Diffuse,
+            TexturedLobe::Glass => match member {
+                Surface::Dielectric { ior, thin_walled }
+                | Surface::RoughDielectric {
+                    ior, thin_walled, ..
+                } => glass_surface(ior, thin_walled, roughness),
+                other => other,
+            },
         }
     }
 
@@ -142,7 +166,7 @@ impl RoughnessMap {
     pub fn blend_weight(&self, weight: f32, texel: glam::Vec4) -> f32 {
         match self.lobe {
             TexturedLobe::Metal => weight * texel.z.clamp(0.0, 1.0),
-            TexturedLobe::Coated => weight,
+            TexturedLobe::Coated | TexturedLobe::Glass => weight,
         }
     }
 }
@@ -326,7 +350,7 @@ mod tests {
     /// A mapped metal is a mirror, a rough conductor of α = roughness² or Lambertian by its
     /// texel's roughness (green × factor), and its blend weight scales with the texel's
     /// metalness (blue); a mapped coat is its own plastic below roughness 0.5, Lambertian
-    /// from there.
+    /// from there; mapped glass keeps its index and walls, smooth or frosted.
     #[test]
     fn a_roughness_map_follows_the_texel() {
         let map = |lobe| RoughnessMap {
@@ -353,6 +377,27 @@ mod tests {
         assert_eq!(coat.surface(plastic, texel(0.98, 0.0)), plastic);
         assert_eq!(coat.surface(plastic, texel(1.0, 0.0)), Surface::Diffuse);
         assert_eq!(coat.blend_weight(0.8, texel(0.6, 0.25)), 0.8);
+        let glass = map(TexturedLobe::Glass);
+        let frosted = Surface::RoughDielectric {
+            ior: 1.4,
+            thin_walled: true,
+            alpha: 0.2,
+        };
+        let smooth = Surface::Dielectric {
+            ior: 1.4,
+            thin_walled: true,
+        };
+        assert_eq!(glass.surface(frosted, texel(0.01, 1.0)), smooth);
+        assert_eq!(
+            glass.surface(smooth, texel(1.0, 0.0)),
+            Surface::RoughDielectric {
+                ior: 1.4,
+                thin_walled: true,
+                alpha: 0.25
+            },
+            "never Lambertian"
+        );
+        assert_eq!(glass.blend_weight(0.8, texel(0.6, 0.25)), 0.8);
     }
 
     /// Light crossing the attenuation distance keeps the attenuation colour; twice as far, its

@@ -108,7 +108,9 @@ pub fn bilinear_pair(c: f32, n: u32) -> (u32, u32, f32) {
 
 /// `a` blended towards `b` by `t`, written out as the WGSL twin (`textures.wgsl`) writes it.
 pub fn lerp(a: Vec4, b: Vec4, t: f32) -> Vec4 {
-    a * (1.0 - t) + b * t
+    // Exact where a = b (a · (1 − t) + b · t is not): a uniform texture reads its texel's
+    // value everywhere, as the factors it stands for would give.
+    a + (b - a) * t
 }
 
 /// An RGBA8 texel in linear RGBA: colour decoded from sRGB, alpha linear.

@@ -267,6 +267,15 @@ fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
             mapped.surface = SURFACE_DIFFUSE;
             mapped.roughness_alpha = 0.0;
         }
+    } else if material.roughness_lobe == ROUGHNESS_GLASS {
+        // scene::glass_surface (the member's index and walls kept).
+        if roughness < MIRROR_MAX_ROUGHNESS {
+            mapped.surface = SURFACE_DIELECTRIC;
+            mapped.roughness_alpha = 0.0;
+        } else {
+            mapped.surface = SURFACE_ROUGH_DIELECTRIC;
+            mapped.roughness_alpha = roughness * roughness;
+        }
     } else if roughness >= DIFFUSE_MIN_ROUGHNESS {
         mapped.surface = SURFACE_DIFFUSE;
         mapped.roughness_alpha = 0.0;

@@ -38,7 +38,7 @@ fn bilinear_pair(c: f32, n: u32) -> BilinearPair {
 
 // render::textures::lerp, written out.
 fn lerp4(a: vec4<f32>, b: vec4<f32>, t: f32) -> vec4<f32> {
-    return a * (1.0 - t) + b * t;
+    return a + (b - a) * t;
 }
 
 // Layer `id` at `uv` in linear RGBA: the four texels around uv decoded and blended, repeat

@@ -43,14 +43,13 @@
 //!   in the frame of each triangle's texture-coordinate gradients (`render::normal_map`).
 //!
 //! - `metallicRoughnessTexture` (linear data: roughness × `roughnessFactor` in green,
-//!   metalness × `metallicFactor` in blue) → `scene::RoughnessMap` on the metal and the
-//!   opaque dielectric, read at each hit: the metal's probability is the texel's metalness and
+//!   metalness × `metallicFactor` in blue) → `scene::RoughnessMap` on the metal, the glass and
+//!   the opaque dielectric, read at each hit: the metal's probability is the texel's metalness and
 //!   its surface follows the texel's roughness as above (mirror, rough conductor of α =
 //!   roughness², Lambertian); the opaque dielectric is plastic where the texel's roughness is
 //!   below 0.5 and Lambertian above, its coat of one width for the whole material (the mean
-//!   roughness of its non-Lambertian texels: the coat's tables are made per material). The
-//!   glass does not follow it texel by texel: it takes the texture's mean roughness, with a
-//!   warning.
+//!   roughness of its non-Lambertian texels: the coat's tables are made per material); the
+//!   glass is smooth below roughness 0.01 and frosted (α = roughness²) above, texel by texel.
 //!
 //! Ignored: occlusion (a path tracer's light needs none), transmission and thickness textures,
 //! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
@@ -70,7 +69,7 @@ use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, DIFFUSE_MIN_ROUGHNESS, MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, SceneBuilder,
     SceneError, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
-    absorption_from_attenuation as scene_absorption, metal_surface,
+    absorption_from_attenuation as scene_absorption, glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -189,13 +188,6 @@ impl Materials {
             )?),
             Some((texture, _)) => {
                 let texels = TextureRoughness::of(builder.texture(texture), roughness, metallic);
-                if transmission > 0.0 {
-                    builder.warn(format!(
-                        "{label}: metallicRoughnessTexture's roughness is not applied texel by \
-                         texel to transmission; the glass takes its mean, {:.3}",
-                        texels.mean
-                    ));
-                }
                 let map = |lobe| RoughnessMap {
                     texture,
                     roughness_factor: roughness,
@@ -498,15 +490,7 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
         // The extension's "F0 = 1": the specular layer reflects everything.
         Surface::Mirror
     } else {
-        let thin_walled = thickness == 0.0;
-        match rough_alpha {
-            None => Surface::Dielectric { ior, thin_walled },
-            Some(alpha) => Surface::RoughDielectric {
-                ior,
-                thin_walled,
-                alpha,
-            },
-        }
+        glass_surface(ior, thickness == 0.0, roughness)
     };
     let opaque = if roughness < DIFFUSE_MIN_ROUGHNESS && has_specular_layer(m) && ior != 1.0 {
         if ior == 0.0 {
@@ -578,7 +562,7 @@ impl Members {
 /// [`Members`] of a material with a metallic-roughness texture: the metal (where
 /// `metallicFactor` > 0) follows the texel's metalness and roughness; the opaque dielectric
 /// is plastic of the coat texels' mean roughness or Lambertian, by the texel's roughness; the
-/// glass takes the mean roughness.
+/// glass smooth or frosted by the texel's roughness (stored at the mean's).
 fn mapped_members(
     check: &Check,
     m: &json::Material,
@@ -591,8 +575,13 @@ fn mapped_members(
     let metal = metal_surface(texels.metal_mean);
     let coat = lobes(check, m, texels.coat.unwrap_or(0.0))?.opaque;
     let coat_map = matches!(coat, Surface::Plastic { .. }).then(|| map(TexturedLobe::Coated));
+    let glass_map = matches!(
+        mean.glass,
+        Surface::Dielectric { .. } | Surface::RoughDielectric { .. }
+    )
+    .then(|| map(TexturedLobe::Glass));
     let dielectric = [
-        (transmission, mean.glass, None),
+        (transmission, mean.glass, glass_map),
         (1.0 - transmission, coat, coat_map),
     ]
     .into_iter()

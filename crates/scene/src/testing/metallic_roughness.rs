@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 use super::{Fixture, cornell_room_on, spherical_uvs};
 use crate::{
     Material, RoughnessMap, Scene, Surface, Texels, Texture, TextureRoughness, TexturedLobe,
-    metal_surface,
+    glass_surface, metal_surface,
 };
 
 /// Texels along a tile's side in [`metallic_roughness_tiles`].
@@ -46,9 +46,10 @@ pub fn metallic_roughness_tiles() -> Texture {
 /// [`super::cornell_caustics`]'s room whose floor and front-right sphere are one brass material
 /// mapped by [`metallic_roughness_tiles`] (glTF: metallic 1, roughness 1, the texture's blue
 /// and green channels saying where and how rough), made as the glTF loader makes it
-/// (`SceneBuilder::add_textured_metal_blend`); a smooth glass sphere back left. Texture
-/// coordinates: planar on the floor ([`FLOOR_REPEATS`] across it), longitude and latitude on
-/// the sphere (4 × 2 repeats).
+/// (`SceneBuilder::add_textured_metal_blend`); a glass sphere back left mapped by the same
+/// texture (glTF: transmission 1, metallic 0, roughness 1), clear where the tiles are polished
+/// and frosted elsewhere (α 0.063 and 1). Texture coordinates: planar on the floor
+/// ([`FLOOR_REPEATS`] across it), longitude and latitude on the spheres (4 × 2 repeats).
 pub fn cornell_metallic_roughness() -> Scene {
     let mut f = Fixture::new("testing::cornell_metallic_roughness");
     let tiles = f.builder.add_texture(metallic_roughness_tiles());
@@ -80,26 +81,38 @@ pub fn cornell_metallic_roughness() -> Scene {
     );
     let white = f.material("white", Surface::Diffuse, super::CORNELL_WHITE);
     cornell_room_on(&mut f, white, tiled);
-    let glass = f.clear_glass();
+    let glass_roughness = TextureRoughness::of(f.builder.texture(tiles), 1.0, 0.0).mean;
+    let glass = f.builder.add_material(Material {
+        name: "tiled glass".into(),
+        surface: glass_surface(1.5, false, glass_roughness),
+        base_color: Vec3::ONE,
+        roughness_map: Some(map(TexturedLobe::Glass)),
+        ..Material::default()
+    });
     let front = Vec3::new(180.0, 90.0, 170.0);
+    let back = Vec3::new(380.0, 110.0, 370.0);
     f.sphere(front, 90.0, tiled, false);
-    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, glass, false);
+    f.sphere(back, 110.0, glass, false);
     let mut scene = f.finish();
     let floor_scale = FLOOR_REPEATS / 559.0;
-    for triangle in &mut scene.triangles {
-        if triangle.material != tiled {
-            continue;
+    let sphere_uvs = |triangle: &mut crate::Triangle, centre| {
+        spherical_uvs(triangle, centre);
+        for v in &mut triangle.vertices {
+            v.uv /= 3.0;
         }
+    };
+    for triangle in &mut scene.triangles {
         let centre = triangle.vertices.iter().map(|v| v.position).sum::<Vec3>() / 3.0;
-        if centre.distance(front) > 100.0 {
+        if triangle.material == glass {
+            sphere_uvs(triangle, back);
+        } else if triangle.material != tiled {
+            continue;
+        } else if centre.distance(front) > 100.0 {
             for v in &mut triangle.vertices {
                 v.uv = Vec2::new(v.position.x, -v.position.z) * floor_scale;
             }
         } else {
-            spherical_uvs(triangle, front);
-            for v in &mut triangle.vertices {
-                v.uv /= 3.0;
-            }
+            sphere_uvs(triangle, front);
         }
     }
     scene

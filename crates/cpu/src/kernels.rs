@@ -448,7 +448,16 @@ fn eye_path(
                 } else {
                     0.0
                 };
-                if let Surface::RoughConductor { alpha } = material.surface {
+                // Dispersive glass keeps one wavelength (`render::dispersion`), drawn where
+                // the path carries the whole spectrum with the pixel's own number for this
+                // eye pass; the lobes below, light samples' among them, are that
+                // wavelength's.
+                let weight;
+                (surface, wavelength, weight) = dispersed_surface(material, wavelength, || {
+                    wavelength_number.take().unwrap_or_else(|| rng.next_f32())
+                });
+                throughput *= weight;
+                if let Surface::RoughConductor { alpha } = surface {
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::reflection(alpha, 0.0);
                 }
@@ -461,7 +470,7 @@ fn eye_path(
                     ior,
                     thin_walled: false,
                     alpha,
-                } = material.surface
+                } = surface
                 {
                     lit.glossy = throughput * tint;
                     lit.lobe = if hit.front {
@@ -477,19 +486,11 @@ fn eye_path(
                     ior,
                     thin_walled: true,
                     alpha,
-                } = material.surface
+                } = surface
                 {
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
-                // Dispersive glass keeps one wavelength (`render::dispersion`), drawn where
-                // the path carries the whole spectrum with the pixel's own number for this
-                // eye pass.
-                let weight;
-                (surface, wavelength, weight) = dispersed_surface(material, wavelength, || {
-                    wavelength_number.take().unwrap_or_else(|| rng.next_f32())
-                });
-                throughput *= weight;
                 let next = specular_direction(surface, &hit, direction, [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.

@@ -323,8 +323,8 @@ pub fn eye_crossing_scale(surface: Surface, hit: &SurfaceHit, next: Vec3) -> f32
 
 /// The surface a path carrying `wavelength` (`render::dispersion`: a level or
 /// `WHOLE_SPECTRUM`) meets at `material`, the wavelength it carries from there on and the
-/// weight its throughput takes: dispersive glass refracts with the index of the path's
-/// wavelength, drawn with a number from `draw` where the path carries the whole spectrum
+/// weight its throughput takes: dispersive glass, smooth or frosted, refracts with the index
+/// of the path's wavelength, drawn with a number from `draw` where the path carries the whole spectrum
 /// (called only where `draws_wavelength` says so, so that other surfaces leave the random
 /// stream as it was); every other surface is itself, weight 1.
 pub fn dispersed_surface(
@@ -337,20 +337,35 @@ pub fn dispersed_surface(
     } else {
         0.0
     };
+    let dispersed = |ior| disperse(ior, material.dispersion, wavelength, u);
     match material.surface {
-        Surface::Dielectric { ior, thin_walled } => {
-            match disperse(ior, material.dispersion, wavelength, u) {
-                Some(d) => (
-                    Surface::Dielectric {
-                        ior: d.ior,
-                        thin_walled,
-                    },
-                    d.wavelength,
-                    d.weight,
-                ),
-                None => (material.surface, wavelength, Vec3::ONE),
-            }
-        }
+        Surface::Dielectric { ior, thin_walled } => match dispersed(ior) {
+            Some(d) => (
+                Surface::Dielectric {
+                    ior: d.ior,
+                    thin_walled,
+                },
+                d.wavelength,
+                d.weight,
+            ),
+            None => (material.surface, wavelength, Vec3::ONE),
+        },
+        Surface::RoughDielectric {
+            ior,
+            thin_walled,
+            alpha,
+        } => match dispersed(ior) {
+            Some(d) => (
+                Surface::RoughDielectric {
+                    ior: d.ior,
+                    thin_walled,
+                    alpha,
+                },
+                d.wavelength,
+                d.weight,
+            ),
+            None => (material.surface, wavelength, Vec3::ONE),
+        },
         surface => (surface, wavelength, Vec3::ONE),
     }
 }

@@ -694,11 +694,29 @@ fn every_kernel_matches_its_twin_through_a_marble_around_the_lamp() {
 
 /// The same through dispersive glass (`scene::testing::cornell_dispersion`: the spot light's
 /// caustic through flint): paths carrying the whole spectrum keep one wavelength at the glass,
-/// drawn with one more number, and refract with its index there and after (`render::dispersion`, WGSL
-/// `dispersed_material`); photons and eye paths alike.
+/// drawn with one more number, and refract with its index there and after
+/// (`render::dispersion`, WGSL `dispersed_material`); photons and eye paths alike.
 #[test]
 fn every_kernel_matches_its_twin_through_dispersive_glass() {
     every_kernel_matches_its_twin(scene::testing::cornell_dispersion(), DirectLight::Sampled);
+}
+
+/// The same with the flint frosted (GGX α 0.2): each wavelength's index serves the
+/// micro-normals' refraction and, in eye paths, the frosted lobe's light samples.
+#[test]
+fn every_kernel_matches_its_twin_through_frosted_dispersive_glass() {
+    let mut scene = scene::testing::cornell_dispersion();
+    for material in scene.materials.iter_mut().filter(|m| m.dispersion > 0.0) {
+        let scene::Surface::Dielectric { ior, thin_walled } = material.surface else {
+            panic!("cornell_dispersion's flint is smooth glass");
+        };
+        material.surface = scene::Surface::RoughDielectric {
+            ior,
+            thin_walled,
+            alpha: 0.2,
+        };
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and

@@ -346,16 +346,22 @@ impl<'a> PathTracer<'a> {
             // `render::plastic`) and glossy ones (rough metal, a rough coat).
             let tint = self.tint(material, point.uv);
             let coat = &self.coats[point.material as usize];
-            let lit = LitLobes::of(material, coat, tint, (-direction, shading), front);
-            if lit.is_lit() && !self.lights.is_empty() {
-                let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
-                radiance += throughput * light;
-            }
-            // Dispersive glass keeps one wavelength (`render::dispersion`).
+            // Dispersive glass keeps one wavelength (`render::dispersion`): the lobes below,
+            // the light sample's among them, are that wavelength's.
             let (surface, kept, weight) =
                 cpu::surface::dispersed_surface(material, wavelength, || rng.next_f32());
             wavelength = kept;
             throughput *= weight;
+            let dispersed = Material {
+                name: String::new(),
+                surface,
+                ..*material
+            };
+            let lit = LitLobes::of(&dispersed, coat, tint, (-direction, shading), front);
+            if lit.is_lit() && !self.lights.is_empty() {
+                let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
+                radiance += throughput * light;
+            }
             let scattered = self.scatter(material, surface, &point, direction, front, rng);
             let Some((next, weight, lobe)) = scattered else {
                 break;

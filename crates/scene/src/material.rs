@@ -70,7 +70,7 @@ pub struct Material {
     pub normal_scale: f32,
     /// Where the material is a mixture of surfaces ([`Blend`]); `None` for one surface.
     pub blend: Option<Blend>,
-    /// A smooth solid dielectric's dispersion: its index at wavelength λ (nanometres) is
+    /// A solid dielectric's dispersion (smooth or frosted): its index at wavelength λ (nm) is
     /// `ior + dispersion · (523655 / λ² − 1.5168)`, the Cauchy form glTF's
     /// `KHR_materials_dispersion` gives, whose `dispersion` is 20 / V for Abbe number V, so this
     /// is (ior − 1) / V ([`dispersion_from_abbe`]). Zero: none.

@@ -684,40 +684,43 @@ fn a_different_emissive_texture_transform_is_warned_about() {
     );
 }
 
-/// `KHR_materials_dispersion` on smooth solid glass: `Material::dispersion` = (ior − 1) / V
-/// with the Abbe number V = 20 / the extension's `dispersion`; on frosted glass it is warned
-/// about and ignored, and a negative value is refused.
+/// `KHR_materials_dispersion` on solid glass, smooth or frosted: `Material::dispersion` =
+/// (ior − 1) / V with the Abbe number V = 20 / the extension's `dispersion`; on a thin-walled
+/// sheet it is warned about and ignored, and a negative value is refused.
 #[test]
-fn dispersion_is_read_on_smooth_solid_glass() {
-    let glass = |roughness: f32, dispersion: f32| {
+fn dispersion_is_read_on_solid_glass() {
+    let glass_of = |roughness: f32, dispersion: f32, thickness: f32| {
         let mut material = pbr(0.0, roughness);
         material["extensions"] = json!({
             "KHR_materials_transmission": { "transmissionFactor": 1.0 },
             "KHR_materials_ior": { "ior": 1.75 },
-            "KHR_materials_volume": { "thicknessFactor": 1.0 },
+            "KHR_materials_volume": { "thicknessFactor": thickness },
             "KHR_materials_dispersion": { "dispersion": dispersion },
         });
         quad_doc(Some(material)).load()
     };
-    let scene = glass(0.0, 0.8).expect("loads");
-    let flint = &scene.materials[scene.triangles[0].material as usize];
+    let glass = |roughness, dispersion| glass_of(roughness, dispersion, 1.0);
     let want = (1.75 - 1.0) / (20.0 / 0.8);
-    assert!(
-        (flint.dispersion - want).abs() < 1e-7,
-        "{}",
-        flint.dispersion
-    );
-    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let frosted = glass(0.3, 0.8).expect("loads");
-    let ignored = &frosted.materials[frosted.triangles[0].material as usize];
+    for roughness in [0.0, 0.3] {
+        let scene = glass(roughness, 0.8).expect("loads");
+        let flint = &scene.materials[scene.triangles[0].material as usize];
+        assert!(
+            (flint.dispersion - want).abs() < 1e-7,
+            "roughness {roughness}: {}",
+            flint.dispersion
+        );
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    }
+    let sheet = glass_of(0.0, 0.8, 0.0).expect("loads");
+    let ignored = &sheet.materials[sheet.triangles[0].material as usize];
     assert_eq!(ignored.dispersion, 0.0);
     assert!(
-        frosted
+        sheet
             .warnings
             .iter()
             .any(|w| w.contains("KHR_materials_dispersion")),
         "{:?}",
-        frosted.warnings
+        sheet.warnings
     );
     let error = glass(0.0, -1.0).expect_err("a negative dispersion is refused");
     assert!(error.to_string().contains("dispersion"), "{error}");

@@ -745,6 +745,21 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
             if material.surface == SURFACE_ROUGH_DIELECTRIC {
                 u_third = next_f32(rng);
             }
+            // cpu::kernels: dispersive glass keeps one wavelength (its index from here on,
+            // the lobes' below among them).
+            var u_wavelength = 0.0;
+            if draws_wavelength(material.dispersion, wavelength) {
+                if pending_number >= 0.0 {
+                    u_wavelength = pending_number;
+                    pending_number = -1.0;
+                } else {
+                    u_wavelength = next_f32(rng);
+                }
+            }
+            let dispersed = dispersed_material(material, wavelength, u_wavelength);
+            material = dispersed.material;
+            wavelength = dispersed.wavelength;
+            throughput *= dispersed.weight;
             if material.surface == SURFACE_ROUGH_CONDUCTOR {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
@@ -766,20 +781,6 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
                 lit.alpha = material.roughness_alpha;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
-            // cpu::kernels: dispersive glass keeps one wavelength (its index from here on).
-            var u_wavelength = 0.0;
-            if draws_wavelength(material.dispersion, wavelength) {
-                if pending_number >= 0.0 {
-                    u_wavelength = pending_number;
-                    pending_number = -1.0;
-                } else {
-                    u_wavelength = next_f32(rng);
-                }
-            }
-            let dispersed = dispersed_material(material, wavelength, u_wavelength);
-            material = dispersed.material;
-            wavelength = dispersed.wavelength;
-            throughput *= dispersed.weight;
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
         }
         if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {

@@ -460,12 +460,13 @@ struct Dispersed {
     weight: vec3<f32>,
 }
 
-// cpu::surface::dispersed_surface (render::dispersion::disperse): smooth glass of the index
-// of the path's wavelength, drawn with `u` where it carries the whole spectrum, the wavelength
+// cpu::surface::dispersed_surface (render::dispersion::disperse): glass, smooth or frosted, of
+// the index of the path's wavelength, drawn with `u` where it carries the whole spectrum, the wavelength
 // it keeps and the weight the throughput takes.
 fn dispersed_material(material: GpuMaterial, wavelength: u32, u: f32) -> Dispersed {
     var out = Dispersed(material, wavelength, vec3<f32>(1.0));
-    if !DISPERSION || material.dispersion <= 0.0 || material.surface != SURFACE_DIELECTRIC {
+    let glass = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
+    if !DISPERSION || material.dispersion <= 0.0 || !glass {
         return out;
     }
     if wavelength == WHOLE_SPECTRUM {

@@ -31,7 +31,8 @@
 //!   (`render::medium`): what lies inside (a floor under water) is seen through it. Solids
 //!   nest (`render::nesting` finds which lies in which), but touching solids (a liquid filling
 //!   a glass exactly) have no interface of their own.
-//! - `KHR_materials_dispersion` on smooth solid glass (not blended) → `Material::dispersion`,
+//! - `KHR_materials_dispersion` on solid glass, smooth or frosted (not blended) →
+//!   `Material::dispersion`,
 //!   the Cauchy form the extension gives (`render::dispersion`); elsewhere warned about and
 //!   ignored.
 //!
@@ -635,12 +636,18 @@ fn dispersion(
                 Surface::Dielectric {
                     ior,
                     thin_walled: false,
+                }
+                | Surface::RoughDielectric {
+                    ior,
+                    thin_walled: false,
+                    ..
                 },
             ),
         ] => Ok(crate::dispersion_from_abbe(*ior, 20.0 / strength)),
         _ => {
             builder.warn(format!(
-                "{}: KHR_materials_dispersion is rendered on smooth solid glass only; ignored",
+                "{}: KHR_materials_dispersion is rendered on solid glass only (not blended, \
+                 not thin-walled); ignored",
                 check.label
             ));
             Ok(0.0)

@@ -621,6 +621,23 @@ pub const FLINT_ABBE: f32 = 25.0;
 /// in view, radius 0.3 and half a unit ahead of the camera: lossless, so in the furnace it is
 /// invisible, each wavelength refracting its own way through it.
 pub fn furnace_with_dispersive_glass() -> Scene {
+    furnace_with_dispersive_glass_of(Surface::Dielectric {
+        ior: FLINT_IOR,
+        thin_walled: false,
+    })
+}
+
+/// [`furnace_with_dispersive_glass`] whose flint is frosted (GGX α 0.3): still lossless and
+/// invisible, though each wavelength's light samples and paths go through rough glass.
+pub fn furnace_with_frosted_dispersive_glass() -> Scene {
+    furnace_with_dispersive_glass_of(Surface::RoughDielectric {
+        ior: FLINT_IOR,
+        thin_walled: false,
+        alpha: 0.3,
+    })
+}
+
+fn furnace_with_dispersive_glass_of(glass: Surface) -> Scene {
     let mut f = Fixture::new("testing::furnace_with_dispersive_glass");
     let inside = f.builder.add_material(Material {
         name: "furnace".into(),
@@ -630,10 +647,7 @@ pub fn furnace_with_dispersive_glass() -> Scene {
     });
     let flint = f.builder.add_material(Material {
         name: "flint glass".into(),
-        surface: Surface::Dielectric {
-            ior: FLINT_IOR,
-            thin_walled: false,
-        },
+        surface: glass,
         base_color: Vec3::ONE,
         dispersion: crate::dispersion_from_abbe(FLINT_IOR, FLINT_ABBE),
         ..Material::default()

@@ -46,11 +46,12 @@ fn info_json(scene: &Path) -> serde_json::Value {
     serde_json::from_slice(&output.stdout).expect("JSON")
 }
 
-/// `kousen info` names what each material became: glass, frosted, tinted, plastic.
+/// `kousen info` names what each material became: glass, frosted, tinted, dispersive, plastic.
 #[test]
 fn info_names_the_kinds_of_material() {
     for (stem, want) in [
         ("cornell-box.gltf", vec![("diffuse", 4)]),
+        ("prism.gltf", vec![("diffuse", 3), ("dispersive glass", 1)]),
         (
             "cornell-frosted.gltf",
             vec![("diffuse", 4), ("frosted glass", 2)],

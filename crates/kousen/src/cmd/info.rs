@@ -67,10 +67,18 @@ struct MaterialKind {
 }
 
 /// The kind of surface a material is, in a user's words (glass with absorption inside it is
-/// "tinted").
+/// "tinted", glass whose index depends on the wavelength "dispersive").
 fn material_kind(material: &scene::Material) -> &'static str {
     use scene::Surface;
     let tinted = material.interior_absorption() != glam::Vec3::ZERO;
+    let dispersive = material.dispersion > 0.0;
+    match (material.surface, tinted, dispersive) {
+        (Surface::Dielectric { .. }, true, true) => return "tinted dispersive glass",
+        (Surface::Dielectric { .. }, false, true) => return "dispersive glass",
+        (Surface::RoughDielectric { .. }, true, true) => return "tinted dispersive frosted glass",
+        (Surface::RoughDielectric { .. }, false, true) => return "dispersive frosted glass",
+        _ => {}
+    }
     match material.surface {
         Surface::Diffuse => "diffuse",
         Surface::Mirror => "mirror",

@@ -324,15 +324,20 @@ pub fn eye_crossing_scale(surface: Surface, hit: &SurfaceHit, next: Vec3) -> f32
 /// The surface a path carrying `wavelength` (`render::dispersion`: a level or
 /// `WHOLE_SPECTRUM`) meets at `material`, the wavelength it carries from there on and the
 /// weight its throughput takes: dispersive glass, smooth or frosted, refracts with the index
-/// of the path's wavelength, drawn with a number from `draw` where the path carries the whole spectrum
-/// (called only where `draws_wavelength` says so, so that other surfaces leave the random
-/// stream as it was); every other surface is itself, weight 1.
+/// of the path's wavelength, drawn with a number from `draw` where the path carries the
+/// whole spectrum (called only at glass where `draws_wavelength` says so, so that other
+/// surfaces, a dispersive blend's other members among them, leave the random stream as it
+/// was); every other surface is itself, weight 1.
 pub fn dispersed_surface(
     material: &Material,
     wavelength: u32,
     draw: impl FnOnce() -> f32,
 ) -> (Surface, u32, Vec3) {
-    let u = if draws_wavelength(material.dispersion, wavelength) {
+    let glass = matches!(
+        material.surface,
+        Surface::Dielectric { .. } | Surface::RoughDielectric { .. }
+    );
+    let u = if glass && draws_wavelength(material.dispersion, wavelength) {
         draw()
     } else {
         0.0

@@ -719,6 +719,34 @@ fn every_kernel_matches_its_twin_through_frosted_dispersive_glass() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same through a dispersive blend: cornell-blended's sphere of 60 % glass and 40 %
+/// plastic made of flint's dispersion (every member carries it; only the glass member
+/// disperses, and only there is a wavelength drawn).
+#[test]
+fn every_kernel_matches_its_twin_through_a_dispersive_blend() {
+    let mut scene = scene::testing::cornell_blended();
+    let glass = (scene.materials.iter())
+        .position(|m| matches!(m.surface, scene::Surface::Dielectric { .. }))
+        .expect("cornell_blended has a glass member");
+    let dispersion = scene::dispersion_from_abbe(1.5, 25.0);
+    let mut root = (0..scene.materials.len())
+        .find(|&id| {
+            scene.materials[id]
+                .blend
+                .is_some_and(|b| b.other as usize == glass)
+        })
+        .unwrap_or(glass);
+    loop {
+        scene.materials[root].dispersion = dispersion;
+        match scene.materials[root].blend {
+            Some(blend) => root = blend.other as usize,
+            None => break,
+        }
+    }
+    assert!(scene.materials[glass].dispersion > 0.0);
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and
 /// back wall, a diffuse sphere and a mirror one: bent shading normals in every kernel, and
 /// the photons' shading-normal weights where they land and bounce.

@@ -684,9 +684,10 @@ fn a_different_emissive_texture_transform_is_warned_about() {
     );
 }
 
-/// `KHR_materials_dispersion` on solid glass, smooth or frosted: `Material::dispersion` =
-/// (ior − 1) / V with the Abbe number V = 20 / the extension's `dispersion`; on a thin-walled
-/// sheet it is warned about and ignored, and a negative value is refused.
+/// `KHR_materials_dispersion` on solid glass, smooth or frosted, alone or blended:
+/// `Material::dispersion` = (ior − 1) / V with the Abbe number V = 20 / the extension's
+/// `dispersion`; on a thin-walled sheet it is warned about and ignored, and a negative value
+/// is refused.
 #[test]
 fn dispersion_is_read_on_solid_glass() {
     let glass_of = |roughness: f32, dispersion: f32, thickness: f32| {
@@ -711,6 +712,20 @@ fn dispersion_is_read_on_solid_glass() {
         );
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     }
+    // Half glass, half plastic: a blend whose glass member disperses (every member carries
+    // the number; only glass surfaces use it).
+    let mut material = pbr(0.0, 0.0);
+    material["extensions"] = json!({
+        "KHR_materials_transmission": { "transmissionFactor": 0.5 },
+        "KHR_materials_ior": { "ior": 1.75 },
+        "KHR_materials_volume": { "thicknessFactor": 1.0 },
+        "KHR_materials_dispersion": { "dispersion": 0.8 },
+    });
+    let blended = quad_doc(Some(material)).load().expect("loads");
+    let root = &blended.materials[blended.triangles[0].material as usize];
+    assert!(root.blend.is_some(), "transmission 0.5 blends");
+    assert!((root.dispersion - want).abs() < 1e-7, "{}", root.dispersion);
+    assert!(blended.warnings.is_empty(), "{:?}", blended.warnings);
     let sheet = glass_of(0.0, 0.8, 0.0).expect("loads");
     let ignored = &sheet.materials[sheet.triangles[0].material as usize];
     assert_eq!(ignored.dispersion, 0.0);

@@ -460,7 +460,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // spectrum, drawn with one more number.
     var wavelength = slot_wavelength(slot.state);
     var u_wavelength = 0.0;
-    if draws_wavelength(material.dispersion, wavelength) {
+    if draws_wavelength(material, wavelength) {
         u_wavelength = next_f32(&rng);
     }
     var next = vec3<f32>(0.0);
@@ -748,7 +748,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
             // cpu::kernels: dispersive glass keeps one wavelength (its index from here on,
             // the lobes' below among them).
             var u_wavelength = 0.0;
-            if draws_wavelength(material.dispersion, wavelength) {
+            if draws_wavelength(material, wavelength) {
                 if pending_number >= 0.0 {
                     u_wavelength = pending_number;
                     pending_number = -1.0;

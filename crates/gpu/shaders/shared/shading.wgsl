@@ -449,9 +449,10 @@ fn level_wavelength(level: u32) -> f32 {
     return scene_info.spectrum[level].x;
 }
 
-// render::dispersion::draws_wavelength.
-fn draws_wavelength(dispersion: f32, wavelength: u32) -> bool {
-    return DISPERSION && dispersion > 0.0 && wavelength == WHOLE_SPECTRUM;
+// render::dispersion::draws_wavelength, at glass only (cpu::surface::dispersed_surface).
+fn draws_wavelength(material: GpuMaterial, wavelength: u32) -> bool {
+    let glass = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
+    return DISPERSION && material.dispersion > 0.0 && glass && wavelength == WHOLE_SPECTRUM;
 }
 
 struct Dispersed {

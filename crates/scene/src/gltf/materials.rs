@@ -31,8 +31,8 @@
 //!   (`render::medium`): what lies inside (a floor under water) is seen through it. Solids
 //!   nest (`render::nesting` finds which lies in which), but touching solids (a liquid filling
 //!   a glass exactly) have no interface of their own.
-//! - `KHR_materials_dispersion` on solid glass, smooth or frosted (not blended) →
-//!   `Material::dispersion`,
+//! - `KHR_materials_dispersion` on solid glass, smooth or frosted (a blend's glass member
+//!   too) → `Material::dispersion`,
 //!   the Cauchy form the extension gives (`render::dispersion`); elsewhere warned about and
 //!   ignored.
 //!
@@ -629,25 +629,25 @@ fn dispersion(
     if strength == 0.0 {
         return Ok(0.0);
     }
-    match members {
-        [
-            (
-                _,
-                Surface::Dielectric {
-                    ior,
-                    thin_walled: false,
-                }
-                | Surface::RoughDielectric {
-                    ior,
-                    thin_walled: false,
-                    ..
-                },
-            ),
-        ] => Ok(crate::dispersion_from_abbe(*ior, 20.0 / strength)),
-        _ => {
+    // The solid glass member (a blend's too: only glass surfaces disperse).
+    let solid_glass = members.iter().find_map(|(_, surface)| match *surface {
+        Surface::Dielectric {
+            ior,
+            thin_walled: false,
+        }
+        | Surface::RoughDielectric {
+            ior,
+            thin_walled: false,
+            ..
+        } => Some(ior),
+        _ => None,
+    });
+    match solid_glass {
+        Some(ior) => Ok(crate::dispersion_from_abbe(ior, 20.0 / strength)),
+        None => {
             builder.warn(format!(
-                "{}: KHR_materials_dispersion is rendered on solid glass only (not blended, \
-                 not thin-walled); ignored",
+                "{}: KHR_materials_dispersion is rendered on solid glass only (not on \
+                 thin-walled glass or opaque surfaces); ignored",
                 check.label
             ));
             Ok(0.0)

@@ -98,6 +98,18 @@ pub fn slot_wavelength(state: u32) -> u32 {
     (state >> WAVELENGTH_SHIFT).wrapping_sub(1)
 }
 
+/// How a [`MediumLocator`]'s tree is built: without spatial splits. Its walks find the same
+/// closest hits in any tree, and the split trees' probe (a second tree and probe rays) took
+/// most of the build: 1,009,201 triangles of water, 2.57 s → 0.39 s a build (a render built
+/// three: the backend's nesting, the lights' media, the camera's).
+fn locator_build_options() -> bvh::BuildOptions {
+    bvh::BuildOptions {
+        split_percent: 0,
+        probe_split: false,
+        ..bvh::BuildOptions::default()
+    }
+}
+
 /// Which solid dielectric a point lies in, for the places paths start and for how solids
 /// nest (`crate::nesting`): a tree over the solids' triangles (no other surface bounds a
 /// medium), and rays from the point. A ray walks through the solids it enters (front faces)
@@ -143,7 +155,7 @@ impl MediumLocator {
             .copied()
             .collect();
         let bvh = (!solids.is_empty())
-            .then(|| bvh::PackedBvh::build(&solids, &bvh::BuildOptions::default()));
+            .then(|| bvh::PackedBvh::build(&solids, &locator_build_options()));
         MediumLocator {
             bvh,
             step: 1e-6 * scene.bounds().extent().length().max(1e-3),

@@ -333,45 +333,33 @@ pub fn dispersed_surface(
     wavelength: u32,
     draw: impl FnOnce() -> f32,
 ) -> (Surface, u32, Vec3) {
-    let glass = matches!(
-        material.surface,
-        Surface::Dielectric { .. } | Surface::RoughDielectric { .. }
-    );
-    let u = if glass && draws_wavelength(material.dispersion, wavelength) {
+    let ior = match material.surface {
+        Surface::Dielectric { ior, .. } | Surface::RoughDielectric { ior, .. } => ior,
+        surface => return (surface, wavelength, Vec3::ONE),
+    };
+    let u = if draws_wavelength(material.dispersion, wavelength) {
         draw()
     } else {
         0.0
     };
-    let dispersed = |ior| disperse(ior, material.dispersion, wavelength, u);
-    match material.surface {
-        Surface::Dielectric { ior, thin_walled } => match dispersed(ior) {
-            Some(d) => (
-                Surface::Dielectric {
-                    ior: d.ior,
-                    thin_walled,
-                },
-                d.wavelength,
-                d.weight,
-            ),
-            None => (material.surface, wavelength, Vec3::ONE),
-        },
+    match disperse(ior, material.dispersion, wavelength, u) {
+        Some(d) => (with_ior(material.surface, d.ior), d.wavelength, d.weight),
+        None => (material.surface, wavelength, Vec3::ONE),
+    }
+}
+
+/// Glass `surface` (smooth or frosted) with index `ior`; any other surface as it is.
+fn with_ior(surface: Surface, ior: f32) -> Surface {
+    match surface {
+        Surface::Dielectric { thin_walled, .. } => Surface::Dielectric { ior, thin_walled },
         Surface::RoughDielectric {
+            thin_walled, alpha, ..
+        } => Surface::RoughDielectric {
             ior,
             thin_walled,
             alpha,
-        } => match dispersed(ior) {
-            Some(d) => (
-                Surface::RoughDielectric {
-                    ior: d.ior,
-                    thin_walled,
-                    alpha,
-                },
-                d.wavelength,
-                d.weight,
-            ),
-            None => (material.surface, wavelength, Vec3::ONE),
         },
-        surface => (surface, wavelength, Vec3::ONE),
+        other => other,
     }
 }
 

@@ -154,8 +154,8 @@ impl MediumLocator {
             .filter(|t| solid[t.material as usize])
             .copied()
             .collect();
-        let bvh = (!solids.is_empty())
-            .then(|| bvh::PackedBvh::build(&solids, &locator_build_options()));
+        let bvh =
+            (!solids.is_empty()).then(|| bvh::PackedBvh::build(&solids, &locator_build_options()));
         MediumLocator {
             bvh,
             step: 1e-6 * scene.bounds().extent().length().max(1e-3),

@@ -53,7 +53,7 @@ pub fn prism() -> Scene {
     let pedestal = [[-half, -half], [half, -half], [half, half], [-half, half]];
     f.block(pedestal, PEDESTAL_HEIGHT, grey);
     triangular_prism(&mut f, flint);
-    let [left, _, apex] = cross_section();
+    let [left, _, apex] = prism_cross_section();
     let face_centre = (left + apex) / 2.0;
     let elevation = BEAM_ELEVATION_DEGREES.to_radians();
     let beam = Vec3::new(elevation.cos(), elevation.sin(), 0.0);
@@ -82,7 +82,7 @@ pub fn prism() -> Scene {
 
 /// The prism's cross-section at z = 0: base left, base right, apex. Its base stands 2 mm
 /// above the pedestal, so that no two surfaces share a plane.
-fn cross_section() -> [Vec3; 3] {
+pub fn prism_cross_section() -> [Vec3; 3] {
     let height = PRISM_SIDE * 3f32.sqrt() / 2.0;
     let base = PEDESTAL_HEIGHT + 0.002;
     [
@@ -94,7 +94,7 @@ fn cross_section() -> [Vec3; 3] {
 
 /// The closed prism: its two triangular ends and three sides, faces outwards.
 fn triangular_prism(f: &mut Fixture, material: u32) {
-    let section = cross_section();
+    let section = prism_cross_section();
     let centre = section.iter().sum::<Vec3>() / 3.0;
     let along = Vec3::new(0.0, 0.0, PRISM_LENGTH / 2.0);
     let vertex = |position| crate::Vertex {

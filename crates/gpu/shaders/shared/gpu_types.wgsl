@@ -30,7 +30,7 @@ struct SceneInfo {
     spectrum: array<vec4<f32>, WAVELENGTH_LEVELS>,
 }
 
-// One material (144 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// One material (176 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED;
 // ior: of dielectrics and plastic coats; roughness_alpha: GGX width of rough surfaces; normal_texture: a tangent-space normal map
 // (NO_TEXTURE: none), its X and Y scaled by normal_scale; coat_*: plastic's coat

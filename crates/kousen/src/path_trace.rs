@@ -352,12 +352,19 @@ impl<'a> PathTracer<'a> {
                 cpu::surface::dispersed_surface(material, wavelength, || rng.next_f32());
             wavelength = kept;
             throughput *= weight;
-            let dispersed = Material {
-                name: String::new(),
-                surface,
-                ..*material
+            // A copy only where dispersion changed the surface.
+            let dispersed;
+            let lobes_of = if surface == material.surface {
+                material
+            } else {
+                dispersed = Material {
+                    name: String::new(),
+                    surface,
+                    ..*material
+                };
+                &dispersed
             };
-            let lit = LitLobes::of(&dispersed, coat, tint, (-direction, shading), front);
+            let lit = LitLobes::of(lobes_of, coat, tint, (-direction, shading), front);
             if lit.is_lit() && !self.lights.is_empty() {
                 let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
                 radiance += throughput * light;

@@ -630,18 +630,7 @@ fn dispersion(
         return Ok(0.0);
     }
     // The solid glass member (a blend's too: only glass surfaces disperse).
-    let solid_glass = members.iter().find_map(|(_, surface)| match *surface {
-        Surface::Dielectric {
-            ior,
-            thin_walled: false,
-        }
-        | Surface::RoughDielectric {
-            ior,
-            thin_walled: false,
-            ..
-        } => Some(ior),
-        _ => None,
-    });
+    let solid_glass = members.iter().find_map(|(_, surface)| surface.solid_ior());
     match solid_glass {
         Some(ior) => Ok(crate::dispersion_from_abbe(ior, 20.0 / strength)),
         None => {

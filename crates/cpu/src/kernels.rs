@@ -148,13 +148,15 @@ pub fn photon_pass_with<R: StreamRng>(
     // A Lambertian surface, or plastic's base under the coat (which lets T(θ) through),
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
-    let coat = || &scene.coats[hit.material as usize];
     let mut bounced = slot_bounced(slot.state);
     let base_share = match mapped_surface(&scene.materials[keeper as usize], texel) {
         Surface::Diffuse => Some(1.0),
-        Surface::Plastic { .. } => {
-            Some(scene.coats[keeper as usize].transmittance(direction.dot(hit.shading)))
-        }
+        surface @ Surface::Plastic { .. } => Some(
+            scene
+                .coats
+                .at(keeper, surface)
+                .transmittance(direction.dot(hit.shading)),
+        ),
         _ => None,
     };
     if let Some(share) = base_share
@@ -174,16 +176,17 @@ pub fn photon_pass_with<R: StreamRng>(
             bounced = true;
             (diffuse_bounce(&hit, u_direction), tint)
         }
-        Surface::Plastic { .. } => {
-            match plastic_bounce(&hit, direction, coat(), u_choice, u_direction) {
+        surface @ Surface::Plastic { .. } => {
+            let coat = scene.coats.at(hit.material, surface);
+            match plastic_bounce(&hit, direction, &coat, u_choice, u_direction) {
                 PlasticBounce::Coat(next) => (next, Vec3::ONE),
                 PlasticBounce::Base(weight) => {
                     bounced = true;
                     let next = diffuse_bounce(&hit, u_direction);
                     // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
                     let leaving =
-                        next.map_or(0.0, |(next, _)| coat().transmittance(next.dot(hit.shading)));
-                    (next, tint * (coat().diffuse_scale * leaving * weight))
+                        next.map_or(0.0, |(next, _)| coat.transmittance(next.dot(hit.shading)));
+                    (next, tint * (coat.diffuse_scale * leaving * weight))
                 }
             }
         }
@@ -417,7 +420,8 @@ fn eye_path(
         let bounce = match material.surface {
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
-                lit.coated = true;
+                let coat = scene.coats.at(hit.material, material.surface);
+                lit.coat = Some(coat);
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
                     lit.glossy = throughput;
@@ -426,8 +430,7 @@ fn eye_path(
                 } else {
                     [0.0; 2]
                 };
-                let coat = &scene.coats[hit.material as usize];
-                match plastic_bounce(&hit, direction, coat, u, u_micro) {
+                match plastic_bounce(&hit, direction, &coat, u, u_micro) {
                     PlasticBounce::Base(weight) => {
                         base_weight = weight;
                         None
@@ -501,11 +504,7 @@ fn eye_path(
         if bounce.is_none() {
             // A Lambertian surface, or plastic's base (the coat's T(θo) in the choice's
             // weight, its T(θi) left to the light sample and the photons).
-            let scale = if lit.coated {
-                scene.coats[hit.material as usize].diffuse_scale
-            } else {
-                1.0
-            };
+            let scale = lit.coat.map_or(1.0, |coat| coat.diffuse_scale);
             let weight = throughput * tint * (scale * base_weight * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
@@ -587,8 +586,9 @@ fn eye_path(
 pub struct LitLobes {
     /// A Lambertian lobe: the visible point's weight (ρ/π and plastic's scale included).
     pub diffuse: Vec3,
-    /// Whether a plastic coat lies over the Lambertian lobe, which gets what it lets through.
-    pub coated: bool,
+    /// The plastic coat over the Lambertian lobe, which gets what it lets through (the hit's:
+    /// `render::coats::Coats::at`).
+    pub coat: Option<render::plastic::Coat>,
     /// The glossy lobe's weight.
     pub glossy: Vec3,
     pub lobe: GlossyLobe,
@@ -601,22 +601,11 @@ impl LitLobes {
 
     /// What light arriving along `incident` with solid-angle density `light_pdf` sends
     /// towards `outgoing`, per unit of its radiance divided by that density.
-    fn response(
-        &self,
-        scene: &SceneData,
-        hit: &SurfaceHit,
-        outgoing: Vec3,
-        incident: Vec3,
-        light_pdf: f32,
-    ) -> Vec3 {
+    fn response(&self, hit: &SurfaceHit, outgoing: Vec3, incident: Vec3, light_pdf: f32) -> Vec3 {
         let cosine = incident.dot(hit.shading);
         let mut response = Vec3::ZERO;
         if self.diffuse.max_element() > 0.0 {
-            let coat = if self.coated {
-                scene.coats[hit.material as usize].transmittance(cosine)
-            } else {
-                1.0
-            };
+            let coat = self.coat.map_or(1.0, |coat| coat.transmittance(cosine));
             response += self.diffuse * (cosine * coat);
         }
         if self.lobe.is_some() {
@@ -718,7 +707,7 @@ pub fn direct_light(
     if light.direction.dot(facing) <= 0.0 && !lit.lobe.is_two_sided() {
         return Vec3::ZERO;
     }
-    let response = lit.response(scene, hit, outgoing, light.direction, light.pdf);
+    let response = lit.response(hit, outgoing, light.direction, light.pdf);
     if response.max_element() <= 0.0 {
         return Vec3::ZERO;
     }

@@ -38,8 +38,8 @@ pub struct SceneData {
     /// Per material, the density per area with which light sampling lands on it
     /// (`render::emission::light_area_density`).
     pub light_area_density: Vec<f32>,
-    /// Per material, its plastic coat (`render::plastic::Coat`; ior 0 for none).
-    pub coats: Vec<render::plastic::Coat>,
+    /// Every material's plastic coat, over its texture's widths where one maps it.
+    pub coats: render::coats::Coats,
 }
 
 impl SceneData {
@@ -48,7 +48,7 @@ impl SceneData {
         SceneData {
             wide: bvh::WideMtbvh::new(&bvh).ok(),
             bvh,
-            coats: render::plastic::coats_of(&nesting.materials),
+            coats: render::coats::Coats::of(&nesting.materials),
             materials: nesting.materials,
             exterior: nesting.exterior,
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),

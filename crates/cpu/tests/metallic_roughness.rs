@@ -8,7 +8,7 @@
 use glam::Vec2;
 use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
 use render::{Budget, Image, Settings, Sppm};
-use scene::{Scene, Surface, Texels, metal_surface, testing};
+use scene::{Scene, Texels, metal_surface, testing};
 
 fn render(scene: &Scene) -> Image {
     let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
@@ -33,28 +33,38 @@ fn uniform(green: u8, blue: u8) -> (Scene, usize) {
     for texel in texels.iter_mut() {
         *texel = [0.0, f32::from(green) / 255.0, f32::from(blue) / 255.0, 1.0];
     }
+    // The roughness range the loader would find (as the texture array keeps the texel).
+    let roughness = stored_texel(&scene).y;
+    for material in &mut scene.materials {
+        if let Some(map) = &mut material.roughness_map {
+            map.roughness_range = [roughness; 2];
+        }
+    }
     let tiled = (scene.materials.iter())
         .position(|m| m.roughness_map.is_some())
         .expect("a mapped material");
     (scene, tiled)
 }
 
+/// The uniform texture's texel as the renderers' texture array stores it (8 bits in sRGB's
+/// encoding).
+fn stored_texel(scene: &Scene) -> glam::Vec4 {
+    TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE).sample(0, Vec2::splat(0.3))
+}
+
 /// [`uniform`] with the texture gone: the metal's weight is the metalness, its surface glTF's
-/// metal at that roughness, the coat its plastic below roughness 0.5 and Lambertian above,
-/// the glass smooth below roughness 0.01 and frosted above (the texel as the renderers'
-/// texture array stores it: 8 bits in sRGB's encoding).
+/// metal at that roughness, the coat plastic at that roughness (smooth below 0.01, Lambertian
+/// from 0.5), the glass smooth below roughness 0.01 and frosted above (the texel as the
+/// renderers' texture array stores it).
 fn factored(green: u8, blue: u8) -> Scene {
     let (mut scene, metal) = uniform(green, blue);
-    let array = TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE);
-    let texel = array.sample(0, Vec2::splat(0.3));
+    let texel = stored_texel(&scene);
     let roughness = texel.y;
     let blend = scene.materials[metal].blend.as_mut().unwrap();
     blend.weight = texel.z;
     let coat = blend.other as usize;
     scene.materials[metal].surface = metal_surface(roughness);
-    if roughness >= scene::DIFFUSE_MIN_ROUGHNESS {
-        scene.materials[coat].surface = Surface::Diffuse;
-    }
+    scene.materials[coat].surface = scene::coated_surface(1.5, roughness);
     let glass = (scene.materials.iter())
         .position(|m| m.name == "tiled glass")
         .expect("the mapped glass sphere");
@@ -67,8 +77,8 @@ fn factored(green: u8, blue: u8) -> Scene {
 
 #[test]
 fn a_uniform_texture_renders_as_the_factors_it_reads() {
-    // Brushed metal over glossy plastic, frosted glass; a polished mirror over a matte
-    // (Lambertian) coat, clear glass; rough metal, very frosted glass.
+    // Brushed metal over glossy plastic, frosted glass; a polished mirror over a smooth coat,
+    // clear glass; rough metal over a matte (Lambertian) coat, very frosted glass.
     for (green, blue) in [(64, 153), (0, 102), (200, 51)] {
         let (textured, _) = uniform(green, blue);
         let image = render(&textured);

@@ -211,6 +211,52 @@ fn record_sizes(bvh: &PackedBvh) -> [(&'static str, u64); 3] {
     ]
 }
 
+/// The materials buffer's records: each material (its light-sampling density per area and
+/// the solid around it where given; missing entries: 0 and none), then the tables of every
+/// mapped coat's grid (`render::coats::CoatGrid`: its smooth coat, then its rough nodes), which
+/// the material's `coat_grid_*` fields point at. One record where there are no materials: a
+/// binding cannot be empty (no triangle refers to it).
+pub fn gpu_materials(
+    materials: &[Material],
+    light_area_density: &[f32],
+    exterior: &[u32],
+) -> Vec<GpuMaterial> {
+    let coats = render::coats::Coats::of(materials);
+    let mut records: Vec<GpuMaterial> = (0..materials.len() as u32)
+        .map(|id| GpuMaterial::new(&materials[id as usize], coats.own(id)))
+        .collect();
+    for (gpu, &density) in records.iter_mut().zip(light_area_density) {
+        gpu.light_area_density = density;
+    }
+    for (gpu, &around) in records.iter_mut().zip(exterior) {
+        gpu.exterior = around;
+    }
+    for id in 0..materials.len() as u32 {
+        let gpu = &mut records[id as usize];
+        gpu.blend_photon_member = render::blend::blend_photon_member(materials, id);
+        if let Some(texture) = render::blend::roughness_texture(materials, id) {
+            gpu.roughness_texture = texture;
+        }
+    }
+    for id in 0..materials.len() {
+        let Some(grid) = coats.grid(id as u32) else {
+            continue;
+        };
+        let first = records.len() as u32;
+        records.push(GpuMaterial::coat_record(&grid.smooth));
+        records.extend(grid.nodes.iter().map(GpuMaterial::coat_record));
+        let gpu = &mut records[id];
+        gpu.coat_grid_first = first;
+        gpu.coat_grid_nodes = grid.nodes.len() as u32;
+        gpu.coat_grid_roughness = grid.first_roughness;
+        gpu.coat_grid_step = grid.roughness_step;
+    }
+    if records.is_empty() {
+        records.push(GpuMaterial::new(&Material::default(), &Default::default()));
+    }
+    records
+}
+
 /// Checks, before anything is allocated, that a scene fits a device with `limits`: every
 /// buffer within the binding and buffer sizes (every texture within the texture side, with
 /// [`SceneStorage::Texels`]), enough storage buffers per shader stage.
@@ -341,7 +387,8 @@ impl GpuScene {
         exterior: &[u32],
     ) -> Result<GpuScene, GpuError> {
         let storage = context.scene_storage;
-        check_scene_fits(bvh, materials.len(), &context.limits, storage)?;
+        let gpu_materials = gpu_materials(materials, light_area_density, exterior);
+        check_scene_fits(bvh, gpu_materials.len(), &context.limits, storage)?;
         let device = &context.device;
         let storage_buffer = |label: &str, contents: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -350,28 +397,6 @@ impl GpuScene {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         };
-        let coats = render::plastic::coats_of(materials);
-        let mut gpu_materials: Vec<GpuMaterial> = materials
-            .iter()
-            .zip(&coats)
-            .map(|(material, coat)| GpuMaterial::new(material, coat))
-            .collect();
-        for (gpu, &density) in gpu_materials.iter_mut().zip(light_area_density) {
-            gpu.light_area_density = density;
-        }
-        for (gpu, &around) in gpu_materials.iter_mut().zip(exterior) {
-            gpu.exterior = around;
-        }
-        for (id, gpu) in gpu_materials.iter_mut().enumerate() {
-            gpu.blend_photon_member = render::blend::blend_photon_member(materials, id as u32);
-            if let Some(texture) = render::blend::roughness_texture(materials, id as u32) {
-                gpu.roughness_texture = texture;
-            }
-        }
-        if gpu_materials.is_empty() {
-            // A binding cannot be empty; no triangle refers to this one.
-            gpu_materials.push(GpuMaterial::new(&Material::default(), &Default::default()));
-        }
         let info = SceneInfo::new(bvh);
         let threaded = all_threaded(bvh);
         let records: [(&str, &[u8]); 3] = [

@@ -120,7 +120,8 @@ fn compile_kernels(
 pub(crate) struct SceneFeatures {
     /// Some material has a normal map (`NORMAL_MAPS` in `shading.wgsl`).
     pub normal_maps: bool,
-    /// Some material is rough plastic (`ROUGH_COATS`).
+    /// Some material is rough plastic, or plastic a metallic-roughness texture may roughen
+    /// (`ROUGH_COATS`).
     pub rough_coats: bool,
     /// Some material is frosted glass, solid or a thin sheet, or glass a metallic-roughness
     /// texture may frost (`FROSTED_GLASS`).
@@ -140,9 +141,11 @@ impl SceneFeatures {
         let any = |f: fn(&scene::Material) -> bool| scene.materials.iter().any(f);
         SceneFeatures {
             normal_maps: any(|m| m.normal_texture.is_some()),
-            rough_coats: any(
-                |m| matches!(m.surface, scene::Surface::Plastic { alpha, .. } if alpha > 0.0),
-            ),
+            rough_coats: any(|m| {
+                matches!(m.surface, scene::Surface::Plastic { alpha, .. } if alpha > 0.0)
+                    || m.roughness_map
+                        .is_some_and(|map| map.lobe == scene::TexturedLobe::Coated)
+            }),
             frosted_glass: any(|m| {
                 matches!(m.surface, scene::Surface::RoughDielectric { .. })
                     || m.roughness_map

@@ -140,7 +140,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (176 bytes).
+/// One material (192 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -196,10 +196,18 @@ pub struct GpuMaterial {
     /// `ROUGHNESS_METAL`, `ROUGHNESS_COATED` or `ROUGHNESS_GLASS` for a mapped member,
     /// `ROUGHNESS_UNMAPPED` otherwise.
     pub roughness_lobe: u32,
+    /// A mapped coat's `render::coats::CoatGrid`: the index in the materials buffer of its
+    /// smooth coat's record, its rough nodes' records following (the upload sets it).
+    pub coat_grid_first: u32,
+    /// Its rough nodes (0: no grid).
+    pub coat_grid_nodes: u32,
+    /// `CoatGrid::first_roughness` and `roughness_step`.
+    pub coat_grid_roughness: f32,
+    pub coat_grid_step: f32,
 }
 
 impl GpuMaterial {
-    /// `material` and its plastic `coat` (`render::plastic::coats_of`; the default for none).
+    /// `material` and its plastic `coat` (`render::coats::Coats::own`; the default for none).
     pub fn new(material: &Material, coat: &render::plastic::Coat) -> GpuMaterial {
         let (surface, ior, thin_walled, roughness_alpha) = match material.surface {
             Surface::Diffuse => (SURFACE_DIFFUSE, 1.0, false, 0.0),
@@ -257,6 +265,35 @@ impl GpuMaterial {
                 Some(TexturedLobe::Glass) => ROUGHNESS_GLASS,
                 None => ROUGHNESS_UNMAPPED,
             },
+            coat_grid_first: 0,
+            coat_grid_nodes: 0,
+            coat_grid_roughness: 0.0,
+            coat_grid_step: 0.0,
+        }
+    }
+}
+
+impl GpuMaterial {
+    /// A record holding one of a mapped coat's tables (after the scene's materials; no
+    /// triangle refers to it): what `coat_transmittance_of` and `coat_diffuse_scale_of` read.
+    pub fn coat_record(coat: &render::plastic::Coat) -> GpuMaterial {
+        let nodes = coat.transmittance_nodes;
+        GpuMaterial {
+            surface: SURFACE_PLASTIC,
+            ior: coat.ior,
+            roughness_alpha: coat.alpha,
+            base_color_texture: NO_TEXTURE,
+            emission_texture: NO_TEXTURE,
+            normal_texture: NO_TEXTURE,
+            roughness_texture: NO_TEXTURE,
+            roughness_lobe: ROUGHNESS_UNMAPPED,
+            alpha_cutoff: -1.0,
+            exterior: render::medium::NO_MEDIUM,
+            coat_diffuse_scale: coat.diffuse_scale,
+            coat_transmittance: std::array::from_fn(|row| {
+                std::array::from_fn(|column| nodes[4 * row + column])
+            }),
+            ..GpuMaterial::default()
         }
     }
 }

@@ -336,6 +336,13 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, roughness_factor),
             ),
             ("roughness_lobe", offset_of!(GpuMaterial, roughness_lobe)),
+            ("coat_grid_first", offset_of!(GpuMaterial, coat_grid_first)),
+            ("coat_grid_nodes", offset_of!(GpuMaterial, coat_grid_nodes)),
+            (
+                "coat_grid_roughness",
+                offset_of!(GpuMaterial, coat_grid_roughness),
+            ),
+            ("coat_grid_step", offset_of!(GpuMaterial, coat_grid_step)),
         ],
     );
     assert_layout(

@@ -14,6 +14,7 @@ use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use render::blend::{blend_member, mapped_material};
 use render::buffers::{LIGHT_TRIANGLE, Light, RAY_T_MAX};
+use render::coats::Coats;
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
     light_area_density, light_table, light_table_triangles, triangle_barycentrics,
@@ -62,8 +63,8 @@ pub struct PathTracer<'a> {
     light_triangles: Vec<u32>,
     /// Per material, the area density with which light sampling lands on its triangles.
     light_area_density: Vec<f32>,
-    /// Per material, its plastic coat (ior 0 for none).
-    coats: Vec<Coat>,
+    /// Every material's plastic coat, over its texture's widths where one maps it.
+    coats: Coats,
     /// Whether any material has alpha cut-outs (shadow rays must then look through them).
     has_cut_outs: bool,
     /// Offset of a continuation ray's origin, relative to the scene's size.
@@ -252,7 +253,7 @@ impl<'a> PathTracer<'a> {
             lights: light_table(scene),
             light_triangles: light_table_triangles(scene),
             light_area_density: light_area_density(scene),
-            coats: render::plastic::coats_of(&nesting.materials),
+            coats: Coats::of(&nesting.materials),
             materials: nesting.materials,
             exterior: nesting.exterior,
             has_cut_outs,
@@ -345,7 +346,7 @@ impl<'a> PathTracer<'a> {
             // diffuse surface, plastic's base, which the coat lets light into and out of:
             // `render::plastic`) and glossy ones (rough metal, a rough coat).
             let tint = self.tint(material, point.uv);
-            let coat = &self.coats[point.material as usize];
+            let coat = self.coats.at(point.material, material.surface);
             // Dispersive glass keeps one wavelength (`render::dispersion`): the lobes below,
             // the light sample's among them, are that wavelength's.
             let (surface, kept, weight) =
@@ -364,7 +365,7 @@ impl<'a> PathTracer<'a> {
                 };
                 &dispersed
             };
-            let lit = LitLobes::of(lobes_of, coat, tint, (-direction, shading), front);
+            let lit = LitLobes::of(lobes_of, &coat, tint, (-direction, shading), front);
             if lit.is_lit() && !self.lights.is_empty() {
                 let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
                 radiance += throughput * light;
@@ -704,8 +705,8 @@ impl<'a> PathTracer<'a> {
             }
             Surface::Plastic { ior, alpha } => {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                let coat = &self.coats[point.material as usize];
-                return match coat_event(incoming, shading, coat, u) {
+                let coat = self.coats.at(point.material, surface);
+                return match coat_event(incoming, shading, &coat, u) {
                     CoatEvent::Base { weight } => {
                         // The base: ρ · scale · T(θo) T(θi) / π over the choice and the cosine
                         // density. MIS takes the coat's T(θo) as the base's probability (any

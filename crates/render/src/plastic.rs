@@ -117,21 +117,6 @@ impl Coat {
     }
 }
 
-/// Every material's coat ([`Coat::of`]), each distinct rough coat integrated once: a coat's
-/// table takes milliseconds, and scenes repeat their materials' parameters.
-pub fn coats_of(materials: &[scene::Material]) -> Vec<Coat> {
-    let mut made: std::collections::HashMap<(u32, u32), Coat> = Default::default();
-    materials
-        .iter()
-        .map(|material| match material.surface {
-            scene::Surface::Plastic { ior, alpha } => *made
-                .entry((ior.to_bits(), alpha.to_bits()))
-                .or_insert_with(|| Coat::new(ior, alpha)),
-            _ => Coat::default(),
-        })
-        .collect()
-}
-
 /// The cosine of table node `i` of [`Coat::transmittance_nodes`].
 fn node_cosine(i: usize) -> f32 {
     let s = i as f32 / (COAT_NODES - 1) as f32;
@@ -358,34 +343,6 @@ mod tests {
             );
         }
         assert!((nearly_smooth.diffuse_scale / diffuse_scale(1.5) - 1.0).abs() < 0.02);
-    }
-
-    /// Each material gets the coat its own parameters make, shared tables or not.
-    #[test]
-    fn coats_of_materials_are_their_own() {
-        let material = |surface| scene::Material {
-            surface,
-            ..Default::default()
-        };
-        let rough = scene::Surface::Plastic {
-            ior: 1.5,
-            alpha: 0.09,
-        };
-        let other = scene::Surface::Plastic {
-            ior: 1.4,
-            alpha: 0.09,
-        };
-        let materials = [
-            material(rough),
-            material(scene::Surface::Diffuse),
-            material(other),
-            material(rough),
-        ];
-        let coats = coats_of(&materials);
-        assert_eq!(coats[0], Coat::new(1.5, 0.09));
-        assert_eq!(coats[1], Coat::default());
-        assert_eq!(coats[2], Coat::new(1.4, 0.09));
-        assert_eq!(coats[3], coats[0]);
     }
 
     /// Against Mitsuba 3's own `roughplastic` (GGX α 0.09, ior 1.5), its diffuse lobe

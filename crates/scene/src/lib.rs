@@ -28,7 +28,7 @@ pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, Punctu
 pub use material::{
     AlphaMode, Blend, DIFFUSE_MIN_ROUGHNESS, MAX_BLEND_MEMBERS, MIRROR_MAX_ROUGHNESS, Material,
     RoughnessMap, Surface, TextureRoughness, TexturedLobe, absorption_from_attenuation,
-    dispersion_from_abbe, glass_surface, metal_surface,
+    coated_surface, dispersion_from_abbe, glass_surface, metal_surface,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use textures::{Texels, Texture, TextureId};

@@ -115,6 +115,22 @@ pub fn glass_surface(ior: f32, thin_walled: bool, roughness: f32) -> Surface {
     }
 }
 
+/// glTF's opaque dielectric of index `ior` under its specular coat at `roughness`: plastic,
+/// smooth below [`MIRROR_MAX_ROUGHNESS`] and GGX-rough (α = roughness²) from there, and
+/// Lambertian from [`DIFFUSE_MIN_ROUGHNESS`].
+pub fn coated_surface(ior: f32, roughness: f32) -> Surface {
+    if roughness >= DIFFUSE_MIN_ROUGHNESS {
+        Surface::Diffuse
+    } else if roughness < MIRROR_MAX_ROUGHNESS {
+        Surface::Plastic { ior, alpha: 0.0 }
+    } else {
+        Surface::Plastic {
+            ior,
+            alpha: roughness * roughness,
+        }
+    }
+}
+
 /// A member of a material whose glTF roughness (and, for the metal, metalness) comes from a
 /// texture, per hit: linear data, roughness in green and metalness in blue, each multiplied
 /// by its factor (glTF's `metallicRoughnessTexture`).
@@ -123,6 +139,10 @@ pub struct RoughnessMap {
     pub texture: TextureId,
     /// glTF's `roughnessFactor`.
     pub roughness_factor: f32,
+    /// The least and greatest roughness the texture's texels give (`roughness_factor` ×
+    /// green, clamped to [0, 1]; [`TextureRoughness::range`]): every hit reads one between
+    /// them, filtering included. A mapped coat's tables span it (`render::plastic`).
+    pub roughness_range: [f32; 2],
     pub lobe: TexturedLobe,
 }
 
@@ -132,9 +152,8 @@ pub enum TexturedLobe {
     /// The metal ([`metal_surface`] of the texel's roughness). As a blend's first member its
     /// weight (`metallicFactor`) is multiplied by the texel's metalness.
     Metal,
-    /// The opaque dielectric under its specular coat: the member's own [`Surface::Plastic`]
-    /// below [`DIFFUSE_MIN_ROUGHNESS`] (one coat width stands for all its texels: the coat's
-    /// tables are made per material), Lambertian from there.
+    /// The opaque dielectric under its specular coat: [`coated_surface`] of the member's
+    /// index at the texel's roughness (plastic, smooth or rough, or Lambertian).
     Coated,
     /// The glass (glTF's transmission): [`glass_surface`] of the member's index and walls at
     /// the texel's roughness, smooth or frosted.
@@ -148,8 +167,10 @@ impl RoughnessMap {
         let roughness = (self.roughness_factor * texel.y).clamp(0.0, 1.0);
         match self.lobe {
             TexturedLobe::Metal => metal_surface(roughness),
-            TexturedLobe::Coated if roughness < DIFFUSE_MIN_ROUGHNESS => member,
-            TexturedLobe::Coated => Surface::Diffuse,
+            TexturedLobe::Coated => match member {
+                Surface::Plastic { ior, .. } => coated_surface(ior, roughness),
+                other => other,
+            },
             TexturedLobe::Glass => match member {
                 Surface::Dielectric { ior, thin_walled }
                 | Surface::RoughDielectric {
@@ -181,8 +202,11 @@ pub struct TextureRoughness {
     /// material outside a hit sees (`kousen info`).
     pub metal_mean: f32,
     /// Over the texels where the coat is not Lambertian (below [`DIFFUSE_MIN_ROUGHNESS`]): the
-    /// roughness of the coat, whose tables are made per material; `None` where there are none.
+    /// roughness of the coated member's stored surface, which what reads the material outside
+    /// a hit sees; `None` where there are none.
     pub coat: Option<f32>,
+    /// The least and greatest roughness over all texels ([`RoughnessMap::roughness_range`]).
+    pub range: [f32; 2],
 }
 
 impl TextureRoughness {
@@ -191,12 +215,14 @@ impl TextureRoughness {
         let mut all = MeanOf::default();
         let mut dielectric = MeanOf::default();
         let mut coat = MeanOf::default();
+        let mut range = [f32::INFINITY, f32::NEG_INFINITY];
         for y in 0..texture.height {
             for x in 0..texture.width {
                 let texel = texture
                     .texel_linear(x, y)
                     .clamp(glam::Vec4::ZERO, glam::Vec4::ONE);
-                let roughness = roughness_factor * texel.y;
+                let roughness = (roughness_factor * texel.y).clamp(0.0, 1.0);
+                range = [range[0].min(roughness), range[1].max(roughness)];
                 let shows = 1.0 - metallic_factor * texel.z;
                 all.add(roughness, 1.0);
                 dielectric.add(roughness, shows);
@@ -209,6 +235,11 @@ impl TextureRoughness {
             mean: dielectric.mean().or(all.mean()).unwrap_or(0.0),
             metal_mean: all.mean().unwrap_or(0.0),
             coat: coat.mean(),
+            range: if range[0] <= range[1] {
+                range
+            } else {
+                [0.0; 2]
+            },
         }
     }
 }
@@ -349,13 +380,14 @@ mod tests {
 
     /// A mapped metal is a mirror, a rough conductor of α = roughness² or Lambertian by its
     /// texel's roughness (green × factor), and its blend weight scales with the texel's
-    /// metalness (blue); a mapped coat is its own plastic below roughness 0.5, Lambertian
-    /// from there; mapped glass keeps its index and walls, smooth or frosted.
+    /// metalness (blue); a mapped coat is plastic of its index at the texel's roughness below
+    /// 0.5, Lambertian from there; mapped glass keeps its index and walls, smooth or frosted.
     #[test]
     fn a_roughness_map_follows_the_texel() {
         let map = |lobe| RoughnessMap {
             texture: 0,
             roughness_factor: 0.5,
+            roughness_range: [0.0, 0.5],
             lobe,
         };
         let texel = |green: f32, blue: f32| glam::Vec4::new(0.9, green, blue, 1.0);
@@ -374,7 +406,21 @@ mod tests {
             ior: 1.5,
             alpha: 0.04,
         };
-        assert_eq!(coat.surface(plastic, texel(0.98, 0.0)), plastic);
+        assert_eq!(
+            coat.surface(plastic, texel(0.6, 0.0)),
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.09
+            },
+            "the texel's own width"
+        );
+        assert_eq!(
+            coat.surface(plastic, texel(0.01, 0.0)),
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.0
+            }
+        );
         assert_eq!(coat.surface(plastic, texel(1.0, 0.0)), Surface::Diffuse);
         assert_eq!(coat.blend_weight(0.8, texel(0.6, 0.25)), 0.8);
         let glass = map(TexturedLobe::Glass);

@@ -773,6 +773,7 @@ fn a_metallic_roughness_texture_maps_the_metal_and_the_coat() {
     let map = |lobe| RoughnessMap {
         texture: 0,
         roughness_factor,
+        roughness_range: [0.0, roughness_factor * (128.0 / 255.0)],
         lobe,
     };
     assert_eq!(metal.roughness_map, Some(map(TexturedLobe::Metal)));

@@ -287,7 +287,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     if max3(lit.diffuse) > 0.0 {
         var coat = 1.0;
         if lit.coat_ior > 0.0 {
-            coat = coat_transmittance_of(hit.material, cosine);
+            coat = coat_transmittance_of(hit.material, lit.alpha, cosine);
         }
         response += lit.diffuse * (cosine * coat);
     }
@@ -471,16 +471,17 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // cpu::kernels: a Lambertian surface, or plastic's base under the coat, keeps the photon
     // (not straight from the light where eye passes sample the light themselves).
     let plastic = material.surface == SURFACE_PLASTIC;
-    var keeper_surface = material.surface;
+    var keeper_material = material;
     if BLENDS && keeper != hit.material {
-        keeper_surface = mapped_material(materials[keeper], map_texel).surface;
+        keeper_material = mapped_material(materials[keeper], map_texel);
     }
+    let keeper_surface = keeper_material.surface;
     var bounced = slot_bounced(slot.state);
     if keeper_surface == SURFACE_DIFFUSE || keeper_surface == SURFACE_PLASTIC {
         if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
             if keeper_surface == SURFACE_PLASTIC {
-                share = coat_transmittance_of(keeper, dot(direction, hit.shading));
+                share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, dot(direction, hit.shading));
             }
             photon = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (arrival * share), 0u);
         }
@@ -498,8 +499,10 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
             next = bounce.direction;
             weight = bounce.weight;
-            let leaving = coat_transmittance_of(hit.material, dot(next, hit.shading));
-            tint = surface_tint * (material.coat_diffuse_scale * leaving * choice.base_weight);
+            let alpha = material.roughness_alpha;
+            let leaving = coat_transmittance_of(hit.material, alpha, dot(next, hit.shading));
+            let scale = coat_diffuse_scale_of(hit.material, alpha);
+            tint = surface_tint * (scale * leaving * choice.base_weight);
         } else {
             next = choice.coat.direction;
             weight = choice.coat.weight;
@@ -723,7 +726,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         if base {
             var scale = 1.0;
             if plastic {
-                scale = material.coat_diffuse_scale;
+                scale = coat_diffuse_scale_of(hit.material, material.roughness_alpha);
             }
             let weight = throughput * tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {

@@ -62,4 +62,10 @@ struct GpuMaterial {
     roughness_texture: u32,
     roughness_factor: f32,
     roughness_lobe: u32,
+    // render::coats::CoatGrid of a mapped coat (records in `materials`: its smooth coat at
+    // coat_grid_first, its coat_grid_nodes rough ones after it; 0 nodes: no grid).
+    coat_grid_first: u32,
+    coat_grid_nodes: u32,
+    coat_grid_roughness: f32,
+    coat_grid_step: f32,
 }

@@ -276,9 +276,16 @@ fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
             mapped.surface = SURFACE_ROUGH_DIELECTRIC;
             mapped.roughness_alpha = roughness * roughness;
         }
-    } else if roughness >= DIFFUSE_MIN_ROUGHNESS {
-        mapped.surface = SURFACE_DIFFUSE;
-        mapped.roughness_alpha = 0.0;
+    } else if material.surface == SURFACE_PLASTIC {
+        // scene::coated_surface (the member's index kept).
+        if roughness >= DIFFUSE_MIN_ROUGHNESS {
+            mapped.surface = SURFACE_DIFFUSE;
+            mapped.roughness_alpha = 0.0;
+        } else if roughness < MIRROR_MAX_ROUGHNESS {
+            mapped.roughness_alpha = 0.0;
+        } else {
+            mapped.roughness_alpha = roughness * roughness;
+        }
     }
     return mapped;
 }
@@ -679,22 +686,78 @@ fn coat_transmittance(cos_view: f32, ior: f32) -> f32 {
     return 1.0 - coat_reflectance(cos_view, ior);
 }
 
-// render::plastic::Coat::transmittance of material `id`: a smooth coat's 1 − F, a rough one's
-// table (cosines (i / (COAT_NODES − 1))², interpolated linearly), its two nodes read straight
-// from the storage buffer (a copy of the table to index it cost lavapipe's plastic scenes
-// ~14 %).
-fn coat_transmittance_of(id: u32, cos_view: f32) -> f32 {
-    let alpha = materials[id].roughness_alpha;
-    if !ROUGH_COATS || alpha <= 0.0 {
-        return coat_transmittance(cos_view, materials[id].ior);
-    }
+// render::plastic::Coat::transmittance of the table in record `record` (a material, or a
+// coat grid's node): cosines (i / (COAT_NODES − 1))², interpolated linearly, its two nodes
+// read straight from the storage buffer (a copy of the table to index it cost lavapipe's
+// plastic scenes ~14 %).
+fn coat_table(record: u32, cos_view: f32) -> f32 {
     let x = sqrt(min(abs(cos_view), 1.0)) * f32(COAT_NODES - 1u);
     let i = min(u32(x), COAT_NODES - 2u);
     let t = x - f32(i);
     let j = i + 1u;
-    let first = materials[id].coat_transmittance[i / 4u][i % 4u];
-    let second = materials[id].coat_transmittance[j / 4u][j % 4u];
+    let first = materials[record].coat_transmittance[i / 4u][i % 4u];
+    let second = materials[record].coat_transmittance[j / 4u][j % 4u];
     return first * (1.0 - t) + second * t;
+}
+
+// render::coats::CoatGrid::at: the records of the rough nodes about width `alpha` of material
+// `id`'s grid, and the weight of the second.
+struct CoatNodes {
+    lower: u32,
+    upper: u32,
+    t: f32,
+}
+
+fn coat_grid_nodes(id: u32, alpha: f32) -> CoatNodes {
+    let first = materials[id].coat_grid_first + 1u;
+    let last = materials[id].coat_grid_nodes - 1u;
+    if last == 0u {
+        return CoatNodes(first, first, 0.0);
+    }
+    let x = clamp((sqrt(alpha) - materials[id].coat_grid_roughness) / materials[id].coat_grid_step, 0.0, f32(last));
+    let i = min(u32(x), last - 1u);
+    return CoatNodes(first + i, first + i + 1u, x - f32(i));
+}
+
+// Whether material `id`'s coat follows a metallic-roughness texture (a grid of tables).
+fn has_coat_grid(id: u32) -> bool {
+    return ROUGHNESS_MAPS && materials[id].coat_grid_nodes > 0u;
+}
+
+// render::coats::Coats::at(id, ..).transmittance: the coat of material `id` at a hit where its
+// width is `alpha` (mapped_material's): a smooth coat's 1 − F, a rough one's table, a mapped
+// one's grid interpolated entry by entry, then in the cosine, as the CPU twin does.
+fn coat_transmittance_of(id: u32, alpha: f32, cos_view: f32) -> f32 {
+    if !ROUGH_COATS || alpha <= 0.0 {
+        return coat_transmittance(cos_view, materials[id].ior);
+    }
+    if !has_coat_grid(id) {
+        return coat_table(id, cos_view);
+    }
+    let nodes = coat_grid_nodes(id, alpha);
+    let x = sqrt(min(abs(cos_view), 1.0)) * f32(COAT_NODES - 1u);
+    let i = min(u32(x), COAT_NODES - 2u);
+    let s = x - f32(i);
+    let j = i + 1u;
+    let t = nodes.t;
+    let first = materials[nodes.lower].coat_transmittance[i / 4u][i % 4u] * (1.0 - t)
+        + materials[nodes.upper].coat_transmittance[i / 4u][i % 4u] * t;
+    let second = materials[nodes.lower].coat_transmittance[j / 4u][j % 4u] * (1.0 - t)
+        + materials[nodes.upper].coat_transmittance[j / 4u][j % 4u] * t;
+    return first * (1.0 - s) + second * s;
+}
+
+// render::plastic::Coat::diffuse_scale of the same coat.
+fn coat_diffuse_scale_of(id: u32, alpha: f32) -> f32 {
+    if !has_coat_grid(id) {
+        return materials[id].coat_diffuse_scale;
+    }
+    if alpha <= 0.0 {
+        return materials[materials[id].coat_grid_first].coat_diffuse_scale;
+    }
+    let nodes = coat_grid_nodes(id, alpha);
+    return materials[nodes.lower].coat_diffuse_scale * (1.0 - nodes.t)
+        + materials[nodes.upper].coat_diffuse_scale * nodes.t;
 }
 
 // cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.
@@ -740,7 +803,7 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u
         }
         return PlasticBounce(false, 0.0, Scattered(next, weight));
     }
-    return PlasticBounce(true, coat_transmittance_of(hit.material, cos_view) / (1.0 - micro_reflectance), none);
+    return PlasticBounce(true, coat_transmittance_of(hit.material, alpha, cos_view) / (1.0 - micro_reflectance), none);
 }
 
 // cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.

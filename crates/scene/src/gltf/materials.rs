@@ -68,9 +68,9 @@ use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
-    AlphaMode, DIFFUSE_MIN_ROUGHNESS, MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, SceneBuilder,
-    SceneError, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
-    absorption_from_attenuation as scene_absorption, glass_surface, metal_surface,
+    AlphaMode, DIFFUSE_MIN_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError, Surface,
+    Texture, TextureId, TextureRoughness, TexturedLobe,
+    absorption_from_attenuation as scene_absorption, coated_surface, glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -192,6 +192,7 @@ impl Materials {
                 let map = |lobe| RoughnessMap {
                     texture,
                     roughness_factor: roughness,
+                    roughness_range: texels.range,
                     lobe,
                 };
                 mapped_members(&check, m, metallic, transmission, &texels, map)?
@@ -485,25 +486,20 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
         .and_then(|e| e.volume.as_ref())
         .map_or(0.0, |v| v.thickness_factor.0);
     let thickness = check.non_negative(thickness, "thicknessFactor")?;
-    // GGX width of the rough lobes; `None` where glTF's roughness is smooth.
-    let rough_alpha = (roughness >= MIRROR_MAX_ROUGHNESS).then_some(roughness * roughness);
     let glass = if ior == 0.0 {
         // The extension's "F0 = 1": the specular layer reflects everything.
         Surface::Mirror
     } else {
         glass_surface(ior, thickness == 0.0, roughness)
     };
-    let opaque = if roughness < DIFFUSE_MIN_ROUGHNESS && has_specular_layer(m) && ior != 1.0 {
-        if ior == 0.0 {
-            Surface::Mirror
-        } else {
-            Surface::Plastic {
-                ior,
-                alpha: rough_alpha.unwrap_or(0.0),
-            }
-        }
-    } else {
+    let opaque = if !has_specular_layer(m) || ior == 1.0 {
         Surface::Diffuse
+    } else if ior == 0.0 && roughness < DIFFUSE_MIN_ROUGHNESS {
+        Surface::Mirror
+    } else if ior == 0.0 {
+        Surface::Diffuse
+    } else {
+        coated_surface(ior, roughness)
     };
     Ok(Lobes {
         metal: metal_surface(roughness),

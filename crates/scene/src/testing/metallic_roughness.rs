@@ -57,6 +57,7 @@ pub fn cornell_metallic_roughness() -> Scene {
     let map = |lobe| RoughnessMap {
         texture: tiles,
         roughness_factor: 1.0,
+        roughness_range: roughness.range,
         lobe,
     };
     let coat_roughness = roughness.coat.expect("plastic tiles");
@@ -175,6 +176,7 @@ pub fn lit_plane_metallic_tiles() -> Scene {
         roughness_map: Some(RoughnessMap {
             texture,
             roughness_factor: 1.0,
+            roughness_range: roughness.range,
             lobe: TexturedLobe::Metal,
         }),
         ..plane.clone()

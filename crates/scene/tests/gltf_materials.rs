@@ -756,10 +756,11 @@ fn metallic_roughness_quad(mut material: Value) -> Scene {
 
 /// glTF's metallic-roughness texture: decoded as linear data; the metal comes first, its
 /// weight the metallic factor (1 included: the texel's metalness scales it per hit), its
-/// surface following the texel's roughness (`RoughnessMap`); the opaque dielectric is plastic
-/// whose coat takes the mean roughness of the texels where it shows and is not Lambertian
-/// (weighted by 1 − metalness); the glass follows the texel's roughness too (stored at the
-/// mean roughness where it shows); without a metallic factor there is no metal.
+/// surface following the texel's roughness (`RoughnessMap`, which keeps the texture's range of
+/// roughness); the opaque dielectric is plastic, stored at the mean roughness of the texels
+/// where it shows and is not Lambertian (weighted by 1 − metalness), following the texel's
+/// roughness per hit; the glass follows the texel's roughness too (stored at the mean
+/// roughness where it shows); without a metallic factor there is no metal.
 #[test]
 fn a_metallic_roughness_texture_maps_the_metal_and_the_coat() {
     use scene::{RoughnessMap, TexturedLobe};

@@ -48,9 +48,11 @@
 //!   the opaque dielectric, read at each hit: the metal's probability is the texel's metalness and
 //!   its surface follows the texel's roughness as above (mirror, rough conductor of α =
 //!   roughness², Lambertian); the opaque dielectric is plastic where the texel's roughness is
-//!   below 0.5 and Lambertian above, its coat of one width for the whole material (the mean
-//!   roughness of its non-Lambertian texels: the coat's tables are made per material); the
-//!   glass is smooth below roughness 0.01 and frosted (α = roughness²) above, texel by texel.
+//!   below 0.5, its coat of the texel's own width (smooth below 0.01; the coat's tables over
+//!   the texture's range of widths, `render::coats`), and Lambertian above; the glass is
+//!   smooth below roughness 0.01 and frosted (α = roughness²) above, texel by texel. Each
+//!   member is stored at the mean roughness of the texels where it shows, which what reads
+//!   the material outside a hit sees (`kousen info`).
 //!
 //! Ignored: occlusion (a path tracer's light needs none), transmission and thickness textures,
 //! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
@@ -558,7 +560,7 @@ impl Members {
 
 /// [`Members`] of a material with a metallic-roughness texture: the metal (where
 /// `metallicFactor` > 0) follows the texel's metalness and roughness; the opaque dielectric
-/// is plastic of the coat texels' mean roughness or Lambertian, by the texel's roughness; the
+/// is plastic of the texel's roughness or Lambertian (stored at the coat texels' mean); the
 /// glass smooth or frosted by the texel's roughness (stored at the mean's).
 fn mapped_members(
     check: &Check,

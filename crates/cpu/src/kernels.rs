@@ -11,6 +11,7 @@ use render::buffers::{
     HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, RAY_T_MAX, SAMPLE_AT_GLOSSY,
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
+use render::clearcoat::{clearcoat_numbers, clearcoat_transmittance};
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
@@ -32,10 +33,10 @@ use scene::{Material, Surface};
 
 use crate::SceneData;
 use crate::surface::{
-    HitTexel, PlasticBounce, SurfaceHit, base_color, dielectric_branches, diffuse_bounce,
-    dispersed_surface, emitted, eye_crossing_scale, is_cut_out, medium_after_bounce,
-    medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin, specular_direction,
-    trace, transmittance_to, unoccluded,
+    HitTexel, PlasticBounce, SurfaceHit, base_color, clearcoat_bounce, dielectric_branches,
+    diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, is_cut_out,
+    medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
+    specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -113,6 +114,37 @@ pub fn photon_pass_with<R: StreamRng>(
             emitted,
         };
     }
+    // glTF's clear coat over the material meets the photon first (`render::clearcoat`): what
+    // it reflects is not kept on the surface beneath and goes on as from a mirror.
+    if let Some(coat) = material.clearcoat
+        && let Some(reflected) = clearcoat_bounce(
+            &hit,
+            direction,
+            &coat,
+            clearcoat_numbers(&coat, || rng.next_f32()),
+        )
+    {
+        let reflected = reflected.map(|(next, weight)| {
+            let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
+                * departure_factor(next, hit.shading, hit.geometric);
+            (next, weight * shading_factors)
+        });
+        slot.depth += 1;
+        match reflected {
+            Some((next, weight)) if weight > 0.0 && slot.depth < params.max_depth => {
+                slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
+                slot.direction = next.to_array();
+                slot.flux = (flux * weight).to_array();
+            }
+            _ => slot.depth = SLOT_IDLE,
+        }
+        return PhotonStep {
+            slot,
+            photon,
+            emitted,
+        };
+    }
+    let through_coat = material.clearcoat;
     let root = hit.material;
     // A blend keeps the photon for its Lambertian member whichever member the path takes
     // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
@@ -196,9 +228,11 @@ pub fn photon_pass_with<R: StreamRng>(
             (next, tint * spectral_weight)
         }
     };
+    // Out through the clear coat, if any.
     let next = next.map(|(next, weight)| {
         let departure = departure_factor(next, hit.shading, hit.geometric);
-        (next, weight * (arrival * departure))
+        let coat = through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(hit.shading)));
+        (next, weight * (arrival * departure * coat))
     });
     let survival = tint.max_element().min(1.0);
     slot.depth += 1;
@@ -398,6 +432,27 @@ fn eye_path(
             direct += throughput * emission_share * emission * weight;
         }
         emission_share = 1.0;
+        // glTF's clear coat over the material meets the path first (`render::clearcoat`): its
+        // reflection goes on as a mirror's (no light sample: emission met next counts whole).
+        if let Some(coat) = material.clearcoat
+            && let Some(reflected) = clearcoat_bounce(
+                &hit,
+                direction,
+                &coat,
+                clearcoat_numbers(&coat, || rng.next_f32()),
+            )
+        {
+            let Some((next, weight)) = reflected else {
+                break;
+            };
+            throughput *= weight;
+            glossy = GlossyVertex::default();
+            depth += 1;
+            origin = offset_origin(&hit, next, params.epsilon);
+            direction = next;
+            continue;
+        }
+        let through_coat = material.clearcoat;
         let root = hit.material;
         // A blend's member for this path (`render::blend`), drawn only at blends.
         let hit_texel = HitTexel::new(&scene.textures, hit.uv);
@@ -414,7 +469,10 @@ fn eye_path(
         // The lobes a light sample here serves: a glossy one (rough metal, a rough coat,
         // frosted glass's reflection)
         // always, the Lambertian one where the path ends on it (below).
-        let mut lit = LitLobes::default();
+        let mut lit = LitLobes {
+            clearcoat: through_coat,
+            ..LitLobes::default()
+        };
         // The surface the path meets: dispersive glass's, for the path's wavelength.
         let mut surface = material.surface;
         let bounce = match material.surface {
@@ -532,7 +590,9 @@ fn eye_path(
             break;
         };
         glossy = GlossyVertex::after(&hit, &lit, -direction, next);
-        throughput *= tint * weight;
+        // Out through the clear coat, if any.
+        let coat = through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(hit.shading)));
+        throughput *= tint * (weight * coat);
         if throughput.max_element() <= 0.0 {
             break;
         }
@@ -592,6 +652,8 @@ pub struct LitLobes {
     /// The glossy lobe's weight.
     pub glossy: Vec3,
     pub lobe: GlossyLobe,
+    /// glTF's clear coat over both lobes, which the light passes on its way in.
+    pub clearcoat: Option<scene::Clearcoat>,
 }
 
 impl LitLobes {
@@ -614,7 +676,11 @@ impl LitLobes {
                 response += self.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
             }
         }
+        // In through the clear coat, if any.
         response
+            * self
+                .clearcoat
+                .map_or(1.0, |c| clearcoat_transmittance(&c, cosine))
     }
 }
 

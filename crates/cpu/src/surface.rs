@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
+use render::clearcoat::{ClearcoatEvent, clearcoat_event};
 use render::dispersion::{disperse, draws_wavelength};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{rough_dielectric, rough_reflection};
@@ -308,6 +309,24 @@ pub fn specular_direction(
         }
     };
     Some((direction, 1.0))
+}
+
+/// glTF's clear coat at `hit` (`render::clearcoat::clearcoat_event`): `None` where it lets
+/// the ray through to the surface beneath; else its reflection as a mirror's or, rough, as
+/// rough metal's (inside: `None` where the path ends).
+pub fn clearcoat_bounce(
+    hit: &SurfaceHit,
+    incoming: Vec3,
+    coat: &scene::Clearcoat,
+    u: [f32; 3],
+) -> Option<Option<(Vec3, f32)>> {
+    match clearcoat_event(incoming, hit.shading, coat, u) {
+        ClearcoatEvent::Through => None,
+        ClearcoatEvent::Reflected(next) => Some(next.filter(|(next, _)| {
+            // Bent below the geometric surface by the shading normal: it would leak through.
+            coat.alpha == 0.0 || next.dot(hit.geometric) > 0.0
+        })),
+    }
 }
 
 /// The eye-path factor [`eye_refraction_scale`] where `next` crosses the `surface` of a solid

@@ -1136,6 +1136,47 @@ fn sky_lights_a_roughness_mapped_plastic_plane_texel_by_texel() {
     assert!(rms < 0.03, "per-pixel rms error {:.2}% (> 3%)", 100.0 * rms);
 }
 
+/// A Lambertian plane (albedo ρ) under glTF's smooth clear coat of weight w = 0.7
+/// (`render::clearcoat`) under the sky L: seen at angle θ it returns
+/// L·(w·F(θ) + (1 − w·F(θ))·ρ·(1 − w·F̄)), the coat's reflection of the sky plus the plane
+/// beneath, lit through the coat, F̄ = 2∫F(μ)μ dμ here by the midpoint rule, apart from the
+/// kernels. Both direct-light modes: photons reflected by the coat are not kept, light samples
+/// pass it (1024 and 256 passes). Measured, seed 1: photons mean +0.01 %, per-pixel rms 4.6 %;
+/// sampled −0.03 %, rms 1.3 %. Without the coat's dimming of the light in (samples): +6.4 %.
+/// Tolerances as the plastic plane's: mean within 2.5 %, rms below 8 % and 3 %.
+#[test]
+fn sky_lights_a_plane_through_its_clear_coat() {
+    use render::optics::fresnel_dielectric;
+    let (sky, weight) = (2.0f32, 0.7f32);
+    let mut scene = testing::punctual_plane(&[]);
+    let bounds = scene.bounds();
+    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    for material in &mut scene.materials {
+        material.clearcoat = scene::Clearcoat::new(weight, 0.0);
+    }
+    let fresnel = |cos: f32| fresnel_dielectric(cos, 1.0 / scene::Clearcoat::IOR) as f64;
+    let steps = 100_000;
+    let mean_fresnel: f64 = (0..steps)
+        .map(|i| {
+            let mu = (i as f64 + 0.5) / steps as f64;
+            2.0 * mu * fresnel(mu as f32) / steps as f64
+        })
+        .sum();
+    let view = TopView::new(0.4, 16);
+    let expected = |index: usize| {
+        let (x, z) = view.point(index);
+        let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
+        let reflected = weight as f64 * fresnel(cos);
+        let albedo = testing::LIT_PLANE_ALBEDO as f64;
+        let beneath = (1.0 - reflected) * albedo * (1.0 - weight as f64 * mean_fresnel);
+        (sky as f64 * (reflected + beneath)) as f32
+    };
+    let (image, _, _) = render_top_view(&scene, &view, 1, 1024);
+    assert_matches("clear coat, photons", &image, expected, 0.025, 0.08);
+    let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
+    assert_matches("clear coat, sampled", &image, expected, 0.025, 0.03);
+}
+
 /// A plastic plane (smooth coat of ior 1.5 over albedo ρ, `render::plastic`) under the sky L:
 /// seen at angle θ it returns L·(F(θ) + ρ·s·(1 − F(θ))·T), the coat's reflection of the sky plus
 /// the base, where s is the model's `diffuse_scale` and T = 2∫(1 − F(μ))μ dμ the coat's

@@ -61,6 +61,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("ROUGHNESS_GLASS", U32(types::ROUGHNESS_GLASS)),
         ("MIRROR_MAX_ROUGHNESS", F32(scene::MIRROR_MAX_ROUGHNESS)),
         ("DIFFUSE_MIN_ROUGHNESS", F32(scene::DIFFUSE_MIN_ROUGHNESS)),
+        ("CLEARCOAT_IOR", F32(scene::Clearcoat::IOR)),
         ("SLOT_IDLE", U32(buffers::SLOT_IDLE)),
         ("LIGHT_TRIANGLE", U32(buffers::LIGHT_TRIANGLE)),
         ("LIGHT_POINT", U32(buffers::LIGHT_POINT)),

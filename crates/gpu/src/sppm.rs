@@ -128,6 +128,8 @@ pub(crate) struct SceneFeatures {
     pub frosted_glass: bool,
     /// Some material is a blend (`BLENDS`).
     pub blends: bool,
+    /// Some material wears a clear coat (`CLEARCOATS`).
+    pub clearcoats: bool,
     /// Some solid absorbs inside (`MEDIA`).
     pub media: bool,
     /// Some glass disperses (`DISPERSION`).
@@ -152,19 +154,21 @@ impl SceneFeatures {
                         .is_some_and(|map| map.lobe == scene::TexturedLobe::Glass)
             }),
             blends: any(|m| m.blend.is_some()),
+            clearcoats: any(|m| m.clearcoat.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 7] {
+    fn constants(self) -> [(&'static str, f64); 8] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
             ("ROUGH_COATS", flag(self.rough_coats)),
             ("FROSTED_GLASS", flag(self.frosted_glass)),
             ("BLENDS", flag(self.blends)),
+            ("CLEARCOATS", flag(self.clearcoats)),
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),

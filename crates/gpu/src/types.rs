@@ -140,7 +140,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (192 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (208 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -204,6 +204,10 @@ pub struct GpuMaterial {
     /// `CoatGrid::first_roughness` and `roughness_step`.
     pub coat_grid_roughness: f32,
     pub coat_grid_step: f32,
+    /// glTF's clear coat (`scene::Clearcoat`): its weight (0: none) and GGX width.
+    pub clearcoat: f32,
+    pub clearcoat_alpha: f32,
+    pub pad: [u32; 2],
 }
 
 impl GpuMaterial {
@@ -269,6 +273,9 @@ impl GpuMaterial {
             coat_grid_nodes: 0,
             coat_grid_roughness: 0.0,
             coat_grid_step: 0.0,
+            clearcoat: material.clearcoat.map_or(0.0, |c| c.weight),
+            clearcoat_alpha: material.clearcoat.map_or(0.0, |c| c.alpha),
+            pad: [0; 2],
         }
     }
 }

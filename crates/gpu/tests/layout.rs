@@ -343,6 +343,8 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, coat_grid_roughness),
             ),
             ("coat_grid_step", offset_of!(GpuMaterial, coat_grid_step)),
+            ("clearcoat", offset_of!(GpuMaterial, clearcoat)),
+            ("clearcoat_alpha", offset_of!(GpuMaterial, clearcoat_alpha)),
         ],
     );
     assert_layout(

@@ -763,6 +763,15 @@ fn every_kernel_matches_its_twin_through_plastic() {
     every_kernel_matches_its_twin(scene::testing::cornell_plastic(), DirectLight::Sampled);
 }
 
+/// The same under clear coats (`render::clearcoat` and its WGSL twin): a smooth coat over
+/// a Lambertian floor, a rough one over rough metal, a smooth one over a blend; the coat
+/// reflects or lets through, photons it reflects are not kept, light samples and bounces pass
+/// it.
+#[test]
+fn every_kernel_matches_its_twin_under_clear_coats() {
+    every_kernel_matches_its_twin(scene::testing::cornell_clearcoat(), DirectLight::Sampled);
+}
+
 /// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
 /// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
 /// solid glass or diffuse), and photons are kept for the Lambertian member whichever member

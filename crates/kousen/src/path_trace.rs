@@ -14,6 +14,9 @@ use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use render::blend::{blend_member, mapped_material};
 use render::buffers::{LIGHT_TRIANGLE, Light, RAY_T_MAX};
+use render::clearcoat::{
+    ClearcoatEvent, clearcoat_event, clearcoat_numbers, clearcoat_transmittance,
+};
 use render::coats::Coats;
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
@@ -132,6 +135,8 @@ struct LitLobes<'a> {
     /// The glossy lobe's tint (a metal's colour; 1 for a coat); zero where there is none.
     glossy: Vec3,
     lobe: GlossyLobe,
+    /// glTF's clear coat over both lobes, which the light passes on its way in.
+    clearcoat: Option<scene::Clearcoat>,
 }
 
 impl<'a> LitLobes<'a> {
@@ -159,6 +164,7 @@ impl<'a> LitLobes<'a> {
                     coat: Some(coat),
                     glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
                     lobe: GlossyLobe::reflection(alpha, ior),
+                    clearcoat: None,
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
@@ -232,7 +238,11 @@ impl<'a> LitLobes<'a> {
                 response += self.glossy * (lobe.value * weight);
             }
         }
+        // In through the clear coat, if any.
         response
+            * self
+                .clearcoat
+                .map_or(1.0, |c| clearcoat_transmittance(&c, cosine))
     }
 }
 
@@ -332,6 +342,32 @@ impl<'a> PathTracer<'a> {
                 let weight = arrival.emitter_weight(area_density, &point, direction);
                 radiance += throughput * weight * self.emission(material, point.uv);
             }
+            // glTF's clear coat over the material meets the path first (`render::clearcoat`):
+            // its reflection goes on as a mirror's (or rough metal's).
+            if let Some(coat) = material.clearcoat {
+                let u = clearcoat_numbers(&coat, || rng.next_f32());
+                let (geometric, shading) = facing_normals(&point, front);
+                if let ClearcoatEvent::Reflected(reflected) =
+                    clearcoat_event(direction, shading, &coat, u)
+                {
+                    let kept = |next: &Vec3| coat.alpha == 0.0 || next.dot(geometric) > 0.0;
+                    let Some((next, weight)) = reflected.filter(|(next, _)| kept(next)) else {
+                        break;
+                    };
+                    arrival = Arrival::Unsampled;
+                    throughput *= weight;
+                    depth += 1;
+                    let side = if next.dot(point.geometric) > 0.0 {
+                        1.0
+                    } else {
+                        -1.0
+                    };
+                    origin = point.position + side * self.epsilon * point.geometric;
+                    direction = next;
+                    continue;
+                }
+            }
+            let through_coat = material.clearcoat;
             let root = point.material;
             // A blend's member for this path (`render::blend`), drawn only at blends.
             let texel = |texture| self.texture(Some(texture), point.uv);
@@ -365,7 +401,10 @@ impl<'a> PathTracer<'a> {
                 };
                 &dispersed
             };
-            let lit = LitLobes::of(lobes_of, &coat, tint, (-direction, shading), front);
+            let lit = LitLobes {
+                clearcoat: through_coat,
+                ..LitLobes::of(lobes_of, &coat, tint, (-direction, shading), front)
+            };
             if lit.is_lit() && !self.lights.is_empty() {
                 let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
                 radiance += throughput * light;
@@ -374,6 +413,9 @@ impl<'a> PathTracer<'a> {
             let Some((next, weight, lobe)) = scattered else {
                 break;
             };
+            // Out through the clear coat, if any.
+            let weight = weight
+                * through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(shading)));
             arrival = match lobe {
                 // Light samples (the sky's hemisphere) were drawn about the lobe's facing side.
                 Lobe::LightSampled { pdf } => Arrival::Sampled {

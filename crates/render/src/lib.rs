@@ -5,6 +5,7 @@
 pub mod backend;
 pub mod blend;
 pub mod buffers;
+pub mod clearcoat;
 pub mod coats;
 pub mod density;
 pub mod direct;

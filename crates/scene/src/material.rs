@@ -78,6 +78,39 @@ pub struct Material {
     /// glTF's `metallicRoughnessTexture` on this member of the material: its surface follows
     /// the texture's roughness at each hit, and a metal root's blend weight its metalness.
     pub roughness_map: Option<RoughnessMap>,
+    /// A clear coat over the whole material (glTF's `KHR_materials_clearcoat`; every member
+    /// of a blend carries it, the kernels read the root's); `None` for none.
+    pub clearcoat: Option<Clearcoat>,
+}
+
+/// A thin clear layer of index [`Clearcoat::IOR`] over a material, reflecting `weight` times
+/// its Fresnel reflectance and letting the rest through to the surface beneath
+/// (`render::clearcoat`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clearcoat {
+    /// glTF's `clearcoatFactor`, in (0, 1].
+    pub weight: f32,
+    /// GGX width: glTF's `clearcoatRoughnessFactor` squared; 0 (smooth) below
+    /// [`MIRROR_MAX_ROUGHNESS`].
+    pub alpha: f32,
+}
+
+impl Clearcoat {
+    /// glTF's clear coat's index (the extension fixes it).
+    pub const IOR: f32 = 1.5;
+
+    /// The coat of glTF's `clearcoatFactor` `weight` and `clearcoatRoughnessFactor`
+    /// `roughness`; `None` where the weight is 0.
+    pub fn new(weight: f32, roughness: f32) -> Option<Clearcoat> {
+        (weight > 0.0).then_some(Clearcoat {
+            weight,
+            alpha: if roughness < MIRROR_MAX_ROUGHNESS {
+                0.0
+            } else {
+                roughness * roughness
+            },
+        })
+    }
 }
 
 /// Metal smoother than this (glTF roughness) is a mirror, glass smoother than this smooth.
@@ -323,6 +356,7 @@ impl Default for Material {
             blend: None,
             dispersion: 0.0,
             roughness_map: None,
+            clearcoat: None,
         }
     }
 }

@@ -561,7 +561,7 @@ fn an_emissive_quad_is_collected_as_a_light_with_its_area_and_power() {
 fn ignored_extensions_are_named_in_one_warning() {
     let mut doc = quad_doc(None);
     doc.json["extensionsUsed"] = json!([
-        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
         "KHR_materials_ior",
         "KHR_materials_specular"
     ]);
@@ -572,7 +572,7 @@ fn ignored_extensions_are_named_in_one_warning() {
         .filter(|w| w.contains("extension"))
         .collect();
     assert_eq!(warnings.len(), 2, "{warnings:?}");
-    assert_mentions(warnings[0], &["ignoring", "KHR_materials_clearcoat"]);
+    assert_mentions(warnings[0], &["ignoring", "KHR_materials_sheen"]);
     assert!(!warnings[0].contains("KHR_materials_specular"));
     // Read in part: named on its own, with what is read.
     assert_mentions(warnings[1], &["KHR_materials_specular", "specularFactor 0"]);
@@ -739,6 +739,70 @@ fn dispersion_is_read_on_solid_glass() {
     );
     let error = glass(0.0, -1.0).expect_err("a negative dispersion is refused");
     assert!(error.to_string().contains("dispersion"), "{error}");
+}
+
+/// `KHR_materials_clearcoat`'s factors as `Material::clearcoat` (GGX width the roughness
+/// squared, smooth below 0.01), carried by every member of a blend; a factor of 0 is no coat;
+/// its textures are warned about; a factor outside [0, 1] is refused; the extension may be
+/// required.
+#[test]
+fn clearcoat_factors_are_read() {
+    let coated = |metallic: f32, coat: Value| {
+        let mut material = pbr(metallic, 0.4);
+        material["extensions"] = json!({ "KHR_materials_clearcoat": coat });
+        quad_doc(Some(material)).load()
+    };
+    let scene = coated(
+        1.0,
+        json!({ "clearcoatFactor": 0.8, "clearcoatRoughnessFactor": 0.3 }),
+    )
+    .expect("loads");
+    let root = &scene.materials[scene.triangles[0].material as usize];
+    let coat = root.clearcoat.expect("a coat");
+    assert_eq!(coat.weight, 0.8);
+    assert!((coat.alpha - 0.09).abs() < 1e-7, "{}", coat.alpha);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let smooth = coated(0.0, json!({ "clearcoatFactor": 1.0 })).expect("loads");
+    let plastic = &smooth.materials[smooth.triangles[0].material as usize];
+    assert_eq!(plastic.clearcoat, scene::Clearcoat::new(1.0, 0.0));
+    assert_eq!(plastic.clearcoat.unwrap().alpha, 0.0);
+    // Half metal: both members carry the coat.
+    let half = coated(0.5, json!({ "clearcoatFactor": 0.6 })).expect("loads");
+    let id = half.triangles[0].material as usize;
+    let other = half.materials[id].blend.expect("a blend").other as usize;
+    for member in [id, other] {
+        assert_eq!(
+            half.materials[member].clearcoat.map(|c| c.weight),
+            Some(0.6)
+        );
+    }
+    let none = coated(0.0, json!({ "clearcoatRoughnessFactor": 0.5 })).expect("loads");
+    assert_eq!(
+        none.materials[0].clearcoat, None,
+        "factor 0 (the default): no coat"
+    );
+    let textured = coated(
+        0.0,
+        json!({ "clearcoatFactor": 1.0, "clearcoatTexture": { "index": 0 } }),
+    )
+    .expect("loads");
+    assert!(
+        textured
+            .warnings
+            .iter()
+            .any(|w| w.contains("clearcoatTexture") && w.contains("not read")),
+        "{:?}",
+        textured.warnings
+    );
+    let error = coated(0.0, json!({ "clearcoatFactor": 1.5 })).expect_err("out of range");
+    assert!(error.to_string().contains("clearcoatFactor"), "{error}");
+    let mut doc = quad_doc(None);
+    doc.json["extensionsRequired"] = json!(["KHR_materials_clearcoat"]);
+    doc.json["extensionsUsed"] = json!(["KHR_materials_clearcoat"]);
+    assert!(
+        doc.load().is_ok(),
+        "KHR_materials_clearcoat may be required"
+    );
 }
 
 /// A quad whose material is `material` with image 0 ([`tiny_png`]) as its

@@ -252,6 +252,9 @@ struct LitLobes {
     coat_ior: f32,
     refraction_eta: f32,
     sheet_eta: f32,
+    // glTF's clear coat over both lobes (its weight; 0: none), which the light passes on its
+    // way in.
+    clearcoat: f32,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -297,7 +300,8 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
             response += lit.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
     }
-    return response;
+    // In through the clear coat, if any.
+    return response * clearcoat_transmittance(lit.clearcoat, cosine);
 }
 
 // cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
@@ -434,6 +438,25 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         }
         return PhotonStep(slot, photon, emitted);
     }
+    // cpu::kernels: glTF's clear coat meets the photon first; what it reflects is not kept on
+    // the surface beneath and goes on as from a mirror.
+    if CLEARCOATS && root.clearcoat > 0.0 {
+        let coat = clearcoat_bounce(root, hit, direction, &rng);
+        if coat.reflected {
+            let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
+                * departure_factor(coat.bounce.direction, hit.shading, hit.geometric);
+            let coat_weight = coat.bounce.weight * shading_factors;
+            slot.depth += 1u;
+            if coat_weight > 0.0 && slot.depth < params.max_depth {
+                slot.origin = offset_origin(hit, coat.bounce.direction, params.epsilon);
+                slot.direction = coat.bounce.direction;
+                slot.flux = flux * coat_weight;
+            } else {
+                slot.depth = SLOT_IDLE;
+            }
+            return PhotonStep(slot, photon, emitted);
+        }
+    }
     // cpu::kernels: a blend keeps the photon for its Lambertian member whichever member the
     // path takes; the member is drawn only at blends.
     var keeper = hit.material;
@@ -516,7 +539,9 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         tint = surface_tint * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
-    weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric));
+    // Out through the clear coat, if any.
+    let out_of_coat = clearcoat_transmittance(root.clearcoat, dot(next, hit.shading));
+    weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric) * out_of_coat);
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
@@ -687,6 +712,22 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
             direct += throughput * emission_share * emission * emitter_weight(glossy, hit, direction);
         }
         emission_share = 1.0;
+        // cpu::kernels::eye_path: glTF's clear coat meets the path first; its reflection goes
+        // on as a mirror's (no light sample: emission met next counts whole).
+        if CLEARCOATS && root.clearcoat > 0.0 {
+            let coat = clearcoat_bounce(root, hit, direction, rng);
+            if coat.reflected {
+                if coat.bounce.weight <= 0.0 {
+                    break;
+                }
+                throughput *= coat.bounce.weight;
+                glossy = GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+                depth += 1u;
+                origin = offset_origin(hit, coat.bounce.direction, params.epsilon);
+                direction = coat.bounce.direction;
+                continue;
+            }
+        }
         // cpu::kernels::eye_path: a blend's member, drawn only at blends.
         var material = root;
         let map_texel = roughness_texel(root, hit.uv);
@@ -706,7 +747,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, root.clearcoat);
         if plastic {
             lit.coat_ior = material.ior;
             var u_micro = vec2<f32>(0.0);
@@ -799,7 +840,9 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
             break;
         }
         glossy = glossy_after(hit, lit, -direction, bounce.direction);
-        throughput *= bounce_tint * bounce.weight;
+        // Out through the clear coat, if any.
+        let out_of_coat = clearcoat_transmittance(root.clearcoat, dot(bounce.direction, hit.shading));
+        throughput *= bounce_tint * (bounce.weight * out_of_coat);
         if max3(throughput) <= 0.0 {
             break;
         }

@@ -68,4 +68,8 @@ struct GpuMaterial {
     coat_grid_nodes: u32,
     coat_grid_roughness: f32,
     coat_grid_step: f32,
+    // scene::Clearcoat (render::clearcoat): weight (0: none) and GGX width.
+    clearcoat: f32,
+    clearcoat_alpha: f32,
+    pad: vec2<u32>,
 }

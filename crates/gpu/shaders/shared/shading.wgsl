@@ -210,6 +210,8 @@ override ROUGH_COATS: bool = true;
 override FROSTED_GLASS: bool = true;
 // Whether some material is a blend (scene::Blend), whose member each hit draws.
 override BLENDS: bool = true;
+// Whether some material wears glTF's clear coat (scene::Clearcoat).
+override CLEARCOATS: bool = true;
 
 // Whether some material's surface follows a metallic-roughness texture (scene::RoughnessMap);
 // compiled out as NORMAL_MAPS is.
@@ -758,6 +760,46 @@ fn coat_diffuse_scale_of(id: u32, alpha: f32) -> f32 {
     let nodes = coat_grid_nodes(id, alpha);
     return materials[nodes.lower].coat_diffuse_scale * (1.0 - nodes.t)
         + materials[nodes.upper].coat_diffuse_scale * nodes.t;
+}
+
+// ---- render::clearcoat ----
+// clearcoat_reflectance: the share of light meeting a clear coat of `weight` at cosine `cos`
+// that it reflects.
+fn clearcoat_reflectance(weight: f32, cos: f32) -> f32 {
+    return weight * fresnel_dielectric(abs(cos), 1.0 / CLEARCOAT_IOR);
+}
+
+// clearcoat_transmittance: 1 without a coat (weight 0).
+fn clearcoat_transmittance(weight: f32, cos: f32) -> f32 {
+    if !CLEARCOATS {
+        return 1.0;
+    }
+    return 1.0 - clearcoat_reflectance(weight, cos);
+}
+
+// cpu::surface::clearcoat_bounce (render::clearcoat::clearcoat_event, its numbers drawn as
+// clearcoat_numbers does): `reflected` where the coat reflects the ray (weight 0 where the path
+// ends), otherwise it passes to the surface beneath. Only for a material with a coat.
+struct ClearcoatBounce {
+    reflected: bool,
+    bounce: Scattered,
+}
+
+fn clearcoat_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> ClearcoatBounce {
+    let u_choice = next_f32(rng);
+    var u_micro = vec2<f32>(0.0);
+    if material.clearcoat_alpha > 0.0 {
+        let u1 = next_f32(rng);
+        let u2 = next_f32(rng);
+        u_micro = vec2<f32>(u1, u2);
+    }
+    if u_choice >= clearcoat_reflectance(material.clearcoat, -dot(incoming, hit.shading)) {
+        return ClearcoatBounce(false, Scattered(vec3<f32>(0.0), 0.0));
+    }
+    if material.clearcoat_alpha == 0.0 {
+        return ClearcoatBounce(true, Scattered(reflect_about(incoming, hit.shading), 1.0));
+    }
+    return ClearcoatBounce(true, rough_reflection(hit, incoming, material.clearcoat_alpha, u_micro.x, u_micro.y));
 }
 
 // cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.

@@ -70,8 +70,8 @@ use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
-    AlphaMode, DIFFUSE_MIN_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError, Surface,
-    Texture, TextureId, TextureRoughness, TexturedLobe,
+    AlphaMode, Clearcoat, DIFFUSE_MIN_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError,
+    Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
     absorption_from_attenuation as scene_absorption, coated_surface, glass_surface, metal_surface,
 };
 
@@ -261,6 +261,7 @@ impl Materials {
             blend: None,
             dispersion,
             roughness_map: None,
+            clearcoat: clearcoat(&check, m, builder)?,
         };
         Ok((material, members))
     }
@@ -597,6 +598,51 @@ fn mapped_members(
 fn has_specular_layer(m: &json::Material) -> bool {
     let specular = m.extensions.as_ref().and_then(|e| e.specular.as_ref());
     specular.is_none_or(|s| s.specular_factor.0 > 0.0)
+}
+
+/// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0); its
+/// textures are not read (a warning).
+fn clearcoat(
+    check: &Check,
+    m: &json::Material,
+    builder: &mut SceneBuilder,
+) -> Result<Option<Clearcoat>, SceneError> {
+    let Some(value) = m
+        .extensions
+        .as_ref()
+        .and_then(|e| e.others.get("KHR_materials_clearcoat"))
+    else {
+        return Ok(None);
+    };
+    let factor = |name: &str| -> Result<f32, SceneError> {
+        match value.get(name) {
+            None => Ok(0.0),
+            Some(v) => match v.as_f64() {
+                Some(x) => check.unit(x as f32, &format!("KHR_materials_clearcoat's {name}")),
+                None => {
+                    Err(check.error(format!("KHR_materials_clearcoat's {name} is not a number")))
+                }
+            },
+        }
+    };
+    let weight = factor("clearcoatFactor")?;
+    let roughness = factor("clearcoatRoughnessFactor")?;
+    let textures: Vec<&str> = [
+        "clearcoatTexture",
+        "clearcoatRoughnessTexture",
+        "clearcoatNormalTexture",
+    ]
+    .into_iter()
+    .filter(|name| value.get(*name).is_some())
+    .collect();
+    if !textures.is_empty() {
+        builder.warn(format!(
+            "{}: KHR_materials_clearcoat's {} not read (the coat takes its factors everywhere)",
+            check.label,
+            textures.join(", ")
+        ));
+    }
+    Ok(Clearcoat::new(weight, roughness))
 }
 
 /// `KHR_materials_dispersion` as [`Material::dispersion`]: (ior − 1) / V with the Abbe

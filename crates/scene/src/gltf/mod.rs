@@ -46,8 +46,9 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_dispersion",
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",

@@ -220,6 +220,55 @@ pub fn cornell_plastic() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_caustics`] under glTF's clear coats (`scene::Clearcoat`, index 1.5):
+/// the floor white Lambertian under a full smooth coat, a sphere front right brushed gold
+/// (rough metal, GGX α 0.04) under half a rough coat (roughness 0.2), and one back left, a
+/// blend half mirror half blue plastic, under a full smooth coat.
+pub fn cornell_clearcoat() -> Scene {
+    let mut f = Fixture::new("testing::cornell_clearcoat");
+    let white = f.material("white", Surface::Diffuse, CORNELL_WHITE);
+    let coated = |f: &mut Fixture, name: &str, surface, color, coat| {
+        f.builder.add_material(Material {
+            name: String::from(name),
+            surface,
+            base_color: color,
+            clearcoat: coat,
+            ..Material::default()
+        })
+    };
+    let floor = coated(
+        &mut f,
+        "coated white",
+        Surface::Diffuse,
+        CORNELL_WHITE,
+        crate::Clearcoat::new(1.0, 0.0),
+    );
+    cornell_room_on(&mut f, white, floor);
+    let gold = coated(
+        &mut f,
+        "coated gold",
+        Surface::RoughConductor { alpha: 0.04 },
+        Vec3::new(0.9, 0.7, 0.3),
+        crate::Clearcoat::new(0.5, 0.2),
+    );
+    let base = Material {
+        name: "coated mirror and plastic".into(),
+        base_color: Vec3::new(0.1, 0.25, 0.7),
+        clearcoat: crate::Clearcoat::new(1.0, 0.0),
+        ..Material::default()
+    };
+    let plastic = Surface::Plastic {
+        ior: 1.5,
+        alpha: 0.0,
+    };
+    let blend = f
+        .builder
+        .add_blend(base, &[(0.5, Surface::Mirror), (0.5, plastic)]);
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, gold, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, blend, false);
+    f.finish()
+}
+
 /// The room of [`cornell_caustics`] with blends (`SceneBuilder::add_blend`, as glTF's partial
 /// metallic and transmission factors make them): the floor 30 % mirror over white plastic,
 /// a gold sphere front right half rough metal (GGX α 0.04) half rough plastic, and a sphere

@@ -177,6 +177,7 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             x.dispersion,
             y.dispersion
         );
+        assert_eq!(x.clearcoat, y.clearcoat, "{stem}: clear coat");
         match (x.blend, y.blend) {
             (Some(a), Some(b)) => assert!(
                 a.other == b.other && (a.weight - b.weight).abs() < 1e-6,

@@ -24,6 +24,9 @@ struct Info {
     /// Blends (`scene::Blend`: glTF's partial metallic or transmission factors), each a
     /// chain of member materials counted among `materials`.
     blends: usize,
+    /// Materials (blend members) under a clear coat (`scene::Clearcoat`: glTF's
+    /// `KHR_materials_clearcoat`).
+    clear_coated_materials: usize,
     /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
     /// their indices of refraction count against its.
     inside_solids: Vec<InsideSolid>,
@@ -273,6 +276,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
             .filter(|m| m.roughness_map.is_some())
             .count(),
         blends: blend_count(&scene.materials),
+        clear_coated_materials: (scene.materials.iter())
+            .filter(|m| m.clearcoat.is_some())
+            .count(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
@@ -397,6 +403,10 @@ fn print_table(info: &Info) {
                 "{} (their member surfaces among the materials)",
                 info.blends
             ),
+        ),
+        (
+            "clear coats",
+            format!("{} materials", info.clear_coated_materials),
         ),
         (
             "inside solids",

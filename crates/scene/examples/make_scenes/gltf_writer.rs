@@ -11,6 +11,7 @@
 //! - dielectric → `KHR_materials_transmission` 1 and `KHR_materials_ior`, with
 //!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid, and
 //!   `KHR_materials_dispersion` where it disperses;
+//! - a clear coat → `KHR_materials_clearcoat` (roughness √α);
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -37,7 +38,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 14] = [
+pub const SHIPPED: [(&str, Fixture); 15] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -55,6 +56,7 @@ pub const SHIPPED: [(&str, Fixture); 14] = [
         scene::testing::cornell_metallic_roughness,
     ),
     ("prism", scene::testing::prism),
+    ("cornell-clearcoat", scene::testing::cornell_clearcoat),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -406,6 +408,15 @@ impl Document {
         {
             extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
         }
+        if let Some(coat) = m.clearcoat {
+            extensions.insert(
+                "KHR_materials_clearcoat".into(),
+                json!({
+                    "clearcoatFactor": number(coat.weight),
+                    "clearcoatRoughnessFactor": number(coat.alpha.sqrt()),
+                }),
+            );
+        }
         let strength = m.emission.max_element();
         if strength > 0.0 {
             let factor = if strength > 1.0 {
@@ -483,6 +494,7 @@ fn roughness_map(materials: &[Material], id: u32) -> Option<RoughnessMap> {
 
 fn known_extension(name: &str) -> &'static str {
     [
+        "KHR_materials_clearcoat",
         "KHR_materials_dispersion",
         "KHR_materials_emissive_strength",
         "KHR_materials_ior",

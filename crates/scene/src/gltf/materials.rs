@@ -22,6 +22,9 @@
 //!   other values and colour are ignored.
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).
+//! - `KHR_materials_clearcoat` → [`Clearcoat`] over every member: `clearcoatFactor` its
+//!   weight, `clearcoatRoughnessFactor` its GGX width (squared; smooth below 0.01); its
+//!   textures are not read (a warning). A factor of 0 is no coat.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
 //!   warning (kousen has no partial transparency).

@@ -247,7 +247,7 @@ pub fn cornell_clearcoat() -> Scene {
     let gold = coated(
         &mut f,
         "coated gold",
-        Surface::RoughConductor { alpha: 0.04 },
+        Surface::RoughConductor { alpha: 0.2 * 0.2 },
         Vec3::new(0.9, 0.7, 0.3),
         crate::Clearcoat::new(0.5, 0.2),
     );

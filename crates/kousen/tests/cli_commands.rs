@@ -158,6 +158,21 @@ fn info_counts_roughness_mapped_materials() {
     assert_eq!(box_info["roughness_mapped_materials"], 0);
 }
 
+/// `kousen info` counts the materials under a clear coat (the floor, the gold and both
+/// members of the blend), in its JSON and its table.
+#[test]
+fn info_counts_clear_coated_materials() {
+    let scene = shipped("cornell-clearcoat.gltf");
+    assert_eq!(info_json(&scene)["clear_coated_materials"], 4);
+    let table = kousen(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.contains("clear coats          4 materials"), "{text}");
+    assert_eq!(
+        info_json(&shipped("cornell-box.gltf"))["clear_coated_materials"],
+        0
+    );
+}
+
 #[test]
 fn info_json_keeps_the_contract_for_scripts() {
     let info = info_json(&shipped("cornell-box.gltf"));

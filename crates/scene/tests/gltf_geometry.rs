@@ -273,3 +273,73 @@ fn points_and_lines_are_skipped_with_a_warning() {
         scene.warnings
     );
 }
+
+/// A quantized triangle (`KHR_mesh_quantization`): positions as SHORT integers, scaled back by
+/// the node (as gltfpack writes them), normals as normalized BYTE (−127 is −1), texture
+/// coordinates as normalized UNSIGNED_SHORT; padded to 4-byte strides. It loads as the float
+/// triangle; without the extension declared, the integer positions are an error naming what
+/// is allowed.
+#[test]
+fn quantized_attributes_load_as_their_floats() {
+    const BYTE: u32 = 5120;
+    const SHORT: u32 = 5122;
+    let quantized = |declared: bool| {
+        let mut doc = Doc::default();
+        // (0, 0, 0), (1, 0, 0), (0, 1, 0) at 1/1000 a step, each element 8 bytes apart.
+        let positions: Vec<u8> = [[0i16, 0, 0], [1000, 0, 0], [0, 1000, 0]]
+            .iter()
+            .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()).chain([0, 0]))
+            .collect();
+        let view = doc.view(&positions);
+        doc.json["bufferViews"][view]["byteStride"] = json!(8);
+        let position = doc.push(
+            "accessors",
+            json!({ "bufferView": view, "componentType": SHORT, "count": 3, "type": "VEC3",
+                    "min": [0, 0, 0], "max": [1000, 1000, 0] }),
+        );
+        // Normal (0, 0, −1): bytes (0, 0, −127) and one of padding each.
+        let normals: Vec<u8> = (0..3).flat_map(|_| [0u8, 0, (-127i8) as u8, 0]).collect();
+        let view = doc.view(&normals);
+        doc.json["bufferViews"][view]["byteStride"] = json!(4);
+        let normal = doc.push(
+            "accessors",
+            json!({ "bufferView": view, "componentType": BYTE, "normalized": true,
+                    "count": 3, "type": "VEC3" }),
+        );
+        let uvs: Vec<u8> = [[0u16, 0], [65535, 0], [0, 32768]]
+            .iter()
+            .flat_map(|uv| uv.iter().flat_map(|c| c.to_le_bytes()))
+            .collect();
+        let view = doc.view(&uvs);
+        let uv = doc.push(
+            "accessors",
+            json!({ "bufferView": view, "componentType": UNSIGNED_SHORT,
+                    "normalized": true, "count": 3, "type": "VEC2" }),
+        );
+        let primitive =
+            json!({ "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv } });
+        let mesh = doc.push("meshes", json!({ "primitives": [primitive] }));
+        let node = doc.node(json!({ "mesh": mesh, "scale": [0.001, 0.001, 0.001] }));
+        doc.add_root(node);
+        if declared {
+            doc.json["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+            doc.json["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+        }
+        doc.load()
+    };
+    let scene = quantized(true).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let triangle = &scene.triangles[0];
+    for (v, p) in triangle.vertices.iter().zip(TRIANGLE) {
+        assert_close(v.position, Vec3::from(p));
+        assert_close(v.normal, Vec3::NEG_Z);
+    }
+    let uvs: Vec<Vec2> = triangle.vertices.iter().map(|v| v.uv).collect();
+    assert!(uvs[1].abs_diff_eq(Vec2::new(1.0, 0.0), EPS), "{uvs:?}");
+    assert!(
+        uvs[2].abs_diff_eq(Vec2::new(0.0, 32768.0 / 65535.0), EPS),
+        "{uvs:?}"
+    );
+    let message = error_of(quantized(false));
+    assert_mentions(&message, &["POSITION", "VEC3 of FLOAT", "SHORT"]);
+}

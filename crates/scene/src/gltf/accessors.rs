@@ -2,6 +2,9 @@
 //! after every bound has been checked: the type and component type the semantic allows,
 //! `byteOffset + stride·(count−1) + element size ≤ bufferView.byteLength`, finite values.
 //! Sparse accessors and accessors without a buffer view (all zeros) are not supported.
+//! Where a file uses `KHR_mesh_quantization`, positions, normals and texture coordinates may
+//! also be integers (dequantized here; the nodes' transforms scale them), as that extension
+//! allows.
 
 use glam::{Vec2, Vec3};
 
@@ -10,39 +13,68 @@ use json::accessor::{ComponentType, Type};
 use json::validation::Checked;
 
 use super::{Context, Input};
+
+/// The extension that lets vertex attributes be small integers.
+pub(super) const QUANTIZATION: &str = "KHR_mesh_quantization";
 use crate::SceneError;
 
-/// What an accessor is read as; each allows the types the glTF spec allows for it.
+/// What an accessor is read as; each allows the types the glTF spec allows for it, and with
+/// `KHR_mesh_quantization` the integer types that extension adds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Semantic {
-    /// VEC3 of FLOAT.
+    /// VEC3 of FLOAT (quantized: also of BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT,
+    /// normalized or not).
     Position,
-    /// VEC3 of FLOAT.
+    /// VEC3 of FLOAT (quantized: also of normalized BYTE or SHORT).
     Normal,
-    /// VEC2 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT.
+    /// VEC2 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT (quantized: also of
+    /// BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT, normalized or not).
     TexCoord,
     /// SCALAR of UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT.
     Indices,
 }
 
 impl Semantic {
-    fn accepts(self, ty: Type, component: ComponentType, normalized: bool) -> bool {
-        use ComponentType::{F32, U8, U16, U32};
+    fn accepts(
+        self,
+        ty: Type,
+        component: ComponentType,
+        normalized: bool,
+        quantized: bool,
+    ) -> bool {
+        use ComponentType::{F32, I8, I16, U8, U16, U32};
+        let small = matches!(component, I8 | U8 | I16 | U16);
         match self {
-            Semantic::Position | Semantic::Normal => ty == Type::Vec3 && component == F32,
+            Semantic::Position => ty == Type::Vec3 && (component == F32 || (quantized && small)),
+            Semantic::Normal => {
+                ty == Type::Vec3
+                    && (component == F32
+                        || (quantized && normalized && matches!(component, I8 | I16)))
+            }
             Semantic::TexCoord => {
                 ty == Type::Vec2
-                    && (component == F32 || (normalized && matches!(component, U8 | U16)))
+                    && (component == F32
+                        || (normalized && matches!(component, U8 | U16))
+                        || (quantized && small))
             }
             Semantic::Indices => ty == Type::Scalar && matches!(component, U8 | U16 | U32),
         }
     }
 
-    fn expected(self) -> &'static str {
-        match self {
-            Semantic::Position | Semantic::Normal => "VEC3 of FLOAT",
-            Semantic::TexCoord => "VEC2 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT",
-            Semantic::Indices => "SCALAR of UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT",
+    fn expected(self, quantized: bool) -> &'static str {
+        match (self, quantized) {
+            (Semantic::Position, false) | (Semantic::Normal, false) => "VEC3 of FLOAT",
+            (Semantic::Position, true) => {
+                "VEC3 of FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT"
+            }
+            (Semantic::Normal, true) => "VEC3 of FLOAT or of normalized BYTE/SHORT",
+            (Semantic::TexCoord, false) => {
+                "VEC2 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT"
+            }
+            (Semantic::TexCoord, true) => {
+                "VEC2 of FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT"
+            }
+            (Semantic::Indices, _) => "SCALAR of UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT",
         }
     }
 }
@@ -54,6 +86,7 @@ struct Elements<'a> {
     count: usize,
     element_size: usize,
     component: ComponentType,
+    normalized: bool,
 }
 
 impl Elements<'_> {
@@ -62,13 +95,29 @@ impl Elements<'_> {
         &self.bytes[start..start + self.element_size]
     }
 
-    /// Component `k` of element `i` as a float; integers are normalized to [0, 1].
+    /// Component `k` of element `i` as a float: normalized integers as glTF maps them
+    /// (unsigned to [0, 1], signed to [−1, 1]: c / max, at least −1), others as they are.
     fn float(&self, i: usize, k: usize) -> f32 {
         let e = self.get(i);
-        match self.component {
-            ComponentType::U8 => e[k] as f32 / 255.0,
-            ComponentType::U16 => u16::from_le_bytes([e[2 * k], e[2 * k + 1]]) as f32 / 65535.0,
-            _ => f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]),
+        let (value, max) = match self.component {
+            ComponentType::U8 => (f32::from(e[k]), 255.0),
+            ComponentType::I8 => (f32::from(e[k] as i8), 127.0),
+            ComponentType::U16 => (
+                f32::from(u16::from_le_bytes([e[2 * k], e[2 * k + 1]])),
+                65535.0,
+            ),
+            ComponentType::I16 => (
+                f32::from(i16::from_le_bytes([e[2 * k], e[2 * k + 1]])),
+                32767.0,
+            ),
+            _ => {
+                return f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]);
+            }
+        };
+        if self.normalized {
+            (value / max).max(-1.0)
+        } else {
+            value
         }
     }
 
@@ -211,6 +260,7 @@ fn elements<'a>(
             count: count as usize,
             element_size,
             component,
+            normalized: accessor.normalized,
         }),
         _ => Err(input.error(format!(
             "{count} elements of {element_size} bytes, {stride} apart from offset {offset}, \
@@ -231,7 +281,8 @@ fn kind(
         return Err(input.error("invalid type or componentType"));
     };
     let component = component.0;
-    if !semantic.accepts(ty, component, accessor.normalized) {
+    let quantized = input.uses_extension(QUANTIZATION);
+    if !semantic.accepts(ty, component, accessor.normalized, quantized) {
         let normalized = if accessor.normalized {
             "normalized "
         } else {
@@ -239,7 +290,7 @@ fn kind(
         };
         return Err(input.error(format!(
             "expected {}, found {} of {normalized}{}",
-            semantic.expected(),
+            semantic.expected(quantized),
             type_name(ty),
             component_name(component)
         )));

@@ -46,7 +46,7 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_dispersion",
@@ -54,6 +54,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_volume",
+    "KHR_mesh_quantization",
     "KHR_texture_transform",
 ];
 
@@ -113,6 +114,11 @@ impl Input<'_> {
 
     fn unsupported(&self, message: impl Into<String>) -> SceneError {
         SceneError::unsupported(self.path, message)
+    }
+
+    /// Whether the file lists `name` in `extensionsUsed`.
+    fn uses_extension(&self, name: &str) -> bool {
+        self.root.extensions_used.iter().any(|used| used == name)
     }
 }
 

@@ -11,7 +11,7 @@ use render::buffers::{
     HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, RAY_T_MAX, SAMPLE_AT_GLOSSY,
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
-use render::clearcoat::{clearcoat_numbers, clearcoat_transmittance};
+use render::clearcoat::{clearcoat_at, clearcoat_numbers, clearcoat_transmittance};
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
@@ -36,7 +36,7 @@ use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, clearcoat_bounce, dielectric_branches,
     diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, is_cut_out,
     medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
-    specular_direction, trace, transmittance_to, unoccluded,
+    specular_direction, texture, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -116,7 +116,9 @@ pub fn photon_pass_with<R: StreamRng>(
     }
     // glTF's clear coat over the material meets the photon first (`render::clearcoat`): what
     // it reflects is not kept on the surface beneath and goes on as from a mirror.
-    if let Some(coat) = material.clearcoat
+    let through_coat = (material.clearcoat)
+        .map(|c| clearcoat_at(&c, |id| texture(&scene.textures, Some(id), hit.uv)));
+    if let Some(coat) = through_coat
         && let Some(reflected) = clearcoat_bounce(
             &hit,
             direction,
@@ -144,7 +146,6 @@ pub fn photon_pass_with<R: StreamRng>(
             emitted,
         };
     }
-    let through_coat = material.clearcoat;
     let root = hit.material;
     // A blend keeps the photon for its Lambertian member whichever member the path takes
     // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
@@ -434,7 +435,9 @@ fn eye_path(
         emission_share = 1.0;
         // glTF's clear coat over the material meets the path first (`render::clearcoat`): its
         // reflection goes on as a mirror's (no light sample: emission met next counts whole).
-        if let Some(coat) = material.clearcoat
+        let through_coat = (material.clearcoat)
+            .map(|c| clearcoat_at(&c, |id| texture(&scene.textures, Some(id), hit.uv)));
+        if let Some(coat) = through_coat
             && let Some(reflected) = clearcoat_bounce(
                 &hit,
                 direction,
@@ -452,7 +455,6 @@ fn eye_path(
             direction = next;
             continue;
         }
-        let through_coat = material.clearcoat;
         let root = hit.material;
         // A blend's member for this path (`render::blend`), drawn only at blends.
         let hit_texel = HitTexel::new(&scene.textures, hit.uv);

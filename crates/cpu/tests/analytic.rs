@@ -1141,7 +1141,7 @@ fn sky_lights_a_roughness_mapped_plastic_plane_texel_by_texel() {
 /// L·(w·F(θ) + (1 − w·F(θ))·ρ·(1 − w·F̄)), the coat's reflection of the sky plus the plane
 /// beneath, lit through the coat, F̄ = 2∫F(μ)μ dμ here by the midpoint rule, apart from the
 /// kernels. Both direct-light modes: photons reflected by the coat are not kept, light samples
-/// pass it (1024 and 256 passes). Measured, seed 1: photons mean +0.01 %, per-pixel rms 4.6 %;
+/// pass it (1024 and 256 passes); and a full coat whose texture reads w (sampled). Measured, seed 1: photons mean +0.01 %, per-pixel rms 4.6 %;
 /// sampled −0.03 %, rms 1.3 %. Without the coat's dimming of the light in (samples): +6.4 %.
 /// Tolerances as the plastic plane's: mean within 2.5 %, rms below 8 % and 3 %.
 #[test]
@@ -1175,6 +1175,30 @@ fn sky_lights_a_plane_through_its_clear_coat() {
     assert_matches("clear coat, photons", &image, expected, 0.025, 0.08);
     let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
     assert_matches("clear coat, sampled", &image, expected, 0.025, 0.03);
+    // A full coat whose texture reads 0.7 everywhere (`clearcoatTexture`'s red) is the same
+    // coat; its roughness texture scales a roughness of 0 (smooth whatever it reads).
+    let texture = scene.textures.len() as u32;
+    scene.textures.push(scene::Texture {
+        name: "coat weight".into(),
+        width: 1,
+        height: 1,
+        texels: scene::Texels::LinearF32(vec![[weight, 0.5, 0.0, 1.0]]),
+    });
+    for material in &mut scene.materials {
+        material.clearcoat = Some(scene::Clearcoat {
+            weight_texture: Some(texture),
+            roughness_texture: Some(texture),
+            ..scene::Clearcoat::new(1.0, 0.0).unwrap()
+        });
+    }
+    let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
+    assert_matches(
+        "textured clear coat, sampled",
+        &image,
+        expected,
+        0.025,
+        0.03,
+    );
 }
 
 /// A plastic plane (smooth coat of ior 1.5 over albedo ρ, `render::plastic`) under the sky L:

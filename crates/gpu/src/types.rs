@@ -204,10 +204,12 @@ pub struct GpuMaterial {
     /// `CoatGrid::first_roughness` and `roughness_step`.
     pub coat_grid_roughness: f32,
     pub coat_grid_step: f32,
-    /// glTF's clear coat (`scene::Clearcoat`): its weight (0: none) and GGX width.
+    /// glTF's clear coat (`scene::Clearcoat`): its weight (0: none) and GGX width, and the
+    /// textures scaling them (`NO_TEXTURE` for none).
     pub clearcoat: f32,
     pub clearcoat_alpha: f32,
-    pub pad: [u32; 2],
+    pub clearcoat_texture: u32,
+    pub clearcoat_roughness_texture: u32,
 }
 
 impl GpuMaterial {
@@ -275,7 +277,12 @@ impl GpuMaterial {
             coat_grid_step: 0.0,
             clearcoat: material.clearcoat.map_or(0.0, |c| c.weight),
             clearcoat_alpha: material.clearcoat.map_or(0.0, |c| c.alpha),
-            pad: [0; 2],
+            clearcoat_texture: (material.clearcoat)
+                .and_then(|c| c.weight_texture)
+                .unwrap_or(NO_TEXTURE),
+            clearcoat_roughness_texture: (material.clearcoat)
+                .and_then(|c| c.roughness_texture)
+                .unwrap_or(NO_TEXTURE),
         }
     }
 }
@@ -296,6 +303,8 @@ impl GpuMaterial {
             roughness_lobe: ROUGHNESS_UNMAPPED,
             alpha_cutoff: -1.0,
             exterior: render::medium::NO_MEDIUM,
+            clearcoat_texture: NO_TEXTURE,
+            clearcoat_roughness_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

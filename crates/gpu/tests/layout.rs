@@ -345,6 +345,14 @@ fn gpu_types_layout_matches_rust() {
             ("coat_grid_step", offset_of!(GpuMaterial, coat_grid_step)),
             ("clearcoat", offset_of!(GpuMaterial, clearcoat)),
             ("clearcoat_alpha", offset_of!(GpuMaterial, clearcoat_alpha)),
+            (
+                "clearcoat_texture",
+                offset_of!(GpuMaterial, clearcoat_texture),
+            ),
+            (
+                "clearcoat_roughness_texture",
+                offset_of!(GpuMaterial, clearcoat_roughness_texture),
+            ),
         ],
     );
     assert_layout(

@@ -772,6 +772,45 @@ fn every_kernel_matches_its_twin_under_clear_coats() {
     every_kernel_matches_its_twin(scene::testing::cornell_clearcoat(), DirectLight::Sampled);
 }
 
+/// The same with the floor's coat textured (`render::clearcoat::clearcoat_at`): a checker of
+/// weight 0.2 or 1 (red) and roughness 0.3 or 1 times a factor of 0.4 (green), so that hits
+/// meet a smooth or a rough coat of either weight.
+#[test]
+fn every_kernel_matches_its_twin_under_textured_clear_coats() {
+    let mut scene = scene::testing::cornell_clearcoat();
+    let side = 8u32;
+    let texels = (0..side * side)
+        .map(|i| {
+            let (x, y) = (i % side, i / side);
+            let weight = if (x + y) % 2 == 0 { 0.2 } else { 1.0 };
+            let roughness = if y < side / 2 { 0.3 } else { 1.0 };
+            [weight, roughness, 0.0, 1.0]
+        })
+        .collect();
+    let texture = scene.textures.len() as u32;
+    scene.textures.push(scene::Texture {
+        name: "coat checker".into(),
+        width: side,
+        height: side,
+        texels: scene::Texels::LinearF32(texels),
+    });
+    let floor = (scene.materials.iter())
+        .position(|m| m.name == "coated white")
+        .expect("the coated floor") as u32;
+    let coat = scene.materials[floor as usize].clearcoat.as_mut().unwrap();
+    *coat = scene::Clearcoat {
+        weight_texture: Some(texture),
+        roughness_texture: Some(texture),
+        ..scene::Clearcoat::new(1.0, 0.4).unwrap()
+    };
+    for triangle in scene.triangles.iter_mut().filter(|t| t.material == floor) {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x, v.position.z) / 140.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
 /// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
 /// solid glass or diffuse), and photons are kept for the Lambertian member whichever member

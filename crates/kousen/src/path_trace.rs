@@ -15,7 +15,7 @@ use scene::{AlphaMode, Camera, Material, Scene, Surface};
 use render::blend::{blend_member, mapped_material};
 use render::buffers::{LIGHT_TRIANGLE, Light, RAY_T_MAX};
 use render::clearcoat::{
-    ClearcoatEvent, clearcoat_event, clearcoat_numbers, clearcoat_transmittance,
+    ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers, clearcoat_transmittance,
 };
 use render::coats::Coats;
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
@@ -344,7 +344,9 @@ impl<'a> PathTracer<'a> {
             }
             // glTF's clear coat over the material meets the path first (`render::clearcoat`):
             // its reflection goes on as a mirror's (or rough metal's).
-            if let Some(coat) = material.clearcoat {
+            let through_coat = (material.clearcoat)
+                .map(|c| clearcoat_at(&c, |id| self.texture(Some(id), point.uv)));
+            if let Some(coat) = through_coat {
                 let u = clearcoat_numbers(&coat, || rng.next_f32());
                 let (geometric, shading) = facing_normals(&point, front);
                 if let ClearcoatEvent::Reflected(reflected) =
@@ -367,7 +369,6 @@ impl<'a> PathTracer<'a> {
                     continue;
                 }
             }
-            let through_coat = material.clearcoat;
             let root = point.material;
             // A blend's member for this path (`render::blend`), drawn only at blends.
             let texel = |texture| self.texture(Some(texture), point.uv);

@@ -30,6 +30,14 @@ pub enum ClearcoatEvent {
     Through,
 }
 
+/// The coat at a hit whose textures read `texel(id)` (linear RGBA): `scene::Clearcoat::at`
+/// of its weight texture's red and its roughness texture's green.
+pub fn clearcoat_at(coat: &Clearcoat, texel: impl Fn(scene::TextureId) -> glam::Vec4) -> Clearcoat {
+    let weight = coat.weight_texture.map_or(1.0, |id| texel(id).x);
+    let roughness = coat.roughness_texture.map_or(1.0, |id| texel(id).y);
+    coat.at(weight, roughness)
+}
+
 /// The share of light meeting the coat at cosine `cos` (its sign ignored) that it reflects.
 pub fn clearcoat_reflectance(coat: &Clearcoat, cos: f32) -> f32 {
     coat.weight * fresnel_dielectric(cos.abs(), 1.0 / Clearcoat::IOR)

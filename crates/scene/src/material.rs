@@ -93,6 +93,11 @@ pub struct Clearcoat {
     /// GGX width: glTF's `clearcoatRoughnessFactor` squared; 0 (smooth) below
     /// [`MIRROR_MAX_ROUGHNESS`].
     pub alpha: f32,
+    /// glTF's `clearcoatTexture` (linear data): its red channel multiplies `weight`.
+    pub weight_texture: Option<TextureId>,
+    /// glTF's `clearcoatRoughnessTexture` (linear data): its green channel multiplies the
+    /// roughness.
+    pub roughness_texture: Option<TextureId>,
 }
 
 impl Clearcoat {
@@ -104,12 +109,38 @@ impl Clearcoat {
     pub fn new(weight: f32, roughness: f32) -> Option<Clearcoat> {
         (weight > 0.0).then_some(Clearcoat {
             weight,
-            alpha: if roughness < MIRROR_MAX_ROUGHNESS {
+            alpha: coat_alpha(roughness),
+            weight_texture: None,
+            roughness_texture: None,
+        })
+    }
+
+    /// The coat where its textures read `weight_texel` (red of `weight_texture`) and
+    /// `roughness_texel` (green of `roughness_texture`; 1 where there is none): weight and
+    /// roughness multiplied by them (clamped to [0, 1]), so α by the roughness texel squared,
+    /// smooth below [`MIRROR_MAX_ROUGHNESS`]; at texels of 1, the coat's own factors.
+    pub fn at(&self, weight_texel: f32, roughness_texel: f32) -> Clearcoat {
+        let roughness_scale = roughness_texel.clamp(0.0, 1.0);
+        let alpha = self.alpha * (roughness_scale * roughness_scale);
+        Clearcoat {
+            weight: self.weight * weight_texel.clamp(0.0, 1.0),
+            alpha: if alpha < MIRROR_MAX_ROUGHNESS * MIRROR_MAX_ROUGHNESS {
                 0.0
             } else {
-                roughness * roughness
+                alpha
             },
-        })
+            weight_texture: None,
+            roughness_texture: None,
+        }
+    }
+}
+
+/// GGX width of glTF's `roughness`: its square, 0 (smooth) below [`MIRROR_MAX_ROUGHNESS`].
+fn coat_alpha(roughness: f32) -> f32 {
+    if roughness < MIRROR_MAX_ROUGHNESS {
+        0.0
+    } else {
+        roughness * roughness
     }
 }
 
@@ -411,6 +442,23 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A coat's textures scale its weight (red) and roughness (green), clamped; a texel
+    /// making it smoother than `MIRROR_MAX_ROUGHNESS` makes it smooth.
+    #[test]
+    fn a_clear_coat_follows_its_texels() {
+        let coat = Clearcoat::new(0.8, 0.4).unwrap();
+        let half = coat.at(0.5, 0.5);
+        assert_eq!(half.weight, 0.4);
+        assert!((half.alpha - 0.04).abs() < 1e-7, "{}", half.alpha);
+        assert_eq!(coat.at(1.0, 1.0).alpha, coat.alpha);
+        assert_eq!(coat.at(1.0, 0.02).alpha, 0.0, "roughness 0.008: smooth");
+        assert_eq!(
+            coat.at(2.0, -1.0),
+            Clearcoat::new(0.8, 0.0).unwrap(),
+            "clamped"
+        );
+    }
 
     /// A mapped metal is a mirror, a rough conductor of α = roughness² or Lambertian by its
     /// texel's roughness (green × factor), and its blend weight scales with the texel's

@@ -743,8 +743,8 @@ fn dispersion_is_read_on_solid_glass() {
 
 /// `KHR_materials_clearcoat`'s factors as `Material::clearcoat` (GGX width the roughness
 /// squared, smooth below 0.01), carried by every member of a blend; a factor of 0 is no coat;
-/// its textures are warned about; a factor outside [0, 1] is refused; the extension may be
-/// required.
+/// its weight and roughness textures are read, its normal texture warned about; a factor
+/// outside [0, 1] is refused; the extension may be required.
 #[test]
 fn clearcoat_factors_are_read() {
     let coated = |metallic: f32, coat: Value| {
@@ -781,18 +781,45 @@ fn clearcoat_factors_are_read() {
         none.materials[0].clearcoat, None,
         "factor 0 (the default): no coat"
     );
-    let textured = coated(
-        0.0,
-        json!({ "clearcoatFactor": 1.0, "clearcoatTexture": { "index": 0 } }),
-    )
-    .expect("loads");
+    // Its weight and roughness textures, decoded as data (one image, both slots); its normal
+    // texture is warned about.
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let mut material = pbr(0.0, 0.4);
+    material["extensions"] = json!({ "KHR_materials_clearcoat": {
+        "clearcoatFactor": 1.0,
+        "clearcoatTexture": { "index": 0 },
+        "clearcoatRoughnessTexture": { "index": 0 },
+        "clearcoatNormalTexture": { "index": 0 },
+    } });
+    let material = doc.material(material);
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    let textured = doc.load().expect("loads");
+    let coat = textured.materials[0].clearcoat.expect("a coat");
+    assert_eq!(
+        (coat.weight_texture, coat.roughness_texture),
+        (Some(0), Some(0))
+    );
+    assert!(
+        matches!(textured.textures[0].texels, Texels::LinearF32(_)),
+        "coat textures are data"
+    );
     assert!(
         textured
             .warnings
             .iter()
-            .any(|w| w.contains("clearcoatTexture") && w.contains("not read")),
+            .any(|w| w.contains("clearcoatNormalTexture") && w.contains("not read")),
         "{:?}",
         textured.warnings
+    );
+    let bad = coated(
+        0.0,
+        json!({ "clearcoatFactor": 1.0, "clearcoatTexture": { "index": 7 } }),
+    );
+    assert!(
+        bad.is_err(),
+        "a coat texture that does not exist is an error"
     );
     let error = coated(0.0, json!({ "clearcoatFactor": 1.5 })).expect_err("out of range");
     assert!(error.to_string().contains("clearcoatFactor"), "{error}");

@@ -440,8 +440,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     }
     // cpu::kernels: glTF's clear coat meets the photon first; what it reflects is not kept on
     // the surface beneath and goes on as from a mirror.
+    var coat_weight = 0.0;
     if CLEARCOATS && root.clearcoat > 0.0 {
-        let coat = clearcoat_bounce(root, hit, direction, &rng);
+        let clearcoat = clearcoat_at(root, hit.uv);
+        coat_weight = clearcoat.weight;
+        let coat = clearcoat_bounce(clearcoat, hit, direction, &rng);
         if coat.reflected {
             let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
                 * departure_factor(coat.bounce.direction, hit.shading, hit.geometric);
@@ -540,7 +543,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         wavelength = dispersed.wavelength;
     }
     // Out through the clear coat, if any.
-    let out_of_coat = clearcoat_transmittance(root.clearcoat, dot(next, hit.shading));
+    let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, hit.shading));
     weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric) * out_of_coat);
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
@@ -714,8 +717,11 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         emission_share = 1.0;
         // cpu::kernels::eye_path: glTF's clear coat meets the path first; its reflection goes
         // on as a mirror's (no light sample: emission met next counts whole).
+        var coat_weight = 0.0;
         if CLEARCOATS && root.clearcoat > 0.0 {
-            let coat = clearcoat_bounce(root, hit, direction, rng);
+            let clearcoat = clearcoat_at(root, hit.uv);
+            coat_weight = clearcoat.weight;
+            let coat = clearcoat_bounce(clearcoat, hit, direction, rng);
             if coat.reflected {
                 if coat.bounce.weight <= 0.0 {
                     break;
@@ -747,7 +753,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, root.clearcoat);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight);
         if plastic {
             lit.coat_ior = material.ior;
             var u_micro = vec2<f32>(0.0);
@@ -841,7 +847,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         }
         glossy = glossy_after(hit, lit, -direction, bounce.direction);
         // Out through the clear coat, if any.
-        let out_of_coat = clearcoat_transmittance(root.clearcoat, dot(bounce.direction, hit.shading));
+        let out_of_coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.shading));
         throughput *= bounce_tint * (bounce.weight * out_of_coat);
         if max3(throughput) <= 0.0 {
             break;

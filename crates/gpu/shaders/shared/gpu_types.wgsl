@@ -68,8 +68,10 @@ struct GpuMaterial {
     coat_grid_nodes: u32,
     coat_grid_roughness: f32,
     coat_grid_step: f32,
-    // scene::Clearcoat (render::clearcoat): weight (0: none) and GGX width.
+    // scene::Clearcoat (render::clearcoat): weight (0: none) and GGX width, and the textures
+    // scaling them (NO_TEXTURE: none).
     clearcoat: f32,
     clearcoat_alpha: f32,
-    pad: vec2<u32>,
+    clearcoat_texture: u32,
+    clearcoat_roughness_texture: u32,
 }

@@ -777,29 +777,53 @@ fn clearcoat_transmittance(weight: f32, cos: f32) -> f32 {
     return 1.0 - clearcoat_reflectance(weight, cos);
 }
 
+// render::clearcoat::clearcoat_at (scene::Clearcoat::at): `material`'s coat where the hit's
+// texture coordinates are `uv`, as (weight, GGX width).
+struct Clearcoat {
+    weight: f32,
+    alpha: f32,
+}
+
+fn clearcoat_at(material: GpuMaterial, uv: vec2<f32>) -> Clearcoat {
+    var weight_texel = 1.0;
+    var roughness_texel = 1.0;
+    if material.clearcoat_texture != NO_TEXTURE {
+        weight_texel = sample_texture(material.clearcoat_texture, uv).x;
+    }
+    if material.clearcoat_roughness_texture != NO_TEXTURE {
+        roughness_texel = sample_texture(material.clearcoat_roughness_texture, uv).y;
+    }
+    let scale = clamp(roughness_texel, 0.0, 1.0);
+    var alpha = material.clearcoat_alpha * (scale * scale);
+    if alpha < MIRROR_MAX_ROUGHNESS * MIRROR_MAX_ROUGHNESS {
+        alpha = 0.0;
+    }
+    return Clearcoat(material.clearcoat * clamp(weight_texel, 0.0, 1.0), alpha);
+}
+
 // cpu::surface::clearcoat_bounce (render::clearcoat::clearcoat_event, its numbers drawn as
 // clearcoat_numbers does): `reflected` where the coat reflects the ray (weight 0 where the path
-// ends), otherwise it passes to the surface beneath. Only for a material with a coat.
+// ends), otherwise it passes to the surface beneath.
 struct ClearcoatBounce {
     reflected: bool,
     bounce: Scattered,
 }
 
-fn clearcoat_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> ClearcoatBounce {
+fn clearcoat_bounce(coat: Clearcoat, hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> ClearcoatBounce {
     let u_choice = next_f32(rng);
     var u_micro = vec2<f32>(0.0);
-    if material.clearcoat_alpha > 0.0 {
+    if coat.alpha > 0.0 {
         let u1 = next_f32(rng);
         let u2 = next_f32(rng);
         u_micro = vec2<f32>(u1, u2);
     }
-    if u_choice >= clearcoat_reflectance(material.clearcoat, -dot(incoming, hit.shading)) {
+    if u_choice >= clearcoat_reflectance(coat.weight, -dot(incoming, hit.shading)) {
         return ClearcoatBounce(false, Scattered(vec3<f32>(0.0), 0.0));
     }
-    if material.clearcoat_alpha == 0.0 {
+    if coat.alpha == 0.0 {
         return ClearcoatBounce(true, Scattered(reflect_about(incoming, hit.shading), 1.0));
     }
-    return ClearcoatBounce(true, rough_reflection(hit, incoming, material.clearcoat_alpha, u_micro.x, u_micro.y));
+    return ClearcoatBounce(true, rough_reflection(hit, incoming, coat.alpha, u_micro.x, u_micro.y));
 }
 
 // cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.

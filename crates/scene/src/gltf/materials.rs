@@ -23,8 +23,10 @@
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).
 //! - `KHR_materials_clearcoat` → [`Clearcoat`] over every member: `clearcoatFactor` its
-//!   weight, `clearcoatRoughnessFactor` its GGX width (squared; smooth below 0.01); its
-//!   textures are not read (a warning). A factor of 0 is no coat.
+//!   weight, `clearcoatRoughnessFactor` its GGX width (squared; smooth below 0.01), each
+//!   multiplied per hit by its texture (`clearcoatTexture`'s red, `clearcoatRoughnessTexture`'s
+//!   green, linear data); `clearcoatNormalTexture` is not read (a warning). A factor of 0 is
+//!   no coat.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
 //!   warning (kousen has no partial transparency).
@@ -264,9 +266,43 @@ impl Materials {
             blend: None,
             dispersion,
             roughness_map: None,
-            clearcoat: clearcoat(&check, m, builder)?,
+            clearcoat: self.clearcoat(input, builder, &check, m)?,
         };
         Ok((material, members))
+    }
+
+    /// `KHR_materials_clearcoat` as a [`Clearcoat`] ([`clearcoat`]'s factors) with its
+    /// weight and roughness textures, decoded as linear data.
+    fn clearcoat(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        m: &json::Material,
+    ) -> Result<Option<Clearcoat>, SceneError> {
+        let Some(mut coat) = clearcoat(check, m, builder)? else {
+            return Ok(None);
+        };
+        let extension = m
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("KHR_materials_clearcoat"));
+        for name in ["clearcoatTexture", "clearcoatRoughnessTexture"] {
+            let Some(value) = extension.and_then(|e| e.get(name)) else {
+                continue;
+            };
+            let info: json::texture::Info = serde_json::from_value(value.clone()).map_err(|e| {
+                check.error(format!(
+                    "KHR_materials_clearcoat's {name} is not a texture: {e}"
+                ))
+            })?;
+            let id = self.texture(input, builder, TextureSlot::data(&info, name), check.label)?;
+            match name {
+                "clearcoatTexture" => coat.weight_texture = Some(id),
+                _ => coat.roughness_texture = Some(id),
+            }
+        }
+        Ok(Some(coat))
     }
 
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
@@ -604,7 +640,7 @@ fn has_specular_layer(m: &json::Material) -> bool {
 }
 
 /// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0); its
-/// textures are not read (a warning).
+/// normal texture is not read (a warning).
 fn clearcoat(
     check: &Check,
     m: &json::Material,
@@ -630,19 +666,11 @@ fn clearcoat(
     };
     let weight = factor("clearcoatFactor")?;
     let roughness = factor("clearcoatRoughnessFactor")?;
-    let textures: Vec<&str> = [
-        "clearcoatTexture",
-        "clearcoatRoughnessTexture",
-        "clearcoatNormalTexture",
-    ]
-    .into_iter()
-    .filter(|name| value.get(*name).is_some())
-    .collect();
-    if !textures.is_empty() {
+    if weight > 0.0 && value.get("clearcoatNormalTexture").is_some() {
         builder.warn(format!(
-            "{}: KHR_materials_clearcoat's {} not read (the coat takes its factors everywhere)",
-            check.label,
-            textures.join(", ")
+            "{}: KHR_materials_clearcoat's clearcoatNormalTexture not read (the coat follows \
+             the surface's own normal)",
+            check.label
         ));
     }
     Ok(Clearcoat::new(weight, roughness))

@@ -60,6 +60,66 @@ fn kd_becomes_diffuse_albedo_and_ke_emission() {
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }
 
+/// Materials neither mirror nor glass map as glTF's would: roughness from `Pr`, else from `Ns`
+/// as Blender writes it (1 − √(Ns / 1000)); a specular colour (or `Pr`) puts a coat of index
+/// `Ni` (1.5 where not above 1) over the albedo, Lambertian from roughness 0.5; `Pm` makes
+/// metal tinted by `Kd`, partly a blend; a material without `Ks` (or with a black one) or
+/// without a shininess stays Lambertian, its `map_Kd` kept under a coat.
+#[test]
+fn specular_colour_and_shininess_make_plastic_and_pm_metal() {
+    let dir = tempfile::tempdir().unwrap();
+    let mtl = "newmtl gloss\nillum 2\nKd 0.5 0.1 0.1\nKs 0.5 0.5 0.5\nNs 640\nNi 1.45\n\
+               newmtl satin\nillum 2\nKs 0.5 0.5 0.5\nNs 96\n\
+               newmtl dull\nillum 2\nKs 0 0 0\nNs 900\n\
+               newmtl plain\nKd 0.3 0.3 0.3\nKs 1 1 1\n\
+               newmtl unit\nKs 0.2 0.2 0.2\nNs 1000\nNi 1\n\
+               newmtl metal\nKd 0.9 0.7 0.3\nPr 0.3\nPm 1\n\
+               newmtl half\nKd 0.9 0.7 0.3\nPr 0.3\nPm 0.25\n";
+    let names = ["gloss", "satin", "dull", "plain", "unit", "metal", "half"];
+    let scene = load(dir.path(), &names, mtl);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let surface = |name| material(&scene, name).surface;
+    let roughness = 1.0 - (640.0f32 / 1000.0).sqrt();
+    assert_eq!(
+        surface("gloss"),
+        Surface::Plastic {
+            ior: 1.45,
+            alpha: roughness * roughness
+        }
+    );
+    assert_eq!(
+        material(&scene, "gloss").base_color,
+        Vec3::new(0.5, 0.1, 0.1)
+    );
+    assert_eq!(surface("satin"), Surface::Diffuse, "Ns 96: roughness 0.69");
+    assert_eq!(surface("dull"), Surface::Diffuse, "black Ks: no coat");
+    assert_eq!(surface("plain"), Surface::Diffuse, "no shininess");
+    assert_eq!(
+        surface("unit"),
+        Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.0
+        },
+        "Ns 1000 is smooth; Ni 1 is no index"
+    );
+    let rough_metal = Surface::RoughConductor { alpha: 0.3 * 0.3 };
+    assert_eq!(surface("metal"), rough_metal);
+    assert_eq!(
+        material(&scene, "metal").base_color,
+        Vec3::new(0.9, 0.7, 0.3)
+    );
+    let half = material(&scene, "half");
+    let blend = half.blend.expect("Pm 0.25 blends");
+    assert_eq!((half.surface, blend.weight), (rough_metal, 0.25));
+    assert_eq!(
+        scene.materials[blend.other as usize].surface,
+        Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.3 * 0.3
+        }
+    );
+}
+
 #[test]
 fn illum_3_and_5_are_mirrors_tinted_by_ks_else_kd() {
     let dir = tempfile::tempdir().unwrap();

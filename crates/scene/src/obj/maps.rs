@@ -110,7 +110,11 @@ pub(super) fn add_materials(
         if let Some(path) = emission {
             material.emission_texture = Some(textures.id(Source::File(path), builder));
         }
-        indices.push(builder.add_material(material));
+        indices.push(if plan.members.is_empty() {
+            builder.add_material(material)
+        } else {
+            builder.add_blend(material, &plan.members)
+        });
     }
     indices
 }

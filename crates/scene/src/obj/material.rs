@@ -23,6 +23,9 @@ pub(super) struct Plan {
     pub mask_map: Option<PathBuf>,
     /// `map_Ke`: sRGB emission.
     pub emission_map: Option<PathBuf>,
+    /// A metal part (`Pm` between 0 and 1): the blend's members with their probabilities
+    /// (`material.surface` is the first's); empty for one surface.
+    pub members: Vec<(f32, Surface)>,
 }
 
 /// Maps an MTL material. Non-finite numbers are an error; values out of range are clamped or
@@ -33,7 +36,8 @@ pub(super) fn plan(
     warnings: &mut Vec<String>,
 ) -> Result<Plan, String> {
     let mut notes = Vec::new();
-    let (surface, tint) = surface(m, &mut notes)?;
+    let (members, tint) = surface(m, &mut notes)?;
+    let surface = members[0].1;
     let ke = finite_rgb(m.emissive, "Ke")?;
     if ke.is_some_and(|ke| ke.min_element() < 0.0) {
         notes.push("negative Ke clamped to 0".into());
@@ -56,8 +60,17 @@ pub(super) fn plan(
             "map_Ke",
             &mut notes,
         ),
+        members: if members.len() > 1 {
+            members
+        } else {
+            Vec::new()
+        },
     };
-    if plan.base_color_map.is_some() && surface != Surface::Diffuse {
+    let coloured = matches!(
+        surface,
+        Surface::Diffuse | Surface::Plastic { .. } | Surface::RoughConductor { .. }
+    ) || !plan.members.is_empty();
+    if plan.base_color_map.is_some() && !coloured {
         notes.push("map_Kd ignored: the surface is a mirror or glass, not diffuse".into());
         plan.base_color_map = None;
     }
@@ -82,25 +95,82 @@ pub(super) fn plan(
     Ok(plan)
 }
 
-/// The surface kind by `illum`, with its colour: albedo, mirror reflectance or glass tint.
-fn surface(m: &tobj::Material, notes: &mut Vec<String>) -> Result<(Surface, Vec3), String> {
+/// The surface kind by `illum`, with its colour: albedo, mirror reflectance or glass tint;
+/// a metal part (`Pm`) makes a blend of surfaces with their probabilities (first: the metal).
+fn surface(
+    m: &tobj::Material,
+    notes: &mut Vec<String>,
+) -> Result<(Vec<(f32, Surface)>, Vec3), String> {
     let kd = finite_rgb(m.diffuse, "Kd")?;
     let ks = finite_rgb(m.specular, "Ks")?;
+    let one = |surface: Surface, tint: Vec3| (vec![(1.0, surface)], tint);
     Ok(match m.illumination_model {
         // "Reflection on, ray trace on" (5 adds Fresnel): the reflection colour is Ks.
-        Some(3 | 5) => (Surface::Mirror, mirror_tint(ks, kd)),
+        Some(3 | 5) => one(Surface::Mirror, mirror_tint(ks, kd)),
         // "Transparency: glass on" / "refraction on" variants: a solid dielectric.
         Some(4 | 6 | 7) => {
             let surface = Surface::Dielectric {
                 ior: dielectric_ior(m.optical_density, notes)?,
                 thin_walled: false,
             };
-            (surface, transmission_filter(m, notes)?.unwrap_or(Vec3::ONE))
+            one(surface, transmission_filter(m, notes)?.unwrap_or(Vec3::ONE))
         }
         _ => (
-            Surface::Diffuse,
+            glossy_members(m, ks, notes)?,
             kd.unwrap_or(Material::default().base_color),
         ),
+    })
+}
+
+/// A material that is neither mirror nor glass, as glTF's metal and dielectric would have it
+/// (`scene::metal_surface`, `scene::coated_surface`). Its roughness is the PBR extension's `Pr`
+/// where given, else Blender's inverse of `Ns` (`1 − √(Ns / 1000)`, Ns clamped to [0, 1000]);
+/// its metal part `Pm` (0 without). The dielectric wears a specular coat of index `Ni` (1.5
+/// where missing or not above 1) where `Ks` is not black or `Pr` is given, and is Lambertian
+/// otherwise, as it is where no roughness is given: classic MTL files (Phong's `Ks`, `Ns`)
+/// below `Ns` 250 and those without a specular colour render as before.
+fn glossy_members(
+    m: &tobj::Material,
+    ks: Option<Vec3>,
+    notes: &mut Vec<String>,
+) -> Result<Vec<(f32, Surface)>, String> {
+    let pbr = |key: &str, notes: &mut Vec<String>| -> Result<Option<f32>, String> {
+        let Some(text) = m.unknown_param.get(key) else {
+            return Ok(None);
+        };
+        let value: f32 = text
+            .split_whitespace()
+            .next()
+            .and_then(|w| w.parse().ok())
+            .ok_or_else(|| format!("{key} '{text}' is not a number"))?;
+        let value = finite(Some(value), key)?.unwrap_or(0.0);
+        if !(0.0..=1.0).contains(&value) {
+            notes.push(format!("{key} {value} clamped to [0, 1]"));
+        }
+        Ok(Some(value.clamp(0.0, 1.0)))
+    };
+    let pr = pbr("Pr", notes)?;
+    let metallic = pbr("Pm", notes)?.unwrap_or(0.0);
+    let shininess = finite(m.shininess, "Ns")?;
+    let roughness = pr.or(shininess.map(|ns| 1.0 - (ns.clamp(0.0, 1000.0) / 1000.0).sqrt()));
+    let specular = pr.is_some() || ks.is_some_and(|ks| ks.max_element() > 0.0);
+    let dielectric = match roughness {
+        Some(roughness) if specular => {
+            let ior = match finite(m.optical_density, "Ni")? {
+                Some(ior) if ior > 1.0 => ior,
+                _ => DEFAULT_IOR,
+            };
+            crate::coated_surface(ior, roughness)
+        }
+        _ => Surface::Diffuse,
+    };
+    let metal = crate::metal_surface(roughness.unwrap_or(0.5));
+    Ok(if metallic <= 0.0 {
+        vec![(1.0, dielectric)]
+    } else if metallic >= 1.0 {
+        vec![(1.0, metal)]
+    } else {
+        vec![(metallic, metal), (1.0 - metallic, dielectric)]
     })
 }
 

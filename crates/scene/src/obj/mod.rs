@@ -13,10 +13,16 @@
 //!     black, else white (both are used by exporters for the mirror colour);
 //!   - `illum` 4, 6, 7 → solid [`Surface::Dielectric`] with ior `Ni` (missing or below 1 →
 //!     1.5 with a warning), transmittance tint `Tf` if given, else white;
-//!   - anything else → [`Surface::Diffuse`] with albedo `Kd` (missing → 0.8), or the `map_Kd`
-//!     image (sRGB) when it loads. The map replaces `Kd` rather than multiplying it: exporters
-//!     such as 3ds Max write their default `Kd 0.588` beside every map, and glTF conversions
-//!     of those scenes use a factor of 1. `map_Kd` on a mirror or glass is ignored.
+//!   - anything else → glTF's metal and dielectric: roughness from the PBR extension's `Pr`,
+//!     else from `Ns` as Blender writes it (`1 − √(Ns / 1000)`); metal part `Pm` (a blend
+//!     where between 0 and 1; [`crate::metal_surface`] tinted by `Kd`); the dielectric is
+//!     plastic with a coat of index `Ni` (1.5 where missing or not above 1) where `Ks` is not
+//!     black or `Pr` is given, at that roughness ([`crate::coated_surface`]: Lambertian from
+//!     0.5, so `Ns` below 250), and [`Surface::Diffuse`] otherwise; albedo `Kd` (missing →
+//!     0.8), or the `map_Kd` image (sRGB) when it loads. The map replaces `Kd` rather than
+//!     multiplying it: exporters such as 3ds Max write their default `Kd 0.588` beside every
+//!     map, and glTF conversions of those scenes use a factor of 1. `map_Kd` on a mirror or
+//!     glass is ignored. `Ks`'s colour and strength are not used (glTF's coat is untinted).
 //!   - `Ke` → emitted radiance (front face only); `map_Ke` multiplies it (`Ke` missing → 1).
 //!   - `map_d` → [`AlphaMode::Mask`] with cutoff 0.5 on the base colour texture's alpha: the
 //!     `map_Kd` image itself when `map_d` names the same file and it has an alpha channel;

@@ -832,6 +832,39 @@ fn clearcoat_factors_are_read() {
     );
 }
 
+/// `KHR_materials_unlit`: the base colour becomes emission (factor and texture) and the
+/// surface reflects nothing, whatever its metallic or transmission factors; the quad is a
+/// light; the extension may be required.
+#[test]
+fn unlit_materials_emit_their_base_colour() {
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let material = doc.material(json!({
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [0.2, 0.4, 0.6, 1.0],
+            "baseColorTexture": { "index": 0 },
+            "metallicFactor": 0.5,
+        },
+        "extensions": {
+            "KHR_materials_unlit": {},
+            "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+        },
+    }));
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    doc.json["extensionsUsed"] = json!(["KHR_materials_unlit", "KHR_materials_transmission"]);
+    doc.json["extensionsRequired"] = json!(["KHR_materials_unlit"]);
+    let scene = doc.load().expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let unlit = &scene.materials[scene.triangles[0].material as usize];
+    assert_eq!(unlit.surface, Surface::Diffuse);
+    assert_eq!(unlit.blend, None);
+    assert_eq!(unlit.base_color, Vec3::ZERO);
+    assert_eq!(unlit.emission, Vec3::new(0.2, 0.4, 0.6));
+    assert_eq!(unlit.emission_texture, Some(0));
+    assert_eq!(scene.lights.triangles.len(), 2);
+}
+
 /// A quad whose material is `material` with image 0 ([`tiny_png`]) as its
 /// metallic-roughness texture: texel 0 reads roughness 0 and metalness 0, texel 1 roughness
 /// 128/255 and metalness 1.

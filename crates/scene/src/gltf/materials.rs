@@ -28,6 +28,8 @@
 //!   green, linear data); `clearcoatNormalTexture` is not read (a warning). A factor of 0 is
 //!   no coat.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
+//! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
+//!   nothing: a backdrop or sky dome lights the scene with what it shows.
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
 //!   warning (kousen has no partial transparency).
 //!
@@ -268,6 +270,12 @@ impl Materials {
             roughness_map: None,
             clearcoat: self.clearcoat(input, builder, &check, m)?,
         };
+        if is_unlit(m) {
+            return Ok((
+                unlit(material),
+                Members::plain(vec![(1.0, Surface::Diffuse)]),
+            ));
+        }
         Ok((material, members))
     }
 
@@ -637,6 +645,30 @@ fn mapped_members(
 fn has_specular_layer(m: &json::Material) -> bool {
     let specular = m.extensions.as_ref().and_then(|e| e.specular.as_ref());
     specular.is_none_or(|s| s.specular_factor.0 > 0.0)
+}
+
+/// Whether the material is `KHR_materials_unlit`.
+fn is_unlit(m: &json::Material) -> bool {
+    (m.extensions.as_ref()).is_some_and(|e| e.others.contains_key("KHR_materials_unlit"))
+}
+
+/// An unlit material (`KHR_materials_unlit`: its base colour is the colour it shows) as an
+/// emitter of that radiance which reflects nothing: the base colour factor and texture become
+/// its emission (which lights the scene, as a backdrop or a sky dome would), its albedo black;
+/// alpha cut-outs keep reading the base colour texture's alpha. Other lobes are dropped.
+fn unlit(material: Material) -> Material {
+    Material {
+        surface: Surface::Diffuse,
+        emission: material.base_color,
+        emission_texture: material.base_color_texture,
+        base_color: Vec3::ZERO,
+        clearcoat: None,
+        roughness_map: None,
+        normal_texture: None,
+        absorption: Vec3::ZERO,
+        dispersion: 0.0,
+        ..material
+    }
 }
 
 /// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0); its

@@ -46,13 +46,14 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_dispersion",
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_unlit",
     "KHR_materials_volume",
     "KHR_mesh_quantization",
     "KHR_texture_transform",

@@ -1,17 +1,18 @@
 //! Every material's plastic coat as the kernels look it up ([`Coats`]), shared by the CPU
-//! backend, the path tracer and the GPU upload (whose WGSL twin is `coat_at` in
-//! `shading.wgsl`).
+//! backend, the path tracer and the GPU upload (whose WGSL twins are `coat_transmittance_of`
+//! and `coat_diffuse_scale_of` in `shading.wgsl`).
 //!
 //! A coat's tables ([`Coat`]) depend on its GGX width: for ior 1.5 the base's scale falls from
 //! 1.10 (smooth) to 0.83 at roughness 0.49 and the transmittance at cosine 0.05 rises from
 //! 0.25 to 0.69. A coat that follows a metallic-roughness texture (`scene::TexturedLobe::
 //! Coated`) changes width texel by texel, so one table cannot stand for all of it: such a
-//! material gets a [`CoatGrid`], up to [`COAT_GRID_NODES`] tables evenly spaced in roughness
-//! (√α) over the rough part of its texture's range (`scene::RoughnessMap::roughness_range`),
-//! between which a hit's coat is interpolated linearly (table entry by entry, then in the
-//! cosine as [`Coat::transmittance`] does): within 0.7 % of the integrated coat between nodes
-//! away from grazing, 2.5 % at cosine 0.02 (evenly in α the first interval was 8 % off).
-//! Texels smoother than `scene::MIRROR_MAX_ROUGHNESS` take the smooth coat's exact Fresnel.
+//! material gets a [`CoatGrid`], [`COAT_GRID_NODES`] tables evenly spaced in roughness (√α)
+//! over the rough range, 0.01 to 0.5 (one table where its texture's range,
+//! `scene::RoughnessMap::roughness_range`, has a single rough width), between which a hit's
+//! coat is interpolated linearly (table entry by entry, then in the cosine as
+//! [`Coat::transmittance`] does): within 0.7 % of the integrated coat between nodes away from
+//! grazing, 2.5 % at cosine 0.02 (evenly in α the first interval was 8 % off). Texels
+//! smoother than `scene::MIRROR_MAX_ROUGHNESS` take the smooth coat's exact Fresnel.
 
 use std::collections::HashMap;
 
@@ -39,9 +40,13 @@ pub struct CoatGrid {
 }
 
 impl CoatGrid {
-    /// The grid of a coat of index `ior` whose texture reads roughness within `range`.
+    /// The grid of a coat of index `ior` whose texture reads roughness within `range`: one
+    /// node where the range's rough part is a single width (a uniform texture renders as its
+    /// factors), else the whole rough range, so that every texture of one index shares its
+    /// grid (a grid takes ~0.13 s; real textures' ranges all differ, and spanning each one's
+    /// own would cost a scene of many textured materials seconds).
     pub fn new(ior: f32, range: [f32; 2]) -> CoatGrid {
-        let [first_roughness, last_roughness] = rough_range(range);
+        let [first_roughness, last_roughness] = grid_range(range);
         let count = if last_roughness > first_roughness {
             COAT_GRID_NODES
         } else {
@@ -94,10 +99,16 @@ impl CoatGrid {
     }
 }
 
-/// The rough part of a texture's roughness `range`: within [`MIRROR_MAX_ROUGHNESS`],
-/// [`DIFFUSE_MIN_ROUGHNESS`].
-fn rough_range(range: [f32; 2]) -> [f32; 2] {
-    range.map(|r| r.clamp(MIRROR_MAX_ROUGHNESS, DIFFUSE_MIN_ROUGHNESS))
+/// The roughness a grid spans for a texture whose texels read within `range`: its rough part
+/// (within [`MIRROR_MAX_ROUGHNESS`], [`DIFFUSE_MIN_ROUGHNESS`]) where that is one width, else
+/// the whole of it.
+fn grid_range(range: [f32; 2]) -> [f32; 2] {
+    let [low, high] = range.map(|r| r.clamp(MIRROR_MAX_ROUGHNESS, DIFFUSE_MIN_ROUGHNESS));
+    if low == high {
+        [low, high]
+    } else {
+        [MIRROR_MAX_ROUGHNESS, DIFFUSE_MIN_ROUGHNESS]
+    }
 }
 
 /// Node `k`'s roughness: the last node lands on the range's end up to rounding.
@@ -138,7 +149,7 @@ impl Coats {
                     return None;
                 };
                 (map.lobe == TexturedLobe::Coated).then(|| {
-                    let [low, high] = rough_range(map.roughness_range);
+                    let [low, high] = grid_range(map.roughness_range);
                     grids_made
                         .entry([ior.to_bits(), low.to_bits(), high.to_bits()])
                         .or_insert_with(|| CoatGrid::new(ior, map.roughness_range))
@@ -290,8 +301,11 @@ mod tests {
         }];
         let coats = Coats::of(&materials);
         let grid = coats.grid(0).expect("a mapped coat has a grid");
-        assert_eq!(grid.first_roughness, 0.1);
-        assert!(close(grid.roughness_step, 0.02, 1e-5));
+        assert_eq!(
+            grid.first_roughness, MIRROR_MAX_ROUGHNESS,
+            "the whole rough range"
+        );
+        assert_eq!(grid.nodes.len(), COAT_GRID_NODES);
         let surface = Surface::Plastic {
             ior: 1.5,
             alpha: 0.16,

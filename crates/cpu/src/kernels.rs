@@ -127,8 +127,8 @@ pub fn photon_pass_with<R: StreamRng>(
         )
     {
         let reflected = reflected.map(|(next, weight)| {
-            let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
-                * departure_factor(next, hit.shading, hit.geometric);
+            let shading_factors = arrival_factor(-direction, hit.interpolated, hit.geometric)
+                * departure_factor(next, hit.interpolated, hit.geometric);
             (next, weight * shading_factors)
         });
         slot.depth += 1;
@@ -232,7 +232,9 @@ pub fn photon_pass_with<R: StreamRng>(
     // Out through the clear coat, if any.
     let next = next.map(|(next, weight)| {
         let departure = departure_factor(next, hit.shading, hit.geometric);
-        let coat = through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(hit.shading)));
+        let coat = through_coat.map_or(1.0, |c| {
+            clearcoat_transmittance(&c, next.dot(hit.interpolated))
+        });
         (next, weight * (arrival * departure * coat))
     });
     let survival = tint.max_element().min(1.0);
@@ -593,7 +595,9 @@ fn eye_path(
         };
         glossy = GlossyVertex::after(&hit, &lit, -direction, next);
         // Out through the clear coat, if any.
-        let coat = through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(hit.shading)));
+        let coat = through_coat.map_or(1.0, |c| {
+            clearcoat_transmittance(&c, next.dot(hit.interpolated))
+        });
         throughput *= tint * (weight * coat);
         if throughput.max_element() <= 0.0 {
             break;
@@ -678,11 +682,10 @@ impl LitLobes {
                 response += self.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
             }
         }
-        // In through the clear coat, if any.
-        response
-            * self
-                .clearcoat
-                .map_or(1.0, |c| clearcoat_transmittance(&c, cosine))
+        // In through the clear coat, if any (about the normal before the map).
+        let through =
+            |c: scene::Clearcoat| clearcoat_transmittance(&c, incident.dot(hit.interpolated));
+        response * self.clearcoat.map_or(1.0, through)
     }
 }
 

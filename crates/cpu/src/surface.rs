@@ -33,6 +33,9 @@ pub struct SurfaceHit {
     /// Unit shading normal on the ray's side: interpolated, then bent by the material's normal
     /// map if it has one (the geometric one where that turns it below the surface).
     pub shading: Vec3,
+    /// The same before the normal map: the interpolated normal, which a clear coat over the
+    /// material follows (glTF's coat has a normal of its own).
+    pub interpolated: Vec3,
     pub uv: Vec2,
     pub material: u32,
     /// Whether the ray met the triangle's front (counter-clockwise) face.
@@ -76,7 +79,8 @@ pub fn trace_within(
         normals,
         barycentric,
     );
-    let mut shading = interpolated.normalize_or(geometric);
+    let unit_interpolated = interpolated.normalize_or(geometric);
+    let mut shading = unit_interpolated;
     let uvs = [a.uv, b.uv, c.uv];
     let uv = uv_at(uvs, hit.u, hit.v);
     let material = &scene.materials[triangle.material as usize];
@@ -87,8 +91,12 @@ pub fn trace_within(
     let front = direction.dot(geometric) < 0.0;
     let side = if front { 1.0 } else { -1.0 };
     let (geometric, mut shading) = (side * geometric, side * shading);
+    let mut interpolated = side * unit_interpolated;
     if shading.dot(geometric) <= 0.0 {
         shading = geometric;
+    }
+    if interpolated.dot(geometric) <= 0.0 {
+        interpolated = geometric;
     }
     Some(SurfaceHit {
         position,
@@ -96,6 +104,7 @@ pub fn trace_within(
         distance: hit.t,
         geometric,
         shading,
+        interpolated,
         uv,
         material: triangle.material,
         front,
@@ -311,8 +320,8 @@ pub fn specular_direction(
     Some((direction, 1.0))
 }
 
-/// glTF's clear coat at `hit` (`render::clearcoat::clearcoat_event`): `None` where it lets
-/// the ray through to the surface beneath; else its reflection as a mirror's or, rough, as
+/// glTF's clear coat at `hit` (`render::clearcoat::clearcoat_event`, about the hit's normal
+/// before any normal map): `None` where it lets the ray through to the surface beneath; else its reflection as a mirror's or, rough, as
 /// rough metal's (inside: `None` where the path ends).
 pub fn clearcoat_bounce(
     hit: &SurfaceHit,
@@ -320,7 +329,7 @@ pub fn clearcoat_bounce(
     coat: &scene::Clearcoat,
     u: [f32; 3],
 ) -> Option<Option<(Vec3, f32)>> {
-    match clearcoat_event(incoming, hit.shading, coat, u) {
+    match clearcoat_event(incoming, hit.interpolated, coat, u) {
         ClearcoatEvent::Through => None,
         ClearcoatEvent::Reflected(next) => Some(next.filter(|(next, _)| {
             // Bent below the geometric surface by the shading normal: it would leak through.

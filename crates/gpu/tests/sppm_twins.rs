@@ -774,7 +774,8 @@ fn every_kernel_matches_its_twin_under_clear_coats() {
 
 /// The same with the floor's coat textured (`render::clearcoat::clearcoat_at`): a checker of
 /// weight 0.2 or 1 (red) and roughness 0.3 or 1 times a factor of 0.4 (green), so that hits
-/// meet a smooth or a rough coat of either weight.
+/// meet a smooth or a rough coat of either weight; the floor beneath is normal-mapped (dimples),
+/// which the coat does not follow (`SurfaceHit::interpolated`).
 #[test]
 fn every_kernel_matches_its_twin_under_textured_clear_coats() {
     let mut scene = scene::testing::cornell_clearcoat();
@@ -803,6 +804,9 @@ fn every_kernel_matches_its_twin_under_textured_clear_coats() {
         roughness_texture: Some(texture),
         ..scene::Clearcoat::new(1.0, 0.4).unwrap()
     };
+    let dimples = scene.textures.len() as u32;
+    scene.textures.push(scene::testing::dimple_normal_map(32));
+    scene.materials[floor as usize].normal_texture = Some(dimples);
     for triangle in scene.triangles.iter_mut().filter(|t| t.material == floor) {
         for v in &mut triangle.vertices {
             v.uv = glam::Vec2::new(v.position.x, v.position.z) / 140.0;

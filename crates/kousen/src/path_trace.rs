@@ -86,6 +86,8 @@ struct SurfacePoint {
     geometric: Vec3,
     /// Unit interpolated normal (bent by a normal map), front face.
     shading: Vec3,
+    /// The same before the normal map, which a clear coat follows.
+    interpolated: Vec3,
     uv: Vec2,
     material: u32,
 }
@@ -135,8 +137,9 @@ struct LitLobes<'a> {
     /// The glossy lobe's tint (a metal's colour; 1 for a coat); zero where there is none.
     glossy: Vec3,
     lobe: GlossyLobe,
-    /// glTF's clear coat over both lobes, which the light passes on its way in.
-    clearcoat: Option<scene::Clearcoat>,
+    /// glTF's clear coat over both lobes, which the light passes on its way in, and the normal
+    /// it follows (the shading one before the normal map, facing the path).
+    clearcoat: Option<(scene::Clearcoat, Vec3)>,
 }
 
 impl<'a> LitLobes<'a> {
@@ -239,10 +242,10 @@ impl<'a> LitLobes<'a> {
             }
         }
         // In through the clear coat, if any.
-        response
-            * self
-                .clearcoat
-                .map_or(1.0, |c| clearcoat_transmittance(&c, cosine))
+        let through = |(c, normal): (scene::Clearcoat, Vec3)| {
+            clearcoat_transmittance(&c, incident.dot(normal))
+        };
+        response * self.clearcoat.map_or(1.0, through)
     }
 }
 
@@ -348,9 +351,9 @@ impl<'a> PathTracer<'a> {
                 .map(|c| clearcoat_at(&c, |id| self.texture(Some(id), point.uv)));
             if let Some(coat) = through_coat {
                 let u = clearcoat_numbers(&coat, || rng.next_f32());
-                let (geometric, shading) = facing_normals(&point, front);
+                let (geometric, coat_normal) = facing_interpolated_normals(&point, front);
                 if let ClearcoatEvent::Reflected(reflected) =
-                    clearcoat_event(direction, shading, &coat, u)
+                    clearcoat_event(direction, coat_normal, &coat, u)
                 {
                     let kept = |next: &Vec3| coat.alpha == 0.0 || next.dot(geometric) > 0.0;
                     let Some((next, weight)) = reflected.filter(|(next, _)| kept(next)) else {
@@ -403,7 +406,7 @@ impl<'a> PathTracer<'a> {
                 &dispersed
             };
             let lit = LitLobes {
-                clearcoat: through_coat,
+                clearcoat: through_coat.map(|c| (c, facing_interpolated_normals(&point, front).1)),
                 ..LitLobes::of(lobes_of, &coat, tint, (-direction, shading), front)
             };
             if lit.is_lit() && !self.lights.is_empty() {
@@ -414,9 +417,10 @@ impl<'a> PathTracer<'a> {
             let Some((next, weight, lobe)) = scattered else {
                 break;
             };
-            // Out through the clear coat, if any.
+            // Out through the clear coat, if any (about the normal before the map).
+            let coat_normal = facing_interpolated_normals(&point, front).1;
             let weight = weight
-                * through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(shading)));
+                * through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(coat_normal)));
             arrival = match lobe {
                 // Light samples (the sky's hemisphere) were drawn about the lobe's facing side.
                 Lobe::LightSampled { pdf } => Arrival::Sampled {
@@ -626,7 +630,8 @@ impl<'a> PathTracer<'a> {
             normals,
             barycentric,
         );
-        let mut shading = interpolated.try_normalize().unwrap_or(geometric);
+        let unit_interpolated = interpolated.try_normalize().unwrap_or(geometric);
+        let mut shading = unit_interpolated;
         let uv = w * a.uv + hit.u * b.uv + hit.v * c.uv;
         let material = &self.materials[triangle.material as usize];
         if let Some(map) = material.normal_texture {
@@ -639,6 +644,7 @@ impl<'a> PathTracer<'a> {
             shadow_origin,
             geometric,
             shading,
+            interpolated: unit_interpolated,
             uv,
             material: triangle.material,
         })
@@ -819,6 +825,16 @@ fn facing_normals(point: &SurfacePoint, front: bool) -> (Vec3, Vec3) {
     } else {
         (geometric, shading)
     }
+}
+
+/// The geometric normal and the shading normal before the normal map, facing the path as
+/// [`facing_normals`] turns them.
+fn facing_interpolated_normals(point: &SurfacePoint, front: bool) -> (Vec3, Vec3) {
+    let unmapped = SurfacePoint {
+        shading: point.interpolated,
+        ..*point
+    };
+    facing_normals(&unmapped, front)
 }
 
 /// The lobe a scattered direction was drawn from.

@@ -300,8 +300,8 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
             response += lit.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
     }
-    // In through the clear coat, if any.
-    return response * clearcoat_transmittance(lit.clearcoat, cosine);
+    // In through the clear coat, if any (about the normal before the map).
+    return response * clearcoat_transmittance(lit.clearcoat, dot(incident, hit.interpolated));
 }
 
 // cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
@@ -446,8 +446,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         coat_weight = clearcoat.weight;
         let coat = clearcoat_bounce(clearcoat, hit, direction, &rng);
         if coat.reflected {
-            let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
-                * departure_factor(coat.bounce.direction, hit.shading, hit.geometric);
+            let shading_factors = arrival_factor(-direction, hit.interpolated, hit.geometric)
+                * departure_factor(coat.bounce.direction, hit.interpolated, hit.geometric);
             let coat_weight = coat.bounce.weight * shading_factors;
             slot.depth += 1u;
             if coat_weight > 0.0 && slot.depth < params.max_depth {
@@ -543,7 +543,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         wavelength = dispersed.wavelength;
     }
     // Out through the clear coat, if any.
-    let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, hit.shading));
+    let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, hit.interpolated));
     weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric) * out_of_coat);
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
@@ -847,7 +847,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         }
         glossy = glossy_after(hit, lit, -direction, bounce.direction);
         // Out through the clear coat, if any.
-        let out_of_coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.shading));
+        let out_of_coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.interpolated));
         throughput *= bounce_tint * (bounce.weight * out_of_coat);
         if max3(throughput) <= 0.0 {
             break;

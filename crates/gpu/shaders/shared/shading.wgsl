@@ -183,6 +183,8 @@ struct SurfaceHit {
     distance: f32,
     geometric: vec3<f32>,
     shading: vec3<f32>,
+    // cpu::surface::SurfaceHit::interpolated: the shading normal before the normal map.
+    interpolated: vec3<f32>,
     uv: vec2<f32>,
     material: u32,
     front: bool,
@@ -319,7 +321,8 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     if dot(interpolated, direction) < 0.0 {
         result.shadow_origin = smooth_position(result.position, a.position, b.position, c.position, normal_a, normal_b, normal_c, vec3<f32>(w, hit.u, hit.v));
     }
-    var shading = normalize_or(interpolated, geometric);
+    let unit_interpolated = normalize_or(interpolated, geometric);
+    var shading = unit_interpolated;
     let uv_a = vec2<f32>(a.u, a.v);
     let uv_b = vec2<f32>(b.u, b.v);
     let uv_c = vec2<f32>(c.u, c.v);
@@ -338,6 +341,13 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     result.shading = side * shading;
     if dot(result.shading, result.geometric) <= 0.0 {
         result.shading = result.geometric;
+    }
+    result.interpolated = result.shading;
+    if NORMAL_MAPS {
+        result.interpolated = side * unit_interpolated;
+        if dot(result.interpolated, result.geometric) <= 0.0 {
+            result.interpolated = result.geometric;
+        }
     }
     result.distance = hit.t;
     result.uv = uv;
@@ -801,15 +811,17 @@ fn clearcoat_at(material: GpuMaterial, uv: vec2<f32>) -> Clearcoat {
     return Clearcoat(material.clearcoat * clamp(weight_texel, 0.0, 1.0), alpha);
 }
 
-// cpu::surface::clearcoat_bounce (render::clearcoat::clearcoat_event, its numbers drawn as
-// clearcoat_numbers does): `reflected` where the coat reflects the ray (weight 0 where the path
-// ends), otherwise it passes to the surface beneath.
+// cpu::surface::clearcoat_bounce (render::clearcoat::clearcoat_event about the normal before
+// the normal map, its numbers drawn as clearcoat_numbers does): `reflected` where the coat
+// reflects the ray (weight 0 where the path ends), otherwise it passes to the surface beneath.
 struct ClearcoatBounce {
     reflected: bool,
     bounce: Scattered,
 }
 
-fn clearcoat_bounce(coat: Clearcoat, hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> ClearcoatBounce {
+fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> ClearcoatBounce {
+    var hit = surface_hit;
+    hit.shading = surface_hit.interpolated;
     let u_choice = next_f32(rng);
     var u_micro = vec2<f32>(0.0);
     if coat.alpha > 0.0 {

@@ -343,3 +343,66 @@ fn quantized_attributes_load_as_their_floats() {
     let message = error_of(quantized(false));
     assert_mentions(&message, &["POSITION", "VEC3 of FLOAT", "SHORT"]);
 }
+
+/// `EXT_mesh_gpu_instancing`: a node draws its mesh once per instance, each instance's T·R·S
+/// applied in the node's space before the node's own transform; missing attributes are the
+/// identity's; attributes of different lengths are an error; the extension may be required.
+#[test]
+fn gpu_instances_place_copies_of_the_mesh() {
+    let instanced = |translations: &[[f32; 3]], with_rotation_and_scale: bool| {
+        let mut doc = Doc::default();
+        let position = doc.vec3s(&TRIANGLE);
+        let mesh = doc.push(
+            "meshes",
+            json!({ "primitives": [{ "attributes": { "POSITION": position } }] }),
+        );
+        let translation = doc.vec3s(translations);
+        let mut attributes = json!({ "TRANSLATION": translation });
+        if with_rotation_and_scale {
+            // Instance 2 turned 90° about z, instance 1 scaled by 2.
+            let h = std::f32::consts::FRAC_1_SQRT_2;
+            let rotations: Vec<u8> = [[0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, h, h]]
+                .iter()
+                .flatten()
+                .flat_map(|x: &f32| x.to_le_bytes())
+                .collect();
+            attributes["ROTATION"] = json!(doc.accessor(&rotations, FLOAT, 3, "VEC4"));
+            attributes["SCALE"] = json!(doc.vec3s(&[[1.0; 3], [2.0; 3], [1.0; 3]]));
+        }
+        let node = doc.node(json!({
+            "mesh": mesh,
+            "translation": [10.0, 0.0, 0.0],
+            "extensions": { "EXT_mesh_gpu_instancing": { "attributes": attributes } },
+        }));
+        doc.add_root(node);
+        doc.json["extensionsUsed"] = json!(["EXT_mesh_gpu_instancing"]);
+        doc.json["extensionsRequired"] = json!(["EXT_mesh_gpu_instancing"]);
+        doc.load()
+    };
+    let scene = instanced(&[[0.0; 3], [2.0, 0.0, 0.0], [0.0, 0.0, 5.0]], true).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.triangles.len(), 3);
+    let mut placed = positions(&scene);
+    placed.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
+    let mut expected: Vec<Vec3> = [
+        // Instance 0: the triangle moved by the node.
+        [[10.0, 0.0, 0.0], [11.0, 0.0, 0.0], [10.0, 1.0, 0.0]],
+        // Instance 1: scaled by 2, moved by 2, then by the node.
+        [[12.0, 0.0, 0.0], [14.0, 0.0, 0.0], [12.0, 2.0, 0.0]],
+        // Instance 2: turned 90° about z (x → y, y → −x), moved by 5 in z, then by the node.
+        [[10.0, 0.0, 5.0], [10.0, 1.0, 5.0], [9.0, 0.0, 5.0]],
+    ]
+    .iter()
+    .flatten()
+    .map(|p| Vec3::from(*p))
+    .collect();
+    expected.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
+    for (a, b) in placed.iter().zip(&expected) {
+        assert_close(*a, *b);
+    }
+    let translated_only = instanced(&[[0.0; 3], [0.0, 3.0, 0.0]], false).expect("loads");
+    assert_eq!(translated_only.triangles.len(), 2);
+    // Two translations against three rotations and scales.
+    let message = error_of(instanced(&[[0.0; 3], [1.0, 0.0, 0.0]], true));
+    assert_mentions(&message, &["EXT_mesh_gpu_instancing", "2", "3"]);
+}

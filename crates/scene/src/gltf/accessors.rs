@@ -6,7 +6,7 @@
 //! also be integers (dequantized here; the nodes' transforms scale them), as that extension
 //! allows.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use ::gltf::json;
 use json::accessor::{ComponentType, Type};
@@ -32,6 +32,10 @@ pub(super) enum Semantic {
     TexCoord,
     /// SCALAR of UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT.
     Indices,
+    /// `EXT_mesh_gpu_instancing`'s TRANSLATION and SCALE: VEC3 of FLOAT.
+    InstanceVector,
+    /// Its ROTATION: VEC4 of FLOAT, or of normalized BYTE / SHORT (a quaternion).
+    InstanceRotation,
 }
 
 impl Semantic {
@@ -58,6 +62,11 @@ impl Semantic {
                         || (quantized && small))
             }
             Semantic::Indices => ty == Type::Scalar && matches!(component, U8 | U16 | U32),
+            Semantic::InstanceVector => ty == Type::Vec3 && component == F32,
+            Semantic::InstanceRotation => {
+                ty == Type::Vec4
+                    && (component == F32 || (normalized && matches!(component, I8 | I16)))
+            }
         }
     }
 
@@ -75,6 +84,8 @@ impl Semantic {
                 "VEC2 of FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT"
             }
             (Semantic::Indices, _) => "SCALAR of UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT",
+            (Semantic::InstanceVector, _) => "VEC3 of FLOAT",
+            (Semantic::InstanceRotation, _) => "VEC4 of FLOAT or of normalized BYTE/SHORT",
         }
     }
 }
@@ -145,33 +156,31 @@ pub(super) fn count(
     Ok(elements.count)
 }
 
-/// Reads a VEC3 accessor (POSITION, NORMAL). `role` says where it is used, for errors.
-/// Non-finite positions are an error; non-finite normals are left to the builder, which
-/// replaces them by the geometric normal.
+/// Reads a VEC3 accessor (POSITION, NORMAL, an instance's TRANSLATION or SCALE). `role` says
+/// where it is used, for errors. Non-finite positions and instance vectors are an error;
+/// non-finite normals are left to the builder, which replaces them by the geometric normal.
 pub(super) fn read_vec3(
     input: &Input,
     index: usize,
     semantic: Semantic,
     role: &str,
 ) -> Result<Vec<Vec3>, SceneError> {
-    let context = || format!("accessor {index} ({role})");
-    let elements = elements(input, index, semantic).context(context)?;
-    let mut values = Vec::with_capacity(elements.count);
-    for i in 0..elements.count {
-        let v = Vec3::new(
-            elements.float(i, 0),
-            elements.float(i, 1),
-            elements.float(i, 2),
-        );
-        if semantic == Semantic::Position && !v.is_finite() {
-            return Err(input.error(format!(
-                "{}: vertex {i} has a non-finite position {v}",
-                context()
-            )));
-        }
-        values.push(v);
-    }
-    Ok(values)
+    let must_be_finite = matches!(semantic, Semantic::Position | Semantic::InstanceVector);
+    read_finite(
+        input,
+        index,
+        semantic,
+        role,
+        must_be_finite,
+        "a non-finite position",
+    )
+}
+
+/// Reads an `EXT_mesh_gpu_instancing` ROTATION accessor as quaternions (x, y, z, w); every
+/// component must be finite.
+pub(super) fn read_vec4(input: &Input, index: usize, role: &str) -> Result<Vec<Vec4>, SceneError> {
+    let semantic = Semantic::InstanceRotation;
+    read_finite(input, index, semantic, role, true, "a non-finite rotation")
 }
 
 /// Reads a TEXCOORD accessor; every coordinate must be finite.
@@ -180,18 +189,69 @@ pub(super) fn read_texcoords(
     index: usize,
     role: &str,
 ) -> Result<Vec<Vec2>, SceneError> {
+    let semantic = Semantic::TexCoord;
+    read_finite(
+        input,
+        index,
+        semantic,
+        role,
+        true,
+        "a non-finite texture coordinate",
+    )
+}
+
+/// A vector of floats read from an accessor, `N` components an element.
+trait FloatVector: Sized + std::fmt::Display {
+    fn from_components(read: impl Fn(usize) -> f32) -> Self;
+    fn is_finite(&self) -> bool;
+}
+
+impl FloatVector for Vec2 {
+    fn from_components(read: impl Fn(usize) -> f32) -> Self {
+        Vec2::new(read(0), read(1))
+    }
+    fn is_finite(&self) -> bool {
+        Vec2::is_finite(*self)
+    }
+}
+
+impl FloatVector for Vec3 {
+    fn from_components(read: impl Fn(usize) -> f32) -> Self {
+        Vec3::new(read(0), read(1), read(2))
+    }
+    fn is_finite(&self) -> bool {
+        Vec3::is_finite(*self)
+    }
+}
+
+impl FloatVector for Vec4 {
+    fn from_components(read: impl Fn(usize) -> f32) -> Self {
+        Vec4::new(read(0), read(1), read(2), read(3))
+    }
+    fn is_finite(&self) -> bool {
+        Vec4::is_finite(*self)
+    }
+}
+
+/// Reads accessor `index` as `semantic`, element by element; where `must_be_finite`, a
+/// non-finite element is an error saying the vertex has `what`.
+fn read_finite<V: FloatVector>(
+    input: &Input,
+    index: usize,
+    semantic: Semantic,
+    role: &str,
+    must_be_finite: bool,
+    what: &str,
+) -> Result<Vec<V>, SceneError> {
     let context = || format!("accessor {index} ({role})");
-    let elements = elements(input, index, Semantic::TexCoord).context(context)?;
+    let elements = elements(input, index, semantic).context(context)?;
     let mut values = Vec::with_capacity(elements.count);
     for i in 0..elements.count {
-        let uv = Vec2::new(elements.float(i, 0), elements.float(i, 1));
-        if !uv.is_finite() {
-            return Err(input.error(format!(
-                "{}: vertex {i} has a non-finite texture coordinate {uv}",
-                context()
-            )));
+        let v = V::from_components(|k| elements.float(i, k));
+        if must_be_finite && !v.is_finite() {
+            return Err(input.error(format!("{}: vertex {i} has {what} {v}", context())));
         }
-        values.push(uv);
+        values.push(v);
     }
     Ok(values)
 }

@@ -27,6 +27,7 @@ mod accessors;
 mod buffers;
 mod cameras;
 mod container;
+mod instancing;
 mod lights;
 pub mod materials;
 mod meshes;
@@ -46,7 +47,8 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
+    "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_dispersion",
@@ -231,7 +233,7 @@ fn check_budget(input: &Input, roots: &[usize]) -> Result<(), SceneError> {
             let Some(count) = instances.get_mut(mesh.value()) else {
                 return Err(missing_mesh(input, node, mesh.value()));
             };
-            *count += 1;
+            *count = count.saturating_add(instancing::instance_count(input, node)?);
         }
     }
     let (mut triangles, mut vertices) = (0u64, 0u64);
@@ -292,7 +294,14 @@ impl Loader<'_> {
             lights::place(self.input, &mut self.builder, index, light, world, warned)?;
         }
         if let Some(mesh) = node.mesh {
-            self.mesh(index, mesh.value(), world)?;
+            match instancing::instances(self.input, index)? {
+                Some(instances) => {
+                    for instance in instances {
+                        self.mesh(index, mesh.value(), &(*world * instance))?;
+                    }
+                }
+                None => self.mesh(index, mesh.value(), world)?,
+            }
         }
         if node.skin.is_some() && !self.warned_skins {
             self.warned_skins = true;

@@ -44,7 +44,9 @@ pub struct SceneData {
 
 impl SceneData {
     pub fn new(scene: &Scene, bvh: bvh::PackedBvh) -> SceneData {
-        let nesting = render::nesting::Nesting::of(scene);
+        // One medium locator serves the nesting and the lights (`render::medium`).
+        let locator = render::medium::MediumLocator::new(scene);
+        let nesting = render::nesting::Nesting::of_with(scene, &locator);
         SceneData {
             wide: bvh::WideMtbvh::new(&bvh).ok(),
             bvh,
@@ -52,7 +54,7 @@ impl SceneData {
             materials: nesting.materials,
             exterior: nesting.exterior,
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
-            lights: render::emission::light_table(scene),
+            lights: render::emission::light_table_with(scene, &locator),
             light_area_density: render::emission::light_area_density(scene),
         }
     }

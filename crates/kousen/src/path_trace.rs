@@ -20,7 +20,7 @@ use render::clearcoat::{
 use render::coats::Coats;
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
-    light_area_density, light_table, light_table_triangles, triangle_barycentrics,
+    light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
 };
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
@@ -256,14 +256,16 @@ impl<'a> PathTracer<'a> {
             .materials
             .iter()
             .any(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }));
-        let nesting = render::nesting::Nesting::of(scene);
+        // One medium locator serves the nesting, the lights and the camera.
+        let locator = MediumLocator::new(scene);
+        let nesting = render::nesting::Nesting::of_with(scene, &locator);
         PathTracer {
-            camera_medium: MediumLocator::new(scene).medium_at(camera.eye),
+            camera_medium: locator.medium_at(camera.eye),
             scene,
             wide: bvh::WideMtbvh::new(bvh).ok(),
             bvh,
             camera,
-            lights: light_table(scene),
+            lights: light_table_with(scene, &locator),
             light_triangles: light_table_triangles(scene),
             light_area_density: light_area_density(scene),
             coats: Coats::of(&nesting.materials),

@@ -22,6 +22,11 @@ use crate::sampling::{
 /// with the solid its paths start in (`crate::medium`). Empty if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
 /// same for power).
 pub fn light_table(scene: &Scene) -> Vec<Light> {
+    light_table_with(scene, &crate::medium::MediumLocator::new(scene))
+}
+
+/// [`light_table`] with the scene's `locator` built already (one build serves a render).
+pub fn light_table_with(scene: &Scene, locator: &crate::medium::MediumLocator) -> Vec<Light> {
     let weight = pick_weight;
     let triangles = scene.lights.triangles.iter().map(|l| {
         let triangle = &scene.triangles[l.triangle as usize];
@@ -70,7 +75,7 @@ pub fn light_table(scene: &Scene) -> Vec<Light> {
         last.cdf = 1.0;
     }
     // Where each light's paths start: a lamp may be inside water or glass.
-    crate::medium::MediumLocator::new(scene).set_light_media(&mut table);
+    locator.set_light_media(&mut table);
     table
 }
 

@@ -11,7 +11,7 @@ use scene::{Camera, Scene};
 
 use crate::backend::{Backend, BackendError, Setup};
 use crate::buffers::SppmParams;
-use crate::emission::light_table;
+use crate::emission::light_table_with;
 use crate::medium::MediumLocator;
 use crate::settings::{Budget, INITIAL_RADIUS_FOOTPRINTS, Settings, SettingsError};
 use crate::{Image, resolve};
@@ -128,6 +128,17 @@ pub fn initial_radius_in_footprints(
 
 /// The render-wide constants for a scene, camera and settings.
 pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) -> SppmParams {
+    params_with(scene, camera, settings, lights, &MediumLocator::new(scene))
+}
+
+/// [`params`] with the scene's `locator` built already (one build serves a render).
+pub fn params_with(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &Settings,
+    lights: u32,
+    locator: &MediumLocator,
+) -> SppmParams {
     let tan_half = (0.5 * camera.yfov).tan();
     let aspect = settings.width as f32 / settings.height as f32;
     SppmParams {
@@ -164,7 +175,7 @@ pub fn params(scene: &Scene, camera: &Camera, settings: &Settings, lights: u32) 
         eye_every: settings.eye_every,
         indirect_alpha: settings.indirect_alpha,
         // Eye paths start where the camera is: under water, say.
-        camera_medium: MediumLocator::new(scene).medium_at(camera.eye),
+        camera_medium: locator.medium_at(camera.eye),
         photon_classes: crate::hash::classes_for(
             scene.materials.iter().any(|m| m.dispersion > 0.0),
             settings.photons,
@@ -200,7 +211,8 @@ impl<B: Backend> Sppm<B> {
         settings: Settings,
     ) -> Result<Sppm<B>, RenderError> {
         settings.validate()?;
-        let lights = light_table(scene);
+        let locator = MediumLocator::new(scene);
+        let lights = light_table_with(scene, &locator);
         if lights.is_empty() {
             return Err(RenderError::NoLights);
         }
@@ -210,7 +222,7 @@ impl<B: Backend> Sppm<B> {
         let setup = Setup {
             params: SppmParams {
                 storage_flux_scale: crate::half_storage::flux_scale(&lights),
-                ..params(scene, camera, &settings, lights.len() as u32)
+                ..params_with(scene, camera, &settings, lights.len() as u32, &locator)
             },
             lights,
             initial_radius: radius,

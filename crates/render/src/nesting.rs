@@ -34,11 +34,15 @@ impl Nesting {
     /// The scene's nesting, found by [`MediumLocator`] from points just off the front of
     /// up to [`SAMPLES_PER_MATERIAL`] triangles of each material (the most frequent answer).
     pub fn of(scene: &Scene) -> Nesting {
+        Nesting::of_with(scene, &MediumLocator::new(scene))
+    }
+
+    /// [`Nesting::of`] with the scene's `locator` built already (one build serves a render).
+    pub fn of_with(scene: &Scene, locator: &MediumLocator) -> Nesting {
         let count = scene.materials.len();
         let mut exterior = vec![NO_MEDIUM; count];
         let any_solid = (0..count as u32).any(|id| is_solid(&scene.materials, id));
         if any_solid {
-            let locator = MediumLocator::new(scene);
             let mut by_material: Vec<Vec<usize>> = vec![Vec::new(); count];
             for (index, triangle) in scene.triangles.iter().enumerate() {
                 by_material[triangle.material as usize].push(index);

@@ -11,7 +11,7 @@ use render::buffers::{
     HASH_ENTRY_WORDS, MAX_PASS_THROUGHS, PathSlot, Photon, PixelStats, RAY_T_MAX, SAMPLE_AT_GLOSSY,
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
-use render::clearcoat::{clearcoat_at, clearcoat_numbers, clearcoat_transmittance};
+use render::clearcoat::clearcoat_transmittance;
 use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
@@ -34,9 +34,9 @@ use scene::{Material, Surface};
 use crate::SceneData;
 use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, clearcoat_bounce, dielectric_branches,
-    diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, is_cut_out,
+    diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, hit_clearcoat, is_cut_out,
     medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
-    specular_direction, texture, trace, transmittance_to, unoccluded,
+    specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -116,15 +116,9 @@ pub fn photon_pass_with<R: StreamRng>(
     }
     // glTF's clear coat over the material meets the photon first (`render::clearcoat`): what
     // it reflects is not kept on the surface beneath and goes on as from a mirror.
-    let through_coat = (material.clearcoat)
-        .map(|c| clearcoat_at(&c, |id| texture(&scene.textures, Some(id), hit.uv)));
+    let through_coat = hit_clearcoat(scene, material, hit.uv);
     if let Some(coat) = through_coat
-        && let Some(reflected) = clearcoat_bounce(
-            &hit,
-            direction,
-            &coat,
-            clearcoat_numbers(&coat, || rng.next_f32()),
-        )
+        && let Some(reflected) = clearcoat_bounce(&hit, direction, &coat, || rng.next_f32())
     {
         let reflected = reflected.map(|(next, weight)| {
             let shading_factors = arrival_factor(-direction, hit.interpolated, hit.geometric)
@@ -437,15 +431,9 @@ fn eye_path(
         emission_share = 1.0;
         // glTF's clear coat over the material meets the path first (`render::clearcoat`): its
         // reflection goes on as a mirror's (no light sample: emission met next counts whole).
-        let through_coat = (material.clearcoat)
-            .map(|c| clearcoat_at(&c, |id| texture(&scene.textures, Some(id), hit.uv)));
+        let through_coat = hit_clearcoat(scene, material, hit.uv);
         if let Some(coat) = through_coat
-            && let Some(reflected) = clearcoat_bounce(
-                &hit,
-                direction,
-                &coat,
-                clearcoat_numbers(&coat, || rng.next_f32()),
-            )
+            && let Some(reflected) = clearcoat_bounce(&hit, direction, &coat, || rng.next_f32())
         {
             let Some((next, weight)) = reflected else {
                 break;

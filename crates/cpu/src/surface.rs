@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 #[cfg(doc)]
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
-use render::clearcoat::{ClearcoatEvent, clearcoat_event};
+use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
 use render::dispersion::{disperse, draws_wavelength};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{rough_dielectric, rough_reflection};
@@ -15,7 +15,7 @@ use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::textures::TextureArray;
-use scene::{AlphaMode, Material, Surface};
+use scene::{AlphaMode, Clearcoat, Material, Surface};
 
 use crate::SceneData;
 
@@ -320,15 +320,24 @@ pub fn specular_direction(
     Some((direction, 1.0))
 }
 
-/// glTF's clear coat at `hit` (`render::clearcoat::clearcoat_event`, about the hit's normal
-/// before any normal map): `None` where it lets the ray through to the surface beneath; else its reflection as a mirror's or, rough, as
-/// rough metal's (inside: `None` where the path ends).
+/// The clear coat of `material` (a hit's root) at texture coordinates `uv`
+/// (`render::clearcoat::clearcoat_at`), `None` for none.
+pub fn hit_clearcoat(scene: &SceneData, material: &Material, uv: Vec2) -> Option<Clearcoat> {
+    let texel = |id| texture(&scene.textures, Some(id), uv);
+    material.clearcoat.map(|coat| clearcoat_at(&coat, texel))
+}
+
+/// glTF's clear coat at `hit` (`render::clearcoat::clearcoat_event` about the hit's normal
+/// before any normal map, its numbers drawn from `next_number` as `clearcoat_numbers` does):
+/// `None` where it lets the ray through to the surface beneath; else its reflection as a
+/// mirror's or, rough, as rough metal's (inside: `None` where the path ends).
 pub fn clearcoat_bounce(
     hit: &SurfaceHit,
     incoming: Vec3,
-    coat: &scene::Clearcoat,
-    u: [f32; 3],
+    coat: &Clearcoat,
+    next_number: impl FnMut() -> f32,
 ) -> Option<Option<(Vec3, f32)>> {
+    let u = clearcoat_numbers(coat, next_number);
     match clearcoat_event(incoming, hit.interpolated, coat, u) {
         ClearcoatEvent::Through => None,
         ClearcoatEvent::Reflected(next) => Some(next.filter(|(next, _)| {

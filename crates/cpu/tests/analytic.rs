@@ -1154,22 +1154,13 @@ fn sky_lights_a_plane_through_its_clear_coat() {
     for material in &mut scene.materials {
         material.clearcoat = scene::Clearcoat::new(weight, 0.0);
     }
-    let fresnel = |cos: f32| fresnel_dielectric(cos, 1.0 / scene::Clearcoat::IOR) as f64;
-    let steps = 100_000;
-    let mean_fresnel: f64 = (0..steps)
-        .map(|i| {
-            let mu = (i as f64 + 0.5) / steps as f64;
-            2.0 * mu * fresnel(mu as f32) / steps as f64
-        })
-        .sum();
+    let radiance =
+        testing::clear_coated_sky_plane(sky, testing::LIT_PLANE_ALBEDO, weight, fresnel_dielectric);
     let view = TopView::new(0.4, 16);
     let expected = |index: usize| {
         let (x, z) = view.point(index);
         let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
-        let reflected = weight as f64 * fresnel(cos);
-        let albedo = testing::LIT_PLANE_ALBEDO as f64;
-        let beneath = (1.0 - reflected) * albedo * (1.0 - weight as f64 * mean_fresnel);
-        (sky as f64 * (reflected + beneath)) as f32
+        radiance(cos) as f32
     };
     let (image, _, _) = render_top_view(&scene, &view, 1, 1024);
     assert_matches("clear coat, photons", &image, expected, 0.025, 0.08);

@@ -364,12 +364,7 @@ impl<'a> PathTracer<'a> {
                     arrival = Arrival::Unsampled;
                     throughput *= weight;
                     depth += 1;
-                    let side = if next.dot(point.geometric) > 0.0 {
-                        1.0
-                    } else {
-                        -1.0
-                    };
-                    origin = point.position + side * self.epsilon * point.geometric;
+                    origin = self.leaving(&point, next);
                     direction = next;
                     continue;
                 }
@@ -445,16 +440,20 @@ impl<'a> PathTracer<'a> {
                 }
                 throughput /= survive;
             }
-            // Leave the surface on the side the new direction goes.
-            let side = if next.dot(point.geometric) > 0.0 {
-                1.0
-            } else {
-                -1.0
-            };
-            origin = point.position + side * self.epsilon * point.geometric;
+            origin = self.leaving(&point, next);
             direction = next;
         }
         radiance
+    }
+
+    /// Where a path leaving `point` along `next` starts: off the surface on the side it goes.
+    fn leaving(&self, point: &SurfacePoint, next: Vec3) -> Vec3 {
+        let side = if next.dot(point.geometric) > 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        point.position + side * self.epsilon * point.geometric
     }
 
     /// What a path in `medium` keeps of its light over `distance` (from [`RAY_T_MAX`]: it
@@ -1402,14 +1401,12 @@ mod tests {
         }
         let (bvh, camera) = tracer_for(&scene);
         let tracer = PathTracer::new(&scene, &bvh, camera);
-        let fresnel = |cos: f32| fresnel_dielectric(cos, 1.0 / scene::Clearcoat::IOR) as f64;
-        let steps = 100_000;
-        let mean_fresnel: f64 = (0..steps)
-            .map(|i| {
-                let mu = (i as f64 + 0.5) / steps as f64;
-                2.0 * mu * fresnel(mu as f32) / steps as f64
-            })
-            .sum();
+        let radiance = testing::clear_coated_sky_plane(
+            sky,
+            testing::LIT_PLANE_ALBEDO,
+            weight,
+            fresnel_dielectric,
+        );
         let mut rng = Rng::new(5, 0);
         for cos in [1.0f32, 0.5] {
             let direction = Vec3::new((1.0 - cos * cos).sqrt(), -cos, 0.0);
@@ -1419,10 +1416,7 @@ mod tests {
                 .map(|_| tracer.radiance(origin, direction, 8, &mut rng))
                 .sum();
             let measured = (sum / samples as f32).x as f64;
-            let reflected = weight as f64 * fresnel(cos);
-            let albedo = testing::LIT_PLANE_ALBEDO as f64;
-            let beneath = (1.0 - reflected) * albedo * (1.0 - weight as f64 * mean_fresnel);
-            let expected = sky as f64 * (reflected + beneath);
+            let expected = radiance(cos);
             assert!(
                 (measured / expected - 1.0).abs() < 0.01,
                 "at cos {cos}: {measured} against {expected}"

@@ -645,6 +645,33 @@ pub fn glass_pane_radiance(cos_incident: f32, fresnel: impl Fn(f32, f32) -> f32)
     sheet * GLASS_PANE_BACK_EMISSION + (1.0 - sheet) * GLASS_PANE_FRONT_EMISSION
 }
 
+/// What a Lambertian plane of `albedo` under a smooth clear coat of `weight` (index
+/// [`crate::Clearcoat::IOR`]) returns under a uniform sky of radiance `sky`, seen at cosine
+/// `cos`: sky·(w·F(θ) + (1 − w·F(θ))·ρ·(1 − w·F̄)), the coat's reflection of the sky plus the
+/// plane lit through the coat, F̄ = 2∫F(μ)μ dμ by the midpoint rule (computed once here).
+/// `fresnel` is as [`glass_pane_radiance`]'s.
+pub fn clear_coated_sky_plane(
+    sky: f32,
+    albedo: f32,
+    weight: f32,
+    fresnel: impl Fn(f32, f32) -> f32,
+) -> impl Fn(f32) -> f64 {
+    let fresnel = move |cos: f32| fresnel(cos, 1.0 / crate::Clearcoat::IOR) as f64;
+    let steps = 100_000;
+    let mean_fresnel: f64 = (0..steps)
+        .map(|i| {
+            let mu = (i as f64 + 0.5) / steps as f64;
+            2.0 * mu * fresnel(mu as f32) / steps as f64
+        })
+        .sum();
+    let weight = weight as f64;
+    move |cos| {
+        let reflected = weight * fresnel(cos);
+        let beneath = (1.0 - reflected) * albedo as f64 * (1.0 - weight * mean_fresnel);
+        sky as f64 * (reflected + beneath)
+    }
+}
+
 /// A unit sphere at the origin facing inwards, every point emitting [`FURNACE_EMISSION`] and
 /// reflecting with albedo [`FURNACE_ALBEDO`]; the camera sits at the centre. Every pixel's
 /// radiance is [`FURNACE_RADIANCE`] (the triangulation does not matter: any closed surface

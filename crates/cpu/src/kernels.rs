@@ -75,7 +75,7 @@ pub fn photon_pass_with<R: StreamRng>(
     let mut emitted = false;
     if slot.depth == SLOT_IDLE {
         let u = [(); 5].map(|_| rng.next_f32());
-        let e = sample_emission(&scene.lights, u);
+        let e = sample_emission(&scene.lights, &scene.sky_map, u);
         slot = PathSlot {
             origin: (e.origin + params.epsilon * e.normal).to_array(),
             depth: 0,
@@ -409,7 +409,8 @@ fn eye_path(
         let Some(mut hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one), unless water around the path
             // absorbs it on the way.
-            let sky = vec3(params.sky) * medium_transmittance(scene, medium, RAY_T_MAX);
+            let sky =
+                sky_seen(scene, params, direction) * medium_transmittance(scene, medium, RAY_T_MAX);
             direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
             break;
         };
@@ -717,8 +718,16 @@ impl GlossyVertex {
         if self.pdf <= 0.0 {
             return 1.0;
         }
-        power_heuristic(self.pdf, sky_pdf(&scene.lights, direction, self.normal))
+        power_heuristic(
+            self.pdf,
+            sky_pdf(&scene.lights, &scene.sky_map, direction, self.normal),
+        )
     }
+}
+
+/// The sky's radiance along `direction` (its map's, else the uniform sky's; zero without one).
+fn sky_seen(scene: &SceneData, params: &SppmParams, direction: Vec3) -> Vec3 {
+    render::sky_map::sky_radiance(&scene.lights, &scene.sky_map, vec3(params.sky), direction)
 }
 
 /// What a ray in `medium` sees at once: the emission of the first surface it meets (through
@@ -734,7 +743,9 @@ pub fn emission_seen(
     let mut kept = Vec3::ONE;
     for _ in 0..=MAX_PASS_THROUGHS {
         let Some(hit) = trace(scene, origin, direction) else {
-            return kept * vec3(params.sky) * medium_transmittance(scene, medium, RAY_T_MAX);
+            return kept
+                * sky_seen(scene, params, direction)
+                * medium_transmittance(scene, medium, RAY_T_MAX);
         };
         kept *= transmittance_to(scene, medium, &hit);
         let material = &scene.materials[hit.material as usize];
@@ -760,7 +771,7 @@ pub fn direct_light(
     u: [f32; 3],
 ) -> Vec3 {
     let facing = lit.lobe.facing(hit.shading);
-    let Some(light) = sample_light(&scene.lights, u, hit.position, facing) else {
+    let Some(light) = sample_light(&scene.lights, &scene.sky_map, u, hit.position, facing) else {
         return Vec3::ZERO;
     };
     if light.direction.dot(facing) <= 0.0 && !lit.lobe.is_two_sided() {

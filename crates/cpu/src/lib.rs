@@ -35,6 +35,8 @@ pub struct SceneData {
     pub exterior: Vec<u32>,
     pub textures: TextureArray,
     pub lights: Vec<Light>,
+    /// The sky's environment map (`render::sky_map`; four zeros without one).
+    pub sky_map: Vec<f32>,
     /// Per material, the density per area with which light sampling lands on it
     /// (`render::emission::light_area_density`).
     pub light_area_density: Vec<f32>,
@@ -55,6 +57,7 @@ impl SceneData {
             exterior: nesting.exterior,
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),
             lights: render::emission::light_table_with(scene, &locator),
+            sky_map: render::sky_map::sky_map_buffer(scene.lights.sky.as_ref()),
             light_area_density: render::emission::light_area_density(scene),
         }
     }

@@ -1232,3 +1232,38 @@ fn sky_lights_a_plastic_plane_through_its_coat() {
     let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
     assert_matches("plastic, sampled", &image, expected, 0.025, 0.03);
 }
+
+/// An environment map over the punctual plane (`testing::plane_under_sky_map`: a gradient, a
+/// sun one texel wide, a warm ground below the horizon, turned 0.6 rad): the plane's top sees
+/// the map's upper half, so L_out = ρ/π · ∫ L cos θ dω over it, which
+/// `SkyMap::floor_irradiance` sums exactly for texels constant over their patches. Photons
+/// (direct light carried by them) and light samples (drawn by the map's importance) must both
+/// find it, red and blue: 1024 and 256 passes. Measured: photons mean +0.11 %/−0.02 % (red,
+/// blue), rms 3.6 %/3.5 %; sampled mean −0.14 %/−0.21 %, rms 5.6 %/5.5 % (half the map's
+/// samples fall below the plane's horizon). Tolerances: mean 2.5 % and 1 %, rms 8 % each.
+#[test]
+fn a_sky_map_lights_an_open_plane_to_its_cosine_weighted_integral() {
+    let scale = Vec3::new(1.0, 1.0, 0.5);
+    let scene = testing::plane_under_sky_map(scale, 0.6);
+    let map = testing::sunset_sky_map();
+    let expected =
+        testing::LIT_PLANE_ALBEDO / std::f32::consts::PI * map.floor_irradiance() * scale;
+    let view = TopView::new(0.4, 16);
+    for (direct, passes, mean, rms) in [
+        (DirectLight::Photons, 1024, 0.025, 0.08),
+        (DirectLight::Sampled, 256, 0.01, 0.08),
+    ] {
+        let (image, pixels, _) = render_top_view_with(&scene, &view, 1, passes, direct);
+        assert!(
+            pixels
+                .iter()
+                .all(|s| s.direct == [0.0; 3] || direct == DirectLight::Sampled),
+            "the top view saw the sky"
+        );
+        let red: Vec<Vec3> = image.iter().map(|p| Vec3::splat(p.x)).collect();
+        let blue: Vec<Vec3> = image.iter().map(|p| Vec3::splat(p.z)).collect();
+        let what = format!("sky map, {}", direct.name());
+        assert_matches(&format!("{what}, red"), &red, |_| expected.x, mean, rms);
+        assert_matches(&format!("{what}, blue"), &blue, |_| expected.z, mean, rms);
+    }
+}

@@ -28,8 +28,9 @@ use crate::{GpuContext, GpuError, GpuScene, check_buffer_fits};
 
 /// Passes submitted but not known finished before the host waits.
 const MAX_PASSES_IN_FLIGHT: usize = 2;
-/// Storage buffers the SPPM kernels bind per stage: the scene's five and the state's seven.
-pub const SPPM_STORAGE_BUFFERS: u32 = 12;
+/// Storage buffers the SPPM kernels bind per stage: the scene's five, the state's seven and
+/// the sky map.
+pub const SPPM_STORAGE_BUFFERS: u32 = 13;
 
 /// The kernels' entry points; indices into `GpuBackend::pipelines`.
 const KERNELS: [&str; 6] = [
@@ -69,6 +70,8 @@ pub struct GpuBackend {
     /// The scene's textures, kept alive for their bind group (group 2).
     textures: GpuTextures,
     textures_bind_group: wgpu::BindGroup,
+    /// The sky's environment map (`render::sky_map`), bound with each render's state.
+    sky_map: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     pipelines: Vec<wgpu::ComputePipeline>,
     state: Option<State>,
@@ -234,6 +237,7 @@ fn textures_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let mut entries = vec![uniform_entry(0), storage_entry(1, true)];
     entries.extend((2..8).map(|b| storage_entry(b, false)));
+    entries.push(storage_entry(8, true));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sppm state"),
         entries: &entries,
@@ -312,11 +316,20 @@ impl GpuBackend {
                 resource: wgpu::BindingResource::TextureView(&textures.view),
             }],
         });
+        let sky_map = render::sky_map::sky_map_buffer(scene.lights.sky.as_ref());
+        let sky_map_bytes = (sky_map.len() * size_of::<f32>()) as u64;
+        check_buffer_fits("sky_map", sky_map_bytes, &context.limits)?;
+        let sky_map = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sky_map"),
+            contents: bytemuck::cast_slice(&sky_map),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let features = SceneFeatures::of(scene);
         let pipelines = compile_kernels(&context, &layout, features, label, source);
         Ok(GpuBackend {
+            sky_map,
             features,
-            scene_bytes: gpu_scene.bytes,
+            scene_bytes: gpu_scene.bytes + sky_map_bytes,
             context,
             scene: gpu_scene,
             textures,
@@ -453,6 +466,7 @@ impl GpuBackend {
                 &pixels,
                 &hash,
                 &counters,
+                &self.sky_map,
             ],
         );
         let mut memory: Vec<(&'static str, u64)> = vec![

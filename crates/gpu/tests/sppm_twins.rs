@@ -837,6 +837,18 @@ fn every_kernel_matches_its_twin_through_metallic_roughness_tiles() {
     );
 }
 
+/// The same under a sky map (`render::sky_map` and its WGSL twin): photons start in the map's
+/// directions by its importance, light samples draw them, glossy bounces weigh the map's
+/// density, and camera rays past the plane, through the glass or off the gold see its texels.
+#[test]
+fn every_kernel_matches_its_twin_under_a_sky_map() {
+    let scene = scene::testing::spheres_under_sky_map();
+    let lights = render::emission::light_table(&scene);
+    assert!(render::sky_map::MapFrame::of(lights.last().unwrap()).is_some());
+    every_kernel_matches_its_twin(scene.clone(), DirectLight::Sampled);
+    every_kernel_matches_its_twin(scene, DirectLight::Photons);
+}
+
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
     every_kernel_matches_its_twin_on(context(), scene, direct);
 }

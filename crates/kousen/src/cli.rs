@@ -669,9 +669,9 @@ pub struct CameraArgs {
 }
 
 /// Lights added to the scene: a sun (a directional light) and a sky (uniform radiance from
-/// every direction), so that scenes without lights of their own (Sponza, the bunny) can be
-/// rendered as they are.
-#[derive(Args, Clone, Copy)]
+/// every direction, or an environment map's), so that scenes without lights of their own
+/// (Sponza, the bunny) can be rendered as they are.
+#[derive(Args, Clone)]
 pub struct AddedLightArgs {
     /// Add a sun: a directional light travelling along "x,y,z" (0.3,-1,0.2 shines down).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
@@ -681,20 +681,54 @@ pub struct AddedLightArgs {
     pub sun_illuminance: f32,
     /// Add a sky: radiance "r,g,b" from every direction, seen by camera rays that leave the
     /// scene (a white sky of radiance L lights an open floor to ρ·L).
+    /// With --sky-map, the factor its radiance is scaled by.
     #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
     pub sky: Option<[f32; 3]>,
+    /// Add a sky from an environment map: an equirectangular (latitude-longitude) image of
+    /// linear radiance, .hdr, .exr or .pfm (.png is read as sRGB); its top row straight up
+    /// (+Y), its centre column facing −Z.
+    #[arg(long, value_name = "FILE")]
+    pub sky_map: Option<std::path::PathBuf>,
+    /// Turn the sky map about the up axis (+Y) by this many degrees, counter-clockwise seen
+    /// from above.
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        default_value_t = 0.0,
+        requires = "sky_map",
+        allow_hyphen_values = true
+    )]
+    pub sky_rotate: f32,
 }
 
 impl AddedLightArgs {
     /// Adds the sun and the sky to `scene`, those asked for.
     pub fn add_to(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
-        if let Some(sky) = self.sky {
-            let radiance = glam::Vec3::from(sky);
-            if radiance.min_element() < 0.0 || radiance.max_element() <= 0.0 {
-                anyhow::bail!("--sky needs a radiance r,g,b ≥ 0 and not all 0, got {radiance}");
+        let radiance = self.sky.map(glam::Vec3::from);
+        if let Some(radiance) = radiance
+            && (radiance.min_element() < 0.0
+                || radiance.max_element() <= 0.0
+                || !radiance.is_finite())
+        {
+            anyhow::bail!("--sky needs a radiance r,g,b ≥ 0 and not all 0, got {radiance}");
+        }
+        if !self.sky_rotate.is_finite() {
+            anyhow::bail!(
+                "--sky-rotate must be a number of degrees, got {}",
+                self.sky_rotate
+            );
+        }
+        let bounds = scene.bounds();
+        match (&self.sky_map, radiance) {
+            (Some(path), scale) => {
+                let map = crate::image_io::read_sky_map(path)?;
+                let scale = scale.unwrap_or(glam::Vec3::ONE);
+                let rotation = self.sky_rotate.to_radians();
+                let sky = scene::Sky::with_map(std::sync::Arc::new(map), scale, rotation, bounds);
+                scene.lights.replace_sky(sky);
             }
-            let bounds = scene.bounds();
-            scene.lights.set_sky(radiance, bounds);
+            (None, Some(radiance)) => scene.lights.set_sky(radiance, bounds),
+            (None, None) => {}
         }
         let Some(direction) = self.sun else {
             return Ok(());

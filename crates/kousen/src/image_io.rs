@@ -177,6 +177,42 @@ pub fn read_image(path: &Path) -> anyhow::Result<Image> {
     }
 }
 
+/// Reads an environment map for the sky (`scene::SkyMap`): .hdr (Radiance RGBE) or what
+/// [`read_image`] reads; one line naming the file where it is not a valid map.
+pub fn read_sky_map(path: &Path) -> anyhow::Result<scene::SkyMap> {
+    let is_hdr = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
+    let image = if is_hdr {
+        read_radiance_hdr(path).with_context(|| format!("cannot read {}", path.display()))?
+    } else {
+        read_image(path).map_err(|e| {
+            if Format::from_path(path).is_err() {
+                anyhow::anyhow!(
+                    "{}: unknown sky map extension (expected .hdr, .exr, .pfm or .png)",
+                    path.display()
+                )
+            } else {
+                e
+            }
+        })?
+    };
+    scene::SkyMap::new(image.width, image.height, image.pixels)
+        .map_err(|message| anyhow::anyhow!("{}: {message}", path.display()))
+}
+
+fn read_radiance_hdr(path: &Path) -> anyhow::Result<Image> {
+    let bytes = std::fs::read(path)?;
+    let decoded = image::load_from_memory_with_format(&bytes, image::ImageFormat::Hdr)?;
+    let rgb = decoded.to_rgb32f();
+    Ok(Image {
+        width: rgb.width(),
+        height: rgb.height(),
+        pixels: rgb.pixels().map(|p| Vec3::from_array(p.0)).collect(),
+    })
+}
+
 fn read_exr(path: &Path) -> anyhow::Result<Image> {
     use exr::prelude::Vec2;
     let read = exr::prelude::read_first_rgba_layer_from_file(

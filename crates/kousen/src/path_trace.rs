@@ -30,6 +30,7 @@ use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract}
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::{is_lifted, shadow_origin};
+use render::sky_map::{sky_map_buffer, sky_radiance};
 
 /// What to render and how much.
 pub struct RenderSettings {
@@ -62,6 +63,8 @@ pub struct PathTracer<'a> {
     camera: Camera,
     /// The light table SPPM samples, in its CDF order.
     lights: Vec<Light>,
+    /// The sky's environment map (`render::sky_map`).
+    sky_map: Vec<f32>,
     /// The scene triangle behind each triangle entry of `lights` (they come first).
     light_triangles: Vec<u32>,
     /// Per material, the area density with which light sampling lands on its triangles.
@@ -116,11 +119,11 @@ impl Arrival {
     }
 
     /// The same for the sky, met along `direction`.
-    fn sky_weight(&self, lights: &[Light], direction: Vec3) -> f32 {
+    fn sky_weight(&self, lights: &[Light], sky_map: &[f32], direction: Vec3) -> f32 {
         let Arrival::Sampled { normal, pdf, .. } = *self else {
             return 1.0;
         };
-        power_heuristic(pdf, sky_pdf(lights, direction, normal))
+        power_heuristic(pdf, sky_pdf(lights, sky_map, direction, normal))
     }
 }
 
@@ -266,6 +269,7 @@ impl<'a> PathTracer<'a> {
             bvh,
             camera,
             lights: light_table_with(scene, &locator),
+            sky_map: sky_map_buffer(scene.lights.sky.as_ref()),
             light_triangles: light_table_triangles(scene),
             light_area_density: light_area_density(scene),
             coats: Coats::of(&nesting.materials),
@@ -325,9 +329,10 @@ impl<'a> PathTracer<'a> {
                 // Out of the scene: the sky, weighed against the light sample that could
                 // have drawn it (and absorbed by water around the path).
                 if let Some(sky) = &self.scene.lights.sky {
-                    let weight = arrival.sky_weight(&self.lights, direction);
+                    let weight = arrival.sky_weight(&self.lights, &self.sky_map, direction);
                     let kept = self.transmittance(medium, RAY_T_MAX);
-                    radiance += throughput * sky.radiance * weight * kept;
+                    let seen = sky_radiance(&self.lights, &self.sky_map, sky.radiance, direction);
+                    radiance += throughput * seen * weight * kept;
                 }
                 break;
             };
@@ -481,7 +486,8 @@ impl<'a> PathTracer<'a> {
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
         let (geometric, shading) = facing_normals(point, front);
         let facing = lit.lobe.facing(shading);
-        let Some(light) = sample_light(&self.lights, u, point.position, facing) else {
+        let Some(light) = sample_light(&self.lights, &self.sky_map, u, point.position, facing)
+        else {
             return Vec3::ZERO;
         };
         if light.direction.dot(shading) < 0.0 {
@@ -987,15 +993,7 @@ mod tests {
         let mut scene = testing::plane_under_water(depth, absorption);
         let bounds = scene.bounds();
         scene.lights.set_sky(Vec3::splat(sky), bounds);
-        let (bvh, camera) = tracer_for(&scene);
-        let tracer = PathTracer::new(&scene, &bvh, camera);
-        let mut rng = Rng::new(5, 0);
-        let samples = 16_384;
-        let origin = Vec3::new(0.1, 0.5, -0.1);
-        let sum: Vec3 = (0..samples)
-            .map(|_| tracer.radiance(origin, Vec3::NEG_Y, 8, &mut rng))
-            .sum();
-        let measured = sum / samples as f32;
+        let measured = mean_looking_down(&scene, Vec3::new(0.1, 0.5, -0.1), 16_384, 5);
         for channel in 0..3 {
             let expected =
                 testing::plane_under_water_radiance(depth, absorption[channel], sky, 1.0);
@@ -1006,6 +1004,33 @@ mod tests {
                 measured[channel]
             );
         }
+    }
+
+    /// The mean radiance of `samples` paths from `origin` straight down into `scene`.
+    fn mean_looking_down(scene: &Scene, origin: Vec3, samples: u32, seed: u64) -> Vec3 {
+        let (bvh, camera) = tracer_for(scene);
+        let tracer = PathTracer::new(scene, &bvh, camera);
+        let mut rng = Rng::new(seed, 0);
+        let sum: Vec3 = (0..samples)
+            .map(|_| tracer.radiance(origin, Vec3::NEG_Y, 8, &mut rng))
+            .sum();
+        sum / samples as f32
+    }
+
+    /// The plane under a sky map (`testing::plane_under_sky_map`): its radiance is
+    /// ρ/π · ∫ L cos θ dω over the map's upper half (`SkyMap::floor_irradiance`). Light samples
+    /// drawn by the map and cosine bounces that escape to it are weighed against each other
+    /// (`sky_pdf`): a wrong weight or density shows in the sum. 16,384 paths: the mean's
+    /// standard error is under 0.5 %; tolerance 2 %.
+    #[test]
+    fn a_sky_map_lights_the_plane_to_its_cosine_weighted_integral() {
+        let scale = Vec3::new(1.0, 0.7, 1.3);
+        let scene = testing::plane_under_sky_map(scale, 0.6);
+        let measured = mean_looking_down(&scene, Vec3::new(0.1, 0.5, -0.1), 16_384, 9);
+        let irradiance = testing::sunset_sky_map().floor_irradiance() * scale;
+        let expected = testing::LIT_PLANE_ALBEDO / std::f32::consts::PI * irradiance;
+        let error = (measured / expected - Vec3::ONE).abs();
+        assert!(error.max_element() < 0.02, "{measured} against {expected}");
     }
 
     /// An underwater lamp (`testing::underwater_lamp`): the point light and the camera in

@@ -19,6 +19,7 @@
 //! | spot | its position | flux · falloff / (cone's solid angle · d²) |
 //! | directional | against its direction, unbounded | flux / disk area |
 //! | sky | a cosine-distributed direction about the receiver's normal, unbounded | flux / (4 · disk area · cos θ) |
+//! | sky map | a direction by the map's importance ([`crate::sky_map`]), above the receiver | radiance / (pick · density) |
 //!
 //! (The sky's flux is its radiance × disk area × 4π; sampled by the receiver's cosine, a lit
 //! open plane gets the same value from every sample.)
@@ -32,6 +33,7 @@ use crate::buffers::{
 };
 use crate::emission::{pick_light, triangle_point};
 use crate::sampling::{about_axis, cosine_hemisphere};
+use crate::sky_map::{MapFrame, sample_sky_map, sky_map_lookup};
 
 /// Where the direct light on a visible point comes from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -89,10 +91,12 @@ pub const SHADOW_SHORTENING: f32 = 1e-4;
 
 /// One sample of the light table as seen from `position` on a surface facing `normal` (unit),
 /// from three uniform numbers; `None` where the picked light sends nothing that way (a
-/// one-sided emitter seen from behind, a spot seen from outside its cone). `lights` must not be
-/// empty.
+/// one-sided emitter seen from behind, a spot seen from outside its cone, a sky map's
+/// direction below the surface). `sky_map` is the sky's map ([`crate::sky_map`]). `lights`
+/// must not be empty.
 pub fn sample_light(
     lights: &[Light],
+    sky_map: &[f32],
     u: [f32; 3],
     position: Vec3,
     normal: Vec3,
@@ -147,6 +151,21 @@ pub fn sample_light(
                 pdf: f32::INFINITY,
             }
         }
+        LIGHT_SKY if MapFrame::of(light).is_some() => {
+            let frame = MapFrame::of(light)?;
+            let s = sample_sky_map(&frame, sky_map, u[1], u[2])?;
+            if s.direction.dot(normal) <= 0.0 {
+                return None;
+            }
+            LightSample {
+                index,
+                direction: s.direction,
+                distance: RAY_T_MAX,
+                target: position,
+                incident: s.radiance / (pick * s.pdf),
+                pdf: pick * s.pdf,
+            }
+        }
         LIGHT_SKY => {
             let local = cosine_hemisphere(u[1], u[2]);
             let radius = light.edge2[0];
@@ -194,12 +213,16 @@ pub fn pick_probability(lights: &[Light], index: usize) -> f32 {
 
 /// The solid-angle density with which [`sample_light`], from a receiver facing `normal`,
 /// draws the sky along `direction`: 0 without a sky (the table's last light when there is one).
-pub fn sky_pdf(lights: &[Light], direction: Vec3, normal: Vec3) -> f32 {
-    match lights.last() {
-        Some(last) if last.kind == LIGHT_SKY => {
-            pick_probability(lights, lights.len() - 1) * direction.dot(normal).max(0.0) / PI
-        }
-        _ => 0.0,
+pub fn sky_pdf(lights: &[Light], sky_map: &[f32], direction: Vec3, normal: Vec3) -> f32 {
+    let Some(last) = lights.last().filter(|l| l.kind == LIGHT_SKY) else {
+        return 0.0;
+    };
+    let pick = pick_probability(lights, lights.len() - 1);
+    let cos = direction.dot(normal);
+    match MapFrame::of(last) {
+        Some(frame) if cos > 0.0 => pick * sky_map_lookup(&frame, sky_map, direction).1,
+        Some(_) => 0.0,
+        None => pick * cos.max(0.0) / PI,
     }
 }
 
@@ -237,6 +260,7 @@ mod tests {
     use super::*;
     use crate::emission::{light_table, sample_emission};
     use crate::rng::stream_key;
+    use crate::sky_map::NO_SKY_MAP;
 
     fn uniform(seed: u32, index: u32) -> f32 {
         (stream_key(seed, 0, 0, index) >> 8) as f32 / (1u32 << 24) as f32
@@ -245,7 +269,7 @@ mod tests {
     /// The mean irradiance over a disk of radius `r` from `lights` (occlusion ignored) two
     /// ways: light samples from uniform points on the disk, and the flux of photons from the
     /// same table crossing the disk ÷ its area. They must agree within the photons' noise.
-    fn estimates_agree(lights: &[Light], centre: Vec3, normal: Vec3, r: f32) {
+    fn estimates_agree(lights: &[Light], sky_map: &[f32], centre: Vec3, normal: Vec3, r: f32) {
         let (tangent, bitangent) = crate::sampling::orthonormal_basis(normal);
         let n = 1 << 18;
         let mut sampled = 0.0f64;
@@ -253,7 +277,7 @@ mod tests {
             let disk = r * crate::sampling::uniform_disk(uniform(8, i), uniform(9, i));
             let point = centre + disk.x * tangent + disk.y * bitangent;
             let u = [(i as f32 + 0.5) / n as f32, uniform(1, i), uniform(2, i)];
-            if let Some(s) = sample_light(lights, u, point, normal) {
+            if let Some(s) = sample_light(lights, sky_map, u, point, normal) {
                 sampled += (s.incident * s.direction.dot(normal).max(0.0)).element_sum() as f64;
             }
         }
@@ -261,7 +285,11 @@ mod tests {
         let (m, area) = (1u32 << 22, (PI * r * r) as f64);
         let (mut sum, mut sum_squares) = (0.0f64, 0.0f64);
         for i in 0..m {
-            let e = sample_emission(lights, [3, 4, 5, 6, 7].map(|seed| uniform(seed, i)));
+            let e = sample_emission(
+                lights,
+                sky_map,
+                [3, 4, 5, 6, 7].map(|seed| uniform(seed, i)),
+            );
             let towards = e.direction.dot(normal);
             if towards >= 0.0 {
                 continue;
@@ -329,10 +357,35 @@ mod tests {
         ] {
             estimates_agree(
                 &only_kind(&table, kind),
+                &NO_SKY_MAP,
                 Vec3::new(250.0, 1.0, 400.0),
                 Vec3::Y,
                 40.0,
             );
+        }
+    }
+
+    /// The same under a sky map (`crate::sky_map`): light samples drawn by the map's
+    /// importance and photons started the same way must give one irradiance, on a patch facing
+    /// up and on one tilted 70° (which sees the map's warm ground too). A point light shares
+    /// the table, so that the sky's pick counts.
+    #[test]
+    fn sampled_irradiance_matches_the_photons_under_a_sky_map() {
+        let mut scene = scene::testing::plane_under_sky_map(Vec3::new(1.0, 0.8, 1.2), 0.6);
+        let lamp = scene::PunctualLight {
+            kind: scene::PunctualKind::Point,
+            position: Vec3::new(0.5, 1.5, 0.5),
+            direction: Vec3::NEG_Y,
+            intensity: Vec3::splat(2.0),
+        };
+        let bounds = scene.bounds();
+        scene.lights.add_punctual(lamp, bounds);
+        let table = light_table(&scene);
+        assert_eq!(table.len(), 2);
+        let sky_map = crate::sky_map::sky_map_buffer(scene.lights.sky.as_ref());
+        let tilted = Vec3::new(70f32.to_radians().sin(), 70f32.to_radians().cos(), 0.3);
+        for normal in [Vec3::Y, tilted.normalize()] {
+            estimates_agree(&table, &sky_map, Vec3::new(0.1, 0.2, 0.0), normal, 0.5);
         }
     }
 
@@ -343,7 +396,10 @@ mod tests {
         let above_the_light = Vec3::new(278.0, 600.0, 280.0);
         for i in 0..64 {
             let u = [uniform(1, i), uniform(2, i), uniform(3, i)];
-            assert_eq!(sample_light(&lights, u, above_the_light, Vec3::Y), None);
+            assert_eq!(
+                sample_light(&lights, &NO_SKY_MAP, u, above_the_light, Vec3::Y),
+                None
+            );
         }
     }
 
@@ -366,7 +422,7 @@ mod tests {
         let (mut triangles, mut skies) = (0, 0);
         for i in 0..4096 {
             let u = [uniform(4, i), uniform(5, i), uniform(6, i)];
-            let Some(s) = sample_light(&table, u, position, normal) else {
+            let Some(s) = sample_light(&table, &NO_SKY_MAP, u, position, normal) else {
                 continue;
             };
             if s.pdf.is_infinite() {
@@ -375,7 +431,7 @@ mod tests {
             if s.distance >= RAY_T_MAX {
                 skies += 1;
                 assert!(close(s.incident * s.pdf, sky), "{:?}", s.incident * s.pdf);
-                let again = sky_pdf(&table, s.direction, normal);
+                let again = sky_pdf(&table, &NO_SKY_MAP, s.direction, normal);
                 assert!((again - s.pdf).abs() <= 1e-4 * s.pdf);
             } else {
                 triangles += 1;

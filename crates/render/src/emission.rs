@@ -17,6 +17,7 @@ use crate::buffers::{
 use crate::sampling::{
     about_axis, cosine_hemisphere, orthonormal_basis, uniform_cone, uniform_disk,
 };
+use crate::sky_map::{sample_sky_map, sky_photon_flux};
 
 /// The light table of a scene, in CDF order: emissive triangles, punctual lights, the sky, each
 /// with the solid its paths start in (`crate::medium`). Empty if nothing emits. A textured emitter is taken at its texture's mean (scene::Lights does the
@@ -44,9 +45,11 @@ pub fn light_table_with(scene: &Scene, locator: &crate::medium::MediumLocator) -
     });
     let punctual = scene.lights.punctual.iter().map(punctual_light);
     let sky = scene.lights.sky.iter().map(|sky| {
+        let (edge1, edge2) = crate::sky_map::sky_light_fields(sky);
         let light = Light {
             v0: sky.centre.to_array(),
-            edge2: [sky.radius, 0.0, 0.0],
+            edge1,
+            edge2,
             kind: LIGHT_SKY,
             ..Light::default()
         };
@@ -183,9 +186,11 @@ pub fn pick_light(lights: &[Light], u: f32) -> usize {
     lo
 }
 
-/// A light path's start from five uniform numbers. `lights` must not be empty.
-pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
-    let light = &lights[pick_light(lights, u[0])];
+/// A light path's start from five uniform numbers; `sky_map` is the sky's map
+/// ([`crate::sky_map`]). `lights` must not be empty.
+pub fn sample_emission(lights: &[Light], sky_map: &[f32], u: [f32; 5]) -> Emission {
+    let index = pick_light(lights, u[0]);
+    let light = &lights[index];
     let emission = match light.kind {
         LIGHT_POINT => {
             let direction = uniform_cone(u[3], u[4], -1.0);
@@ -205,12 +210,23 @@ pub fn sample_emission(lights: &[Light], u: [f32; 5]) -> Emission {
             emission_along(origin, direction, vec3(light.flux))
         }
         LIGHT_SKY => {
-            let direction = uniform_cone(u[3], u[4], -1.0);
+            // A map's direction by its importance, else a uniform one; photons travel
+            // against the direction the sky is seen along.
+            let (direction, flux) = match crate::sky_map::MapFrame::of(light) {
+                Some(frame) => match sample_sky_map(&frame, sky_map, u[3], u[4]) {
+                    Some(s) => {
+                        let pick = crate::direct::pick_probability(lights, index);
+                        (-s.direction, sky_photon_flux(light, &s, pick))
+                    }
+                    None => (Vec3::Y, Vec3::ZERO),
+                },
+                None => (uniform_cone(u[3], u[4], -1.0), vec3(light.flux)),
+            };
             let radius = light.edge2[0];
             // The disk's centre two radii upstream of the sphere's, outside it.
             let centre = vec3(light.v0) - 2.0 * radius * direction;
             let origin = disk_point(centre, radius, direction, u[1], u[2]);
-            emission_along(origin, direction, vec3(light.flux))
+            emission_along(origin, direction, flux)
         }
         _ => triangle_emission(light, u),
     };
@@ -357,7 +373,11 @@ mod tests {
         let table = light_table(&scene);
         for i in 0..200 {
             let f = |k: u32| ((i * 7919 + k * 104_729) % 1000) as f32 / 1000.0;
-            let e = sample_emission(&table, [f(0), f(1), f(2), f(3), f(4)]);
+            let e = sample_emission(
+                &table,
+                &crate::sky_map::NO_SKY_MAP,
+                [f(0), f(1), f(2), f(3), f(4)],
+            );
             assert!(e.direction.dot(e.normal) >= 0.0);
             assert!((e.direction.length() - 1.0).abs() < 1e-5);
         }
@@ -377,7 +397,7 @@ mod tests {
             (state >> 8) as f32 / (1u32 << 24) as f32
         };
         let samples = (0..count)
-            .map(|_| sample_emission(&table, [(); 5].map(|_| next())))
+            .map(|_| sample_emission(&table, &crate::sky_map::NO_SKY_MAP, [(); 5].map(|_| next())))
             .collect();
         (scene, samples)
     }

@@ -160,6 +160,7 @@ pub fn params_with(
         sky: scene
             .lights
             .sky
+            .as_ref()
             .map_or(Vec3::ZERO, |s| s.radiance)
             .to_array(),
         sample_lights: settings.direct.flag()

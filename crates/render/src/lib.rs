@@ -31,6 +31,7 @@ pub mod rng;
 pub mod sampling;
 pub mod settings;
 pub mod shadow_terminator;
+pub mod sky_map;
 pub mod textures;
 pub mod tonemap;
 

@@ -18,6 +18,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod obj;
+pub mod sky_map;
 pub mod testing;
 pub mod textures;
 
@@ -31,6 +32,7 @@ pub use material::{
     coated_surface, dispersion_from_abbe, glass_surface, metal_surface,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
+pub use sky_map::SkyMap;
 pub use textures::{Texels, Texture, TextureId};
 
 use std::path::Path;

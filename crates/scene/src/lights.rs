@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use crate::{Bounds, Material, Texture, Triangle};
+use crate::{Bounds, Material, SkyMap, Texture, Triangle};
 
 /// One emissive triangle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,12 +87,18 @@ impl PunctualLight {
     }
 }
 
-/// Uniform radiance from every direction, infinitely far away (kousen's `--sky`): camera rays
-/// that leave the scene see it, and its photons come from every direction through a disk
-/// across the scene's bounding sphere.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Radiance from every direction, infinitely far away (kousen's `--sky` and `--sky-map`):
+/// uniform, or an environment map's. Camera rays that leave the scene see it, and its photons
+/// come from every direction through a disk across the scene's bounding sphere.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Sky {
+    /// The uniform sky's radiance; with a map, the factor its texels are scaled by.
     pub radiance: Vec3,
+    /// The environment map, if any ([`SkyMap`]), and its rotation about +Y in radians
+    /// (counter-clockwise seen from above: a positive angle turns the map's −Z column towards
+    /// −X).
+    pub map: Option<std::sync::Arc<SkyMap>>,
+    pub rotation: f32,
     /// The scene's bounding sphere (slightly enlarged), which the photons' disk covers.
     pub centre: Vec3,
     pub radius: f32,
@@ -118,6 +124,28 @@ impl Sky {
             centre,
             radius,
             power: radiance * PI * radius * radius * 4.0 * PI,
+            map: None,
+            rotation: 0.0,
+        }
+    }
+
+    /// A sky whose radiance is `map` × `scale`, turned `rotation` radians about +Y, around a
+    /// scene within `bounds` (not empty). Its power is the map's integral × the disk's area.
+    pub fn with_map(
+        map: std::sync::Arc<SkyMap>,
+        scale: Vec3,
+        rotation: f32,
+        bounds: Bounds,
+    ) -> Sky {
+        use std::f32::consts::PI;
+        let (centre, radius) = bounding_sphere(bounds);
+        Sky {
+            radiance: scale,
+            centre,
+            radius,
+            power: scale * map.integral() * PI * radius * radius,
+            map: Some(map),
+            rotation,
         }
     }
 }
@@ -184,10 +212,14 @@ impl Lights {
 
     /// Sets the sky around a scene within `bounds` (kousen's `--sky`), replacing any.
     pub fn set_sky(&mut self, radiance: Vec3, bounds: Bounds) {
+        self.replace_sky(Sky::new(radiance, bounds));
+    }
+
+    /// Sets `sky` (uniform or mapped), replacing any.
+    pub fn replace_sky(&mut self, sky: Sky) {
         if let Some(old) = self.sky.take() {
             self.total_power -= old.power;
         }
-        let sky = Sky::new(radiance, bounds);
         self.total_power += sky.power;
         self.sky = Some(sky);
     }

@@ -8,6 +8,119 @@
 @group(1) @binding(5) var<storage, read_write> pixels: array<PixelStats>;
 @group(1) @binding(6) var<storage, read_write> hash: array<atomic<u32>>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>, COUNTER_COUNT>;
+// render::sky_map's buffer: the sky's environment map, its texels and CDFs.
+@group(1) @binding(8) var<storage, read> sky_map: array<f32>;
+
+// render::sky_map::MapFrame: the map's size and rotation from the sky's table entry (width 0:
+// a uniform sky).
+struct MapFrame {
+    width: u32,
+    height: u32,
+    cos_turn: f32,
+    sin_turn: f32,
+}
+
+fn map_frame(light: Light) -> MapFrame {
+    if light.kind != LIGHT_SKY {
+        return MapFrame(0u, 0u, 1.0, 0.0);
+    }
+    return MapFrame(u32(light.edge2.y), u32(light.edge2.z), light.edge1.x, light.edge1.y);
+}
+
+// render::sky_map::MapFrame::texel_index, with scene::sky_map::map_coordinates.
+fn sky_texel_index(frame: MapFrame, direction: vec3<f32>) -> u32 {
+    let d = vec3<f32>(frame.cos_turn * direction.x - frame.sin_turn * direction.z, direction.y, frame.sin_turn * direction.x + frame.cos_turn * direction.z);
+    var u = 0.5 + atan2(d.x, -d.z) / (2.0 * PI);
+    if u >= 1.0 {
+        u -= 1.0;
+    }
+    let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+    let x = min(u32(u * f32(frame.width)), frame.width - 1u);
+    let y = min(u32(v * f32(frame.height)), frame.height - 1u);
+    return y * frame.width + x;
+}
+
+// render::sky_map::SkyDirection; `found` false at the poles.
+struct SkyDirection {
+    direction: vec3<f32>,
+    radiance: vec3<f32>,
+    pdf: f32,
+    found: bool,
+}
+
+// render::sky_map::sky_map_lookup: the radiance along `direction` and its density.
+fn sky_map_lookup(frame: MapFrame, direction: vec3<f32>) -> SkyDirection {
+    let i = sky_texel_index(frame, direction);
+    let sine = sqrt(max(1.0 - direction.y * direction.y, 0.0));
+    var pdf = 0.0;
+    if sine > 0.0 {
+        pdf = sky_map[4u * i + 3u] / (2.0 * PI * PI * sine);
+    }
+    let radiance = vec3<f32>(sky_map[4u * i], sky_map[4u * i + 1u], sky_map[4u * i + 2u]);
+    return SkyDirection(direction, radiance, pdf, true);
+}
+
+// render::sky_map::search over sky_map[first .. first + count]: the entry and the fraction.
+fn sky_search(first: u32, count: u32, u: f32) -> vec2<f32> {
+    var lo = 0u;
+    var hi = count - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if u < sky_map[first + mid] {
+            hi = mid;
+        } else {
+            lo = mid + 1u;
+        }
+    }
+    var before = 0.0;
+    if lo > 0u {
+        before = sky_map[first + lo - 1u];
+    }
+    let width = sky_map[first + lo] - before;
+    var fraction = 0.5;
+    if width > 0.0 {
+        fraction = clamp((u - before) / width, 0.0, 0.99999994);
+    }
+    return vec2<f32>(f32(lo), fraction);
+}
+
+// render::sky_map::sample_sky_map.
+fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
+    let count = frame.width * frame.height;
+    let row = sky_search(5u * count, frame.height, u1);
+    let y = u32(row.x);
+    let column = sky_search(4u * count + y * frame.width, frame.width, u2);
+    let x = u32(column.x);
+    let u = (f32(x) + column.y) / f32(frame.width);
+    let v = (f32(y) + row.y) / f32(frame.height);
+    let sine = sin(PI * v);
+    var sample = SkyDirection(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0), 0.0, false);
+    if sine <= 0.0 {
+        return sample;
+    }
+    // scene::sky_map::map_direction, then MapFrame::turned_to_world.
+    let phi = 2.0 * PI * (u - 0.5);
+    let local = vec3<f32>(sine * sin(phi), cos(PI * v), -sine * cos(phi));
+    sample.direction = vec3<f32>(frame.cos_turn * local.x + frame.sin_turn * local.z, local.y, -frame.sin_turn * local.x + frame.cos_turn * local.z);
+    let i = y * frame.width + x;
+    sample.radiance = vec3<f32>(sky_map[4u * i], sky_map[4u * i + 1u], sky_map[4u * i + 2u]);
+    sample.pdf = sky_map[4u * i + 3u] / (2.0 * PI * PI * sine);
+    sample.found = true;
+    return sample;
+}
+
+// render::sky_map::sky_radiance: what a camera path leaving the scene along `direction` sees.
+fn sky_radiance(direction: vec3<f32>) -> vec3<f32> {
+    let uniform_sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
+    if params.light_count == 0u {
+        return uniform_sky;
+    }
+    let frame = map_frame(lights[params.light_count - 1u]);
+    if frame.width == 0u {
+        return uniform_sky;
+    }
+    return sky_map_lookup(frame, direction).radiance;
+}
 
 // render::emission::pick_light: binary search of the CDF.
 fn pick_light(u: f32) -> u32 {
@@ -70,7 +183,8 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
     let u2 = next_f32(rng);
     let u3 = next_f32(rng);
     let u4 = next_f32(rng);
-    let light = lights[pick_light(u0)];
+    let light_index = pick_light(u0);
+    let light = lights[light_index];
     var origin = light.v0;
     var normal: vec3<f32>;
     var direction: vec3<f32>;
@@ -89,7 +203,19 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         normal = direction;
         origin = disk_point(light.v0, light.edge2.x, direction, u1, u2);
     } else if light.kind == LIGHT_SKY {
-        direction = uniform_cone(u3, u4, -1.0);
+        let frame = map_frame(light);
+        if frame.width == 0u {
+            direction = uniform_cone(u3, u4, -1.0);
+        } else {
+            // render::sky_map::sky_photon_flux: the map's direction by its importance.
+            let s = sample_sky_map(frame, u3, u4);
+            direction = -s.direction;
+            flux = vec3<f32>(0.0);
+            if s.found {
+                let radius = light.edge2.x;
+                flux = s.radiance * (PI * radius * radius / (s.pdf * pick_probability(light_index)));
+            }
+        }
         normal = direction;
         let radius = light.edge2.x;
         origin = disk_point(light.v0 - 2.0 * radius * direction, radius, direction, u1, u2);
@@ -142,7 +268,16 @@ fn sky_pdf(direction: vec3<f32>, normal: vec3<f32>) -> f32 {
     if lights[last].kind != LIGHT_SKY {
         return 0.0;
     }
-    return pick_probability(last) * max(dot(direction, normal), 0.0) / PI;
+    let pick = pick_probability(last);
+    let cos_normal = dot(direction, normal);
+    let frame = map_frame(lights[last]);
+    if frame.width == 0u {
+        return pick * max(cos_normal, 0.0) / PI;
+    }
+    if cos_normal <= 0.0 {
+        return 0.0;
+    }
+    return pick * sky_map_lookup(frame, direction).pdf;
 }
 
 // render::direct::triangle_pdf.
@@ -173,6 +308,14 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
     if light.kind == LIGHT_DIRECTIONAL {
         sample.direction = -light.edge1;
         sample.incident = light.flux / (PI * light.edge2.x * light.edge2.x);
+    } else if light.kind == LIGHT_SKY && map_frame(light).width != 0u {
+        let s = sample_sky_map(map_frame(light), u1, u2);
+        if !s.found || dot(s.direction, normal) <= 0.0 {
+            return sample;
+        }
+        sample.direction = s.direction;
+        sample.incident = s.radiance / (pick * s.pdf);
+        sample.pdf = pick * s.pdf;
     } else if light.kind == LIGHT_SKY {
         let local = cosine_hemisphere(u1, u2);
         sample.direction = normalize(about_axis(normal, local));
@@ -670,7 +813,6 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
     var probe_kept = vec3<f32>(1.0);
     // cpu::kernels::eye_path: the solid the path is inside, where the camera is to begin with.
     var medium = params.camera_medium;
-    let sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
     // cpu::kernels::eye_path's glossy vertex: emission met next is weighed against the light
     // sample taken there.
     var glossy = GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
@@ -678,7 +820,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         var hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
         if probing {
             if !hit.found {
-                direct += probe_weight * (probe_kept * sky * medium_transmittance(probe_medium, RAY_T_MAX));
+                direct += probe_weight * (probe_kept * sky_radiance(probe_direction) * medium_transmittance(probe_medium, RAY_T_MAX));
                 probing = false;
                 continue;
             }
@@ -696,7 +838,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<func
         if !hit.found {
             // Out of the scene: the sky (zero without one), less what water around the path
             // absorbs.
-            direct += throughput * emission_share * (sky * medium_transmittance(medium, RAY_T_MAX)) * sky_weight(glossy, direction);
+            direct += throughput * emission_share * (sky_radiance(direction) * medium_transmittance(medium, RAY_T_MAX)) * sky_weight(glossy, direction);
             break;
         }
         throughput *= transmittance_to(medium, hit);

@@ -121,7 +121,7 @@ impl App {
             scale: 1.0,
             photons_override: args.photons,
             bvh_args: args.bvh,
-            added_lights: args.added_lights,
+            added_lights: args.added_lights.clone(),
             initial_camera: Some(camera),
             initial_scene: Some(loaded),
             gfx: None,
@@ -361,10 +361,10 @@ impl App {
         let (send, receive) = mpsc::channel();
         let owned = path.to_owned();
         let bvh_args = self.bvh_args;
-        let added_lights = self.added_lights;
+        let added_lights = self.added_lights.clone();
         std::thread::spawn(move || {
             // The receiver may be gone if another file was dropped meanwhile.
-            let _ = send.send(load_scene(&owned, bvh_args, added_lights));
+            let _ = send.send(load_scene(&owned, bvh_args, &added_lights));
         });
         self.notify(format!("loading {} …", path.display()));
         self.loading = Some((path.to_owned(), receive));

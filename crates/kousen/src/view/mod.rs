@@ -15,7 +15,7 @@ use crate::cli::ViewArgs;
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     // Bad arguments and scenes fail before a window opens.
     app::check_arguments(args)?;
-    let loaded = session::load_scene(&args.scene, args.bvh, args.added_lights)?;
+    let loaded = session::load_scene(&args.scene, args.bvh, &args.added_lights)?;
     let camera = crate::cmd::render::choose_camera(&loaded.scene, &args.camera)?
         .unwrap_or_else(|| render::framing::framed_view(&loaded.bvh, loaded.scene.bounds()));
     let event_loop = winit::event_loop::EventLoop::new().map_err(|e| {

@@ -24,7 +24,7 @@ pub struct LoadedScene {
 pub fn load_scene(
     path: &Path,
     bvh_args: BvhArgs,
-    added_lights: AddedLightArgs,
+    added_lights: &AddedLightArgs,
 ) -> anyhow::Result<LoadedScene> {
     let mut scene = scene::load(path)?;
     added_lights.add_to(&mut scene)?;

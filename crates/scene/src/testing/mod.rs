@@ -1246,3 +1246,69 @@ pub fn shared_scene(relative: &str) -> Option<PathBuf> {
 
 #[cfg(test)]
 mod tests;
+
+/// A small sky map for tests: a blue gradient above the horizon, a bright off-white sun one
+/// texel wide at 28–39° from the zenith, and a warm ground below the horizon; 32 × 16 texels,
+/// nothing about it symmetric in azimuth.
+pub fn sunset_sky_map() -> crate::SkyMap {
+    let (width, height) = (32u32, 16u32);
+    let texels = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            if (x, y) == (21, 3) {
+                Vec3::new(60.0, 50.0, 35.0)
+            } else if y < height / 2 {
+                let up = 1.0 - y as f32 / (height / 2) as f32;
+                Vec3::new(0.3 + 0.2 * up, 0.5 + 0.2 * up, 0.9 + 0.3 * up)
+                    * (1.0 + 0.3 * (x as f32 * 0.4).sin())
+            } else {
+                Vec3::new(0.4, 0.25, 0.1)
+            }
+        })
+        .collect();
+    crate::SkyMap::new(width, height, texels).expect("a valid sky map")
+}
+
+/// [`punctual_plane`] under [`sunset_sky_map`] scaled by `scale` and turned `rotation`
+/// radians, and no other light. The plane's top sees only the upper half of the map, so its
+/// radiance is albedo/π × `SkyMap::floor_irradiance` × `scale`.
+pub fn plane_under_sky_map(scale: Vec3, rotation: f32) -> Scene {
+    under_sky_map(punctual_plane(&[]), scale, rotation)
+}
+
+/// [`punctual_plane`] with a glass sphere and a rough gold one on it, under
+/// [`sunset_sky_map`] turned 0.6 radians: refraction, glossy reflection and the background
+/// seen past the plane all read the map. The camera looks down from above and aside.
+pub fn spheres_under_sky_map() -> Scene {
+    let mut f = Fixture::new("testing::spheres_under_sky_map");
+    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
+    let half = PUNCTUAL_PLANE_HALF_SIZE;
+    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+        .map(|[x, z]| Vec3::new(x * half, 0.0, z * half));
+    f.quad(corners, plane, Vec3::Y);
+    let glass = f.clear_glass();
+    let gold = f.material(
+        "rough gold",
+        Surface::RoughConductor { alpha: 0.3 * 0.3 },
+        Vec3::new(0.95, 0.75, 0.4),
+    );
+    f.sphere(Vec3::new(-0.35, 0.3, 0.1), 0.3, glass, false);
+    f.sphere(Vec3::new(0.4, 0.25, -0.2), 0.25, gold, false);
+    let eye = Vec3::new(0.3, 1.2, 2.2);
+    f.camera(
+        eye,
+        Vec3::new(0.0, 0.2, 0.0) - eye,
+        60f32.to_radians(),
+        None,
+        "above",
+    );
+    under_sky_map(f.finish(), Vec3::ONE, 0.6)
+}
+
+fn under_sky_map(mut scene: Scene, scale: Vec3, rotation: f32) -> Scene {
+    let bounds = scene.bounds();
+    let map = std::sync::Arc::new(sunset_sky_map());
+    let sky = crate::Sky::with_map(map, scale, rotation, bounds);
+    scene.lights.replace_sky(sky);
+    scene
+}

@@ -190,3 +190,68 @@ fn sky_lights_a_scene_without_lights() {
         "radiance {centre}, expected about 0.8"
     );
 }
+
+/// A `width` × `height` portable float map of one colour (rows bottom to top, little-endian).
+fn uniform_pfm(colour: [f32; 3], width: usize, height: usize) -> Vec<u8> {
+    let mut bytes = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    for _ in 0..width * height {
+        for c in colour {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    bytes
+}
+
+/// `--sky-map`: a uniform map of radiance 1 lights the quad as `--sky 1,1,1` does (L = ρ =
+/// 0.8), read from .pfm or Radiance .hdr; `--sky` scales it; bad maps are one-line errors
+/// that write nothing.
+#[test]
+fn a_sky_map_lights_a_scene_without_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = quad_scene(dir.path(), "dark.gltf", vec![], vec![]);
+    let pfm = write(dir.path(), "white.pfm", &uniform_pfm([1.0; 3], 16, 8));
+    let mut hdr_bytes = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut hdr_bytes)
+        .encode(&vec![image::Rgb([1.0f32; 3]); 16 * 8], 16, 8)
+        .unwrap();
+    let hdr = write(dir.path(), "white.hdr", &hdr_bytes);
+    for (map, scale, expected) in [
+        (&pfm, "1,1,1", 0.8),
+        (&hdr, "1,1,1", 0.8),
+        (&pfm, "2,2,2", 1.6),
+    ] {
+        let out = dir.path().join("mapped.pfm");
+        let map = map.to_str().unwrap();
+        let output = render_small(
+            &scene,
+            &out,
+            &["--sky-map", map, "--sky", scale, "--sky-rotate", "-30"],
+        );
+        let centre = block_radiance(&output, &out, 4..12);
+        assert!(
+            (0.875 * expected..1.125 * expected).contains(&centre),
+            "{map} × {scale}: radiance {centre}, expected about {expected}"
+        );
+    }
+    let black = write(dir.path(), "black.pfm", &uniform_pfm([0.0; 3], 4, 2));
+    let negative = write(
+        dir.path(),
+        "negative.pfm",
+        &uniform_pfm([1.0, -1.0, 1.0], 4, 2),
+    );
+    let text = write(dir.path(), "notes.txt", b"not an image");
+    let truncated = write(dir.path(), "cut.pfm", &uniform_pfm([1.0; 3], 4, 2)[..30]);
+    let missing = dir.path().join("missing.hdr");
+    for (map, needle) in [
+        (&black, "black"),
+        (&negative, "finite and ≥ 0"),
+        (&text, "unknown sky map extension"),
+        (&truncated, "cut.pfm"),
+        (&missing, "missing.hdr"),
+    ] {
+        let out = dir.path().join("never.pfm");
+        let output = render_small(&scene, &out, &["--sky-map", map.to_str().unwrap()]);
+        assert_clean_error(&output, needle);
+        assert!(!out.exists(), "{needle}: an image was written");
+    }
+}

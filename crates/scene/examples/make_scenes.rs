@@ -1,5 +1,5 @@
-//! Writes the scenes shipped in `scenes/` (glTF 2.0, `.gltf` + `.bin`) from the fixtures in
-//! `scene::testing`:
+//! Writes the scenes shipped in `scenes/` (glTF 2.0, `.gltf` + `.bin`) and the sky maps in
+//! `scenes/skies/` (.hdr) from the fixtures in `scene::testing`:
 //!
 //! ```text
 //! cargo run -p scene --example make_scenes -- scenes/
@@ -10,6 +10,8 @@
 
 #[path = "make_scenes/gltf_writer.rs"]
 mod gltf_writer;
+#[path = "make_scenes/sky_writer.rs"]
+mod sky_writer;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -31,6 +33,19 @@ fn main() -> ExitCode {
             dir.join(format!("{stem}.gltf")).display(),
             scene.triangles.len(),
             scene.materials.len()
+        );
+    }
+    for (stem, fixture) in sky_writer::SKIES {
+        let map = fixture();
+        if let Err(e) = sky_writer::write(&map, stem, &dir) {
+            eprintln!("error: {}: {e}", dir.join("skies").join(stem).display());
+            return ExitCode::FAILURE;
+        }
+        println!(
+            "{}: {}x{} sky map",
+            dir.join("skies").join(format!("{stem}.hdr")).display(),
+            map.width(),
+            map.height()
         );
     }
     ExitCode::SUCCESS

@@ -6,6 +6,8 @@
 
 #[path = "../examples/make_scenes/gltf_writer.rs"]
 mod gltf_writer;
+#[path = "../examples/make_scenes/sky_writer.rs"]
+mod sky_writer;
 
 use std::path::{Path, PathBuf};
 
@@ -16,22 +18,35 @@ fn shipped_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
 
+/// The file `name` written fresh into `dir` is the one in `scenes/`, byte for byte.
+fn assert_as_shipped(dir: &Path, name: &str) {
+    let fresh = std::fs::read(dir.join(name)).unwrap();
+    let shipped =
+        std::fs::read(shipped_dir().join(name)).unwrap_or_else(|e| panic!("scenes/{name}: {e}"));
+    assert!(
+        fresh == shipped,
+        "scenes/{name} differs from what make_scenes writes; regenerate it with \
+         `cargo run -p scene --example make_scenes -- scenes/`"
+    );
+}
+
 #[test]
 fn shipped_scenes_match_a_fresh_regeneration() {
     let dir = tempfile::tempdir().unwrap();
     for (stem, fixture) in gltf_writer::SHIPPED {
         gltf_writer::write(&fixture(), stem, dir.path()).unwrap();
         for extension in ["gltf", "bin"] {
-            let name = format!("{stem}.{extension}");
-            let fresh = std::fs::read(dir.path().join(&name)).unwrap();
-            let shipped = std::fs::read(shipped_dir().join(&name))
-                .unwrap_or_else(|e| panic!("scenes/{name}: {e}"));
-            assert!(
-                fresh == shipped,
-                "scenes/{name} differs from what make_scenes writes; regenerate it with \
-                 `cargo run -p scene --example make_scenes -- scenes/`"
-            );
+            assert_as_shipped(dir.path(), &format!("{stem}.{extension}"));
         }
+    }
+}
+
+#[test]
+fn shipped_skies_match_a_fresh_regeneration() {
+    let dir = tempfile::tempdir().unwrap();
+    for (stem, fixture) in sky_writer::SKIES {
+        sky_writer::write(&fixture(), stem, dir.path()).unwrap();
+        assert_as_shipped(dir.path(), &format!("skies/{stem}.hdr"));
     }
 }
 

@@ -108,7 +108,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     args.added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z or --sky R,G,B adds one",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z, --sky R,G,B or --sky-map FILE adds one",
             args.scene.display()
         );
     }

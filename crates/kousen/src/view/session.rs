@@ -30,7 +30,7 @@ pub fn load_scene(
     added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(
-            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z or --sky R,G,B adds one",
+            "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z, --sky R,G,B or --sky-map FILE adds one",
             path.display()
         );
     }

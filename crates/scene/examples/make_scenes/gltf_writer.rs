@@ -38,7 +38,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 15] = [
+pub const SHIPPED: [(&str, Fixture); 16] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -57,6 +57,7 @@ pub const SHIPPED: [(&str, Fixture); 15] = [
     ),
     ("prism", scene::testing::prism),
     ("cornell-clearcoat", scene::testing::cornell_clearcoat),
+    ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
 
 const ARRAY_BUFFER: u32 = 34962;

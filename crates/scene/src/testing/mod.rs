@@ -1276,33 +1276,78 @@ pub fn plane_under_sky_map(scale: Vec3, rotation: f32) -> Scene {
     under_sky_map(punctual_plane(&[]), scale, rotation)
 }
 
-/// [`punctual_plane`] with a glass sphere and a rough gold one on it, under
-/// [`sunset_sky_map`] turned 0.6 radians: refraction, glossy reflection and the background
-/// seen past the plane all read the map. The camera looks down from above and aside.
+/// [`spheres_on_a_floor`] under [`sunset_sky_map`] turned 0.6 radians: refraction, glossy
+/// reflection and the background seen past the floor all read the map.
 pub fn spheres_under_sky_map() -> Scene {
-    let mut f = Fixture::new("testing::spheres_under_sky_map");
-    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
-    let half = PUNCTUAL_PLANE_HALF_SIZE;
+    under_sky_map(spheres_on_a_floor(), Vec3::ONE, 0.6)
+}
+
+/// An open grey floor 4 wide with a glass sphere, a rough gold one and a white one on it, and
+/// no light of its own: made to be lit by a sky (`kousen render --sky-map`), the shipped
+/// `scenes/spheres-on-a-floor.gltf`. The camera looks down from above and aside, the horizon
+/// in view.
+pub fn spheres_on_a_floor() -> Scene {
+    let mut f = Fixture::new("testing::spheres_on_a_floor");
+    let floor = f.material("floor", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
+    let half = 2.0 * PUNCTUAL_PLANE_HALF_SIZE;
     let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
         .map(|[x, z]| Vec3::new(x * half, 0.0, z * half));
-    f.quad(corners, plane, Vec3::Y);
+    f.quad(corners, floor, Vec3::Y);
     let glass = f.clear_glass();
     let gold = f.material(
         "rough gold",
         Surface::RoughConductor { alpha: 0.3 * 0.3 },
         Vec3::new(0.95, 0.75, 0.4),
     );
+    let white = f.material("white", Surface::Diffuse, Vec3::splat(0.8));
     f.sphere(Vec3::new(-0.35, 0.3, 0.1), 0.3, glass, false);
     f.sphere(Vec3::new(0.4, 0.25, -0.2), 0.25, gold, false);
-    let eye = Vec3::new(0.3, 1.2, 2.2);
+    f.sphere(Vec3::new(0.25, 0.15, 0.5), 0.15, white, false);
+    let eye = Vec3::new(0.3, 0.9, 2.4);
     f.camera(
         eye,
-        Vec3::new(0.0, 0.2, 0.0) - eye,
-        60f32.to_radians(),
+        Vec3::new(0.0, 0.25, 0.0) - eye,
+        50f32.to_radians(),
         None,
         "above",
     );
-    under_sky_map(f.finish(), Vec3::ONE, 0.6)
+    f.finish()
+}
+
+/// The sky map shipped as `scenes/skies/sunset.hdr` (`width` × `width`/2 texels): a blue sky
+/// brightening to a warm horizon, a sun 5° across 20° above the horizon towards −Z turned 40°
+/// to +X, and a dim brown ground. Written by `make_scenes`.
+pub fn sunset_sky(width: u32) -> crate::SkyMap {
+    let height = width / 2;
+    let sun = {
+        let (elevation, azimuth) = (20f32.to_radians(), 40f32.to_radians());
+        Vec3::new(
+            elevation.cos() * azimuth.sin(),
+            elevation.sin(),
+            -elevation.cos() * azimuth.cos(),
+        )
+    };
+    let cos_sun = 2.5f32.to_radians().cos();
+    let texels = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let u = (x as f32 + 0.5) / width as f32;
+            let v = (y as f32 + 0.5) / height as f32;
+            let d = crate::sky_map::map_direction(u, v);
+            if d.y < 0.0 {
+                return Vec3::new(0.12, 0.09, 0.06);
+            }
+            let blue = Vec3::new(0.25, 0.45, 1.0) * (0.5 + 0.7 * d.y);
+            let glow = Vec3::new(1.0, 0.55, 0.25) * (1.0 - d.y).powi(6);
+            let sun_disc = if d.dot(sun) > cos_sun {
+                Vec3::new(900.0, 700.0, 450.0)
+            } else {
+                Vec3::ZERO
+            };
+            blue + glow + sun_disc
+        })
+        .collect();
+    crate::SkyMap::new(width, height, texels).expect("a valid sky map")
 }
 
 fn under_sky_map(mut scene: Scene, scale: Vec3, rotation: f32) -> Scene {

@@ -55,6 +55,8 @@ not used, so nothing about the mapping is hidden):
   transform (lights shine down their local -z). Spot lights are refused: Mitsuba's spot
   falloff is not glTF's. `--point X,Y,Z --point-intensity R,G,B` adds a point light to any
   scene (kousen's tests add the same light in code).
+- Sky: `--sky-map FILE --sky-rotate DEG` -> Mitsuba `envmap` turned to kousen's orientation
+  (see sky_emitter).
 - Nesting: `--exterior NAME=SOLID` says material NAME lies inside the solid dielectric SOLID
   (kousen finds this from the geometry, crates/render/src/nesting.rs): NAME's dielectric and
   plastic members get ext_ior = SOLID's ior, and its shapes SOLID's absorbing medium as their
@@ -420,8 +422,25 @@ def solid_of(doc, name):
     raise ValueError("no material called %r" % name)
 
 
+def sky_emitter(mi, path, rotate_degrees, log):
+    """Mitsuba's `envmap` for kousen's `--sky-map PATH --sky-rotate DEG`. kousen's column u looks
+    along azimuth 2*pi*(u - 1/2) from -Z towards +X (crates/scene/src/sky_map.rs), Mitsuba's along
+    2*pi*u: the same map turned half a turn more about +Y. kousen reads each texel as constant
+    over its patch where Mitsuba interpolates bilinearly, so the map is handed over magnified 8x
+    by repetition (the interpolation then blends only the last 1/16 of a texel at each edge)."""
+    bitmap = np.array(mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB,
+                                              mi.Struct.Type.Float32, srgb_gamma=False))
+    magnified = np.repeat(np.repeat(bitmap, 8, axis=0), 8, axis=1)
+    log("sky map %s: %dx%d, magnified to %dx%d, turned %g deg"
+        % (path, bitmap.shape[1], bitmap.shape[0], magnified.shape[1], magnified.shape[0],
+           rotate_degrees))
+    return {"type": "envmap",
+            "bitmap": mi.Bitmap(magnified.astype(np.float32), pixel_format=mi.Bitmap.PixelFormat.RGB),
+            "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], rotate_degrees + 180.0)}
+
+
 def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra_points=(),
-                camera=0, camera_medium=None, exteriors=None):
+                camera=0, camera_medium=None, exteriors=None, sky=None):
     exteriors = exteriors or {}
     world, yfov = nth_camera(doc, camera)
     eye = world[:3, 3]
@@ -511,6 +530,8 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
     log("%d triangles; camera eye %s forward %s up %s, yfov %.4f deg"
         % (ntri, eye.round(4).tolist(), forward.round(6).tolist(), up.round(6).tolist(),
            math.degrees(yfov)))
+    if sky is not None:
+        scene["sky"] = sky_emitter(mi, sky[0], sky[1], log)
     if camera_medium is not None:
         # The camera sits inside this material's medium (kousen finds that itself).
         if camera_medium not in media:
@@ -545,6 +566,10 @@ def main():
     ap.add_argument("--exterior", action="append", default=[], metavar="NAME=SOLID",
                     help="material NAME lies inside solid material SOLID (its indices relative "
                          "to SOLID's, SOLID's medium around it), as kousen finds itself")
+    ap.add_argument("--sky-map", default=None,
+                    help="light the scene with this equirectangular sky map, as kousen's --sky-map")
+    ap.add_argument("--sky-rotate", type=float, default=0.0,
+                    help="turn the sky map this many degrees about +Y, as kousen's --sky-rotate")
     ap.add_argument("--pass-samples", type=int, default=1 << 22,
                     help="most samples (pixels x spp) in one Mitsuba render call")
     args = ap.parse_args()
@@ -561,7 +586,8 @@ def main():
     extra_points = [(triple(args.point), triple(args.point_intensity))] if args.point else []
     scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log,
                         extra_points, args.camera, args.camera_medium,
-                        dict(e.split("=", 1) for e in args.exterior))
+                        dict(e.split("=", 1) for e in args.exterior),
+                        (args.sky_map, args.sky_rotate) if args.sky_map else None)
 
     pixels = args.width * height
     per_pass = max(1, min(args.spp, args.pass_samples // pixels))

@@ -131,3 +131,27 @@ fn sppm_photons_over_a_lowered_binding_limit_are_refused_in_words() {
     );
     assert!(!message.contains('\n'), "{message}");
 }
+
+/// A sky map past the storage binding (simulated by lowering the limit to 1 MiB: a 512 × 256
+/// map takes 2.5 MiB with its CDFs) is refused in one line naming the buffer and the limit.
+#[test]
+fn a_sky_map_over_a_lowered_binding_limit_is_refused_in_words() {
+    let mut context = context();
+    let mut scene = scene::testing::cornell_box();
+    let map = scene::SkyMap::new(512, 256, vec![glam::Vec3::ONE; 512 * 256]).unwrap();
+    let bounds = scene.bounds();
+    let sky = scene::Sky::with_map(std::sync::Arc::new(map), glam::Vec3::ONE, 0.0, bounds);
+    scene.lights.replace_sky(sky);
+    let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
+    context.limits.max_storage_buffer_binding_size = 1 << 20;
+    let message = gpu::sppm::GpuBackend::new(context, &scene, bvh)
+        .err()
+        .expect("a sky map past the limit")
+        .to_string();
+    assert!(message.contains("sky_map"), "{message}");
+    assert!(
+        message.contains("max_storage_buffer_binding_size = 1.0 MiB"),
+        "{message}"
+    );
+    assert!(!message.contains('\n'), "{message}");
+}

@@ -139,6 +139,8 @@ pub(crate) struct SceneFeatures {
     pub dispersion: bool,
     /// Some member's surface follows a metallic-roughness texture (`ROUGHNESS_MAPS`).
     pub roughness_maps: bool,
+    /// The sky has an environment map (`SKY_MAP`).
+    pub sky_map: bool,
 }
 
 impl SceneFeatures {
@@ -161,10 +163,11 @@ impl SceneFeatures {
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
+            sky_map: scene.lights.sky.as_ref().is_some_and(|s| s.map.is_some()),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 8] {
+    fn constants(self) -> [(&'static str, f64); 9] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -175,6 +178,7 @@ impl SceneFeatures {
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),
+            ("SKY_MAP", flag(self.sky_map)),
         ]
     }
 }

@@ -21,7 +21,7 @@ struct MapFrame {
 }
 
 fn map_frame(light: Light) -> MapFrame {
-    if light.kind != LIGHT_SKY {
+    if !SKY_MAP || light.kind != LIGHT_SKY {
         return MapFrame(0u, 0u, 1.0, 0.0);
     }
     return MapFrame(u32(light.edge2.y), u32(light.edge2.z), light.edge1.x, light.edge1.y);
@@ -112,7 +112,7 @@ fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
 // render::sky_map::sky_radiance: what a camera path leaving the scene along `direction` sees.
 fn sky_radiance(direction: vec3<f32>) -> vec3<f32> {
     let uniform_sky = vec3<f32>(params.sky_r, params.sky_g, params.sky_b);
-    if params.light_count == 0u {
+    if !SKY_MAP || params.light_count == 0u {
         return uniform_sky;
     }
     let frame = map_frame(lights[params.light_count - 1u]);
@@ -204,7 +204,7 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         origin = disk_point(light.v0, light.edge2.x, direction, u1, u2);
     } else if light.kind == LIGHT_SKY {
         let frame = map_frame(light);
-        if frame.width == 0u {
+        if !SKY_MAP || frame.width == 0u {
             direction = uniform_cone(u3, u4, -1.0);
         } else {
             // render::sky_map::sky_photon_flux: the map's direction by its importance.
@@ -271,7 +271,7 @@ fn sky_pdf(direction: vec3<f32>, normal: vec3<f32>) -> f32 {
     let pick = pick_probability(last);
     let cos_normal = dot(direction, normal);
     let frame = map_frame(lights[last]);
-    if frame.width == 0u {
+    if !SKY_MAP || frame.width == 0u {
         return pick * max(cos_normal, 0.0) / PI;
     }
     if cos_normal <= 0.0 {
@@ -308,7 +308,7 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
     if light.kind == LIGHT_DIRECTIONAL {
         sample.direction = -light.edge1;
         sample.incident = light.flux / (PI * light.edge2.x * light.edge2.x);
-    } else if light.kind == LIGHT_SKY && map_frame(light).width != 0u {
+    } else if SKY_MAP && light.kind == LIGHT_SKY && map_frame(light).width != 0u {
         let s = sample_sky_map(map_frame(light), u1, u2);
         if !s.found || dot(s.direction, normal) <= 0.0 {
             return sample;

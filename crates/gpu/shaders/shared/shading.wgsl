@@ -214,6 +214,10 @@ override FROSTED_GLASS: bool = true;
 override BLENDS: bool = true;
 // Whether some material wears glTF's clear coat (scene::Clearcoat).
 override CLEARCOATS: bool = true;
+// Whether the sky has an environment map (render::sky_map, read in sppm.wgsl): compiled out
+// otherwise, as NORMAL_MAPS is (its lookups and searches, inlined, made lavapipe's eye pass
+// ~10 % slower in scenes without one).
+override SKY_MAP: bool = true;
 
 // Whether some material's surface follows a metallic-roughness texture (scene::RoughnessMap);
 // compiled out as NORMAL_MAPS is.

@@ -185,12 +185,10 @@ pub fn glass_surface(ior: f32, thin_walled: bool, roughness: f32) -> Surface {
 pub fn coated_surface(ior: f32, roughness: f32) -> Surface {
     if roughness >= DIFFUSE_MIN_ROUGHNESS {
         Surface::Diffuse
-    } else if roughness < MIRROR_MAX_ROUGHNESS {
-        Surface::Plastic { ior, alpha: 0.0 }
     } else {
         Surface::Plastic {
             ior,
-            alpha: roughness * roughness,
+            alpha: coat_alpha(roughness),
         }
     }
 }

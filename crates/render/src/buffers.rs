@@ -213,7 +213,8 @@ pub struct SppmParams {
     pub storage_origin: [f32; 3],
     /// What f16 storage multiplies fluxes by: 1 / the largest light's flux, which bounds every
     /// photon's (Russian roulette on the largest channel never raises one), so stored fluxes
-    /// lie in [0, 1] and keep f16's relative precision.
+    /// lie in [0, 1] and keep f16's relative precision. (A sky map's photons may carry a few
+    /// times its table flux in one channel, `render::sky_map`: still far inside f16's range.)
     pub storage_flux_scale: f32,
     /// Radiance of the sky (zero without one): what camera paths that leave the scene see.
     pub sky: [f32; 3],

@@ -21,6 +21,9 @@
 //!   [`FURNACE_RADIANCE`] again.
 //! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
 //!   emission is [`glass_pane_radiance`]; [`glass_panes`] has more sheets.
+//! - [`spheres_on_a_floor`]: glass, rough gold and white spheres on an open floor, no light;
+//!   [`spheres_under_sky_map`] lights it with [`sunset_sky_map`], [`plane_under_sky_map`] the
+//!   bare [`punctual_plane`]; [`sunset_sky`] is the shipped `scenes/skies/sunset.hdr`.
 //!
 //! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
 //! these by `cargo run -p scene --example make_scenes -- scenes/`.

@@ -186,17 +186,13 @@ pub fn read_sky_map(path: &Path) -> anyhow::Result<scene::SkyMap> {
         .is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
     let image = if is_hdr {
         read_radiance_hdr(path).with_context(|| format!("cannot read {}", path.display()))?
+    } else if Format::from_path(path).is_ok() {
+        read_image(path)?
     } else {
-        read_image(path).map_err(|e| {
-            if Format::from_path(path).is_err() {
-                anyhow::anyhow!(
-                    "{}: unknown sky map extension (expected .hdr, .exr, .pfm or .png)",
-                    path.display()
-                )
-            } else {
-                e
-            }
-        })?
+        bail!(
+            "{}: unknown sky map extension (expected .hdr, .exr, .pfm or .png)",
+            path.display()
+        )
     };
     scene::SkyMap::new(image.width, image.height, image.pixels)
         .map_err(|message| anyhow::anyhow!("{}: {message}", path.display()))

@@ -151,31 +151,33 @@ pub fn sample_light(
                 pdf: f32::INFINITY,
             }
         }
-        LIGHT_SKY if MapFrame::of(light).is_some() => {
-            let frame = MapFrame::of(light)?;
-            let s = sample_sky_map(&frame, sky_map, u[1], u[2])?;
-            if s.direction.dot(normal) <= 0.0 {
-                return None;
-            }
-            LightSample {
-                index,
-                direction: s.direction,
-                distance: RAY_T_MAX,
-                target: position,
-                incident: s.radiance / (pick * s.pdf),
-                pdf: pick * s.pdf,
-            }
-        }
         LIGHT_SKY => {
-            let local = cosine_hemisphere(u[1], u[2]);
-            let radius = light.edge2[0];
+            // A map's direction by its importance (none below the surface), else a cosine one.
+            let (direction, incident, pdf) = match MapFrame::of(light) {
+                Some(frame) => {
+                    let s = sample_sky_map(&frame, sky_map, u[1], u[2])?;
+                    if s.direction.dot(normal) <= 0.0 {
+                        return None;
+                    }
+                    (s.direction, s.radiance / (pick * s.pdf), pick * s.pdf)
+                }
+                None => {
+                    let local = cosine_hemisphere(u[1], u[2]);
+                    let radius = light.edge2[0];
+                    (
+                        about_axis(normal, local).normalize(),
+                        flux / (4.0 * PI * radius * radius * local.z),
+                        pick * local.z / PI,
+                    )
+                }
+            };
             LightSample {
                 index,
-                direction: about_axis(normal, local).normalize(),
+                direction,
                 distance: RAY_T_MAX,
                 target: position,
-                incident: flux / (4.0 * PI * radius * radius * local.z),
-                pdf: pick * local.z / PI,
+                incident,
+                pdf,
             }
         }
         _ => {

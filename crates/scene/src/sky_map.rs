@@ -84,34 +84,30 @@ impl SkyMap {
     /// ∫ radiance dω over the sphere, per channel (exact for texels constant over their
     /// patches): the sky's power is this × the area of the disk its photons cross.
     pub fn integral(&self) -> Vec3 {
-        let mut sum = [0.0f64; 3];
-        for y in 0..self.height {
-            let solid_angle = self.texel_solid_angle(y) as f64;
-            let row = &self.texels[(y * self.width) as usize..][..self.width as usize];
-            for texel in row {
-                for (s, c) in sum.iter_mut().zip(texel.to_array()) {
-                    *s += c as f64 * solid_angle;
-                }
-            }
-        }
-        Vec3::new(sum[0] as f32, sum[1] as f32, sum[2] as f32)
+        self.sum_by_row(|y| self.texel_solid_angle(y) as f64)
     }
 
     /// ∫ radiance · max(cos θ, 0) dω over the upper hemisphere (+Y), per channel, exact for
     /// texels constant over their patches: the irradiance of an open floor facing up, whose
     /// Lambertian radiance is then albedo/π times this. For analytic tests.
     pub fn floor_irradiance(&self) -> Vec3 {
+        let polar = |row: u32| (PI as f64 * row as f64 / self.height as f64).min(PI as f64 / 2.0);
+        // ∫ cos θ sin θ dθ over the row's band (above the horizon) × its texel's width.
+        self.sum_by_row(|y| {
+            let band = 0.5 * (polar(y + 1).sin().powi(2) - polar(y).sin().powi(2));
+            band * std::f64::consts::TAU / self.width as f64
+        })
+    }
+
+    /// Σ texel × `weight(row)` over the map, per channel, in f64.
+    fn sum_by_row(&self, weight: impl Fn(u32) -> f64) -> Vec3 {
         let mut sum = [0.0f64; 3];
         for y in 0..self.height {
-            let polar =
-                |row: u32| (PI as f64 * row as f64 / self.height as f64).min(PI as f64 / 2.0);
-            // ∫ cos θ sin θ dθ over the row's band (above the horizon) × its texel's width.
-            let band = 0.5 * (polar(y + 1).sin().powi(2) - polar(y).sin().powi(2));
-            let weight = band * std::f64::consts::TAU / self.width as f64;
+            let w = weight(y);
             let row = &self.texels[(y * self.width) as usize..][..self.width as usize];
             for texel in row {
                 for (s, c) in sum.iter_mut().zip(texel.to_array()) {
-                    *s += c as f64 * weight;
+                    *s += c as f64 * w;
                 }
             }
         }

@@ -27,9 +27,24 @@ fn map_frame(light: Light) -> MapFrame {
     return MapFrame(u32(light.edge2.y), u32(light.edge2.z), light.edge1.x, light.edge1.y);
 }
 
+// render::sky_map::MapFrame::turned_to_world: a map-frame direction turned about +Y.
+fn turned_to_world(frame: MapFrame, d: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(frame.cos_turn * d.x + frame.sin_turn * d.z, d.y, -frame.sin_turn * d.x + frame.cos_turn * d.z);
+}
+
+// render::sky_map::MapFrame::turned_to_map: turned_to_world's inverse.
+fn turned_to_map(frame: MapFrame, d: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(frame.cos_turn * d.x - frame.sin_turn * d.z, d.y, frame.sin_turn * d.x + frame.cos_turn * d.z);
+}
+
+// Texel i of the map: its radiance, then its density over the unit square.
+fn sky_texel(i: u32) -> vec4<f32> {
+    return vec4<f32>(sky_map[4u * i], sky_map[4u * i + 1u], sky_map[4u * i + 2u], sky_map[4u * i + 3u]);
+}
+
 // render::sky_map::MapFrame::texel_index, with scene::sky_map::map_coordinates.
 fn sky_texel_index(frame: MapFrame, direction: vec3<f32>) -> u32 {
-    let d = vec3<f32>(frame.cos_turn * direction.x - frame.sin_turn * direction.z, direction.y, frame.sin_turn * direction.x + frame.cos_turn * direction.z);
+    let d = turned_to_map(frame, direction);
     var u = 0.5 + atan2(d.x, -d.z) / (2.0 * PI);
     if u >= 1.0 {
         u -= 1.0;
@@ -50,14 +65,13 @@ struct SkyDirection {
 
 // render::sky_map::sky_map_lookup: the radiance along `direction` and its density.
 fn sky_map_lookup(frame: MapFrame, direction: vec3<f32>) -> SkyDirection {
-    let i = sky_texel_index(frame, direction);
+    let texel = sky_texel(sky_texel_index(frame, direction));
     let sine = sqrt(max(1.0 - direction.y * direction.y, 0.0));
     var pdf = 0.0;
     if sine > 0.0 {
-        pdf = sky_map[4u * i + 3u] / (2.0 * PI * PI * sine);
+        pdf = texel.w / (2.0 * PI * PI * sine);
     }
-    let radiance = vec3<f32>(sky_map[4u * i], sky_map[4u * i + 1u], sky_map[4u * i + 2u]);
-    return SkyDirection(direction, radiance, pdf, true);
+    return SkyDirection(direction, texel.xyz, pdf, true);
 }
 
 // render::sky_map::search over sky_map[first .. first + count]: the entry and the fraction.
@@ -98,13 +112,13 @@ fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
     if sine <= 0.0 {
         return sample;
     }
-    // scene::sky_map::map_direction, then MapFrame::turned_to_world.
+    // scene::sky_map::map_direction, then turned to the world.
     let phi = 2.0 * PI * (u - 0.5);
     let local = vec3<f32>(sine * sin(phi), cos(PI * v), -sine * cos(phi));
-    sample.direction = vec3<f32>(frame.cos_turn * local.x + frame.sin_turn * local.z, local.y, -frame.sin_turn * local.x + frame.cos_turn * local.z);
-    let i = y * frame.width + x;
-    sample.radiance = vec3<f32>(sky_map[4u * i], sky_map[4u * i + 1u], sky_map[4u * i + 2u]);
-    sample.pdf = sky_map[4u * i + 3u] / (2.0 * PI * PI * sine);
+    sample.direction = turned_to_world(frame, local);
+    let texel = sky_texel(y * frame.width + x);
+    sample.radiance = texel.xyz;
+    sample.pdf = texel.w / (2.0 * PI * PI * sine);
     sample.found = true;
     return sample;
 }

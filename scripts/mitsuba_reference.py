@@ -422,16 +422,35 @@ def solid_of(doc, name):
     raise ValueError("no material called %r" % name)
 
 
+def bilinear_upsample(bitmap, factor):
+    """`bitmap` (H x W x 3) resampled `factor` times finer in each axis by kousen's bilinear rule
+    (scene::SkyMap::radiance_at): texel (x, y)'s centre at ((x + 1/2)/W, (y + 1/2)/H), columns
+    wrapping, rows clamped."""
+    height, width = bitmap.shape[:2]
+    s = (np.arange(width * factor) + 0.5) / factor - 0.5
+    t = (np.arange(height * factor) + 0.5) / factor - 0.5
+    left, top = np.floor(s), np.floor(t)
+    a, b = (s - left)[None, :, None], (t - top)[:, None, None]
+    x0 = left.astype(int) % width
+    x1 = (x0 + 1) % width
+    y0 = np.clip(top.astype(int), 0, height - 1)
+    y1 = np.clip(top.astype(int) + 1, 0, height - 1)
+    upper = bitmap[y0][:, x0] * (1 - a) + bitmap[y0][:, x1] * a
+    lower = bitmap[y1][:, x0] * (1 - a) + bitmap[y1][:, x1] * a
+    return upper * (1 - b) + lower * b
+
+
 def sky_emitter(mi, path, rotate_degrees, log):
     """Mitsuba's `envmap` for kousen's `--sky-map PATH --sky-rotate DEG`. kousen's column u looks
     along azimuth 2*pi*(u - 1/2) from -Z towards +X (crates/scene/src/sky_map.rs), Mitsuba's along
-    2*pi*u: the same map turned half a turn more about +Y. kousen reads each texel as constant
-    over its patch where Mitsuba interpolates bilinearly, so the map is handed over magnified 8x
-    by repetition (the interpolation then blends only the last 1/16 of a texel at each edge)."""
+    2*pi*u: the same map turned half a turn more about +Y. Both interpolate bilinearly, but
+    where each puts a texel's sample and how each treats the poles and the seam is its own, so
+    the map is handed over already interpolated by kousen's rule, 8x finer: Mitsuba's own
+    interpolation then moves it by 1/16 of a texel at most."""
     bitmap = np.array(mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB,
                                               mi.Struct.Type.Float32, srgb_gamma=False))
-    magnified = np.repeat(np.repeat(bitmap, 8, axis=0), 8, axis=1)
-    log("sky map %s: %dx%d, magnified to %dx%d, turned %g deg"
+    magnified = bilinear_upsample(bitmap, 8)
+    log("sky map %s: %dx%d, resampled to %dx%d, turned %g deg"
         % (path, bitmap.shape[1], bitmap.shape[0], magnified.shape[1], magnified.shape[0],
            rotate_degrees))
     return {"type": "envmap",

@@ -1235,12 +1235,13 @@ fn sky_lights_a_plastic_plane_through_its_coat() {
 
 /// An environment map over the punctual plane (`testing::plane_under_sky_map`: a gradient, a
 /// sun one texel wide, a warm ground below the horizon, turned 0.6 rad): the plane's top sees
-/// the map's upper half, so L_out = ρ/π · ∫ L cos θ dω over it, which
-/// `SkyMap::floor_irradiance` sums exactly for texels constant over their patches. Photons
-/// (direct light carried by them) and light samples (drawn by the map's importance) must both
-/// find it, red and blue: 1024 and 256 passes. Measured: photons mean +0.11 %/−0.02 % (red,
-/// blue), rms 3.6 %/3.5 %; sampled mean −0.14 %/−0.21 %, rms 5.6 %/5.5 % (half the map's
-/// samples fall below the plane's horizon). Tolerances: mean 2.5 % and 1 %, rms 8 % each.
+/// the map's upper hemisphere, so L_out = ρ/π · ∫ L cos θ dω over it, which
+/// `SkyMap::floor_irradiance` integrates exactly for the bilinear radiance (the rows nearest
+/// the horizon blend across it). Photons (direct light carried by them) and light samples
+/// (drawn by the map's importance) must both find it, red and blue: 1024 and 256 passes.
+/// Measured: photons mean +0.43 %/+0.48 % (red, blue), rms 3.3 %/3.7 %; sampled mean
+/// −0.04 %/−0.20 %, rms 5.6 %/5.5 % (half the map's samples fall below the plane's horizon).
+/// Tolerances: mean 2.5 % and 1 %, rms 8 % each.
 #[test]
 fn a_sky_map_lights_an_open_plane_to_its_cosine_weighted_integral() {
     let scale = Vec3::new(1.0, 1.0, 0.5);

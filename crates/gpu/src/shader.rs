@@ -31,6 +31,7 @@ pub const STORAGE_PARTS: [&str; 2] = [STORAGE_PART, "shared/photon_storage_f16.w
 const TEXTURES: &str = include_str!("../shaders/shared/textures.wgsl");
 const SHADING: &str = include_str!("../shaders/shared/shading.wgsl");
 const SPPM: &str = include_str!("../shaders/kernels/sppm.wgsl");
+const SKY_MAP: &str = include_str!("../shaders/shared/sky_map.wgsl");
 const DENSITY_STOCHASTIC: &str = include_str!("../shaders/shared/density_stochastic.wgsl");
 const DENSITY_FULL: &str = include_str!("../shaders/shared/density_full.wgsl");
 const DENSITY_KDTREE: &str = include_str!("../shaders/shared/density_kdtree.wgsl");
@@ -50,6 +51,12 @@ pub fn with_scene_storage(source: String, storage: SceneStorage) -> String {
         SceneStorage::Buffers => source,
         SceneStorage::Texels => source.replacen(SCENE_BINDINGS, SCENE_TEXELS, 1),
     }
+}
+
+/// The sky map's functions (`sky_map.wgsl`) after the prelude, for a test kernel that calls
+/// them: it declares the `sky_map` buffer they read.
+pub fn sky_map_source() -> String {
+    format!("{}\n{SKY_MAP}", prelude::wgsl())
 }
 
 /// A shader module of kousen's.
@@ -122,6 +129,7 @@ impl Module {
                 (STORAGE_PART, STORAGE_F32),
                 ("shared/textures.wgsl", TEXTURES),
                 ("shared/shading.wgsl", SHADING),
+                ("shared/sky_map.wgsl", SKY_MAP),
                 ("kernels/sppm.wgsl", SPPM),
                 ("shared/density_stochastic.wgsl", DENSITY_STOCHASTIC),
             ],

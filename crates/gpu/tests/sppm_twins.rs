@@ -45,6 +45,11 @@ const POSITION_TOLERANCE: f32 = 1e-4;
 const DIRECTION_TOLERANCE: f32 = 1e-4;
 /// Fluxes, weights and statistics: relative.
 const RELATIVE_TOLERANCE: f32 = 1e-4;
+/// The direct sums of pixels that see a sky map, relative: a bilinear lookup turns the
+/// direction's map coordinates into radiance continuously, and Vulkan lets atan2 and acos err
+/// by 4096 ulp (~2.4e-4 of the angle), which on the fixture's 32-wide map with 12 % between
+/// neighbouring texels moves the radiance up to ~5e-4.
+const SKY_MAP_DIRECT_TOLERANCE: f32 = 2e-3;
 /// Packed normals that differ must still agree to this cosine.
 const NORMAL_COSINE: f32 = 0.999;
 
@@ -109,11 +114,15 @@ fn absolute(a: [f32; 3], b: [f32; 3], tolerance: f32) -> f32 {
 
 /// Largest component difference relative to the larger vector's largest component.
 fn relative(a: [f32; 3], b: [f32; 3]) -> f32 {
+    relative_within(a, b, RELATIVE_TOLERANCE)
+}
+
+fn relative_within(a: [f32; 3], b: [f32; 3], tolerance: f32) -> f32 {
     let scale = vec3(a).abs().max(vec3(b).abs()).max_element();
     if scale == 0.0 {
         return 0.0;
     }
-    absolute(a, b, RELATIVE_TOLERANCE * scale)
+    absolute(a, b, tolerance * scale)
 }
 
 fn relative_scalar(a: f32, b: f32) -> f32 {
@@ -175,13 +184,25 @@ fn slot_errors(g: &PathSlot, c: &PathSlot, diagonal: f32) -> Vec<(&'static str, 
 }
 
 fn stats_errors(g: &PixelStats, c: &PixelStats) -> Vec<(&'static str, f32)> {
+    stats_errors_within(g, c, RELATIVE_TOLERANCE)
+}
+
+/// [`stats_errors`] with the direct sums compared within `direct_tolerance`.
+fn stats_errors_within(
+    g: &PixelStats,
+    c: &PixelStats,
+    direct_tolerance: f32,
+) -> Vec<(&'static str, f32)> {
     vec![
         ("tau", relative(g.tau, c.tau)),
         (
             "photon_count",
             relative_scalar(g.photon_count, c.photon_count),
         ),
-        ("direct", relative(g.direct, c.direct)),
+        (
+            "direct",
+            relative_within(g.direct, c.direct, direct_tolerance),
+        ),
         ("radius", relative_scalar(g.radius, c.radius)),
         ("caustic_tau", relative(g.caustic_tau, c.caustic_tau)),
         (
@@ -861,6 +882,15 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
             scene::Surface::Diffuse | scene::Surface::Plastic { .. }
         )
     });
+    let sky_map = render::emission::light_table(&scene)
+        .last()
+        .and_then(render::sky_map::MapFrame::of)
+        .is_some();
+    let direct_tolerance = if sky_map {
+        SKY_MAP_DIRECT_TOLERANCE
+    } else {
+        RELATIVE_TOLERANCE
+    };
     let fixture = Fixture::new(scene);
     let settings = Settings {
         eye_every: 2,
@@ -965,7 +995,7 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
             format!("pass {pass} gather"),
             &stats,
             &twin_stats,
-            stats_errors,
+            |g, c| stats_errors_within(g, c, direct_tolerance),
         )
         .assert_at_most(MAX_DIVERGED);
         kernels::finish_pass(&twin_counters);

@@ -1018,7 +1018,7 @@ mod tests {
     }
 
     /// The plane under a sky map (`testing::plane_under_sky_map`): its radiance is
-    /// ρ/π · ∫ L cos θ dω over the map's upper half (`SkyMap::floor_irradiance`). Light samples
+    /// ρ/π · ∫ L cos θ dω over the map's upper hemisphere (`SkyMap::floor_irradiance`). Light samples
     /// drawn by the map and cosine bounces that escape to it are weighed against each other
     /// (`sky_pdf`): a wrong weight or density shows in the sum. 16,384 paths: the mean's
     /// standard error is under 0.5 %; tolerance 2 %.

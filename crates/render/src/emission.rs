@@ -44,17 +44,11 @@ pub fn light_table_with(scene: &Scene, locator: &crate::medium::MediumLocator) -
         (light, l.power, l.power)
     });
     let punctual = scene.lights.punctual.iter().map(punctual_light);
-    let sky = scene.lights.sky.iter().map(|sky| {
-        let (edge1, edge2) = crate::sky_map::sky_light_fields(sky);
-        let light = Light {
-            v0: sky.centre.to_array(),
-            edge1,
-            edge2,
-            kind: LIGHT_SKY,
-            ..Light::default()
-        };
-        (light, sky.power, sky.power)
-    });
+    let sky = scene
+        .lights
+        .sky
+        .iter()
+        .map(|sky| (crate::sky_map::sky_light(sky), sky.power, sky.power));
     let lights: Vec<(Light, Vec3, Vec3)> = triangles
         .chain(punctual)
         .chain(sky)

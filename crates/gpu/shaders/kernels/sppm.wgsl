@@ -11,116 +11,13 @@
 // render::sky_map's buffer: the sky's environment map, its texels and CDFs.
 @group(1) @binding(8) var<storage, read> sky_map: array<f32>;
 
-// render::sky_map::MapFrame: the map's size and rotation from the sky's table entry (width 0:
-// a uniform sky).
-struct MapFrame {
-    width: u32,
-    height: u32,
-    cos_turn: f32,
-    sin_turn: f32,
-}
-
+// The sky's table entry as a render::sky_map::MapFrame (shared/sky_map.wgsl; width 0: a
+// uniform sky).
 fn map_frame(light: Light) -> MapFrame {
     if !SKY_MAP || light.kind != LIGHT_SKY {
         return MapFrame(0u, 0u, 1.0, 0.0);
     }
     return MapFrame(u32(light.edge2.y), u32(light.edge2.z), light.edge1.x, light.edge1.y);
-}
-
-// render::sky_map::MapFrame::turned_to_world: a map-frame direction turned about +Y.
-fn turned_to_world(frame: MapFrame, d: vec3<f32>) -> vec3<f32> {
-    return vec3<f32>(frame.cos_turn * d.x + frame.sin_turn * d.z, d.y, -frame.sin_turn * d.x + frame.cos_turn * d.z);
-}
-
-// render::sky_map::MapFrame::turned_to_map: turned_to_world's inverse.
-fn turned_to_map(frame: MapFrame, d: vec3<f32>) -> vec3<f32> {
-    return vec3<f32>(frame.cos_turn * d.x - frame.sin_turn * d.z, d.y, frame.sin_turn * d.x + frame.cos_turn * d.z);
-}
-
-// Texel i of the map: its radiance, then its density over the unit square.
-fn sky_texel(i: u32) -> vec4<f32> {
-    return vec4<f32>(sky_map[4u * i], sky_map[4u * i + 1u], sky_map[4u * i + 2u], sky_map[4u * i + 3u]);
-}
-
-// render::sky_map::MapFrame::texel_index, with scene::sky_map::map_coordinates.
-fn sky_texel_index(frame: MapFrame, direction: vec3<f32>) -> u32 {
-    let d = turned_to_map(frame, direction);
-    var u = 0.5 + atan2(d.x, -d.z) / (2.0 * PI);
-    if u >= 1.0 {
-        u -= 1.0;
-    }
-    let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
-    let x = min(u32(u * f32(frame.width)), frame.width - 1u);
-    let y = min(u32(v * f32(frame.height)), frame.height - 1u);
-    return y * frame.width + x;
-}
-
-// render::sky_map::SkyDirection; `found` false at the poles.
-struct SkyDirection {
-    direction: vec3<f32>,
-    radiance: vec3<f32>,
-    pdf: f32,
-    found: bool,
-}
-
-// render::sky_map::sky_map_lookup: the radiance along `direction` and its density.
-fn sky_map_lookup(frame: MapFrame, direction: vec3<f32>) -> SkyDirection {
-    let texel = sky_texel(sky_texel_index(frame, direction));
-    let sine = sqrt(max(1.0 - direction.y * direction.y, 0.0));
-    var pdf = 0.0;
-    if sine > 0.0 {
-        pdf = texel.w / (2.0 * PI * PI * sine);
-    }
-    return SkyDirection(direction, texel.xyz, pdf, true);
-}
-
-// render::sky_map::search over sky_map[first .. first + count]: the entry and the fraction.
-fn sky_search(first: u32, count: u32, u: f32) -> vec2<f32> {
-    var lo = 0u;
-    var hi = count - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if u < sky_map[first + mid] {
-            hi = mid;
-        } else {
-            lo = mid + 1u;
-        }
-    }
-    var before = 0.0;
-    if lo > 0u {
-        before = sky_map[first + lo - 1u];
-    }
-    let width = sky_map[first + lo] - before;
-    var fraction = 0.5;
-    if width > 0.0 {
-        fraction = clamp((u - before) / width, 0.0, 0.99999994);
-    }
-    return vec2<f32>(f32(lo), fraction);
-}
-
-// render::sky_map::sample_sky_map.
-fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
-    let count = frame.width * frame.height;
-    let row = sky_search(5u * count, frame.height, u1);
-    let y = u32(row.x);
-    let column = sky_search(4u * count + y * frame.width, frame.width, u2);
-    let x = u32(column.x);
-    let u = (f32(x) + column.y) / f32(frame.width);
-    let v = (f32(y) + row.y) / f32(frame.height);
-    let sine = sin(PI * v);
-    var sample = SkyDirection(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0), 0.0, false);
-    if sine <= 0.0 {
-        return sample;
-    }
-    // scene::sky_map::map_direction, then turned to the world.
-    let phi = 2.0 * PI * (u - 0.5);
-    let local = vec3<f32>(sine * sin(phi), cos(PI * v), -sine * cos(phi));
-    sample.direction = turned_to_world(frame, local);
-    let texel = sky_texel(y * frame.width + x);
-    sample.radiance = texel.xyz;
-    sample.pdf = texel.w / (2.0 * PI * PI * sine);
-    sample.found = true;
-    return sample;
 }
 
 // render::sky_map::sky_radiance: what a camera path leaving the scene along `direction` sees.
@@ -133,7 +30,7 @@ fn sky_radiance(direction: vec3<f32>) -> vec3<f32> {
     if frame.width == 0u {
         return uniform_sky;
     }
-    return sky_map_lookup(frame, direction).radiance;
+    return sky_radiance_at(frame, sky_coordinates(frame, direction));
 }
 
 // render::emission::pick_light: binary search of the CDF.

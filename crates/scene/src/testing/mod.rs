@@ -1273,8 +1273,8 @@ pub fn sunset_sky_map() -> crate::SkyMap {
 }
 
 /// [`punctual_plane`] under [`sunset_sky_map`] scaled by `scale` and turned `rotation`
-/// radians, and no other light. The plane's top sees only the upper half of the map, so its
-/// radiance is albedo/π × `SkyMap::floor_irradiance` × `scale`.
+/// radians, and no other light. The plane's top sees only the upper hemisphere of the map, so
+/// its radiance is albedo/π × `SkyMap::floor_irradiance` × `scale`.
 pub fn plane_under_sky_map(scale: Vec3, rotation: f32) -> Scene {
     under_sky_map(punctual_plane(&[]), scale, rotation)
 }

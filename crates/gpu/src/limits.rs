@@ -25,6 +25,32 @@ pub fn check_buffer_fits(label: &str, bytes: u64, limits: &wgpu::Limits) -> Resu
     }
 }
 
+/// Halves the sky map in `lights` (if it has one) until its buffer (`render::sky_map`) fits a
+/// device with `limits`, so that a map larger than the device binds renders coarser rather
+/// than not at all; what was done, in words, when it had to.
+pub fn fit_sky_map(lights: &mut scene::Lights, limits: &wgpu::Limits) -> Option<String> {
+    let sky = lights.sky.as_ref()?;
+    let original = sky.map.clone()?;
+    let check = |map: &scene::SkyMap| {
+        check_buffer_fits("sky_map", render::sky_map::sky_map_bytes(map), limits)
+    };
+    let refusal = check(&original).err()?;
+    let mut map = original.halved();
+    while check(&map).is_err() && (map.width() > 1 || map.height() > 1) {
+        map = map.halved();
+    }
+    let note = format!(
+        "{refusal}: the {}x{} sky map is rendered at {}x{}",
+        original.width(),
+        original.height(),
+        map.width(),
+        map.height()
+    );
+    let resized = sky.with_map_replaced(std::sync::Arc::new(map));
+    lights.replace_sky(resized);
+    Some(note)
+}
+
 /// Checks that `bytes` fit one rgba32uint texture of `row` texels a row (16 bytes a texel) on a
 /// device with `limits`: its rows within `max_texture_dimension_2d`.
 pub fn check_texels_fit(
@@ -80,6 +106,45 @@ mod tests {
     }
 
     const MIB: u64 = 1 << 20;
+
+    /// A 64 × 32 map (32 KiB of buffer) under an 8 KiB binding: halved twice (32 × 16 needs 8.2), to 16 × 8,
+    /// its power kept within the halving's rounding, and said so; under the default limits it
+    /// is left alone.
+    #[test]
+    fn a_sky_map_past_the_binding_is_halved_until_it_fits() {
+        let texels = (0..64 * 32)
+            .map(|i| glam::Vec3::new(1.0 + (i % 64) as f32 * 0.1, 1.0, 0.5))
+            .collect();
+        let map = std::sync::Arc::new(scene::SkyMap::new(64, 32, texels).unwrap());
+        let bounds = scene::Bounds::EMPTY
+            .grow(glam::Vec3::ZERO)
+            .grow(glam::Vec3::ONE);
+        let sky = scene::Sky::with_map(map, glam::Vec3::ONE, 0.3, bounds);
+        let mut lights = scene::Lights::default();
+        lights.replace_sky(sky.clone());
+        assert_eq!(
+            fit_sky_map(&mut lights.clone(), &wgpu::Limits::default()),
+            None
+        );
+
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: 8 * 1024,
+            ..wgpu::Limits::default()
+        };
+        let note = fit_sky_map(&mut lights, &limits).expect("halved");
+        assert!(note.contains("sky_map"), "{note}");
+        assert!(note.contains("64x32 sky map is rendered at 16x8"), "{note}");
+        let fitted = lights.sky.as_ref().unwrap();
+        let map = fitted.map.as_ref().unwrap();
+        assert_eq!((map.width(), map.height()), (16, 8));
+        assert!(render::sky_map::sky_map_bytes(map) <= 8 * 1024);
+        let change = (fitted.power / sky.power - glam::Vec3::ONE)
+            .abs()
+            .max_element();
+        assert!(change < 0.02, "{} -> {}", sky.power, fitted.power);
+        assert_eq!(lights.total_power, fitted.power);
+        assert_eq!(fitted.rotation, sky.rotation);
+    }
 
     fn lowered() -> wgpu::Limits {
         wgpu::Limits {

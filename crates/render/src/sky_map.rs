@@ -26,13 +26,23 @@
 use std::f32::consts::PI;
 
 use glam::Vec3;
-use scene::Sky;
 use scene::sky_map::{bilinear_footprint, map_coordinates, map_direction};
+use scene::{Sky, SkyMap};
 
 use crate::buffers::{LIGHT_SKY, Light};
 
 /// The buffer of a scene without a sky map.
 pub const NO_SKY_MAP: [f32; 4] = [0.0; 4];
+
+/// The length in floats of the buffer of a `width` × `height` map.
+fn buffer_len(width: usize, height: usize) -> usize {
+    3 * width * height + (width + 1) * (height + 1) + 1
+}
+
+/// The bytes of the buffer [`sky_map_buffer`] makes for `map`.
+pub fn sky_map_bytes(map: &SkyMap) -> u64 {
+    (buffer_len(map.width() as usize, map.height() as usize) * size_of::<f32>()) as u64
+}
 
 /// The buffer of `sky`'s map ([`NO_SKY_MAP`] without one).
 pub fn sky_map_buffer(sky: Option<&Sky>) -> Vec<f32> {
@@ -42,7 +52,7 @@ pub fn sky_map_buffer(sky: Option<&Sky>) -> Vec<f32> {
     let (width, height) = (map.width() as usize, map.height() as usize);
     let count = width * height;
     let cells = width * (height + 1);
-    let mut buffer = vec![0.0f32; 3 * count + cells + height + 2];
+    let mut buffer = vec![0.0f32; buffer_len(width, height)];
     for (i, texel) in map.texels().iter().enumerate() {
         buffer[3 * i..3 * i + 3].copy_from_slice(&(scale * *texel).to_array());
     }
@@ -517,6 +527,14 @@ pub(crate) mod tests {
         let direction = Vec3::new(-1.0, 0.0, 0.0);
         let through = sky_radiance(&lights, &buffer, Vec3::ZERO, direction);
         assert_eq!(through, sky.radiance);
+    }
+
+    #[test]
+    fn the_buffer_has_the_size_announced() {
+        let sky = sun_sky(0.0);
+        let map = sky.map.as_ref().unwrap();
+        let bytes = sky_map_buffer(Some(&sky)).len() * size_of::<f32>();
+        assert_eq!(bytes as u64, sky_map_bytes(map));
     }
 
     #[test]

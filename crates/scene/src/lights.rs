@@ -137,15 +137,25 @@ impl Sky {
         rotation: f32,
         bounds: Bounds,
     ) -> Sky {
-        use std::f32::consts::PI;
         let (centre, radius) = bounding_sphere(bounds);
         Sky {
             radiance: scale,
             centre,
             radius,
-            power: scale * map.integral() * PI * radius * radius,
-            map: Some(map),
+            power: Vec3::ZERO,
+            map: None,
             rotation,
+        }
+        .with_map_replaced(map)
+    }
+
+    /// This sky with its map replaced by `map` (a resampled one), its power recomputed.
+    pub fn with_map_replaced(&self, map: std::sync::Arc<SkyMap>) -> Sky {
+        use std::f32::consts::PI;
+        Sky {
+            power: self.radiance * map.integral() * PI * self.radius * self.radius,
+            map: Some(map),
+            ..self.clone()
         }
     }
 }

@@ -138,7 +138,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         String::new()
     };
-    let continuation = Continuation {
+    let mut continuation = Continuation {
         resume,
         fingerprint,
         stop,
@@ -212,6 +212,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         },
     };
     if let Some(context) = gpu_context {
+        if let Some(note) = gpu::limits::fit_sky_map(&mut scene.lights, &context.limits) {
+            eprintln!("kousen: {note}");
+            if !continuation.fingerprint.is_empty() {
+                continuation.fingerprint =
+                    checkpoint_file::fingerprint(&bvh, &camera, &scene.lights);
+            }
+        }
         let cpu_device = context.is_cpu_device();
         let eye_every: fn(u64, u32) -> u32 = if cpu_device {
             eye_every_on_cpu_cores

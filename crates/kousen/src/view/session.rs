@@ -95,7 +95,10 @@ impl Session {
     }
 
     /// Uploads the scene to `context`'s device and compiles the kernels.
-    pub fn new(context: &GpuContext, loaded: LoadedScene) -> anyhow::Result<Session> {
+    pub fn new(context: &GpuContext, mut loaded: LoadedScene) -> anyhow::Result<Session> {
+        if let Some(note) = gpu::limits::fit_sky_map(&mut loaded.scene.lights, &context.limits) {
+            eprintln!("kousen: {note}");
+        }
         let backend = GpuBackend::new(context.clone(), &loaded.scene, loaded.bvh.clone())?;
         Ok(Session {
             scene: loaded.scene,

@@ -18,7 +18,7 @@
 //! | 3i .. 3i + 2 | texel i's radiance (the sky's scale applied) |
 //! | 3N + jW + x | cell row j's CDF at cell x (its last entry 1); cell x spans texel centres x and x + 1 |
 //! | 3N + (H + 1)W + j | the CDF over cell rows at row j (its last entry 1) |
-//! | 3N + (H + 1)(W + 1) | 1 ÷ the total: Σ over cells of mean × sine × area |
+//! | 3N + (H + 1)(W + 1) + j | cell row j's density factor: the sine at its centre ÷ the total (Σ over cells of mean × sine × area) |
 //!
 //! Without a map the buffer is four zeros (a binding cannot be empty). The map's size and
 //! rotation travel in the sky's light-table entry ([`sky_light_fields`]).
@@ -36,7 +36,7 @@ pub const NO_SKY_MAP: [f32; 4] = [0.0; 4];
 
 /// The length in floats of the buffer of a `width` × `height` map.
 fn buffer_len(width: usize, height: usize) -> usize {
-    3 * width * height + (width + 1) * (height + 1) + 1
+    3 * width * height + (width + 2) * (height + 1)
 }
 
 /// The bytes of the buffer [`sky_map_buffer`] makes for `map`.
@@ -89,11 +89,15 @@ pub fn sky_map_buffer(sky: Option<&Sky>) -> Vec<f32> {
         total,
         &mut buffer[3 * count + cells..][..height + 1],
     );
-    buffer[3 * count + cells + height + 1] = if total > 0.0 {
-        (1.0 / total) as f32
-    } else {
-        0.0
-    };
+    let factors = &mut buffer[3 * count + cells + height + 1..][..height + 1];
+    for (j, factor) in factors.iter_mut().enumerate() {
+        let sine = cell_row_sine(j as u32, height as u32) as f64;
+        *factor = if total > 0.0 {
+            (sine / total) as f32
+        } else {
+            0.0
+        };
+    }
     buffer
 }
 
@@ -209,9 +213,9 @@ impl MapFrame {
     /// The density over map coordinates with which [`sample_sky_map`] draws a point of cell
     /// row `j` where the map holds `radiance`.
     fn density(&self, buffer: &[f32], j: u32, radiance: Vec3) -> f32 {
-        let inverse_total = buffer[3 * (self.width * self.height) as usize
-            + ((self.height + 1) * (self.width + 1)) as usize];
-        radiance.element_sum() * cell_row_sine(j, self.height) * inverse_total
+        let factors = 3 * (self.width * self.height) as usize
+            + ((self.height + 1) * (self.width + 1)) as usize;
+        radiance.element_sum() * buffer[factors + j as usize]
     }
 }
 
@@ -257,19 +261,27 @@ pub fn sample_sky_map(frame: &MapFrame, buffer: &[f32], u1: f32, u2: f32) -> Opt
     let row_cdf = &buffer[3 * count + j * width as usize..][..width as usize];
     let (x, column_fraction) = search(row_cdf, u2);
     let j = j as u32;
-    // The cell's corners' radiance sums, then a point by the bilinear patch they span: v by
+    // The cell's corners, then a point by the bilinear patch their radiance sums span: v by
     // its marginal (linear between the upper and lower edges' means), u given v.
     let (upper, lower) = (j.saturating_sub(1), j.min(height - 1));
     let next = (x as u32 + 1) % width;
-    let corner = |x: u32, y: u32| frame.texel(buffer, x, y).element_sum();
-    let [c00, c10] = [corner(x as u32, upper), corner(next, upper)];
-    let [c01, c11] = [corner(x as u32, lower), corner(next, lower)];
+    let [t00, t10] = [
+        frame.texel(buffer, x as u32, upper),
+        frame.texel(buffer, next, upper),
+    ];
+    let [t01, t11] = [
+        frame.texel(buffer, x as u32, lower),
+        frame.texel(buffer, next, lower),
+    ];
+    let [c00, c10, c01, c11] = [t00, t10, t01, t11].map(Vec3::element_sum);
     let b = sample_linear(row_fraction, c00 + c10, c01 + c11);
     let a = sample_linear(
         column_fraction,
         c00 + (c01 - c00) * b,
         c10 + (c11 - c10) * b,
     );
+    // MapFrame::radiance_at's interpolation, on the corners at hand.
+    let radiance = t00.lerp(t10, a).lerp(t01.lerp(t11, a), b);
     let mut u = (x as f32 + 0.5 + a) / width as f32;
     if u >= 1.0 {
         u -= 1.0;
@@ -280,7 +292,6 @@ pub fn sample_sky_map(frame: &MapFrame, buffer: &[f32], u1: f32, u2: f32) -> Opt
     if sine <= 0.0 {
         return None;
     }
-    let radiance = frame.radiance_at(buffer, (u, v));
     Some(SkyDirection {
         direction: frame.turned_to_world(map_direction(u, v)),
         radiance,

@@ -61,12 +61,10 @@ fn sky_cell_row_span(frame: MapFrame, j: u32) -> vec2<f32> {
 }
 
 // render::sky_map::MapFrame::density: the density over map coordinates of a point of cell
-// row j where the map holds `radiance` (render::sky_map::cell_row_sine inlined).
+// row j where the map holds `radiance`.
 fn sky_density(frame: MapFrame, j: u32, radiance: vec3<f32>) -> f32 {
-    let inverse_total = sky_map[3u * frame.width * frame.height + (frame.height + 1u) * (frame.width + 1u)];
-    let span = sky_cell_row_span(frame, j);
-    let sine = sin(PI * 0.5 * (span.x + span.y));
-    return (radiance.x + radiance.y + radiance.z) * sine * inverse_total;
+    let factors = 3u * frame.width * frame.height + (frame.height + 1u) * (frame.width + 1u);
+    return sky_channel_sum(radiance) * sky_map[factors + j];
 }
 
 // render::sky_map::solid_angle_density.
@@ -128,10 +126,9 @@ fn sky_sample_linear(u: f32, p0: f32, p1: f32) -> f32 {
     return clamp(x, 0.0, 0.99999994);
 }
 
-// The channel sum of texel (x, y).
-fn sky_corner(frame: MapFrame, x: u32, y: u32) -> f32 {
-    let t = sky_texel(frame, x, y);
-    return t.x + t.y + t.z;
+// The channel sum of a radiance.
+fn sky_channel_sum(radiance: vec3<f32>) -> f32 {
+    return radiance.x + radiance.y + radiance.z;
 }
 
 // render::sky_map::sample_sky_map.
@@ -145,12 +142,18 @@ fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
     let upper = max(j, 1u) - 1u;
     let lower = min(j, frame.height - 1u);
     let next = (x + 1u) % frame.width;
-    let c00 = sky_corner(frame, x, upper);
-    let c10 = sky_corner(frame, next, upper);
-    let c01 = sky_corner(frame, x, lower);
-    let c11 = sky_corner(frame, next, lower);
+    let t00 = sky_texel(frame, x, upper);
+    let t10 = sky_texel(frame, next, upper);
+    let t01 = sky_texel(frame, x, lower);
+    let t11 = sky_texel(frame, next, lower);
+    let c00 = sky_channel_sum(t00);
+    let c10 = sky_channel_sum(t10);
+    let c01 = sky_channel_sum(t01);
+    let c11 = sky_channel_sum(t11);
     let b = sky_sample_linear(row.y, c00 + c10, c01 + c11);
     let a = sky_sample_linear(column.y, c00 + (c01 - c00) * b, c10 + (c11 - c10) * b);
+    // sky_radiance_at's interpolation, on the corners at hand.
+    let radiance = mix(mix(t00, t10, a), mix(t01, t11, a), b);
     var u = (f32(x) + 0.5 + a) / f32(frame.width);
     if u >= 1.0 {
         u -= 1.0;
@@ -166,7 +169,7 @@ fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
     let phi = 2.0 * PI * (u - 0.5);
     let local = vec3<f32>(sine * sin(phi), cos(PI * v), -sine * cos(phi));
     sample.direction = turned_to_world(frame, local);
-    sample.radiance = sky_radiance_at(frame, vec2<f32>(u, v));
+    sample.radiance = radiance;
     sample.pdf = sky_solid_angle_density(sky_density(frame, j, sample.radiance), sine);
     sample.found = true;
     return sample;

@@ -766,6 +766,11 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         direct: args.estimator.direct_light.direct(),
         glossy_light_sampling: args.estimator.glossy_light
             == crate::cli::GlossyLightChoice::Sampled,
+        sky_rotation: args
+            .added_lights
+            .sky_map
+            .is_some()
+            .then(|| wrapped_degrees(args.added_lights.sky_rotate)),
     };
     render::Settings {
         alpha: controls.alpha,
@@ -776,6 +781,12 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
     }
     .validate()?;
     Ok((schedule, controls))
+}
+
+/// `degrees` turned into (−180, 180], the overlay slider's range.
+fn wrapped_degrees(degrees: f32) -> f32 {
+    let wrapped = (degrees + 180.0).rem_euclid(360.0) - 180.0;
+    if wrapped == -180.0 { 180.0 } else { wrapped }
 }
 
 fn window_title(path: &Path) -> String {
@@ -848,4 +859,24 @@ fn surface_config(
             .unwrap_or(wgpu::CompositeAlphaMode::Auto),
         view_formats: vec![],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wrapped_degrees;
+
+    #[test]
+    fn sky_turns_wrap_into_the_sliders_range() {
+        for (given, wrapped) in [
+            (0.0, 0.0),
+            (150.0, 150.0),
+            (180.0, 180.0),
+            (-180.0, 180.0),
+            (400.0, 40.0),
+            (-190.0, 170.0),
+            (720.0, 0.0),
+        ] {
+            assert_eq!(wrapped_degrees(given), wrapped, "{given}");
+        }
+    }
 }

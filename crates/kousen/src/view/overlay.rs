@@ -146,6 +146,16 @@ impl Overlay {
         if settled(&photons) || settled(&alpha) || settled(&eye_every) {
             actions.push(Action::ControlsChanged);
         }
+        if let Some(degrees) = &mut self.controls.sky_rotation {
+            let turn = ui.add(
+                egui::Slider::new(degrees, -180.0..=180.0)
+                    .text("sky map turn (°)")
+                    .step_by(1.0),
+            );
+            if settled(&turn) {
+                actions.push(Action::ControlsChanged);
+            }
+        }
 
         if !info.cameras.is_empty() {
             ui.horizontal_wrapped(|ui| {

@@ -58,6 +58,9 @@ pub struct RenderControls {
     pub precision: render::half_storage::Precision,
     pub direct: render::direct::DirectLight,
     pub glossy_light_sampling: bool,
+    /// The sky map's turn about +Y in degrees (`--sky-rotate`, then the overlay's slider);
+    /// `None` when the sky has no map.
+    pub sky_rotation: Option<f32>,
 }
 
 /// Figures for the overlay.
@@ -147,6 +150,11 @@ impl Session {
             ..Settings::new(width, height, controls.photons)
         };
         settings.validate()?;
+        // The sky's turn travels in the light table that each start builds (the map's buffer
+        // does not depend on it), so turning the sky needs no upload.
+        if let (Some(degrees), Some(sky)) = (controls.sky_rotation, &mut self.scene.lights.sky) {
+            sky.rotation = degrees.to_radians();
+        }
         let backend = match (self.sppm.take(), self.idle_backend.take()) {
             (Some(sppm), _) => sppm.into_backend(),
             (None, Some(backend)) => backend,
@@ -223,5 +231,69 @@ impl Session {
     pub fn display_source(&self) -> Option<(gpu::display::DisplaySource, u32)> {
         let sppm = self.sppm.as_ref()?;
         Some((sppm.backend_ref().display_source()?, sppm.eye_passes()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn loaded(scene: scene::Scene) -> LoadedScene {
+        let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
+        LoadedScene {
+            path: PathBuf::from("spheres-under-sky-map"),
+            scene,
+            bvh,
+        }
+    }
+
+    fn controls(sky_rotation: Option<f32>) -> RenderControls {
+        RenderControls {
+            photons: 1 << 12,
+            alpha: 2.0 / 3.0,
+            eye_every: 1,
+            indirect_alpha: render::settings::MEASURED_INDIRECT_ALPHA,
+            radius_footprints: render::settings::INITIAL_RADIUS_FOOTPRINTS,
+            caustic_radius_share: render::settings::MEASURED_CAUSTIC_RADIUS_SHARE,
+            density: crate::cli::DensityChoice::Auto,
+            precision: render::half_storage::Precision::F32,
+            direct: render::direct::DirectLight::Sampled,
+            glossy_light_sampling: true,
+            sky_rotation,
+        }
+    }
+
+    /// Three passes from a restart with `controls`, the image's pixels.
+    fn render(session: &mut Session, controls: RenderControls) -> Vec<glam::Vec3> {
+        let camera = session.default_camera();
+        session.restart(&camera, (32, 24), controls).unwrap();
+        session.run_passes(3).unwrap();
+        session.image().unwrap().pixels
+    }
+
+    /// The overlay's sky turn restarts the render under the turned map exactly as a sky turned
+    /// when the scene was made (same kernels, seed and light table), and differs from the turn
+    /// the scene came with.
+    #[test]
+    fn turning_the_sky_renders_as_a_sky_turned_at_load() {
+        let context = GpuContext::new(None).unwrap_or_else(|e| {
+            panic!("no usable GPU adapter in the test environment (CI installs Mesa lavapipe): {e}")
+        });
+        let scene = scene::testing::spheres_under_sky_map();
+        let loaded_turn = scene.lights.sky.as_ref().unwrap().rotation.to_degrees();
+        let mut session = Session::new(&context, loaded(scene.clone())).unwrap();
+        let as_loaded = render(&mut session, controls(Some(loaded_turn)));
+        let turned = render(&mut session, controls(Some(-100.0)));
+
+        let mut made_turned = scene;
+        made_turned.lights.sky.as_mut().unwrap().rotation = (-100.0f32).to_radians();
+        let mut reference = Session::new(&context, loaded(made_turned)).unwrap();
+        assert_eq!(turned, render(&mut reference, controls(None)));
+        let changed = turned
+            .iter()
+            .zip(&as_loaded)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(changed > turned.len() / 2, "{changed} pixels changed");
     }
 }

@@ -633,8 +633,9 @@ pub struct ViewArgs {
     /// after the first frame; may be given several times. For scripts and tests.
     #[arg(long, num_args = 2, value_names = ["SECONDS", "PATH"], action = clap::ArgAction::Append)]
     pub screenshot_after: Vec<String>,
-    /// Open another scene file this many seconds after the first frame, as if it were dropped
-    /// on the window; may be given several times. For scripts and tests.
+    /// Open a file this many seconds after the first frame, as if it were dropped on the
+    /// window (a scene, or an image that becomes the sky map); may be given several times. For
+    /// scripts and tests.
     #[arg(long, num_args = 2, value_names = ["SECONDS", "PATH"], action = clap::ArgAction::Append)]
     pub open_after: Vec<String>,
     /// Close the window this many seconds after the first frame (exit 0).

@@ -33,6 +33,33 @@ const MAX_PHOTON_CUTS: u32 = 2;
 const PHOTON_CUT_MAX_PASSES: u32 = 32;
 /// Scene files a drop may open.
 const SCENE_EXTENSIONS: [&str; 3] = ["gltf", "glb", "obj"];
+/// Files dropped on the window that light the scene as its sky (`--sky-map`).
+const SKY_MAP_EXTENSIONS: [&str; 4] = ["hdr", "exr", "pfm", "png"];
+
+/// What a dropped file is taken for, by its extension.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum DroppedKind {
+    Scene,
+    SkyMap,
+}
+
+fn dropped_kind(path: &Path) -> Option<DroppedKind> {
+    let extension = path.extension()?;
+    let among = |known: &[&str]| known.iter().any(|k| extension.eq_ignore_ascii_case(k));
+    if among(&SCENE_EXTENSIONS) {
+        Some(DroppedKind::Scene)
+    } else if among(&SKY_MAP_EXTENSIONS) {
+        Some(DroppedKind::SkyMap)
+    } else {
+        None
+    }
+}
+
+/// A dropped file once read: a scene to open, or a sky map for the scene shown.
+enum Dropped {
+    Scene(Box<LoadedScene>),
+    SkyMap(scene::SkyMap),
+}
 
 /// The window and what draws into it, made once the event loop has resumed.
 struct Gfx {
@@ -73,7 +100,7 @@ pub struct App {
     gfx: Option<Gfx>,
     session: Option<Session>,
     /// A dropped file being read on another thread.
-    loading: Option<(PathBuf, mpsc::Receiver<anyhow::Result<LoadedScene>>)>,
+    loading: Option<(PathBuf, mpsc::Receiver<anyhow::Result<Dropped>>)>,
     controller: Option<CameraController>,
     budget: FrameBudget,
     overlay: Overlay,
@@ -347,30 +374,40 @@ impl App {
     }
 
     /// A dropped file: read it on another thread; the current scene stays until it is ready.
+    /// A scene opens; an image (.hdr, .exr, .pfm, .png) becomes the sky map, of this scene and
+    /// of those opened after it.
     fn open_dropped(&mut self, path: &Path) {
-        let known = path
-            .extension()
-            .is_some_and(|e| SCENE_EXTENSIONS.iter().any(|k| e.eq_ignore_ascii_case(k)));
-        if !known {
-            self.notify(format!(
-                "{}: not a scene (drop a .gltf, .glb or .obj file)",
-                path.display()
-            ));
-            return;
-        }
         let (send, receive) = mpsc::channel();
         let owned = path.to_owned();
-        let bvh_args = self.bvh_args;
-        let added_lights = self.added_lights.clone();
-        std::thread::spawn(move || {
-            // The receiver may be gone if another file was dropped meanwhile.
-            let _ = send.send(load_scene(&owned, bvh_args, &added_lights));
-        });
+        // The receiver may be gone if another file was dropped meanwhile.
+        match dropped_kind(path) {
+            Some(DroppedKind::Scene) => {
+                let bvh_args = self.bvh_args;
+                let added_lights = self.added_lights.clone();
+                std::thread::spawn(move || {
+                    let loaded = load_scene(&owned, bvh_args, &added_lights);
+                    let _ = send.send(loaded.map(|l| Dropped::Scene(Box::new(l))));
+                });
+            }
+            Some(DroppedKind::SkyMap) => {
+                std::thread::spawn(move || {
+                    let map = crate::image_io::read_sky_map(&owned);
+                    let _ = send.send(map.map(Dropped::SkyMap));
+                });
+            }
+            None => {
+                self.notify(format!(
+                    "{}: neither a scene (.gltf, .glb, .obj) nor a sky map (.hdr, .exr, .pfm, .png)",
+                    path.display()
+                ));
+                return;
+            }
+        }
         self.notify(format!("loading {} …", path.display()));
         self.loading = Some((path.to_owned(), receive));
     }
 
-    /// Swaps in a dropped scene once it has been read, or reports why it cannot be.
+    /// Swaps in a dropped scene or sky map once it has been read, or reports why it cannot be.
     fn finish_loading(&mut self) {
         let Some((path, receive)) = &self.loading else {
             return;
@@ -387,12 +424,34 @@ impl App {
         let Some(gfx) = &self.gfx else {
             return;
         };
-        match result.and_then(|loaded| Session::new(&gfx.context, loaded)) {
-            Ok(session) => {
-                let camera = session.default_camera();
-                self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
-                self.title = window_title(&path);
-                gfx.window.set_title(&self.title);
+        let opened = result.and_then(|dropped| match dropped {
+            Dropped::Scene(loaded) => Session::new(&gfx.context, *loaded).map(|s| (s, true)),
+            Dropped::SkyMap(map) => {
+                let session = self.session.as_ref().context("no scene is open")?;
+                // `--sky R,G,B` scales a map, as on the command line; the overlay's turn holds.
+                let scale = self
+                    .added_lights
+                    .sky
+                    .map_or(glam::Vec3::ONE, glam::Vec3::from);
+                let turn = *self.overlay.controls.sky_rotation.get_or_insert(0.0);
+                session
+                    .with_sky_map(map, scale, turn.to_radians())
+                    .map(|s| (s, false))
+            }
+        });
+        match opened {
+            Ok((session, new_scene)) => {
+                if new_scene {
+                    let camera = session.default_camera();
+                    self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
+                    self.title = window_title(&path);
+                    gfx.window.set_title(&self.title);
+                } else {
+                    // Scenes opened later are lit by this map too.
+                    self.added_lights.sky_map = Some(path.clone());
+                    self.added_lights.sky_rotate =
+                        self.overlay.controls.sky_rotation.unwrap_or(0.0);
+                }
                 self.session = Some(session);
                 self.photon_cuts_left = MAX_PHOTON_CUTS;
                 self.notify(format!("opened {}", path.display()));
@@ -863,7 +922,25 @@ fn surface_config(
 
 #[cfg(test)]
 mod tests {
-    use super::wrapped_degrees;
+    use super::{DroppedKind, dropped_kind, wrapped_degrees};
+    use std::path::Path;
+
+    #[test]
+    fn dropped_files_are_scenes_or_sky_maps_by_extension() {
+        for (name, kind) in [
+            ("a/room.gltf", Some(DroppedKind::Scene)),
+            ("room.GLB", Some(DroppedKind::Scene)),
+            ("room.obj", Some(DroppedKind::Scene)),
+            ("sky.hdr", Some(DroppedKind::SkyMap)),
+            ("sky.EXR", Some(DroppedKind::SkyMap)),
+            ("sky.pfm", Some(DroppedKind::SkyMap)),
+            ("sky.png", Some(DroppedKind::SkyMap)),
+            ("notes.txt", None),
+            ("no_extension", None),
+        ] {
+            assert_eq!(dropped_kind(Path::new(name)), kind, "{name}");
+        }
+    }
 
     #[test]
     fn sky_turns_wrap_into_the_sliders_range() {

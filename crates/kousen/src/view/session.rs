@@ -115,6 +115,26 @@ impl Session {
         })
     }
 
+    /// This scene under `map` (scaled by `scale`, turned `rotation` radians) instead of its
+    /// sky, uploaded anew (the map's buffer, and kernels compiled with the map's lookups); the
+    /// camera's view stays the caller's.
+    pub fn with_sky_map(
+        &self,
+        map: scene::SkyMap,
+        scale: glam::Vec3,
+        rotation: f32,
+    ) -> anyhow::Result<Session> {
+        let mut scene = self.scene.clone();
+        let sky = scene::Sky::with_map(std::sync::Arc::new(map), scale, rotation, scene.bounds());
+        scene.lights.replace_sky(sky);
+        let loaded = LoadedScene {
+            path: self.path.clone(),
+            scene,
+            bvh: self.bvh.clone(),
+        };
+        Session::new(&self.context, loaded)
+    }
+
     /// File name for titles and saved images.
     pub fn name(&self) -> String {
         self.path
@@ -295,5 +315,29 @@ mod tests {
             .filter(|(a, b)| a != b)
             .count();
         assert!(changed > turned.len() / 2, "{changed} pixels changed");
+    }
+
+    /// A sky map dropped on the window (`Session::with_sky_map`) renders as the scene loaded
+    /// with that map (`--sky-map`), and replaces the sky the scene had.
+    #[test]
+    fn a_dropped_sky_map_renders_as_one_given_at_load() {
+        let context = GpuContext::new(None).unwrap_or_else(|e| {
+            panic!("no usable GPU adapter in the test environment (CI installs Mesa lavapipe): {e}")
+        });
+        let mut uniform = scene::testing::spheres_on_a_floor();
+        let bounds = uniform.bounds();
+        uniform.lights.set_sky(glam::Vec3::splat(0.7), bounds);
+        let session = Session::new(&context, loaded(uniform.clone())).unwrap();
+        let map = scene::testing::sunset_sky_map();
+        let scale = glam::Vec3::new(1.0, 0.9, 1.1);
+        let mut dropped = session.with_sky_map(map.clone(), scale, 0.4).unwrap();
+        let with_map = render(&mut dropped, controls(Some(0.4f32.to_degrees())));
+
+        let mut given = uniform;
+        let sky = scene::Sky::with_map(std::sync::Arc::new(map), scale, 0.4, bounds);
+        given.lights.replace_sky(sky);
+        let mut reference = Session::new(&context, loaded(given.clone())).unwrap();
+        assert_eq!(with_map, render(&mut reference, controls(None)));
+        assert_eq!(dropped.scene.lights, given.lights);
     }
 }

@@ -24,8 +24,10 @@ const DIRECTION_TOLERANCE: f32 = 1e-5;
 /// the density of the row on the other side.
 const MAX_BORDER_LOOKUPS: usize = 4;
 
-/// Group 0: the map, the queries (the first the frame: width, height, cos, sin), the results
-/// (two a query: radiance and density; direction and whether found).
+/// Group 0: the map, the queries (first the frame: width, height, cos, sin; then two a query:
+/// a direction or two uniform numbers, and [kind, receiver's normal]), the results (two a
+/// query: radiance and density; direction and whether found). Kinds: 0 a lookup by the whole
+/// map's importance, 1 a lookup for a receiver facing the normal, 2 and 3 samples alike.
 const KERNEL: &str = r#"
 @group(0) @binding(0) var<storage, read> sky_map: array<f32>;
 @group(0) @binding(1) var<storage, read> queries: array<vec4<f32>>;
@@ -33,18 +35,24 @@ const KERNEL: &str = r#"
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x + 1u;
+    let i = 2u * id.x + 1u;
     if i >= arrayLength(&queries) {
         return;
     }
     let f = queries[0];
     let frame = MapFrame(u32(f.x), u32(f.y), f.z, f.w);
     let q = queries[i];
+    let how = queries[i + 1u];
+    let kind = u32(how.x);
+    var upper = sky_map_upper_share(frame);
+    if kind % 2u == 1u {
+        upper = sky_upper_share_facing(frame, how.yzw);
+    }
     var s: SkyDirection;
-    if q.w == 0.0 {
-        s = sky_map_lookup(frame, q.xyz);
+    if kind < 2u {
+        s = sky_map_lookup(frame, q.xyz, upper);
     } else {
-        s = sample_sky_map(frame, q.x, q.y);
+        s = sample_sky_map(frame, q.x, q.y, upper);
     }
     results[2u * id.x] = vec4<f32>(s.radiance, s.pdf);
     results[2u * id.x + 1u] = vec4<f32>(s.direction, select(0.0, 1.0, s.found));
@@ -74,7 +82,7 @@ fn uniform(i: u32, dimension: u32) -> f32 {
     (render::rng::stream_key(3, dimension, 0, i) >> 8) as f32 / (1u32 << 24) as f32
 }
 
-/// Runs the kernel on `queries` (after the frame); two results a query.
+/// Runs the kernel on `queries` (two vec4 each, after the frame); two results a query.
 fn run(
     context: &GpuContext,
     buffer: &[f32],
@@ -123,7 +131,7 @@ fn run(
     let input = init("queries", bytemuck::cast_slice(&all));
     let output = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("results"),
-        size: (queries.len() * 32) as u64,
+        size: (queries.len() * 16) as u64,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
@@ -134,10 +142,10 @@ fn run(
         let mut pass = encoder.begin_compute_pass(&Default::default());
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
+        pass.dispatch_workgroups((queries.len() as u32 / 2).div_ceil(64), 1, 1);
     }
     context.queue.submit([encoder.finish()]);
-    gpu::readback::read_buffer(context, &output, 2 * queries.len()).expect("readback")
+    gpu::readback::read_buffer(context, &output, queries.len()).expect("readback")
 }
 
 fn relative_error(a: Vec3, b: Vec3) -> f32 {
@@ -185,10 +193,35 @@ fn lookups_and_samples_match_their_cpu_twins() {
             pairs.push((a, b));
         }
     }
+    // Each query for the whole map (photons) or for a receiver facing one of these normals.
+    let normals = [
+        None,
+        Some(Vec3::Y),
+        Some(Vec3::NEG_Y),
+        Some(Vec3::X),
+        Some(Vec3::new(0.6, 0.8, 0.0)),
+        Some(Vec3::new(0.0, -0.6, 0.8)),
+    ];
+    let receiver = |i: usize| normals[i % normals.len()];
+    let upper = |i: usize| match receiver(i) {
+        None => frame.map_upper_share(&buffer),
+        Some(normal) => frame.upper_share_facing(&buffer, normal),
+    };
+    let how = |i: usize, sample: bool| {
+        let n = receiver(i).unwrap_or(Vec3::ZERO);
+        let kind = 2 * sample as u32 + receiver(i).is_some() as u32;
+        [kind as f32, n.x, n.y, n.z]
+    };
     let queries: Vec<[f32; 4]> = directions
         .iter()
-        .map(|d| [d.x, d.y, d.z, 0.0])
-        .chain(pairs.iter().map(|&(a, b)| [a, b, 0.0, 1.0]))
+        .enumerate()
+        .flat_map(|(i, d)| [[d.x, d.y, d.z, 0.0], how(i, false)])
+        .chain(
+            pairs
+                .iter()
+                .enumerate()
+                .flat_map(|(i, &(a, b))| [[a, b, 0.0, 0.0], how(i, true)]),
+        )
         .collect();
 
     let Ok(context) = GpuContext::new(None) else {
@@ -198,7 +231,7 @@ fn lookups_and_samples_match_their_cpu_twins() {
 
     let (mut worst_lookup, mut borders) = (0.0f32, 0);
     for (i, d) in directions.iter().enumerate() {
-        let (radiance, pdf) = sky_map_lookup(&frame, &buffer, *d);
+        let (radiance, pdf) = sky_map_lookup(&frame, &buffer, *d, upper(i));
         // What LOOKUP_TEXELS of error in the coordinates can change.
         let (u, v) = frame.coordinates(*d);
         let (du, dv) = (
@@ -246,7 +279,7 @@ fn lookups_and_samples_match_their_cpu_twins() {
     let mut found = 0;
     for (k, &(a, b)) in pairs.iter().enumerate() {
         let i = directions.len() + k;
-        let cpu = sample_sky_map(&frame, &buffer, a, b);
+        let cpu = sample_sky_map(&frame, &buffer, a, b, upper(k));
         let [r, g, bl, pdf] = results[2 * i];
         let [x, y, z, gpu_found] = results[2 * i + 1];
         assert_eq!(

@@ -19,7 +19,7 @@
 //! | spot | its position | flux · falloff / (cone's solid angle · d²) |
 //! | directional | against its direction, unbounded | flux / disk area |
 //! | sky | a cosine-distributed direction about the receiver's normal, unbounded | flux / (4 · disk area · cos θ) |
-//! | sky map | a direction by the map's importance ([`crate::sky_map`]), above the receiver | radiance / (pick · density) |
+//! | sky map | a direction by the map's importance ([`crate::sky_map`]) within the half the receiver faces, above the receiver | radiance / (pick · density) |
 //!
 //! (The sky's flux is its radiance × disk area × 4π; sampled by the receiver's cosine, a lit
 //! open plane gets the same value from every sample.)
@@ -152,10 +152,12 @@ pub fn sample_light(
             }
         }
         LIGHT_SKY => {
-            // A map's direction by its importance (none below the surface), else a cosine one.
+            // A map's direction by its importance, from the half of the map the surface faces
+            // (none below it), else a cosine one.
             let (direction, incident, pdf) = match MapFrame::of(light) {
                 Some(frame) => {
-                    let s = sample_sky_map(&frame, sky_map, u[1], u[2])?;
+                    let upper = frame.upper_share_facing(sky_map, normal);
+                    let s = sample_sky_map(&frame, sky_map, u[1], u[2], upper)?;
                     if s.direction.dot(normal) <= 0.0 {
                         return None;
                     }
@@ -222,7 +224,10 @@ pub fn sky_pdf(lights: &[Light], sky_map: &[f32], direction: Vec3, normal: Vec3)
     let pick = pick_probability(lights, lights.len() - 1);
     let cos = direction.dot(normal);
     match MapFrame::of(last) {
-        Some(frame) if cos > 0.0 => pick * sky_map_lookup(&frame, sky_map, direction).1,
+        Some(frame) if cos > 0.0 => {
+            let upper = frame.upper_share_facing(sky_map, normal);
+            pick * sky_map_lookup(&frame, sky_map, direction, upper).1
+        }
         Some(_) => 0.0,
         None => pick * cos.max(0.0) / PI,
     }

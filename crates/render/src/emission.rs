@@ -207,7 +207,13 @@ pub fn sample_emission(lights: &[Light], sky_map: &[f32], u: [f32; 5]) -> Emissi
             // A map's direction by its importance, else a uniform one; photons travel
             // against the direction the sky is seen along.
             let (direction, flux) = match crate::sky_map::MapFrame::of(light) {
-                Some(frame) => match sample_sky_map(&frame, sky_map, u[3], u[4]) {
+                Some(frame) => match sample_sky_map(
+                    &frame,
+                    sky_map,
+                    u[3],
+                    u[4],
+                    frame.map_upper_share(sky_map),
+                ) {
                     Some(s) => {
                         let pick = crate::direct::pick_probability(lights, index);
                         (-s.direction, sky_photon_flux(light, &s, pick))

@@ -12,16 +12,25 @@
 //! in a dim sky gets nearly all light samples and photons, each carrying nearly the same
 //! radiance ÷ density: as good as texel-by-texel sampling of a map constant over its texels.
 //!
+//! The rows are split at the horizon into two halves with a CDF each, so that a receiver can
+//! weigh them by where it faces ([`MapFrame::upper_share_facing`]): a floor draws from the
+//! upper half only, where a draw by the whole map's importance would waste the samples that
+//! land below its horizon (the ground's share of the map's power). A draw first picks the half
+//! (the upper with probability `upper`), then a row of it; photons, which face nowhere, pick
+//! the halves by their power ([`MapFrame::map_upper_share`]), which is the whole map's
+//! importance again.
+//!
 //! Layout, for a map of W × H = N texels (row 0 up), its cells in H + 1 rows of W:
 //! | offset | what |
 //! |---|---|
 //! | 3i .. 3i + 2 | texel i's radiance (the sky's scale applied) |
 //! | 3N + jW + x | cell row j's CDF at cell x (its last entry 1); cell x spans texel centres x and x + 1 |
-//! | 3N + (H + 1)W + j | the CDF over cell rows at row j (its last entry 1) |
-//! | 3N + (H + 1)(W + 1) + j | cell row j's density factor: the sine at its centre ÷ the total (Σ over cells of mean × sine × area) |
+//! | 3N + (H + 1)W + j | the CDF over the cell rows of j's half at row j (each half's last entry 1): the upper half rows 0 ..= H/2 (the row holding the horizon, or the last above it), the lower half the rest |
+//! | 3N + (H + 1)(W + 1) + j | cell row j's density factor: the sine at its centre ÷ its half's total (Σ over its cells of mean × sine × area) |
+//! | 3N + (H + 1)(W + 2) | the upper half's share of the map's total |
 //!
 //! Without a map the buffer is four zeros (a binding cannot be empty). The map's size and
-//! rotation travel in the sky's light-table entry ([`sky_light_fields`]).
+//! rotation travel in the sky's light-table entry ([`sky_light`]).
 
 use std::f32::consts::PI;
 
@@ -36,7 +45,12 @@ pub const NO_SKY_MAP: [f32; 4] = [0.0; 4];
 
 /// The length in floats of the buffer of a `width` × `height` map.
 fn buffer_len(width: usize, height: usize) -> usize {
-    3 * width * height + (width + 2) * (height + 1)
+    3 * width * height + (width + 2) * (height + 1) + 1
+}
+
+/// The last cell row of the upper half of a map `height` texels tall.
+fn last_upper_row(height: u32) -> u32 {
+    height / 2
 }
 
 /// The bytes of the buffer [`sky_map_buffer`] makes for `map`.
@@ -83,21 +97,24 @@ pub fn sky_map_buffer(sky: Option<&Sky>) -> Vec<f32> {
             / width as f64;
         cumulative(&means, sum, &mut buffer[3 * count + j * width..][..width]);
     }
-    let total: f64 = row_weights.iter().sum();
-    cumulative(
-        &row_weights,
-        total,
-        &mut buffer[3 * count + cells..][..height + 1],
-    );
-    let factors = &mut buffer[3 * count + cells + height + 1..][..height + 1];
-    for (j, factor) in factors.iter_mut().enumerate() {
-        let sine = cell_row_sine(j as u32, height as u32) as f64;
-        *factor = if total > 0.0 {
-            (sine / total) as f32
-        } else {
-            0.0
-        };
+    let split = last_upper_row(height as u32) as usize + 1;
+    let halves = [0..split, split..height + 1];
+    let totals = halves
+        .clone()
+        .map(|rows| row_weights[rows].iter().sum::<f64>());
+    for (rows, total) in halves.into_iter().zip(totals) {
+        let marginal = &mut buffer[3 * count + cells + rows.start..][..rows.len()];
+        cumulative(&row_weights[rows.clone()], total, marginal);
+        for j in rows {
+            let sine = cell_row_sine(j as u32, height as u32) as f64;
+            buffer[3 * count + cells + height + 1 + j] = if total > 0.0 {
+                (sine / total) as f32
+            } else {
+                0.0
+            };
+        }
     }
+    buffer[3 * count + cells + 2 * (height + 1)] = (totals[0] / (totals[0] + totals[1])) as f32;
     buffer
 }
 
@@ -210,12 +227,47 @@ impl MapFrame {
         row(y0).lerp(row(y1), b)
     }
 
-    /// The density over map coordinates with which [`sample_sky_map`] draws a point of cell
-    /// row `j` where the map holds `radiance`.
-    fn density(&self, buffer: &[f32], j: u32, radiance: Vec3) -> f32 {
-        let factors = 3 * (self.width * self.height) as usize
-            + ((self.height + 1) * (self.width + 1)) as usize;
-        radiance.element_sum() * buffer[factors + j as usize]
+    /// Where the rows' CDFs over cells begin in the buffer, then those over rows, the rows'
+    /// density factors, and the upper half's share.
+    fn offsets(&self) -> [usize; 4] {
+        let count = (self.width * self.height) as usize;
+        let rows = self.height as usize + 1;
+        let cells = 3 * count;
+        let marginal = cells + rows * self.width as usize;
+        [cells, marginal, marginal + rows, marginal + 2 * rows]
+    }
+
+    /// The upper half's share of the map's power: the probability of drawing from it that
+    /// makes a draw follow the whole map's importance (photons').
+    pub fn map_upper_share(&self, buffer: &[f32]) -> f32 {
+        buffer[self.offsets()[3]]
+    }
+
+    /// The probability of drawing from the upper half for a receiver facing `normal` (world,
+    /// unit): 1 facing straight up, 0 straight down, the map's own share facing sideways,
+    /// linear in the normal's height between; never a half with no power.
+    pub fn upper_share_facing(&self, buffer: &[f32], normal: Vec3) -> f32 {
+        let share = self.map_upper_share(buffer);
+        if share <= 0.0 || share >= 1.0 {
+            return share.clamp(0.0, 1.0);
+        }
+        if normal.y >= 0.0 {
+            share + normal.y * (1.0 - share)
+        } else {
+            share * (1.0 + normal.y)
+        }
+    }
+
+    /// The density over map coordinates with which [`sample_sky_map`], drawing from the upper
+    /// half with probability `upper`, draws a point of cell row `j` where the map holds
+    /// `radiance`.
+    fn density(&self, buffer: &[f32], j: u32, radiance: Vec3, upper: f32) -> f32 {
+        let half = if j <= last_upper_row(self.height) {
+            upper
+        } else {
+            1.0 - upper
+        };
+        radiance.element_sum() * buffer[self.offsets()[2] + j as usize] * half
     }
 }
 
@@ -240,38 +292,57 @@ fn solid_angle_density(density: f32, sine: f32) -> f32 {
 }
 
 /// The radiance along world `direction` (unit) and the solid-angle density with which
-/// [`sample_sky_map`] draws it.
-pub fn sky_map_lookup(frame: &MapFrame, buffer: &[f32], direction: Vec3) -> (Vec3, f32) {
+/// [`sample_sky_map`], drawing from the upper half with probability `upper`, draws it.
+pub fn sky_map_lookup(
+    frame: &MapFrame,
+    buffer: &[f32],
+    direction: Vec3,
+    upper: f32,
+) -> (Vec3, f32) {
     let (u, v) = frame.coordinates(direction);
     let radiance = frame.radiance_at(buffer, (u, v));
     // The cell row holding v: row j spans texel centres j − 1 and j.
     let j = ((v * frame.height as f32 + 0.5) as u32).min(frame.height);
     let sine = (1.0 - direction.y * direction.y).max(0.0).sqrt();
-    let density = frame.density(buffer, j, radiance);
+    let density = frame.density(buffer, j, radiance, upper);
     (radiance, solid_angle_density(density, sine))
 }
 
 /// A direction drawn from two uniform numbers in proportion to the map's bilinear radiance ×
-/// its cell's solid angle; `None` on the measure-zero poles, where the density is undefined.
-pub fn sample_sky_map(frame: &MapFrame, buffer: &[f32], u1: f32, u2: f32) -> Option<SkyDirection> {
+/// its cell's solid angle, from the upper half with probability `upper` (`u1` chooses the
+/// half, then the row); `None` on the measure-zero poles, where the density is undefined.
+pub fn sample_sky_map(
+    frame: &MapFrame,
+    buffer: &[f32],
+    u1: f32,
+    u2: f32,
+    upper: f32,
+) -> Option<SkyDirection> {
     let (width, height) = (frame.width, frame.height);
-    let count = (width * height) as usize;
-    let cells = (width * (height + 1)) as usize;
-    let (j, row_fraction) = search(&buffer[3 * count + cells..][..height as usize + 1], u1);
-    let row_cdf = &buffer[3 * count + j * width as usize..][..width as usize];
+    let [cells, marginal, _, _] = frame.offsets();
+    let split = last_upper_row(height) + 1;
+    let (first, rows, u1) = if u1 < upper {
+        (0, split, u1 / upper)
+    } else {
+        (split, height + 1 - split, (u1 - upper) / (1.0 - upper))
+    };
+    let half_cdf = &buffer[marginal + first as usize..][..rows as usize];
+    let (row, row_fraction) = search(half_cdf, u1.min(0.999_999_94));
+    let j = first + row as u32;
+    let row_cdf = &buffer[cells + (j * width) as usize..][..width as usize];
     let (x, column_fraction) = search(row_cdf, u2);
-    let j = j as u32;
+    let x = x as u32;
     // The cell's corners, then a point by the bilinear patch their radiance sums span: v by
     // its marginal (linear between the upper and lower edges' means), u given v.
-    let (upper, lower) = (j.saturating_sub(1), j.min(height - 1));
-    let next = (x as u32 + 1) % width;
+    let (top_row, bottom_row) = (j.saturating_sub(1), j.min(height - 1));
+    let next = (x + 1) % width;
     let [t00, t10] = [
-        frame.texel(buffer, x as u32, upper),
-        frame.texel(buffer, next, upper),
+        frame.texel(buffer, x, top_row),
+        frame.texel(buffer, next, top_row),
     ];
     let [t01, t11] = [
-        frame.texel(buffer, x as u32, lower),
-        frame.texel(buffer, next, lower),
+        frame.texel(buffer, x, bottom_row),
+        frame.texel(buffer, next, bottom_row),
     ];
     let [c00, c10, c01, c11] = [t00, t10, t01, t11].map(Vec3::element_sum);
     let b = sample_linear(row_fraction, c00 + c10, c01 + c11);
@@ -295,7 +366,7 @@ pub fn sample_sky_map(frame: &MapFrame, buffer: &[f32], u1: f32, u2: f32) -> Opt
     Some(SkyDirection {
         direction: frame.turned_to_world(map_direction(u, v)),
         radiance,
-        pdf: solid_angle_density(frame.density(buffer, j, radiance), sine),
+        pdf: solid_angle_density(frame.density(buffer, j, radiance, upper), sine),
     })
 }
 
@@ -369,6 +440,23 @@ pub(crate) mod tests {
         Sky::with_map(Arc::new(map), Vec3::new(1.0, 0.5, 2.0), rotation, bounds)
     }
 
+    /// The share of draws from the upper half that follows the whole map (photons').
+    fn whole(frame: &MapFrame, buffer: &[f32]) -> f32 {
+        frame.map_upper_share(buffer)
+    }
+
+    /// Sample `i` of the whole map (photons' draw).
+    fn draw(frame: &MapFrame, buffer: &[f32], i: u32) -> SkyDirection {
+        sample_sky_map(
+            frame,
+            buffer,
+            uniform(i, 0),
+            uniform(i, 1),
+            whole(frame, buffer),
+        )
+        .unwrap()
+    }
+
     fn frame_of(sky: &Sky) -> MapFrame {
         MapFrame::of(&sky_light(sky)).unwrap()
     }
@@ -396,8 +484,9 @@ pub(crate) mod tests {
             // Directions on a texel's border may round to its neighbour: a few in 2000.
             let differ = (0..2000)
                 .filter(|&i| {
-                    let s = sample_sky_map(&frame, &buffer, uniform(i, 0), uniform(i, 1)).unwrap();
-                    let (radiance, pdf) = sky_map_lookup(&frame, &buffer, s.direction);
+                    let s = draw(&frame, &buffer, i);
+                    let (radiance, pdf) =
+                        sky_map_lookup(&frame, &buffer, s.direction, whole(&frame, &buffer));
                     let off = (radiance - s.radiance).abs().max_element();
                     (pdf - s.pdf).abs() > 1e-4 * s.pdf || off > 1e-3 * s.radiance.max_element()
                 })
@@ -419,7 +508,7 @@ pub(crate) mod tests {
         let n = 1 << 16;
         let (mut radiance, mut sphere) = (Vec3::ZERO, 0.0f64);
         for i in 0..n {
-            let s = sample_sky_map(&frame, &buffer, uniform(i, 0), uniform(i, 1)).unwrap();
+            let s = draw(&frame, &buffer, i);
             radiance += s.radiance / s.pdf;
             sphere += 1.0 / s.pdf as f64;
         }
@@ -442,14 +531,19 @@ pub(crate) mod tests {
         let lit_without_density = (0..20000)
             .map(|i| map_direction(uniform(i, 2), uniform(i, 3)))
             .filter(|&d| {
-                let (radiance, pdf) = sky_map_lookup(&frame, &buffer, frame.turned_to_world(d));
+                let (radiance, pdf) = sky_map_lookup(
+                    &frame,
+                    &buffer,
+                    frame.turned_to_world(d),
+                    whole(&frame, &buffer),
+                );
                 radiance.max_element() > 0.0 && pdf <= 0.0
             })
             .count();
         assert_eq!(lit_without_density, 0);
         let n = 1 << 16;
         let integral = (0..n)
-            .map(|i| sample_sky_map(&frame, &buffer, uniform(i, 0), uniform(i, 1)).unwrap())
+            .map(|i| draw(&frame, &buffer, i))
             .fold(Vec3::ZERO, |sum, s| sum + s.radiance / s.pdf)
             / n as f32;
         let expected = sky.radiance * sky.map.as_ref().unwrap().integral();
@@ -475,19 +569,28 @@ pub(crate) mod tests {
     }
 
     /// The samples land where the lookup's density says, within cells as well as between
-    /// them: 2^16 samples of the sun sky binned 4 × 4 per texel, Pearson's χ² against the
-    /// lookup's density integrated over each bin (bins expecting fewer than 5 samples pooled
-    /// into one). A correct sampler gives χ² ≈ the bins' count (±√(2·bins)); measured
-    /// χ²/bins 1.01, and 82 with points drawn uniformly within their cell.
+    /// them, and between the halves as `upper` shares them: 2^16 samples of the sun sky binned
+    /// 4 × 4 per texel, Pearson's χ² against the lookup's density integrated over each bin
+    /// (bins expecting fewer than 5 samples pooled into one), for the whole map's share, a
+    /// floor's (1), a ceiling's (0) and one between. A correct sampler gives χ² ≈ the bins'
+    /// count (±√(2·bins)); measured χ²/bins 1.01 (whole map), and 82 with points drawn
+    /// uniformly within their cell.
     #[test]
     fn samples_follow_the_density_within_cells() {
         let sky = sun_sky(0.0);
         let (frame, buffer) = (frame_of(&sky), sky_map_buffer(Some(&sky)));
+        for upper in [whole(&frame, &buffer), 1.0, 0.0, 0.3] {
+            follow_the_density(&frame, &buffer, upper);
+        }
+    }
+
+    fn follow_the_density(frame: &MapFrame, buffer: &[f32], upper: f32) {
+        let (frame, buffer) = (*frame, buffer);
         let (columns, rows) = (4 * frame.width as usize, 4 * frame.height as usize);
         let n = 1u32 << 16;
         let mut observed = vec![0.0f64; columns * rows];
         for i in 0..n {
-            let s = sample_sky_map(&frame, &buffer, uniform(i, 0), uniform(i, 1)).unwrap();
+            let s = sample_sky_map(&frame, buffer, uniform(i, 0), uniform(i, 1), upper).unwrap();
             let (u, v) = frame.coordinates(s.direction);
             let bin = |c: f32, count: usize| ((c * count as f32) as usize).min(count - 1);
             observed[bin(v, rows) * columns + bin(u, columns)] += 1.0;
@@ -500,7 +603,7 @@ pub(crate) mod tests {
                 for k in 0..16 {
                     let u = (column as f32 + (k % 4) as f32 / 4.0 + 0.125) / columns as f32;
                     let v = (row as f32 + (k / 4) as f32 / 4.0 + 0.125) / rows as f32;
-                    let (_, pdf) = sky_map_lookup(&frame, &buffer, map_direction(u, v));
+                    let (_, pdf) = sky_map_lookup(&frame, buffer, map_direction(u, v), upper);
                     sum += (pdf * 2.0 * PI * PI * (PI * v).sin()) as f64;
                 }
                 sum / 16.0 / (columns * rows) as f64 * n as f64
@@ -519,7 +622,70 @@ pub(crate) mod tests {
         }
         chi2 += (pooled.0 - pooled.1).powi(2) / pooled.1.max(1.0);
         let bound = bins as f64 + 6.0 * (2.0 * bins as f64).sqrt();
-        assert!(chi2 < bound, "χ² {chi2} over {bins} bins (bound {bound})");
+        assert!(
+            chi2 < bound,
+            "upper {upper}: χ² {chi2} over {bins} bins (bound {bound})"
+        );
+    }
+
+    #[test]
+    fn receivers_draw_from_the_half_they_face() {
+        let sky = sun_sky(0.0);
+        let (frame, buffer) = (frame_of(&sky), sky_map_buffer(Some(&sky)));
+        let share = whole(&frame, &buffer);
+        assert!(share > 0.5 && share < 1.0, "{share}");
+        let facing = |normal: Vec3| frame.upper_share_facing(&buffer, normal.normalize());
+        assert_eq!(facing(Vec3::Y), 1.0);
+        assert_eq!(facing(Vec3::NEG_Y), 0.0);
+        assert_eq!(facing(Vec3::X), share);
+        let tilted = facing(Vec3::new(1.0, 1.0, 0.0));
+        assert!(tilted > share && tilted < 1.0, "{tilted}");
+        // A map black below the horizon: everyone draws from the upper half.
+        let dark_ground = mapped_sky(8, 4, 0.0, |_, y| Vec3::splat((y < 2) as u32 as f32));
+        let (frame, buffer) = (frame_of(&dark_ground), sky_map_buffer(Some(&dark_ground)));
+        assert_eq!(frame.upper_share_facing(&buffer, Vec3::NEG_Y), 1.0);
+    }
+
+    /// A floor's irradiance by light samples, E[L cos⁺ θ / pdf] = `SkyMap::floor_irradiance`,
+    /// under a map whose ground is bright: unbiased whether drawn by the whole map's
+    /// importance or from the upper half only (the floor's share), within 1 % at 2^15
+    /// samples; and drawn from the upper half, no sample is wasted below the horizon, so its
+    /// variance is lower (measured: relative standard deviation 0.64 against 1.22).
+    #[test]
+    fn a_floor_drawing_from_the_upper_half_wastes_nothing() {
+        let sky = mapped_sky(32, 16, 0.4, |x, y| {
+            if (x, y) == (5, 4) {
+                Vec3::new(40.0, 30.0, 20.0)
+            } else if y < 8 {
+                Vec3::new(0.3, 0.5, 1.0)
+            } else {
+                Vec3::splat(0.8)
+            }
+        });
+        let (frame, buffer) = (frame_of(&sky), sky_map_buffer(Some(&sky)));
+        let expected = (sky.radiance * sky.map.as_ref().unwrap().floor_irradiance()).element_sum();
+        let n = 1 << 15;
+        let spread = |upper: f32| {
+            let estimates: Vec<f64> = (0..n)
+                .map(|i| {
+                    let Some(s) =
+                        sample_sky_map(&frame, &buffer, uniform(i, 0), uniform(i, 1), upper)
+                    else {
+                        return 0.0;
+                    };
+                    (s.radiance.element_sum() * s.direction.y.max(0.0) / s.pdf) as f64
+                })
+                .collect();
+            let mean = estimates.iter().sum::<f64>() / n as f64;
+            let variance = estimates.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / n as f64;
+            assert!(
+                (mean / expected as f64 - 1.0).abs() < 0.01,
+                "upper {upper}: {mean} against {expected}"
+            );
+            variance.sqrt() / mean
+        };
+        let (by_map, by_floor) = (spread(whole(&frame, &buffer)), spread(1.0));
+        assert!(by_floor < 0.8 * by_map, "{by_floor} against {by_map}");
     }
 
     #[test]
@@ -530,7 +696,7 @@ pub(crate) mod tests {
             Vec3::splat(if x == 3 || x == 4 { 1.0 } else { 0.0 })
         });
         let (frame, buffer) = (frame_of(&sky), sky_map_buffer(Some(&sky)));
-        let seen = |d: Vec3| sky_map_lookup(&frame, &buffer, d.normalize()).0.x;
+        let seen = |d: Vec3| sky_map_lookup(&frame, &buffer, d.normalize(), 0.5).0.x;
         // Turned a quarter counter-clockwise from above: −Z's columns now face −X.
         assert_eq!(seen(Vec3::new(-1.0, 0.1, 0.0)), 1.0);
         assert_eq!(seen(Vec3::new(0.05, 0.1, -1.0)), 0.0);

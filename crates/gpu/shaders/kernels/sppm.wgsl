@@ -119,7 +119,7 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
             direction = uniform_cone(u3, u4, -1.0);
         } else {
             // render::sky_map::sky_photon_flux: the map's direction by its importance.
-            let s = sample_sky_map(frame, u3, u4);
+            let s = sample_sky_map(frame, u3, u4, sky_map_upper_share(frame));
             direction = -s.direction;
             flux = vec3<f32>(0.0);
             if s.found {
@@ -188,7 +188,7 @@ fn sky_pdf(direction: vec3<f32>, normal: vec3<f32>) -> f32 {
     if cos_normal <= 0.0 {
         return 0.0;
     }
-    return pick * sky_map_lookup(frame, direction).pdf;
+    return pick * sky_map_lookup(frame, direction, sky_upper_share_facing(frame, normal)).pdf;
 }
 
 // render::direct::triangle_pdf.
@@ -220,7 +220,8 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
         sample.direction = -light.edge1;
         sample.incident = light.flux / (PI * light.edge2.x * light.edge2.x);
     } else if SKY_MAP && light.kind == LIGHT_SKY && map_frame(light).width != 0u {
-        let s = sample_sky_map(map_frame(light), u1, u2);
+        let frame = map_frame(light);
+        let s = sample_sky_map(frame, u1, u2, sky_upper_share_facing(frame, normal));
         if !s.found || dot(s.direction, normal) <= 0.0 {
             return sample;
         }

@@ -60,11 +60,45 @@ fn sky_cell_row_span(frame: MapFrame, j: u32) -> vec2<f32> {
     return vec2<f32>(max(f32(j) - 0.5, 0.0) / h, min(f32(j) + 0.5, h) / h);
 }
 
+// render::sky_map::last_upper_row: the last cell row of the upper half.
+fn sky_last_upper_row(frame: MapFrame) -> u32 {
+    return frame.height / 2u;
+}
+
+// render::sky_map::MapFrame::offsets: where the rows' CDFs over cells begin, then those over
+// rows, the rows' density factors, and the upper half's share.
+fn sky_offsets(frame: MapFrame) -> vec4<u32> {
+    let rows = frame.height + 1u;
+    let cells = 3u * frame.width * frame.height;
+    let marginal = cells + rows * frame.width;
+    return vec4<u32>(cells, marginal, marginal + rows, marginal + 2u * rows);
+}
+
+// render::sky_map::MapFrame::map_upper_share.
+fn sky_map_upper_share(frame: MapFrame) -> f32 {
+    return sky_map[sky_offsets(frame).w];
+}
+
+// render::sky_map::MapFrame::upper_share_facing.
+fn sky_upper_share_facing(frame: MapFrame, normal: vec3<f32>) -> f32 {
+    let share = sky_map_upper_share(frame);
+    if share <= 0.0 || share >= 1.0 {
+        return clamp(share, 0.0, 1.0);
+    }
+    if normal.y >= 0.0 {
+        return share + normal.y * (1.0 - share);
+    }
+    return share * (1.0 + normal.y);
+}
+
 // render::sky_map::MapFrame::density: the density over map coordinates of a point of cell
-// row j where the map holds `radiance`.
-fn sky_density(frame: MapFrame, j: u32, radiance: vec3<f32>) -> f32 {
-    let factors = 3u * frame.width * frame.height + (frame.height + 1u) * (frame.width + 1u);
-    return sky_channel_sum(radiance) * sky_map[factors + j];
+// row j where the map holds `radiance`, drawing from the upper half with probability `upper`.
+fn sky_density(frame: MapFrame, j: u32, radiance: vec3<f32>, upper: f32) -> f32 {
+    var half = 1.0 - upper;
+    if j <= sky_last_upper_row(frame) {
+        half = upper;
+    }
+    return sky_channel_sum(radiance) * sky_map[sky_offsets(frame).z + j] * half;
 }
 
 // render::sky_map::solid_angle_density.
@@ -84,12 +118,12 @@ struct SkyDirection {
 }
 
 // render::sky_map::sky_map_lookup: the radiance along `direction` and its density.
-fn sky_map_lookup(frame: MapFrame, direction: vec3<f32>) -> SkyDirection {
+fn sky_map_lookup(frame: MapFrame, direction: vec3<f32>, upper: f32) -> SkyDirection {
     let uv = sky_coordinates(frame, direction);
     let radiance = sky_radiance_at(frame, uv);
     let j = min(u32(uv.y * f32(frame.height) + 0.5), frame.height);
     let sine = sqrt(max(1.0 - direction.y * direction.y, 0.0));
-    let pdf = sky_solid_angle_density(sky_density(frame, j, radiance), sine);
+    let pdf = sky_solid_angle_density(sky_density(frame, j, radiance, upper), sine);
     return SkyDirection(direction, radiance, pdf, true);
 }
 
@@ -132,20 +166,31 @@ fn sky_channel_sum(radiance: vec3<f32>) -> f32 {
 }
 
 // render::sky_map::sample_sky_map.
-fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
-    let count = frame.width * frame.height;
-    let cells = frame.width * (frame.height + 1u);
-    let row = sky_search(3u * count + cells, frame.height + 1u, u1);
-    let j = u32(row.x);
-    let column = sky_search(3u * count + j * frame.width, frame.width, u2);
+fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32, upper_share: f32) -> SkyDirection {
+    let offsets = sky_offsets(frame);
+    let split = sky_last_upper_row(frame) + 1u;
+    // u1 picks the half, then (stretched back to [0, 1)) the row within it.
+    var first = split;
+    var rows = frame.height + 1u - split;
+    var u = 0.0;
+    if u1 < upper_share {
+        first = 0u;
+        rows = split;
+        u = u1 / upper_share;
+    } else {
+        u = (u1 - upper_share) / (1.0 - upper_share);
+    }
+    let row = sky_search(offsets.y + first, rows, min(u, 0.99999994));
+    let j = first + u32(row.x);
+    let column = sky_search(offsets.x + j * frame.width, frame.width, u2);
     let x = u32(column.x);
-    let upper = max(j, 1u) - 1u;
-    let lower = min(j, frame.height - 1u);
+    let top_row = max(j, 1u) - 1u;
+    let bottom_row = min(j, frame.height - 1u);
     let next = (x + 1u) % frame.width;
-    let t00 = sky_texel(frame, x, upper);
-    let t10 = sky_texel(frame, next, upper);
-    let t01 = sky_texel(frame, x, lower);
-    let t11 = sky_texel(frame, next, lower);
+    let t00 = sky_texel(frame, x, top_row);
+    let t10 = sky_texel(frame, next, top_row);
+    let t01 = sky_texel(frame, x, bottom_row);
+    let t11 = sky_texel(frame, next, bottom_row);
     let c00 = sky_channel_sum(t00);
     let c10 = sky_channel_sum(t10);
     let c01 = sky_channel_sum(t01);
@@ -154,9 +199,9 @@ fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
     let a = sky_sample_linear(column.y, c00 + (c01 - c00) * b, c10 + (c11 - c10) * b);
     // sky_radiance_at's interpolation, on the corners at hand.
     let radiance = mix(mix(t00, t10, a), mix(t01, t11, a), b);
-    var u = (f32(x) + 0.5 + a) / f32(frame.width);
-    if u >= 1.0 {
-        u -= 1.0;
+    var map_u = (f32(x) + 0.5 + a) / f32(frame.width);
+    if map_u >= 1.0 {
+        map_u -= 1.0;
     }
     let span = sky_cell_row_span(frame, j);
     let v = span.x + (span.y - span.x) * b;
@@ -166,11 +211,11 @@ fn sample_sky_map(frame: MapFrame, u1: f32, u2: f32) -> SkyDirection {
         return sample;
     }
     // scene::sky_map::map_direction, then turned to the world.
-    let phi = 2.0 * PI * (u - 0.5);
+    let phi = 2.0 * PI * (map_u - 0.5);
     let local = vec3<f32>(sine * sin(phi), cos(PI * v), -sine * cos(phi));
     sample.direction = turned_to_world(frame, local);
     sample.radiance = radiance;
-    sample.pdf = sky_solid_angle_density(sky_density(frame, j, sample.radiance), sine);
+    sample.pdf = sky_solid_angle_density(sky_density(frame, j, sample.radiance, upper_share), sine);
     sample.found = true;
     return sample;
 }

@@ -75,7 +75,12 @@ pub fn photon_pass_with<R: StreamRng>(
     let mut emitted = false;
     if slot.depth == SLOT_IDLE {
         let u = [(); 5].map(|_| rng.next_f32());
-        let e = sample_emission(&scene.lights, &scene.sky_map, u);
+        let e = sample_emission(
+            &scene.lights,
+            &scene.sky_map,
+            vec3(params.scene_half_extent),
+            u,
+        );
         slot = PathSlot {
             origin: (e.origin + params.epsilon * e.normal).to_array(),
             depth: 0,

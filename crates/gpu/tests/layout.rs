@@ -480,6 +480,11 @@ fn sppm_types_layout_matches_render_buffers() {
             ("photon_classes", offset_of!(SppmParams, photon_classes)),
             ("pad1", offset_of!(SppmParams, pad)),
             ("pad2", offset_of!(SppmParams, pad) + 4),
+            (
+                "scene_half_extent",
+                offset_of!(SppmParams, scene_half_extent),
+            ),
+            ("pad3", offset_of!(SppmParams, pad2)),
         ],
     );
 }

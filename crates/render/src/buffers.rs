@@ -136,7 +136,9 @@ pub const SPECULAR_EXTRA_PATHS: u32 = 1;
 /// | [`LIGHT_DIRECTIONAL`] | disk centre | unit direction | (disk radius, 0, 0) | illuminance · disk area |
 /// | [`LIGHT_SKY`] | bounding-sphere centre | — | (its radius, 0, 0) | radiance · disk area · 4π |
 ///
-/// A spot's photons are also weighted by [`scene::lights::spot_falloff`] at their direction.
+/// A spot's photons are also weighted by [`scene::lights::spot_falloff`] at their direction;
+/// a directional light's and the sky's by the area they start from over the disk's
+/// ([`crate::emission::parallel_start`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Light {
@@ -238,6 +240,12 @@ pub struct SppmParams {
     /// glass disperses, else 1.
     pub photon_classes: u32,
     pub pad: [u32; 2],
+    /// Half the sides of the scene's bounding box, 1 % longer, about its centre (the bounding
+    /// sphere's): photons of a directional light or the sky start in the rectangle bounding
+    /// the box's shadow across their direction where it is smaller than the sphere's disk
+    /// ([`crate::emission::parallel_start`]). Zero: always the disk.
+    pub scene_half_extent: [f32; 3],
+    pub pad2: u32,
 }
 
 impl Default for SppmParams {

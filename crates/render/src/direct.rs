@@ -295,6 +295,7 @@ mod tests {
             let e = sample_emission(
                 lights,
                 sky_map,
+                Vec3::ZERO,
                 [3, 4, 5, 6, 7].map(|seed| uniform(seed, i)),
             );
             let towards = e.direction.dot(normal);

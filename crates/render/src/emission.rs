@@ -4,9 +4,12 @@
 //! - a point light: its position, a uniform direction over the sphere;
 //! - a spot light: its position, a uniform direction in its outer cone, the flux weighted by
 //!   the falloff at that direction;
-//! - a directional light: a uniform point on a disk across the scene's bounding sphere,
-//!   upstream of it, travelling in the light's direction;
+//! - a directional light: a uniform point across the scene upstream of it, travelling in the
+//!   light's direction: on the bounding sphere's disk or, where smaller, on the rectangle
+//!   bounding the shadow of the scene's box ([`parallel_start`]);
 //! - the sky: a uniform direction over the sphere, then as a directional light that way.
+
+use std::f32::consts::PI;
 
 use glam::Vec3;
 use scene::{PunctualEmitter, PunctualKind, Scene};
@@ -181,8 +184,14 @@ pub fn pick_light(lights: &[Light], u: f32) -> usize {
 }
 
 /// A light path's start from five uniform numbers; `sky_map` is the sky's map
-/// ([`crate::sky_map`]). `lights` must not be empty.
-pub fn sample_emission(lights: &[Light], sky_map: &[f32], u: [f32; 5]) -> Emission {
+/// ([`crate::sky_map`]), `scene_half_extent` [`crate::buffers::SppmParams::scene_half_extent`].
+/// `lights` must not be empty.
+pub fn sample_emission(
+    lights: &[Light],
+    sky_map: &[f32],
+    scene_half_extent: Vec3,
+    u: [f32; 5],
+) -> Emission {
     let index = pick_light(lights, u[0]);
     let light = &lights[index];
     let emission = match light.kind {
@@ -200,8 +209,16 @@ pub fn sample_emission(lights: &[Light], sky_map: &[f32], u: [f32; 5]) -> Emissi
         }
         LIGHT_DIRECTIONAL => {
             let direction = vec3(light.edge1);
-            let origin = disk_point(vec3(light.v0), light.edge2[0], direction, u[1], u[2]);
-            emission_along(origin, direction, vec3(light.flux))
+            let radius = light.edge2[0];
+            let (origin, share) = parallel_start(
+                vec3(light.v0),
+                radius,
+                scene_half_extent,
+                direction,
+                u[1],
+                u[2],
+            );
+            emission_along(origin, direction, vec3(light.flux) * share)
         }
         LIGHT_SKY => {
             // A map's direction by its importance, else a uniform one; photons travel
@@ -223,10 +240,11 @@ pub fn sample_emission(lights: &[Light], sky_map: &[f32], u: [f32; 5]) -> Emissi
                 None => (uniform_cone(u[3], u[4], -1.0), vec3(light.flux)),
             };
             let radius = light.edge2[0];
-            // The disk's centre two radii upstream of the sphere's, outside it.
+            // Two radii upstream of the sphere's centre, outside it.
             let centre = vec3(light.v0) - 2.0 * radius * direction;
-            let origin = disk_point(centre, radius, direction, u[1], u[2]);
-            emission_along(origin, direction, flux)
+            let (origin, share) =
+                parallel_start(centre, radius, scene_half_extent, direction, u[1], u[2]);
+            emission_along(origin, direction, flux * share)
         }
         _ => triangle_emission(light, u),
     };
@@ -234,6 +252,33 @@ pub fn sample_emission(lights: &[Light], sky_map: &[f32], u: [f32; 5]) -> Emissi
         medium: light.medium,
         ..emission
     }
+}
+
+/// Where a photon of parallel light (a directional light's, or the sky's along one direction)
+/// starts, from two uniform numbers: a uniform point of the region across `direction` about
+/// `centre` that its flux was counted over, the bounding sphere's disk of `radius`, or, where
+/// smaller, the rectangle bounding the shadow of the scene's box (`half_extent` about the
+/// sphere's centre; zero: none). Both cover every surface the light can reach, so either is
+/// unbiased; the rectangle wastes fewer photons past a flat or long scene (an open floor under
+/// a low sun: a third of the disk). Returns the point and the region's area over the disk's,
+/// the factor the flux (counted over the disk) takes.
+pub fn parallel_start(
+    centre: Vec3,
+    radius: f32,
+    half_extent: Vec3,
+    direction: Vec3,
+    u1: f32,
+    u2: f32,
+) -> (Vec3, f32) {
+    let (t, b) = orthonormal_basis(direction);
+    let reach = |axis: Vec3| axis.abs().dot(half_extent);
+    let (across_t, across_b) = (reach(t), reach(b));
+    let share = 4.0 * across_t * across_b / (PI * radius * radius);
+    if half_extent == Vec3::ZERO || share.is_nan() || share >= 1.0 {
+        return (disk_point(centre, radius, direction, u1, u2), 1.0);
+    }
+    let point = centre + t * ((2.0 * u1 - 1.0) * across_t) + b * ((2.0 * u2 - 1.0) * across_b);
+    (point, share)
 }
 
 /// A uniform point on the disk of `radius` about `centre` perpendicular to `direction`.
@@ -367,6 +412,54 @@ mod tests {
         assert!((total - expected).abs().max_element() < 1e-3 * expected.max_element());
     }
 
+    /// The rectangle covers the shadow of every corner of the box across any direction (so
+    /// no surface goes unlit), its points fill it uniformly, and over a flat box lit from low
+    /// it is a fraction of the bounding disk; over a cube the disk is kept where smaller.
+    #[test]
+    fn parallel_light_starts_over_the_scene_boxs_shadow() {
+        let half = Vec3::new(2.0, 0.3, 2.0);
+        let radius = half.length() * 1.01;
+        let centre = Vec3::new(1.0, 0.3, -2.0);
+        for i in 0..200 {
+            let f = |k: u32| ((i * 7919 + k * 104_729) % 1000) as f32 / 1000.0;
+            let direction = uniform_cone(f(0), f(1), -1.0);
+            let (t, b) = orthonormal_basis(direction);
+            let (_, share) = parallel_start(centre, radius, half, direction, 0.5, 0.5);
+            assert!(share > 0.0 && share <= 1.0, "{share}");
+            // The rectangle's corners, against each box corner's offset across `direction`.
+            let (low, _) = parallel_start(centre, radius, half, direction, 0.0, 0.0);
+            let (high, _) = parallel_start(centre, radius, half, direction, 1.0, 1.0);
+            for corner in 0..8 {
+                let sign = |bit: u32| if corner & bit == 0 { -1.0 } else { 1.0 };
+                let offset = Vec3::new(sign(1) * half.x, sign(2) * half.y, sign(4) * half.z);
+                if share < 1.0 {
+                    for axis in [t, b] {
+                        let (lo, hi) = ((low - centre).dot(axis), (high - centre).dot(axis));
+                        let at = offset.dot(axis);
+                        assert!(
+                            lo <= at + 1e-4 && at <= hi + 1e-4,
+                            "{direction}: {at} outside {lo}..{hi}"
+                        );
+                    }
+                }
+            }
+        }
+        // Low over the flat box: the rectangle, about a third of the disk.
+        let low_sun = Vec3::new(0.0, -0.34, 0.94).normalize();
+        let (_, share) = parallel_start(centre, radius, half, low_sun, 0.3, 0.6);
+        assert!(share > 0.2 && share < 0.45, "{share}");
+        // A cube seen along its diagonal: the disk is no larger, and is kept.
+        let cube = Vec3::ONE;
+        let diagonal = Vec3::ONE.normalize();
+        let (_, share) = parallel_start(centre, cube.length(), cube, diagonal, 0.3, 0.6);
+        assert_eq!(share, 1.0);
+        // No box known: the disk.
+        assert_eq!(
+            parallel_start(centre, radius, Vec3::ZERO, low_sun, 0.3, 0.6).1,
+            1.0
+        );
+    }
+
     #[test]
     fn emission_leaves_the_front_face() {
         let scene = scene::testing::cornell_box();
@@ -376,6 +469,7 @@ mod tests {
             let e = sample_emission(
                 &table,
                 &crate::sky_map::NO_SKY_MAP,
+                Vec3::ZERO,
                 [f(0), f(1), f(2), f(3), f(4)],
             );
             assert!(e.direction.dot(e.normal) >= 0.0);
@@ -397,7 +491,14 @@ mod tests {
             (state >> 8) as f32 / (1u32 << 24) as f32
         };
         let samples = (0..count)
-            .map(|_| sample_emission(&table, &crate::sky_map::NO_SKY_MAP, [(); 5].map(|_| next())))
+            .map(|_| {
+                sample_emission(
+                    &table,
+                    &crate::sky_map::NO_SKY_MAP,
+                    Vec3::ZERO,
+                    [(); 5].map(|_| next()),
+                )
+            })
             .collect();
         (scene, samples)
     }

@@ -182,6 +182,8 @@ pub fn params_with(
             settings.photons,
         ),
         pad: [0; 2],
+        scene_half_extent: (0.5 * 1.01 * scene.bounds().extent()).to_array(),
+        pad2: 0,
     }
 }
 

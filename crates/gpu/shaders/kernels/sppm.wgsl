@@ -70,6 +70,28 @@ fn disk_point(centre: vec3<f32>, radius: f32, direction: vec3<f32>, u1: f32, u2:
     return centre + basis_tangent(direction) * disk.x + basis_bitangent(direction) * disk.y;
 }
 
+// render::emission::parallel_start: where a photon of parallel light starts (the disk's
+// point, or the rectangle bounding the scene box's shadow where smaller), and the factor its
+// flux, counted over the disk, takes.
+struct ParallelStart {
+    origin: vec3<f32>,
+    share: f32,
+}
+
+fn parallel_start(centre: vec3<f32>, radius: f32, direction: vec3<f32>, u1: f32, u2: f32) -> ParallelStart {
+    let half_extent = params.scene_half_extent;
+    let t = basis_tangent(direction);
+    let b = basis_bitangent(direction);
+    let across_t = dot(abs(t), half_extent);
+    let across_b = dot(abs(b), half_extent);
+    let share = 4.0 * across_t * across_b / (PI * radius * radius);
+    if all(half_extent == vec3<f32>(0.0)) || !(share < 1.0) {
+        return ParallelStart(disk_point(centre, radius, direction, u1, u2), 1.0);
+    }
+    let point = centre + t * ((2.0 * u1 - 1.0) * across_t) + b * ((2.0 * u2 - 1.0) * across_b);
+    return ParallelStart(point, share);
+}
+
 // scene::lights::spot_falloff.
 fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     let ramp = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1.17549435e-38), 0.0, 1.0);
@@ -112,7 +134,9 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
     } else if light.kind == LIGHT_DIRECTIONAL {
         direction = light.edge1;
         normal = direction;
-        origin = disk_point(light.v0, light.edge2.x, direction, u1, u2);
+        let start = parallel_start(light.v0, light.edge2.x, direction, u1, u2);
+        origin = start.origin;
+        flux *= start.share;
     } else if light.kind == LIGHT_SKY {
         let frame = map_frame(light);
         if !SKY_MAP || frame.width == 0u {
@@ -129,7 +153,9 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         }
         normal = direction;
         let radius = light.edge2.x;
-        origin = disk_point(light.v0 - 2.0 * radius * direction, radius, direction, u1, u2);
+        let start = parallel_start(light.v0 - 2.0 * radius * direction, radius, direction, u1, u2);
+        origin = start.origin;
+        flux *= start.share;
     } else {
         origin = triangle_point(light, u1, u2);
         normal = normalize(cross(light.edge1, light.edge2));

@@ -85,6 +85,9 @@ struct SppmParams {
     photon_classes: u32,
     pad1: u32,
     pad2: u32,
+    // render::buffers::SppmParams::scene_half_extent (render::emission::parallel_start).
+    scene_half_extent: vec3<f32>,
+    pad3: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

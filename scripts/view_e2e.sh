@@ -7,7 +7,8 @@
 #      close to a `kousen render` of the same view,
 #   3. the image converges: the later screenshot is closer to that reference than the earlier,
 #   4. opening a broken file (the path a drag and drop takes, driven by --open-after) reports
-#      the error and keeps the current scene; opening another scene shows that scene,
+#      the error and keeps the current scene; opening another scene shows that scene; opening
+#      a sky map (.hdr) lights that scene as `kousen render --sky-map` does,
 #   5. the window closes cleanly (exit 0) when asked to (--quit-after).
 # Needs: xvfb (Xvfb), x11-apps (xwd), netpbm (xwdtopnm), python3; .ci/run installs them.
 # Usage: scripts/view_e2e.sh [KOUSEN_BINARY]   (default target/debug/kousen, built if missing)
@@ -18,6 +19,7 @@ kousen=${1:-target/debug/kousen}
 [ -x "$kousen" ] || cargo build -p kousen --locked
 scene=scenes/cornell-box.gltf
 second=scenes/cornell-caustics.gltf
+sky_map=scenes/skies/sunset.hdr
 size=256
 work=$(mktemp -d)
 trap 'kill "${xvfb_pid:-}" 2>/dev/null || true; [ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT
@@ -37,7 +39,8 @@ printf '{"asset": {"version": "2.0"}, "nodes": [' >"$work/broken.gltf"
     --screenshot-after 2 "$work/early.png" --screenshot-after 12 "$work/late.png" \
     --open-after 12.5 "$work/broken.gltf" --screenshot-after 14 "$work/kept.png" \
     --open-after 14.5 "$second" --screenshot-after 28 "$work/second.png" \
-    --quit-after 29 >"$work/view.log" 2>&1 &
+    --open-after 28.5 "$sky_map" --screenshot-after 42 "$work/sky.png" \
+    --quit-after 43 >"$work/view.log" 2>&1 &
 view_pid=$!
 
 # Grab the whole X screen once the window has drawn for a while.
@@ -52,19 +55,23 @@ if [ $status -ne 0 ]; then
     echo "view_e2e: FAIL: kousen view exited with status $status" >&2
     exit 1
 fi
-for shot in early late kept second; do
+for shot in early late kept second sky; do
     [ -s "$work/$shot.png" ] || { echo "view_e2e: FAIL: no $shot screenshot" >&2; exit 1; }
 done
 grep -q "cannot open $work/broken.gltf" "$work/view.log" \
     || { echo "view_e2e: FAIL: the broken file's error was not reported" >&2; exit 1; }
+grep -q "opened $sky_map" "$work/view.log" \
+    || { echo "view_e2e: FAIL: the dropped sky map was not opened" >&2; exit 1; }
 
 # References: the same scenes, camera and size rendered to convergence on the CPU backend.
 "$kousen" render "$scene" --backend cpu --width $size --height $size --passes 256 -o "$work/reference.png"
 "$kousen" render "$second" --backend cpu --width $size --height $size --passes 256 -o "$work/second-reference.png"
+"$kousen" render "$second" --sky-map "$sky_map" --backend cpu --width $size --height $size --passes 256 \
+    -o "$work/sky-reference.png"
 "$kousen" diff "$work/early.png" "$work/reference.png" --json "$work/early.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/reference.png" --json "$work/late.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/early.png" --json "$work/change.json" >/dev/null
-for image in late kept second reference second-reference; do
+for image in late kept second sky reference second-reference sky-reference; do
     pngtopnm "$work/$image.png" >"$work/$image.ppm"
 done
 
@@ -147,15 +154,20 @@ errors = {
     "late vs its scene": block_error("late", "reference"),
     "kept (after the broken file) vs the first scene": block_error("kept", "reference"),
     "second vs the second scene": block_error("second", "second-reference"),
+    "sky (the map dropped on the second scene) vs it rendered with --sky-map":
+        block_error("sky", "sky-reference"),
     "second vs the first scene": block_error("second", "reference"),
+    "sky vs the second scene without the map": block_error("sky", "second-reference"),
 }
 for what, error in errors.items():
     print(f"block error, {what}: {error:.3f}")
-for what in list(errors)[:3]:
+for what in list(errors)[:4]:
     if not errors[what] < 0.1:
         failures.append(f"block error {what} is {errors[what]:.3f} (must be < 0.1)")
 if not errors["second vs the first scene"] > 2 * errors["second vs the second scene"]:
     failures.append("after opening the second scene the window does not show it")
+if not errors["sky vs the second scene without the map"] > 2 * errors[list(errors)[3]]:
+    failures.append("after dropping the sky map the window does not show it lit")
 
 for f in failures:
     print(f"view_e2e: FAIL: {f}", file=sys.stderr)

@@ -3,9 +3,11 @@
 //!
 //! Row 0 is straight up (+Y), the last row straight down; a row spans all longitudes. Column
 //! u ∈ [0, 1) looks along azimuth φ = 2π(u − ½) measured from −Z towards +X (the image's centre
-//! column faces −Z, its three-quarter column +X), before the map's rotation about +Y. Each
-//! texel is constant over its patch of the sphere: what a renderer samples and what it looks up
-//! are then the same function, with no filter between them.
+//! column faces −Z, its three-quarter column +X), before the map's rotation about +Y. Between
+//! texel centres the radiance is bilinear ([`SkyMap::radiance_at`]), wrapping around in
+//! longitude and held constant from the first and last rows' centres to the poles, so a map
+//! shows no texel edges; [`SkyMap::integral`] and [`SkyMap::floor_irradiance`] integrate that
+//! function exactly, and `render::sky_map` samples it exactly.
 
 use glam::Vec3;
 use std::f32::consts::{PI, TAU};

@@ -433,7 +433,7 @@ impl App {
                     .added_lights
                     .sky
                     .map_or(glam::Vec3::ONE, glam::Vec3::from);
-                let turn = *self.overlay.controls.sky_rotation.get_or_insert(0.0);
+                let turn = self.overlay.controls.sky_rotation.unwrap_or(0.0);
                 session
                     .with_sky_map(map, scale, turn.to_radians())
                     .map(|s| (s, false))
@@ -447,10 +447,11 @@ impl App {
                     self.title = window_title(&path);
                     gfx.window.set_title(&self.title);
                 } else {
-                    // Scenes opened later are lit by this map too.
+                    // The overlay's slider turns it from now on, and scenes opened later are
+                    // lit by it too.
+                    let turn = *self.overlay.controls.sky_rotation.get_or_insert(0.0);
                     self.added_lights.sky_map = Some(path.clone());
-                    self.added_lights.sky_rotate =
-                        self.overlay.controls.sky_rotation.unwrap_or(0.0);
+                    self.added_lights.sky_rotate = turn;
                 }
                 self.session = Some(session);
                 self.photon_cuts_left = MAX_PHOTON_CUTS;

@@ -724,6 +724,14 @@ impl AddedLightArgs {
             (Some(path), scale) => {
                 let map = crate::image_io::read_sky_map(path)?;
                 let scale = scale.unwrap_or(glam::Vec3::ONE);
+                if (scale * map.integral()).max_element() <= 0.0 {
+                    anyhow::bail!(
+                        "--sky {} scales the sky map {} to black: its light is all in the channels set to 0",
+                        self.sky
+                            .map_or(String::new(), |[r, g, b]| format!("{r},{g},{b}")),
+                        path.display()
+                    );
+                }
                 let rotation = self.sky_rotate.to_radians();
                 let sky = scene::Sky::with_map(std::sync::Arc::new(map), scale, rotation, bounds);
                 scene.lights.replace_sky(sky);

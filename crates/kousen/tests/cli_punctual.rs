@@ -254,4 +254,14 @@ fn a_sky_map_lights_a_scene_without_lights() {
         assert_clean_error(&output, needle);
         assert!(!out.exists(), "{needle}: an image was written");
     }
+    // A blue map scaled by red only lights nothing.
+    let blue = write(dir.path(), "blue.pfm", &uniform_pfm([0.0, 0.0, 1.0], 4, 2));
+    let out = dir.path().join("never.pfm");
+    let output = render_small(
+        &scene,
+        &out,
+        &["--sky-map", blue.to_str().unwrap(), "--sky", "1,0,0"],
+    );
+    assert_clean_error(&output, "scales the sky map");
+    assert!(!out.exists(), "a black-scaled map: an image was written");
 }

@@ -114,7 +114,13 @@ pub fn sky_map_buffer(sky: Option<&Sky>) -> Vec<f32> {
             };
         }
     }
-    buffer[3 * count + cells + 2 * (height + 1)] = (totals[0] / (totals[0] + totals[1])) as f32;
+    // A map scaled to black has no power to share (and is not in the light table).
+    let sum = totals[0] + totals[1];
+    buffer[3 * count + cells + 2 * (height + 1)] = if sum > 0.0 {
+        (totals[0] / sum) as f32
+    } else {
+        0.5
+    };
     buffer
 }
 

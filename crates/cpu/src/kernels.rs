@@ -19,7 +19,7 @@ use render::hash::{
     cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, largest_radius,
     photon_class, priority, query_entries,
 };
-use render::integrator::camera_direction;
+use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
 use render::microfacet::GlossyLobe;
@@ -27,7 +27,9 @@ use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
-use render::rng::{EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_wavelength};
+use render::rng::{
+    EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_wavelength,
+};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -354,13 +356,28 @@ pub fn eye_pass(
 ) -> EyeStep {
     let mut rng = KernelRng::new(params.seed, EYE_STREAM, pass, index);
     let eye_pass = pass / params.eye_every.max(1);
-    let [jx, jy] = pixel_jitter(params.seed, index, eye_pass);
+    let jitter = pixel_jitter(params.seed, index, eye_pass);
+    let lens = pixel_lens(params.seed, index, eye_pass);
     let wavelength = |path| Some(pixel_wavelength(params.seed, index, eye_pass, path));
-    let first = eye_path(scene, params, &mut rng, index, [jx, jy], wavelength(0));
+    let first = eye_path(
+        scene,
+        params,
+        &mut rng,
+        index,
+        [jitter, lens],
+        wavelength(0),
+    );
     let mut direct = first.direct;
     for path in 1..=extra {
         let jitter = [rng.next_f32(), rng.next_f32()];
-        direct += eye_path(scene, params, &mut rng, index, jitter, wavelength(path)).direct;
+        // A pinhole draws no lens point, so its images keep their numbers.
+        let lens = if params.lens_radius > 0.0 {
+            [rng.next_f32(), rng.next_f32()]
+        } else {
+            lens
+        };
+        let start = [jitter, lens];
+        direct += eye_path(scene, params, &mut rng, index, start, wavelength(path)).direct;
     }
     EyeStep {
         visible_point: first.visible_point,
@@ -378,7 +395,8 @@ struct EyePath {
     specular_first: bool,
 }
 
-/// A camera path through pixel `index` at sub-pixel `jitter`; at the first dispersive glass
+/// A camera path through pixel `index` at sub-pixel `jitter`, leaving the lens at `lens`
+/// (`render::lens::camera_ray`); at the first dispersive glass
 /// it draws its wavelength with `wavelength_number` (`render::rng::pixel_wavelength`); it
 /// keeps that wavelength at later ones (`render::dispersion`).
 fn eye_path(
@@ -386,14 +404,13 @@ fn eye_path(
     params: &SppmParams,
     rng: &mut KernelRng,
     index: u32,
-    [jx, jy]: [f32; 2],
+    [[jx, jy], lens]: [[f32; 2]; 2],
     mut wavelength_number: Option<f32>,
 ) -> EyePath {
     let (x, y) = (index % params.width, index / params.width);
     let sx = (x as f32 + jx) / params.width as f32 * 2.0 - 1.0;
     let sy = 1.0 - (y as f32 + jy) / params.height as f32 * 2.0;
-    let mut origin = vec3(params.eye);
-    let mut direction = camera_direction(params, sx, sy);
+    let (mut origin, mut direction) = camera_ray(params, sx, sy, lens);
     let mut throughput = Vec3::ONE;
     let mut direct = Vec3::ZERO;
     let mut specular_first = false;

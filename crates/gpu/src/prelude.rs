@@ -83,6 +83,8 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("R2_STEP_X", U32(rng::R2_STEP[0])),
         ("R2_STEP_Y", U32(rng::R2_STEP[1])),
         ("GOLDEN_STEP", U32(rng::GOLDEN_STEP)),
+        ("LENS_STEP_X", U32(rng::LENS_STEP[0])),
+        ("LENS_STEP_Y", U32(rng::LENS_STEP[1])),
         ("CLASS_MARK_SHIFT", U32(render::hash::CLASS_MARK_SHIFT)),
         ("WAVELENGTH_SHIFT", U32(render::medium::WAVELENGTH_SHIFT)),
         ("MEDIUM_MASK", U32(render::medium::MEDIUM_MASK)),

@@ -478,8 +478,8 @@ fn sppm_types_layout_matches_render_buffers() {
             ("indirect_alpha", offset_of!(SppmParams, indirect_alpha)),
             ("camera_medium", offset_of!(SppmParams, camera_medium)),
             ("photon_classes", offset_of!(SppmParams, photon_classes)),
-            ("pad1", offset_of!(SppmParams, pad)),
-            ("pad2", offset_of!(SppmParams, pad) + 4),
+            ("lens_radius", offset_of!(SppmParams, lens_radius)),
+            ("focus_distance", offset_of!(SppmParams, focus_distance)),
             (
                 "scene_half_extent",
                 offset_of!(SppmParams, scene_half_extent),

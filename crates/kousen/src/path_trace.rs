@@ -10,6 +10,7 @@
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use render::lens::camera_lens_ray;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use render::blend::{blend_member, mapped_material};
@@ -303,8 +304,14 @@ impl<'a> PathTracer<'a> {
         for _ in 0..settings.samples_per_pixel {
             let sx = ((x as f32 + rng.next_f32()) / settings.width as f32) * 2.0 - 1.0;
             let sy = 1.0 - ((y as f32 + rng.next_f32()) / settings.height as f32) * 2.0;
-            let direction = self.camera.direction(sx, sy, aspect);
-            sum += self.radiance(self.camera.eye, direction, settings.max_depth, &mut rng);
+            // A pinhole draws no lens point, so its images keep their numbers.
+            let lens = if self.camera.lens.is_pinhole() {
+                [0.5; 2]
+            } else {
+                [rng.next_f32(), rng.next_f32()]
+            };
+            let (origin, direction) = camera_lens_ray(&self.camera, (sx, sy), aspect, lens);
+            sum += self.radiance(origin, direction, settings.max_depth, &mut rng);
         }
         sum / settings.samples_per_pixel as f32
     }

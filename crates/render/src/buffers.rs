@@ -239,7 +239,11 @@ pub struct SppmParams {
     /// entries (`crate::hash::photon_class`): [`crate::hash::PHOTON_CLASSES`] where some
     /// glass disperses, else 1.
     pub photon_classes: u32,
-    pub pad: [u32; 2],
+    /// The camera's thin lens (`scene::Lens`): the radius of the disk eye paths start on, 0
+    /// for a pinhole, and the distance ahead of the eye of the plane in focus
+    /// ([`crate::lens::camera_ray`]).
+    pub lens_radius: f32,
+    pub focus_distance: f32,
     /// Half the sides of the scene's bounding box, 1 % longer, about its centre (the bounding
     /// sphere's): photons of a directional light or the sky start in the rectangle bounding
     /// the box's shadow across their direction where it is smaller than the sphere's disk

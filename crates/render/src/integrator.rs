@@ -181,7 +181,8 @@ pub fn params_with(
             scene.materials.iter().any(|m| m.dispersion > 0.0),
             settings.photons,
         ),
-        pad: [0; 2],
+        lens_radius: camera.lens.radius,
+        focus_distance: camera.lens.focus_distance,
         scene_half_extent: (0.5 * 1.01 * scene.bounds().extent()).to_array(),
         pad2: 0,
     }

@@ -17,6 +17,7 @@ pub mod hash;
 pub mod image;
 pub mod integrator;
 pub mod kdtree;
+pub mod lens;
 pub mod light_sampling;
 pub mod medium;
 pub mod microfacet;

@@ -62,6 +62,24 @@ pub fn uniform_disk(u1: f32, u2: f32) -> glam::Vec2 {
     glam::Vec2::new(r * phi.cos(), r * phi.sin())
 }
 
+/// Uniform point on the unit disk (as x, y) from two uniform numbers by Shirley and Chiu's
+/// concentric map (1997): squares about the centre go to rings, so evenly spread numbers
+/// (a lens's low-discrepancy points, [`crate::rng::pixel_lens`]) stay evenly spread on the
+/// disk, where the polar map crowds them at the centre.
+pub fn concentric_disk(u1: f32, u2: f32) -> glam::Vec2 {
+    let (a, b) = (2.0 * u1 - 1.0, 2.0 * u2 - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return glam::Vec2::ZERO;
+    }
+    let quarter = std::f32::consts::FRAC_PI_4;
+    let (r, phi) = if a.abs() > b.abs() {
+        (a, quarter * (b / a))
+    } else {
+        (b, 2.0 * quarter - quarter * (a / b))
+    };
+    glam::Vec2::new(r * phi.cos(), r * phi.sin())
+}
+
 /// `local` (coordinates about +Z) turned to the frame of `n` (unit) built by
 /// [`orthonormal_basis`].
 pub fn about_axis(n: Vec3, local: Vec3) -> Vec3 {

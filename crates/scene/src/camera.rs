@@ -1,10 +1,42 @@
-//! Pinhole cameras: from a file, from a look-at, or framed around a bounding box.
+//! Cameras: from a file, from a look-at, or framed around a bounding box; pinholes, or thin
+//! lenses that blur what lies off their plane of focus ([`Lens`]).
 
 use glam::{Mat4, Vec3};
 
 use crate::Bounds;
 
-/// A pinhole camera. `forward`, `up` and `right()` form an orthonormal, right-handed frame.
+/// A thin lens: rays leave a disk of `radius` about the eye, across the view, and every ray
+/// through one film point meets the others on the plane `focus_distance` ahead of the eye
+/// (along `forward`), where the scene is sharp. Radius 0 is a pinhole (glTF cameras are).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lens {
+    pub radius: f32,
+    pub focus_distance: f32,
+}
+
+impl Lens {
+    pub const PINHOLE: Lens = Lens {
+        radius: 0.0,
+        focus_distance: 0.0,
+    };
+
+    /// A lens of `radius` focused at `focus_distance`: `None` unless the radius is finite
+    /// and ≥ 0 and, for a lens (radius > 0), the distance finite and > 0.
+    pub fn new(radius: f32, focus_distance: f32) -> Option<Lens> {
+        let valid_radius = radius.is_finite() && radius >= 0.0;
+        let valid_focus = radius == 0.0 || (focus_distance.is_finite() && focus_distance > 0.0);
+        (valid_radius && valid_focus).then_some(Lens {
+            radius,
+            focus_distance,
+        })
+    }
+
+    pub fn is_pinhole(&self) -> bool {
+        self.radius == 0.0
+    }
+}
+
+/// A camera. `forward`, `up` and `right()` form an orthonormal, right-handed frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     pub name: String,
@@ -17,6 +49,8 @@ pub struct Camera {
     pub yfov: f32,
     /// Width / height, when the file states one.
     pub aspect_ratio: Option<f32>,
+    /// A pinhole unless given one (`kousen render --aperture-radius`).
+    pub lens: Lens,
 }
 
 /// The field of view of framed views, as in ANCHORS.md's benchmark cameras.
@@ -42,6 +76,7 @@ impl Camera {
             up: right.cross(forward),
             yfov,
             aspect_ratio: None,
+            lens: Lens::PINHOLE,
         })
     }
 
@@ -87,6 +122,11 @@ impl Camera {
 
     pub fn named(mut self, name: impl Into<String>) -> Camera {
         self.name = name.into();
+        self
+    }
+
+    pub fn with_lens(mut self, lens: Lens) -> Camera {
+        self.lens = lens;
         self
     }
 

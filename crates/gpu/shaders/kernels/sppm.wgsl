@@ -63,6 +63,41 @@ fn uniform_disk(u1: f32, u2: f32) -> vec2<f32> {
     return vec2<f32>(r * cos(phi), r * sin(phi));
 }
 
+// render::sampling::concentric_disk (Shirley and Chiu's map).
+fn concentric_disk(u1: f32, u2: f32) -> vec2<f32> {
+    let a = 2.0 * u1 - 1.0;
+    let b = 2.0 * u2 - 1.0;
+    if a == 0.0 && b == 0.0 {
+        return vec2<f32>(0.0);
+    }
+    let quarter = 0.25 * PI;
+    var r = b;
+    var phi = 2.0 * quarter - quarter * (a / b);
+    if abs(a) > abs(b) {
+        r = a;
+        phi = quarter * (b / a);
+    }
+    return vec2<f32>(r * cos(phi), r * sin(phi));
+}
+
+// render::lens::camera_ray: the origin and unit direction of the camera ray through film point
+// (sx, sy) that leaves the lens at the point `lens` maps to; the pinhole's ray at radius 0.
+struct CameraRay {
+    origin: vec3<f32>,
+    direction: vec3<f32>,
+}
+
+fn camera_ray(sx: f32, sy: f32, lens: vec2<f32>) -> CameraRay {
+    let through = params.forward + sx * params.right + sy * params.up;
+    if params.lens_radius <= 0.0 {
+        return CameraRay(params.eye, normalize(through));
+    }
+    let focus = params.eye + params.focus_distance * through;
+    let disk = params.lens_radius * concentric_disk(lens.x, lens.y);
+    let origin = params.eye + disk.x * normalize(params.right) + disk.y * normalize(params.up);
+    return CameraRay(origin, normalize(focus - origin));
+}
+
 // render::emission::disk_point: uniform on the disk of `radius` about `centre`, perpendicular
 // to `direction`.
 fn disk_point(centre: vec3<f32>, radius: f32, direction: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
@@ -662,6 +697,14 @@ fn pixel_jitter(index: u32, eye_pass: u32) -> vec2<f32> {
     return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
 }
 
+// render::rng::pixel_lens: the lens's Kronecker sequence's point `eye_pass`, rotated per pixel.
+fn pixel_lens(index: u32, eye_pass: u32) -> vec2<f32> {
+    let shift_x = stream_key(params.seed, JITTER_STREAM, 3u, index);
+    let shift_y = stream_key(params.seed, JITTER_STREAM, 4u, index);
+    let fixed = vec2<u32>(eye_pass * LENS_STEP_X + shift_x, eye_pass * LENS_STEP_Y + shift_y);
+    return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
+}
+
 // render::rng::pixel_wavelength: 1/φ further each eye pass and path (`step`: their sum),
 // rotated per pixel.
 fn pixel_wavelength(index: u32, step: u32) -> f32 {
@@ -688,6 +731,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     // slower through lavapipe even where no pixel took the extra path.
     let eye_pass_index = pass_index / max(params.eye_every, 1u);
     var jitter = pixel_jitter(index, eye_pass_index);
+    var lens = pixel_lens(index, eye_pass_index);
     var wavelength_number = 0.0;
     var direct = vec3<f32>(0.0);
     for (var path_index = 0u; path_index <= extra; path_index += 1u) {
@@ -695,11 +739,17 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             let jx = next_f32(&rng);
             let jy = next_f32(&rng);
             jitter = vec2<f32>(jx, jy);
+            // A pinhole draws no lens point, so its images keep their numbers.
+            if params.lens_radius > 0.0 {
+                let lx = next_f32(&rng);
+                let ly = next_f32(&rng);
+                lens = vec2<f32>(lx, ly);
+            }
         }
         if DISPERSION {
             wavelength_number = pixel_wavelength(index, eye_pass_index + path_index);
         }
-        let path = eye_path(index, jitter, wavelength_number, &rng);
+        let path = eye_path(index, jitter, lens, wavelength_number, &rng);
         direct += path.direct;
         if path_index == 0u {
             store_visible_point(index, path.point);
@@ -718,17 +768,19 @@ struct EyePath {
     specular_first: bool,
 }
 
-// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, drawing
+// cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, leaving
+// the lens at `lens`, drawing
 // its wavelength at the first dispersive glass with `wavelength_number`, keeping it after.
-fn eye_path(index: u32, jitter: vec2<f32>, wavelength_number: f32, rng: ptr<function, Rng>) -> EyePath {
+fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f32, rng: ptr<function, Rng>) -> EyePath {
     var pending_number = wavelength_number;
     var wavelength = WHOLE_SPECTRUM;
     let x = index % params.width;
     let y = index / params.width;
     let sx = (f32(x) + jitter.x) / f32(params.width) * 2.0 - 1.0;
     let sy = 1.0 - (f32(y) + jitter.y) / f32(params.height) * 2.0;
-    var origin = params.eye;
-    var direction = normalize(params.forward + sx * params.right + sy * params.up);
+    let start = camera_ray(sx, sy, lens);
+    var origin = start.origin;
+    var direction = start.direction;
     var throughput = vec3<f32>(1.0);
     var direct = vec3<f32>(0.0);
     var point = VisiblePoint(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);

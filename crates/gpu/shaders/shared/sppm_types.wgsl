@@ -83,8 +83,9 @@ struct SppmParams {
     camera_medium: u32,
     // render::buffers::SppmParams::photon_classes (render::hash::photon_class).
     photon_classes: u32,
-    pad1: u32,
-    pad2: u32,
+    // render::buffers::SppmParams::lens_radius and focus_distance (render::lens).
+    lens_radius: f32,
+    focus_distance: f32,
     // render::buffers::SppmParams::scene_half_extent (render::emission::parallel_start).
     scene_half_extent: vec3<f32>,
     pad3: u32,

@@ -133,6 +133,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         log::info!("no camera in the scene: the view {}", framed.name);
         framed
     });
+    let camera = with_lens(camera, &args.camera, &bvh)?;
     let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
         checkpoint_file::fingerprint(&bvh, &camera, &scene.lights)
     } else {
@@ -437,6 +438,31 @@ pub fn choose_camera(
             scene.cameras.len()
         )
     })
+}
+
+/// `camera` with the lens of --aperture-radius and --focus-distance (a pinhole without them),
+/// focused by default on what the image's centre shows.
+pub fn with_lens(
+    camera: scene::Camera,
+    args: &CameraArgs,
+    bvh: &bvh::PackedBvh,
+) -> anyhow::Result<scene::Camera> {
+    let Some(radius) = args.aperture_radius.filter(|&r| r > 0.0) else {
+        return Ok(camera);
+    };
+    let focus_distance = match args.focus_distance {
+        Some(distance) => distance,
+        None => {
+            let distance = render::lens::autofocus(bvh, &camera).context(
+                "--aperture-radius: the image's centre shows no surface to focus on; give --focus-distance",
+            )?;
+            log::info!("lens focused on the image's centre, {distance:.4} ahead");
+            distance
+        }
+    };
+    let lens = scene::Lens::new(radius, focus_distance)
+        .context("--aperture-radius and --focus-distance do not make a lens")?;
+    Ok(camera.with_lens(lens))
 }
 
 /// A flag that the first Ctrl-C sets, so that the render stops after the pass in flight and

@@ -97,6 +97,8 @@ struct Pose {
 pub struct CameraController {
     pose: Pose,
     yfov: f32,
+    /// The starting camera's lens, kept as the view moves.
+    lens: scene::Lens,
     world_up: Vec3,
     /// Horizontal direction at yaw 0.
     yaw_zero: Vec3,
@@ -135,6 +137,7 @@ impl CameraController {
                 pitch: 0.0,
             },
             yfov: camera.yfov,
+            lens: camera.lens,
             world_up,
             yaw_zero,
             yaw_quarter: world_up.cross(yaw_zero),
@@ -157,6 +160,7 @@ impl CameraController {
             up: right.cross(forward).normalize(),
             yfov: self.yfov,
             aspect_ratio: None,
+            lens: self.lens,
         }
     }
 
@@ -182,6 +186,7 @@ impl CameraController {
         let depth = (self.scene_center - camera.eye).dot(forward);
         let distance = depth.max(MIN_PIVOT_FRACTION * self.scene_size);
         self.yfov = camera.yfov;
+        self.lens = camera.lens;
         self.pose = Pose {
             // Along the (possibly clamped) view direction, so that the eye stays put.
             pivot: camera.eye + self.forward_for(yaw, pitch) * distance,
@@ -774,6 +779,7 @@ mod tests {
                 up,
                 yfov: 0.8,
                 aspect_ratio: None,
+                lens: scene::Lens::PINHOLE,
             };
             let mut c = CameraController::new(&down, bounds());
             let camera = c.camera();
@@ -801,6 +807,7 @@ mod tests {
             up: Vec3::X,
             yfov: 0.8,
             aspect_ratio: None,
+            lens: scene::Lens::PINHOLE,
         };
         let c = CameraController::new(&up_view, bounds());
         let camera = c.camera();

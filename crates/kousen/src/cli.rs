@@ -669,11 +669,11 @@ pub struct CameraArgs {
     pub fov: f32,
     /// Depth of field: the radius of a thin lens, in scene units (Mitsuba's `aperture_radius`,
     /// pbrt's `lensradius`). Default: 0, a pinhole, sharp at every depth.
-    #[arg(long, value_name = "R", value_parser = parse_lens_radius)]
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub aperture_radius: Option<f32>,
     /// How far ahead of the eye, along the view, the plane in focus lies (with
     /// --aperture-radius). Default: the distance to what the image's centre shows.
-    #[arg(long, value_name = "D", requires = "aperture_radius", value_parser = parse_focus_distance)]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f32>,
 }
 
@@ -766,24 +766,6 @@ impl AddedLightArgs {
         let bounds = scene.bounds();
         scene.lights.add_punctual(sun, bounds);
         Ok(())
-    }
-}
-
-fn parse_lens_radius(text: &str) -> Result<f32, String> {
-    match text.trim().parse::<f32>() {
-        Ok(r) if r.is_finite() && r >= 0.0 => Ok(r),
-        _ => Err(format!(
-            "expected a lens radius: a finite number ≥ 0 in scene units, got {text:?}"
-        )),
-    }
-}
-
-fn parse_focus_distance(text: &str) -> Result<f32, String> {
-    match text.trim().parse::<f32>() {
-        Ok(d) if d.is_finite() && d > 0.0 => Ok(d),
-        _ => Err(format!(
-            "expected a focus distance: a finite number > 0 in scene units, got {text:?}"
-        )),
     }
 }
 

@@ -206,6 +206,45 @@ fn render_refuses_bad_sppm_settings_and_leaves_no_file() {
     }
 }
 
+/// A lens's radius must be ≥ 0 and its focus distance > 0, a focus distance needs a lens,
+/// and a lens left to focus itself needs a surface at the image's centre.
+#[test]
+fn render_refuses_bad_lenses_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = lit_quad_scene(dir.path());
+    let out = dir.path().join("out.png");
+    let away = ["--eye", "0.5,1,0.5", "--target", "0.5,1,-3"];
+    let cases: [(&[&str], &str); 6] = [
+        (&["--aperture-radius", "-0.1"], "--aperture-radius"),
+        (&["--aperture-radius", "nan"], "--aperture-radius"),
+        (&["--focus-distance", "2"], "--aperture-radius"),
+        (
+            &["--aperture-radius", "0.1", "--focus-distance", "0"],
+            "--focus-distance",
+        ),
+        (
+            &["--aperture-radius", "0.1", "--focus-distance", "inf"],
+            "--focus-distance",
+        ),
+        (
+            &[&["--aperture-radius", "0.1"][..], &away[..]].concat(),
+            "--focus-distance",
+        ),
+    ];
+    for (flags, words) in cases {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(["--backend", "cpu", "--passes", "1"]);
+        args.extend(flags);
+        assert_clean_error(&kousen(&args), words);
+        assert_no_files_but(dir.path(), &["lit.gltf"]);
+    }
+}
+
 #[test]
 fn render_refuses_a_camera_index_out_of_range() {
     let dir = tempfile::tempdir().unwrap();

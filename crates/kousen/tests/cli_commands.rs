@@ -424,3 +424,34 @@ fn render_on_the_gpu_writes_exr_and_stats() {
         );
     }
 }
+
+/// `--aperture-radius` alone focuses the lens on what the image's centre shows (a face of the
+/// Cornell box's tall block, inside the box: z 0 to 559.2, ahead of the camera at z = −800
+/// looking down +Z), which
+/// `--stats` reports; the same lens given that distance outright renders the same image; a
+/// pinhole reports no lens and differs.
+#[test]
+fn render_focuses_a_lens_on_the_image_s_centre() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = "--width 24 --passes 2 --backend cpu --seed 5";
+    let focused = dir.path().join("focused.pfm");
+    let stats = render_box(&focused, &format!("{base} --aperture-radius 20"));
+    let distance = stats["lens"]["focus_distance"]
+        .as_f64()
+        .expect("a lens in --stats");
+    assert_eq!(stats["lens"]["aperture_radius"], 20.0);
+    assert!(distance > 800.0 && distance < 1359.2, "{distance}");
+    let given = dir.path().join("given.pfm");
+    let extra = format!("{base} --aperture-radius 20 --focus-distance {distance}");
+    render_box(&given, &extra);
+    assert_eq!(
+        std::fs::read(&focused).unwrap(),
+        std::fs::read(&given).unwrap()
+    );
+    let pinhole = dir.path().join("pinhole.pfm");
+    assert!(render_box(&pinhole, base)["lens"].is_null());
+    assert_ne!(
+        std::fs::read(&focused).unwrap(),
+        std::fs::read(&pinhole).unwrap()
+    );
+}

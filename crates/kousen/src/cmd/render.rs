@@ -69,6 +69,15 @@ struct Stats {
     mean_radiance: [f32; 3],
     /// Bytes allocated by the backend, by kind.
     memory_bytes: std::collections::BTreeMap<&'static str, u64>,
+    /// The camera's thin lens (`--aperture-radius`, `--focus-distance` or where the image's
+    /// centre focused it); null for a pinhole.
+    lens: Option<LensStats>,
+}
+
+#[derive(Serialize)]
+struct LensStats {
+    aperture_radius: f32,
+    focus_distance: f32,
 }
 
 /// Photon passes per eye pass where the render runs on CPU cores (the CPU backend, or a
@@ -362,6 +371,10 @@ fn finish<B: Backend>(
             resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),
             memory_bytes: sppm.backend().memory().into_iter().collect(),
+            lens: (!camera.lens.is_pinhole()).then_some(LensStats {
+                aperture_radius: camera.lens.radius,
+                focus_distance: camera.lens.focus_distance,
+            }),
         };
         let json = serde_json::to_string_pretty(&stats)?;
         crate::output_file::write_atomically(path, json.as_bytes())?;
@@ -447,7 +460,20 @@ pub fn with_lens(
     args: &CameraArgs,
     bvh: &bvh::PackedBvh,
 ) -> anyhow::Result<scene::Camera> {
+    if let Some(radius) = args.aperture_radius
+        && !(radius.is_finite() && radius >= 0.0)
+    {
+        bail!("--aperture-radius {radius}: a lens's radius is a finite number ≥ 0 in scene units");
+    }
+    if let Some(distance) = args.focus_distance
+        && !(distance.is_finite() && distance > 0.0)
+    {
+        bail!("--focus-distance {distance}: the plane in focus lies a finite distance > 0 ahead");
+    }
     let Some(radius) = args.aperture_radius.filter(|&r| r > 0.0) else {
+        if args.focus_distance.is_some() && args.aperture_radius.is_none() {
+            bail!("--focus-distance needs a lens: give --aperture-radius too");
+        }
         return Ok(camera);
     };
     let focus_distance = match args.focus_distance {

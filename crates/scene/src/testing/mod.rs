@@ -816,6 +816,31 @@ pub fn lit_plane_under(light_half_size: f32) -> Scene {
     f.finish()
 }
 
+/// The tangent of half the field of view of [`emitter_ahead`]'s camera: the film plane one
+/// unit ahead of the eye spans ±this vertically (and horizontally, for square images).
+pub const EMITTER_AHEAD_TAN_HALF_FOV: f32 = 0.25;
+
+/// A lone emitting square of half-size `half`, radiance 1, `depth` ahead of a camera at the
+/// origin that looks down −Z: its pinhole image is a square of half-size `half / depth` on
+/// the film plane one unit ahead. Nothing else is there, so a camera ray sees radiance 1 where
+/// it meets the square and 0 elsewhere, and photons leave at once: the image is the square as
+/// the camera's rays cover it (a thin lens's blur, `render::lens`).
+pub fn emitter_ahead(half: f32, depth: f32) -> Scene {
+    let mut f = Fixture::new("testing::emitter_ahead");
+    let light = f.builder.add_material(Material {
+        name: "emitter".into(),
+        base_color: Vec3::ZERO,
+        emission: Vec3::ONE,
+        ..Material::default()
+    });
+    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+        .map(|[x, y]| Vec3::new(x * half, y * half, -depth));
+    f.quad(corners, light, Vec3::Z);
+    let yfov = 2.0 * EMITTER_AHEAD_TAN_HALF_FOV.atan();
+    f.camera(Vec3::ZERO, Vec3::NEG_Z, yfov, Some(1.0), "ahead");
+    f.finish()
+}
+
 /// A diffuse square (see [`PUNCTUAL_PLANE_HALF_SIZE`]) lit by `lights` alone; nothing else
 /// is there, so its radiance is the light's direct irradiance × ρ/π. The camera looks down at
 /// it from above.

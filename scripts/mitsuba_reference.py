@@ -65,7 +65,8 @@ not used, so nothing about the mapping is hidden):
   as kousen's `--camera` counts them; `--camera-medium NAME` puts it inside the absorbing
   medium of material NAME, as kousen's own camera would find itself); perspective yfov
   (vertical field of view); the aspect ratio comes from the image size. glTF cameras look down
-  their local -z with +y up. Pixels: `box` reconstruction filter (each sample lands in the one
+  their local -z with +y up. `--aperture-radius R --focus-distance D`: Mitsuba's `thinlens`
+  sensor, the same thin lens as kousen's. Pixels: `box` reconstruction filter (each sample lands in the one
   pixel whose area it was drawn from), i.e. the average of radiance over the pixel's area.
 - Integrator: `path` with max_depth -1 (unlimited, Russian roulette from depth 5 unless
   --max-depth/--rr-depth say otherwise): unbiased, converges to the same image as any other
@@ -459,7 +460,7 @@ def sky_emitter(mi, path, rotate_degrees, log):
 
 
 def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra_points=(),
-                camera=0, camera_medium=None, exteriors=None, sky=None):
+                camera=0, camera_medium=None, exteriors=None, sky=None, lens=None):
     exteriors = exteriors or {}
     world, yfov = nth_camera(doc, camera)
     eye = world[:3, 3]
@@ -483,6 +484,12 @@ def build_scene(mi, doc, buffers, width, height, max_depth, rr_depth, log, extra
             "sampler": {"type": "independent", "sample_count": 1},
         },
     }
+    if lens:
+        # kousen's --aperture-radius and --focus-distance: the same thin lens (Mitsuba's focus
+        # distance, like kousen's, is along the view to the plane in focus).
+        scene["sensor"]["type"] = "thinlens"
+        scene["sensor"]["aperture_radius"] = lens[0]
+        scene["sensor"]["focus_distance"] = lens[1]
     ntri = 0
     media = {}
 
@@ -589,9 +596,15 @@ def main():
                     help="light the scene with this equirectangular sky map, as kousen's --sky-map")
     ap.add_argument("--sky-rotate", type=float, default=0.0,
                     help="turn the sky map this many degrees about +Y, as kousen's --sky-rotate")
+    ap.add_argument("--aperture-radius", type=float, default=0.0,
+                    help="a thin lens of this radius (kousen's --aperture-radius; with --focus-distance)")
+    ap.add_argument("--focus-distance", type=float, default=None,
+                    help="its plane in focus, this far ahead of the eye along the view")
     ap.add_argument("--pass-samples", type=int, default=1 << 22,
                     help="most samples (pixels x spp) in one Mitsuba render call")
     args = ap.parse_args()
+    if args.aperture_radius > 0 and args.focus_distance is None:
+        ap.error("--aperture-radius needs --focus-distance (kousen --stats reports its autofocus)")
     height = args.height or args.width
     log = lambda s: print(s, file=sys.stderr, flush=True)
 
@@ -606,7 +619,8 @@ def main():
     scene = build_scene(mi, doc, buffers, args.width, height, args.max_depth, args.rr_depth, log,
                         extra_points, args.camera, args.camera_medium,
                         dict(e.split("=", 1) for e in args.exterior),
-                        (args.sky_map, args.sky_rotate) if args.sky_map else None)
+                        (args.sky_map, args.sky_rotate) if args.sky_map else None,
+                        (args.aperture_radius, args.focus_distance) if args.aperture_radius > 0 else None)
 
     pixels = args.width * height
     per_pass = max(1, min(args.spp, args.pass_samples // pixels))

@@ -9,6 +9,9 @@
 #   4. opening a broken file (the path a drag and drop takes, driven by --open-after) reports
 #      the error and keeps the current scene; opening another scene shows that scene; opening
 #      a sky map (.hdr) lights that scene as `kousen render --sky-map` does,
+#      the first scene, seen through a wide lens focused on its back wall, shows the blur that
+#      `kousen render` with the same lens shows (its blocks' edges nearer to it than to the
+#      pinhole's),
 #   5. the window closes cleanly (exit 0) when asked to (--quit-after).
 # Needs: xvfb (Xvfb), x11-apps (xwd), netpbm (xwdtopnm), python3; .ci/run installs them.
 # Usage: scripts/view_e2e.sh [KOUSEN_BINARY]   (default target/debug/kousen, built if missing)
@@ -21,6 +24,8 @@ scene=scenes/cornell-box.gltf
 second=scenes/cornell-caustics.gltf
 sky_map=scenes/skies/sunset.hdr
 size=256
+# A wide lens focused on the Cornell box's back wall: the blocks in front blur by 10 to 20 pixels.
+lens="--aperture-radius 120 --focus-distance 1359"
 work=$(mktemp -d)
 trap 'kill "${xvfb_pid:-}" 2>/dev/null || true; [ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT
 
@@ -35,7 +40,7 @@ export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$work}
 
 echo "view_e2e: kousen view $scene on $DISPLAY"
 printf '{"asset": {"version": "2.0"}, "nodes": [' >"$work/broken.gltf"
-"$kousen" view "$scene" --width $size --height $size --render-scale 1 --no-overlay \
+"$kousen" view "$scene" $lens --width $size --height $size --render-scale 1 --no-overlay \
     --screenshot-after 2 "$work/early.png" --screenshot-after 12 "$work/late.png" \
     --open-after 12.5 "$work/broken.gltf" --screenshot-after 14 "$work/kept.png" \
     --open-after 14.5 "$second" --screenshot-after 28 "$work/second.png" \
@@ -64,14 +69,15 @@ grep -q "opened $sky_map" "$work/view.log" \
     || { echo "view_e2e: FAIL: the dropped sky map was not opened" >&2; exit 1; }
 
 # References: the same scenes, camera and size rendered to convergence on the CPU backend.
-"$kousen" render "$scene" --backend cpu --width $size --height $size --passes 256 -o "$work/reference.png"
+"$kousen" render "$scene" $lens --backend cpu --width $size --height $size --passes 256 -o "$work/reference.png"
+"$kousen" render "$scene" --backend cpu --width $size --height $size --passes 256 -o "$work/pinhole.png"
 "$kousen" render "$second" --backend cpu --width $size --height $size --passes 256 -o "$work/second-reference.png"
 "$kousen" render "$second" --sky-map "$sky_map" --backend cpu --width $size --height $size --passes 256 \
     -o "$work/sky-reference.png"
 "$kousen" diff "$work/early.png" "$work/reference.png" --json "$work/early.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/reference.png" --json "$work/late.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/early.png" --json "$work/change.json" >/dev/null
-for image in late kept second sky reference second-reference sky-reference; do
+for image in late kept second sky reference pinhole second-reference sky-reference; do
     pngtopnm "$work/$image.png" >"$work/$image.ppm"
 done
 
@@ -102,6 +108,7 @@ def read_ppm(path):
     return width, height, data[pos + 1:pos + 1 + width * height * 3]
 
 def blocks(name, n=8):
+    # n = 8 sees the picture's layout; n = 32 (8-pixel blocks) its edges' blur.
     """The picture without its noise: n x n blocks, mean 8-bit value per channel."""
     width, height, rgb = read_ppm(f"{work}/{name}.ppm")
     sums = [[0.0] * 3 for _ in range(n * n)]
@@ -113,9 +120,9 @@ def blocks(name, n=8):
     count = width * height / (n * n)
     return [[v / count for v in s] for s in sums]
 
-def block_error(name, reference):
+def block_error(name, reference, n=8):
     """Mean absolute block difference relative to the reference's mean value."""
-    a, b = blocks(name), blocks(reference)
+    a, b = blocks(name, n), blocks(reference, n)
     mean_value = sum(map(sum, b)) / (3 * len(b))
     return sum(abs(x - y) for s, r in zip(a, b) for x, y in zip(s, r)) / (3 * len(b)) / mean_value
 
@@ -159,6 +166,13 @@ errors = {
     "second vs the first scene": block_error("second", "reference"),
     "sky vs the second scene without the map": block_error("sky", "second-reference"),
 }
+lens_error = block_error("late", "reference", 32)
+pinhole_error = block_error("late", "pinhole", 32)
+lens_vs_pinhole = block_error("reference", "pinhole", 32)
+print(f"8-pixel blocks, late vs its lens's render: {lens_error:.3f}, vs the pinhole's: "
+      f"{pinhole_error:.3f} (the two renders differ by {lens_vs_pinhole:.3f})")
+if not lens_error < 0.5 * pinhole_error:
+    failures.append("the window does not show its lens's blur")
 for what, error in errors.items():
     print(f"block error, {what}: {error:.3f}")
 for what in list(errors)[:4]:

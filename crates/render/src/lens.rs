@@ -69,12 +69,25 @@ fn thin_lens_ray(
 /// The distance ahead of `camera`'s eye of what the image's centre shows, for a lens focused
 /// there; `None` where the centre sees nothing.
 pub fn autofocus(bvh: &bvh::PackedBvh, camera: &scene::Camera) -> Option<f32> {
+    depth_along_view(bvh, camera, (0.0, 0.0), 1.0)
+}
+
+/// How far ahead along the view (the depth of the plane a lens focused there needs) `camera`'s
+/// pinhole ray through film point (sx, sy) of an image of aspect ratio `aspect` meets a
+/// surface; `None` where it meets none.
+pub fn depth_along_view(
+    bvh: &bvh::PackedBvh,
+    camera: &scene::Camera,
+    (sx, sy): (f32, f32),
+    aspect: f32,
+) -> Option<f32> {
+    let direction = camera.direction(sx, sy, aspect);
     let ray = bvh::Ray {
         origin: camera.eye,
-        direction: camera.forward,
+        direction,
         t_max: f32::INFINITY,
     };
-    bvh::closest_hit_mtbvh(bvh, &ray).map(|hit| hit.t)
+    bvh::closest_hit_mtbvh(bvh, &ray).map(|hit| hit.t * direction.dot(camera.forward))
 }
 
 #[cfg(test)]

@@ -236,6 +236,7 @@ impl App {
         let session = Session::new(&context, loaded)?;
         let camera = self.initial_camera.take().context("no camera")?;
         self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
+        self.overlay.controls.lens = session.starting_lens(&camera);
         self.session = Some(session);
         self.title = title;
         self.gfx = Some(Gfx {
@@ -266,6 +267,26 @@ impl App {
             WindowEvent::ModifiersChanged(m) => self.modifiers = m.state(),
             WindowEvent::MouseInput { state, button, .. } => {
                 let down = *state == ElementState::Pressed;
+                if down && *button == MouseButton::Left && self.modifiers.control_key() {
+                    // Ctrl+click focuses the lens on the surface under the cursor.
+                    if let (Some(session), Some(gfx), Some(cursor)) =
+                        (&self.session, &self.gfx, self.mouse.position)
+                    {
+                        let size = Vec2::new(gfx.config.width as f32, gfx.config.height as f32);
+                        let film = (2.0 * cursor.x / size.x - 1.0, 1.0 - 2.0 * cursor.y / size.y);
+                        let camera = controller.camera();
+                        let lens = &mut self.overlay.controls.lens;
+                        match session.depth_at(&camera, film, size.x / size.y) {
+                            Some(depth) => {
+                                lens.focus_distance = depth;
+                                self.restart |= !lens.is_pinhole();
+                                self.message = Some(format!("focused {depth:.4} ahead"));
+                            }
+                            None => self.message = Some("nothing there to focus on".into()),
+                        }
+                    }
+                    return;
+                }
                 match button {
                     MouseButton::Left => self.mouse.left = down,
                     MouseButton::Middle => self.mouse.middle = down,
@@ -444,6 +465,7 @@ impl App {
                 if new_scene {
                     let camera = session.default_camera();
                     self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
+                    self.overlay.controls.lens = session.starting_lens(&camera);
                     self.title = window_title(&path);
                     gfx.window.set_title(&self.title);
                 } else {
@@ -635,6 +657,7 @@ impl App {
             paused: self.paused,
             cameras: &cameras,
             message: self.message.as_deref(),
+            scene_size: self.session.as_ref().map_or(1.0, Session::scene_size),
         };
         let input = gfx.egui_state.take_egui_input(&gfx.window);
         let overlay = &mut self.overlay;
@@ -831,6 +854,8 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
             .sky_map
             .is_some()
             .then(|| wrapped_degrees(args.added_lights.sky_rotate)),
+        // The chosen camera's, once the scene is loaded (`Session::starting_lens`).
+        lens: scene::Lens::PINHOLE,
     };
     render::Settings {
         alpha: controls.alpha,

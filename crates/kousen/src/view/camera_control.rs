@@ -97,8 +97,6 @@ struct Pose {
 pub struct CameraController {
     pose: Pose,
     yfov: f32,
-    /// The starting camera's lens, kept as the view moves.
-    lens: scene::Lens,
     world_up: Vec3,
     /// Horizontal direction at yaw 0.
     yaw_zero: Vec3,
@@ -137,7 +135,6 @@ impl CameraController {
                 pitch: 0.0,
             },
             yfov: camera.yfov,
-            lens: camera.lens,
             world_up,
             yaw_zero,
             yaw_quarter: world_up.cross(yaw_zero),
@@ -149,7 +146,8 @@ impl CameraController {
         controller
     }
 
-    /// The current view, named "view", with no aspect ratio of its own (the window's applies).
+    /// The current view, named "view", with no aspect ratio of its own (the window's applies),
+    /// a pinhole (the overlay's lens applies, `RenderControls::lens`).
     pub fn camera(&self) -> Camera {
         let forward = self.forward();
         let right = self.right();
@@ -160,7 +158,7 @@ impl CameraController {
             up: right.cross(forward).normalize(),
             yfov: self.yfov,
             aspect_ratio: None,
-            lens: self.lens,
+            lens: scene::Lens::PINHOLE,
         }
     }
 
@@ -186,7 +184,6 @@ impl CameraController {
         let depth = (self.scene_center - camera.eye).dot(forward);
         let distance = depth.max(MIN_PIVOT_FRACTION * self.scene_size);
         self.yfov = camera.yfov;
-        self.lens = camera.lens;
         self.pose = Pose {
             // Along the (possibly clamped) view direction, so that the eye stays put.
             pivot: camera.eye + self.forward_for(yaw, pitch) * distance,

@@ -17,6 +17,8 @@ pub struct OverlayInfo<'a> {
     pub cameras: &'a [String],
     /// The last error or notice (loading failures, saved files).
     pub message: Option<&'a str>,
+    /// The scene's bounding-box diagonal: the lens sliders' scale.
+    pub scene_size: f32,
 }
 
 /// A request from the overlay.
@@ -145,6 +147,27 @@ impl Overlay {
         let settled = |r: &egui::Response| r.changed() && !r.dragged() || r.drag_stopped();
         if settled(&photons) || settled(&alpha) || settled(&eye_every) {
             actions.push(Action::ControlsChanged);
+        }
+        let lens = &mut self.controls.lens;
+        let size = info.scene_size.max(f32::MIN_POSITIVE);
+        let aperture = ui.add(
+            egui::Slider::new(&mut lens.radius, 0.0..=0.05 * size)
+                .logarithmic(true)
+                .smallest_positive(1e-5 * size as f64)
+                .text("aperture radius"),
+        );
+        if settled(&aperture) {
+            actions.push(Action::ControlsChanged);
+        }
+        if !lens.is_pinhole() {
+            let focus = ui.add(
+                egui::Slider::new(&mut lens.focus_distance, 1e-3 * size..=4.0 * size)
+                    .logarithmic(true)
+                    .text("focus distance (Ctrl+click)"),
+            );
+            if settled(&focus) {
+                actions.push(Action::ControlsChanged);
+            }
         }
         if let Some(degrees) = &mut self.controls.sky_rotation {
             let turn = ui.add(

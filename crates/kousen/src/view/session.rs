@@ -61,6 +61,9 @@ pub struct RenderControls {
     /// The sky map's turn about +Y in degrees (`--sky-rotate`, then the overlay's slider);
     /// `None` when the sky has no map.
     pub sky_rotation: Option<f32>,
+    /// The thin lens every view is rendered through (`--aperture-radius`, `--focus-distance`,
+    /// then the overlay's sliders and Ctrl+click); a pinhole by default.
+    pub lens: scene::Lens,
 }
 
 /// Figures for the overlay.
@@ -175,6 +178,7 @@ impl Session {
         if let (Some(degrees), Some(sky)) = (controls.sky_rotation, &mut self.scene.lights.sky) {
             sky.rotation = degrees.to_radians();
         }
+        let camera = &camera.clone().with_lens(controls.lens);
         let backend = match (self.sppm.take(), self.idle_backend.take()) {
             (Some(sppm), _) => sppm.into_backend(),
             (None, Some(backend)) => backend,
@@ -187,6 +191,32 @@ impl Session {
         self.started = Instant::now();
         self.photon_paths = 0;
         Ok(())
+    }
+
+    /// How far ahead along the view `camera` sees a surface through film point (sx, sy) of an
+    /// image of aspect ratio `aspect` (the distance a lens focused there needs).
+    pub fn depth_at(&self, camera: &scene::Camera, film: (f32, f32), aspect: f32) -> Option<f32> {
+        render::lens::depth_along_view(&self.bvh, camera, film, aspect)
+    }
+
+    /// The lens to start `camera`'s view with: its own, a pinhole focused (should its aperture
+    /// be opened) on what the image's centre shows, or half the scene's size ahead.
+    pub fn starting_lens(&self, camera: &scene::Camera) -> scene::Lens {
+        if !camera.lens.is_pinhole() {
+            return camera.lens;
+        }
+        let focus_distance = render::lens::autofocus(&self.bvh, camera)
+            .filter(|d| *d > 0.0)
+            .unwrap_or(0.5 * self.scene_size().max(f32::MIN_POSITIVE));
+        scene::Lens {
+            radius: 0.0,
+            focus_distance,
+        }
+    }
+
+    /// The length of the scene's bounding-box diagonal: the scale of the lens's sliders.
+    pub fn scene_size(&self) -> f32 {
+        self.scene.bounds().extent().length()
     }
 
     pub fn is_running(&self) -> bool {
@@ -280,6 +310,7 @@ mod tests {
             direct: render::direct::DirectLight::Sampled,
             glossy_light_sampling: true,
             sky_rotation,
+            lens: scene::Lens::PINHOLE,
         }
     }
 

@@ -1,7 +1,8 @@
 //! The progressive image on screen, straight from the SPPM statistics on the device: a
 //! full-screen triangle whose fragment shader (`shaders/kernels/display.wgsl`) resolves each
-//! pixel like `render::resolve::resolve_pixel`, applies the exposure and clamp of
-//! `render::tonemap::display_value` and, where the target format is not sRGB, the transfer of
+//! pixel like `render::resolve::resolve_pixel`, applies the exposure and tone map of
+//! `render::tonemap::Look` ([`DisplayPass::set_tone_map`]: the clamp, or PBR Neutral) and,
+//! where the target format is not sRGB, the transfer of
 //! `render::tonemap::linear_to_srgb`. Nothing is read back to the host.
 //!
 //! [`DisplayPass::draw`] records into a render pass the caller owns (the viewer draws egui
@@ -22,6 +23,7 @@
 //! `Sppm::pass` calls (the GPU backend submits a pass as a whole). Storage buffers are read in
 //! the fragment stage (two, read-only; WebGPU guarantees eight per stage).
 
+use render::tonemap::{Look, ToneMap};
 use std::borrow::Cow;
 
 use bytemuck::{Pod, Zeroable};
@@ -48,7 +50,8 @@ pub struct DisplayParams {
     /// 1: the shader applies the sRGB transfer (the target format is not sRGB); 0: it writes
     /// linear values and the hardware encodes.
     pub encode_srgb: u32,
-    pub pad: u32,
+    /// `render::tonemap::ToneMap::code`: 0 the clamp, 1 PBR Neutral.
+    pub tone_map: u32,
 }
 
 /// What the display reads: the backend's statistics and counters buffers (see
@@ -88,6 +91,8 @@ pub struct DisplayPass {
     bound: Option<Bound>,
     /// Whether the last `prepare` left something to draw.
     ready: bool,
+    /// How draws and captures map exposed radiance to [0, 1] ([`DisplayPass::set_tone_map`]).
+    tone_map: ToneMap,
 }
 
 /// The formats [`DisplayPass::capture_as`] reads back: four 8-bit channels.
@@ -148,7 +153,7 @@ fn create_pipeline(
 fn params_for(
     source: &DisplaySource,
     eye_passes: u32,
-    exposure: f32,
+    look: Look,
     target_size: (u32, u32),
     format: wgpu::TextureFormat,
 ) -> DisplayParams {
@@ -158,9 +163,9 @@ fn params_for(
         target_width: target_size.0,
         target_height: target_size.1,
         eye_passes,
-        exposure,
+        exposure: look.exposure,
         encode_srgb: u32::from(!format.is_srgb()),
-        pad: 0,
+        tone_map: look.tone_map.code(),
     }
 }
 
@@ -206,6 +211,20 @@ impl DisplayPass {
             params,
             bound: None,
             ready: false,
+            tone_map: ToneMap::Clamp,
+        }
+    }
+
+    /// The tone map of the draws and captures from now on (`render::tonemap::ToneMap`; the
+    /// clamp to begin with).
+    pub fn set_tone_map(&mut self, tone_map: ToneMap) {
+        self.tone_map = tone_map;
+    }
+
+    fn look(&self, exposure: f32) -> Look {
+        Look {
+            exposure,
+            tone_map: self.tone_map,
         }
     }
 
@@ -268,7 +287,13 @@ impl DisplayPass {
         if !self.ready {
             return;
         }
-        let params = params_for(source, eye_passes, exposure, target_size, self.format);
+        let params = params_for(
+            source,
+            eye_passes,
+            self.look(exposure),
+            target_size,
+            self.format,
+        );
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let current = self
             .bound
@@ -371,7 +396,13 @@ impl DisplayPass {
         let pipeline = self.pipeline(device, format);
         let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("display capture params"),
-            contents: bytemuck::bytes_of(&params_for(source, eye_passes, exposure, size, format)),
+            contents: bytemuck::bytes_of(&params_for(
+                source,
+                eye_passes,
+                self.look(exposure),
+                size,
+                format,
+            )),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let bind_group = self.bind_group(device, &params, source);

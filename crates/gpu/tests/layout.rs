@@ -535,7 +535,7 @@ fn display_params_layout_matches_rust() {
             ("eye_passes", offset_of!(DisplayParams, eye_passes)),
             ("exposure", offset_of!(DisplayParams, exposure)),
             ("encode_srgb", offset_of!(DisplayParams, encode_srgb)),
-            ("pad", offset_of!(DisplayParams, pad)),
+            ("tone_map", offset_of!(DisplayParams, tone_map)),
         ],
     );
     // The statistics it reads are the SPPM kernels' struct.

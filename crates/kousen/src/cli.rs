@@ -93,6 +93,25 @@ pub enum BenchCommand {
     Density(DensityArgs),
 }
 
+/// `--tonemap`: how PNG output and the window map exposed radiance to [0, 1].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum ToneMapChoice {
+    /// Each channel clamped: exact below white, anything brighter white.
+    #[default]
+    Clamp,
+    /// Khronos PBR Neutral: colours below white kept, highlights compressed smoothly to white.
+    Neutral,
+}
+
+impl ToneMapChoice {
+    pub fn tone_map(self) -> render::tonemap::ToneMap {
+        match self {
+            ToneMapChoice::Clamp => render::tonemap::ToneMap::Clamp,
+            ToneMapChoice::Neutral => render::tonemap::ToneMap::Neutral,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum StoragePrecision {
     F32,
@@ -501,6 +520,9 @@ pub struct RenderArgs {
     /// Exposure in stops applied before the PNG tonemap.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
+    /// How a PNG output maps exposed radiance to [0, 1] (EXR and PFM stay linear).
+    #[arg(long, value_enum, default_value_t = ToneMapChoice::Clamp)]
+    pub tonemap: ToneMapChoice,
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     pub backend: Backend,
     /// Use the GPU adapter whose name contains this (case-insensitive; default: the best).
@@ -616,6 +638,10 @@ pub struct ViewArgs {
     /// Exposure in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
+    /// How the window (and its screenshots) map exposed radiance to [0, 1]; the overlay
+    /// switches it.
+    #[arg(long, value_enum, default_value_t = ToneMapChoice::Clamp)]
+    pub tonemap: ToneMapChoice,
     #[command(flatten)]
     pub gather: GatherArgs,
     /// An eye pass every this many photon passes.
@@ -647,6 +673,16 @@ pub struct ViewArgs {
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
+}
+
+impl RenderArgs {
+    /// The PNG output's exposure and tone map.
+    pub fn look(&self) -> render::tonemap::Look {
+        render::tonemap::Look {
+            exposure: self.exposure,
+            tone_map: self.tonemap.tone_map(),
+        }
+    }
 }
 
 /// Which camera to render from: a file's camera, or one given on the command line.

@@ -8,7 +8,7 @@ use std::path::Path;
 use anyhow::{Context, bail, ensure};
 use glam::Vec3;
 use render::Image;
-use render::tonemap::{linear_to_srgb8, srgb_to_linear};
+use render::tonemap::{Look, srgb_to_linear};
 
 use crate::output_file::PendingFile;
 
@@ -76,9 +76,9 @@ impl Output {
         })
     }
 
-    /// Writes the image and moves it into place. `exposure` (stops) applies to PNG only; EXR
+    /// Writes the image and moves it into place. `look` (exposure, tone map) applies to PNG only; EXR
     /// and PFM hold the linear values.
-    pub fn commit(mut self, image: &Image, exposure: f32) -> anyhow::Result<()> {
+    pub fn commit(mut self, image: &Image, look: Look) -> anyhow::Result<()> {
         ensure!(
             image.pixels.len() == image.width as usize * image.height as usize,
             "a {}x{} image with {} pixels cannot be written",
@@ -90,7 +90,7 @@ impl Output {
         match self.format {
             Format::Exr => write_exr(file, image, self.precision)?,
             Format::Pfm => write_pfm(std::io::BufWriter::new(file), image)?,
-            Format::Png => write_png(std::io::BufWriter::new(file), image, exposure)?,
+            Format::Png => write_png(std::io::BufWriter::new(file), image, look)?,
         }
         self.file.commit()
     }
@@ -139,13 +139,8 @@ fn write_pfm(mut writer: impl Write, image: &Image) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn write_png(mut writer: impl Write, image: &Image, exposure: f32) -> anyhow::Result<()> {
-    let scale = 2f32.powf(exposure);
-    let bytes: Vec<u8> = image
-        .pixels
-        .iter()
-        .flat_map(|&p| (p * scale).to_array().map(linear_to_srgb8))
-        .collect();
+fn write_png(mut writer: impl Write, image: &Image, look: Look) -> anyhow::Result<()> {
+    let bytes: Vec<u8> = image.pixels.iter().flat_map(|&p| look.srgb8(p)).collect();
     let encoder = image::codecs::png::PngEncoder::new(&mut writer);
     image::ImageEncoder::write_image(
         encoder,
@@ -356,7 +351,7 @@ mod tests {
         let path = dir.path().join(name);
         Output::create_with(&path, precision)
             .unwrap()
-            .commit(image, 0.0)
+            .commit(image, Look::default())
             .unwrap();
         read_image(&path).unwrap()
     }
@@ -482,7 +477,7 @@ mod tests {
         let path = dir.path().join("a.exr");
         Output::create(&path)
             .unwrap()
-            .commit(&test_image(16, 16), 0.0)
+            .commit(&test_image(16, 16), Look::default())
             .unwrap();
         let whole = std::fs::read(&path).unwrap();
         for end in [0, 4, 40, whole.len() / 2, whole.len() - 1] {

@@ -455,3 +455,54 @@ fn render_focuses_a_lens_on_the_image_s_centre() {
         std::fs::read(&pinhole).unwrap()
     );
 }
+
+/// `--tonemap neutral` writes each PNG pixel as `render::tonemap::Look` maps the same render's
+/// linear radiance (a PFM of the same seed), byte for byte, and the lamp, which the clamp
+/// burns to white, stays below it at +1 stop.
+#[test]
+fn render_tone_maps_png_output_as_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = "--width 24 --passes 2 --backend cpu --seed 9 --exposure 1";
+    let linear = dir.path().join("box.pfm");
+    render_box(&linear, base);
+    let neutral = dir.path().join("neutral.png");
+    render_box(&neutral, &format!("{base} --tonemap neutral"));
+    let clamped = dir.path().join("clamped.png");
+    render_box(&clamped, base);
+    let radiance = read_pfm(&linear);
+    let look = render::tonemap::Look {
+        exposure: 1.0,
+        tone_map: render::tonemap::ToneMap::Neutral,
+    };
+    let expected: Vec<u8> = radiance.iter().flat_map(|&c| look.srgb8(c)).collect();
+    let png = image::open(&neutral).expect("a PNG").to_rgb8();
+    assert_eq!(png.as_raw(), &expected);
+    let white = |path: &Path| {
+        let image = image::open(path).unwrap().to_rgb8();
+        image.pixels().filter(|p| p.0 == [255; 3]).count()
+    };
+    assert!(white(&clamped) > 0, "the clamp burns the lamp to white");
+    assert_eq!(white(&neutral), 0);
+}
+
+/// A PFM's pixels, top row first.
+fn read_pfm(path: &Path) -> Vec<glam::Vec3> {
+    let bytes = std::fs::read(path).unwrap();
+    let mut fields = bytes.splitn(4, |b| *b == b'\n');
+    assert_eq!(fields.next(), Some(&b"PF"[..]));
+    let size = std::str::from_utf8(fields.next().unwrap()).unwrap();
+    let [width, height] = [0, 1].map(|i| size.split(' ').nth(i).unwrap().parse::<usize>().unwrap());
+    assert_eq!(fields.next(), Some(&b"-1.0"[..]), "little-endian");
+    let data = fields.next().unwrap();
+    let floats: Vec<f32> = data
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    assert_eq!(floats.len(), 3 * width * height);
+    // PFM rows run bottom to top.
+    floats
+        .chunks_exact(3 * width)
+        .rev()
+        .flat_map(|row| row.chunks_exact(3).map(glam::Vec3::from_slice))
+        .collect()
+}

@@ -1,7 +1,8 @@
 // The progressive image on screen (gpu::display): a full-screen triangle whose fragments read
 // the SPPM statistics in place, resolve them like render::resolve::resolve_pixel, apply the
-// exposure and clamp like render::tonemap::display_value and, for targets that are not sRGB,
-// the sRGB transfer like render::tonemap::linear_to_srgb.
+// exposure and tone map like render::tonemap::Look::display_rgb (a clamp like display_value,
+// or PBR Neutral like pbr_neutral) and, for targets that are not sRGB, the sRGB transfer like
+// render::tonemap::linear_to_srgb.
 
 // Mirrors gpu::display::DisplayParams (tests/layout.rs checks the offsets).
 struct DisplayParams {
@@ -15,7 +16,8 @@ struct DisplayParams {
     exposure: f32,
     // 1: write sRGB-encoded values (the target is not an sRGB format); 0: linear values.
     encode_srgb: u32,
-    pad: u32,
+    // render::tonemap::ToneMap::code: 0 the clamp, 1 PBR Neutral.
+    tone_map: u32,
 }
 
 @group(0) @binding(0) var<uniform> display: DisplayParams;
@@ -81,6 +83,38 @@ fn display_value(linear: f32, scale: f32) -> f32 {
     return 0.0;
 }
 
+// render::tonemap::pbr_neutral: Khronos PBR Neutral of non-negative exposed radiance.
+fn display_pbr_neutral(colour: vec3<f32>) -> vec3<f32> {
+    let compression_start = 0.8 - 0.04;
+    let desaturation = 0.15;
+    let darkest = min(colour.x, min(colour.y, colour.z));
+    var offset = 0.04;
+    if darkest < 0.08 {
+        offset = darkest - 6.25 * darkest * darkest;
+    }
+    let c = colour - vec3<f32>(offset);
+    let peak = max(c.x, max(c.y, c.z));
+    if peak < compression_start {
+        return c;
+    }
+    let d = 1.0 - compression_start;
+    let new_peak = 1.0 - d * d / (peak + d - compression_start);
+    let grey = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+    return mix(c * (new_peak / peak), vec3<f32>(new_peak), grey);
+}
+
+// render::tonemap::Look::display_rgb under PBR Neutral: non-finite channels count as 0.
+fn display_neutral(radiance: vec3<f32>, scale: f32) -> vec3<f32> {
+    var exposed = vec3<f32>(0.0);
+    for (var i = 0u; i < 3u; i += 1u) {
+        let value = radiance[i] * scale;
+        if display_is_finite(value) {
+            exposed[i] = max(value, 0.0);
+        }
+    }
+    return display_pbr_neutral(exposed);
+}
+
 // render::tonemap::linear_to_srgb.
 fn display_encode_srgb(c: vec3<f32>) -> vec3<f32> {
     let low = 12.92 * c;
@@ -101,6 +135,9 @@ fn display_fragment(vertex: DisplayVertex) -> @location(0) vec4<f32> {
         display_value(radiance.y, scale),
         display_value(radiance.z, scale),
     );
+    if display.tone_map == 1u {
+        colour = display_neutral(radiance, scale);
+    }
     if display.encode_srgb != 0u {
         colour = display_encode_srgb(colour);
     }

@@ -71,7 +71,7 @@ pub fn run(
         height,
         sum.into_iter().map(|s| s / passes as f32).collect(),
     );
-    output.commit(&image, args.exposure)?;
+    output.commit(&image, args.look())?;
     log::info!("{passes} path-traced passes in {seconds:.2} s");
     if let Some(path) = &args.stats {
         let stats = serde_json::json!({

@@ -331,7 +331,7 @@ fn finish<B: Backend>(
         checkpoint_file::write(path, header(seconds), &sppm.checkpoint()?)?;
     }
     let host_cpu_seconds = thread_cpu_seconds() - cpu_before;
-    output.commit(&rendered.image, args.exposure)?;
+    output.commit(&rendered.image, args.look())?;
     log::info!(
         "{} passes, {} photon paths in {:.2} s",
         rendered.passes,

@@ -156,7 +156,14 @@ impl App {
             loading: None,
             controller: None,
             budget: FrameBudget::new(TARGET_FRAME),
-            overlay: Overlay::new(!args.no_overlay, args.exposure, controls),
+            overlay: Overlay::new(
+                !args.no_overlay,
+                render::tonemap::Look {
+                    exposure: args.exposure,
+                    tone_map: args.tonemap.tone_map(),
+                },
+                controls,
+            ),
             mouse: Mouse::default(),
             modifiers: ModifiersState::empty(),
             paused: false,
@@ -384,7 +391,7 @@ impl App {
             for extension in ["exr", "png"] {
                 let path = PathBuf::from(format!("{stem}.{extension}"));
                 crate::image_io::Output::create_with(&path, Default::default())?
-                    .commit(&image, self.overlay.exposure)?;
+                    .commit(&image, self.overlay.look())?;
             }
             Ok(())
         });
@@ -703,6 +710,7 @@ impl App {
             if let Some((source, eye_passes)) =
                 self.session.as_ref().and_then(Session::display_source)
             {
+                gfx.display.set_tone_map(self.overlay.tone_map);
                 gfx.display.draw(
                     device,
                     queue,
@@ -738,6 +746,7 @@ impl App {
             .display_source()
             .context("no render to take a screenshot of")?;
         let size = (gfx.config.width, gfx.config.height);
+        gfx.display.set_tone_map(self.overlay.tone_map);
         let rgba = gfx.display.capture(
             &gfx.context,
             &source,

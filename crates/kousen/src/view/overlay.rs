@@ -1,6 +1,8 @@
 //! The egui overlay: figures of the running render and its controls. It only reports what the
 //! user asked for; the app acts on it.
 
+use render::tonemap::{Look, ToneMap};
+
 use super::session::{RenderControls, SessionStats};
 
 /// What the overlay shows besides its own controls.
@@ -36,6 +38,8 @@ pub struct Overlay {
     pub visible: bool,
     /// Stops; applied by the display pass, no restart.
     pub exposure: f32,
+    /// Applied by the display pass too (`--tonemap`, then the overlay's switch).
+    pub tone_map: ToneMap,
     pub controls: RenderControls,
 }
 
@@ -43,11 +47,20 @@ pub struct Overlay {
 const PHOTONS_LOG2: std::ops::RangeInclusive<u32> = 10..=22;
 
 impl Overlay {
-    pub fn new(visible: bool, exposure: f32, controls: RenderControls) -> Overlay {
+    pub fn new(visible: bool, look: Look, controls: RenderControls) -> Overlay {
         Overlay {
             visible,
-            exposure,
+            exposure: look.exposure,
+            tone_map: look.tone_map,
             controls,
+        }
+    }
+
+    /// The exposure and tone map the window shows and saves with.
+    pub fn look(&self) -> Look {
+        Look {
+            exposure: self.exposure,
+            tone_map: self.tone_map,
         }
     }
 
@@ -129,6 +142,12 @@ impl Overlay {
 
     fn controls_ui(&mut self, ui: &mut egui::Ui, info: &OverlayInfo, actions: &mut Vec<Action>) {
         ui.add(egui::Slider::new(&mut self.exposure, -8.0..=8.0).text("exposure (stops)"));
+        ui.horizontal(|ui| {
+            ui.label("tone map");
+            for tone_map in [ToneMap::Clamp, ToneMap::Neutral] {
+                ui.radio_value(&mut self.tone_map, tone_map, tone_map.name());
+            }
+        });
 
         let mut log2 = self.controls.photons.max(1).ilog2();
         let photons = ui.add(

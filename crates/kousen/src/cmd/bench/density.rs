@@ -18,6 +18,7 @@
 
 mod report;
 
+use render::tonemap::Look;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -173,7 +174,7 @@ fn bench_scene(
     println!("reference: {source}");
     if let Some(dir) = &args.images {
         let file = dir.join(format!("density-{}-reference.exr", bench.stem));
-        Output::create_with(&file, ExrPrecision::Float)?.commit(&reference, 0.0)?;
+        Output::create_with(&file, ExrPrecision::Float)?.commit(&reference, Look::default())?;
     }
     let mut rows = Vec::new();
     let mut images_written = false;
@@ -192,7 +193,8 @@ fn bench_scene(
         if let (Some(dir), false) = (&args.images, images_written) {
             for m in &measured {
                 let file = image_path(dir, &bench.stem, &m.row.label());
-                Output::create_with(&file, ExrPrecision::Float)?.commit(&m.image, args.exposure)?;
+                Output::create_with(&file, ExrPrecision::Float)?
+                    .commit(&m.image, Look::exposure(args.exposure))?;
             }
             images_written = true;
         }

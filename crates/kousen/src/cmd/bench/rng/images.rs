@@ -1,6 +1,7 @@
 //! `kousen bench rng --image DIR`: SPPM renders with each generator, and plots of successive
 //! pairs of each generator's draws (where a coarse generator's lattice shows).
 
+use render::tonemap::Look;
 use std::path::Path;
 use std::time::Instant;
 
@@ -63,7 +64,8 @@ fn write_pairs_images(dir: &Path) -> anyhow::Result<()> {
     ];
     for (name, image) in images {
         let file = dir.join(format!("rng-pairs-{name}.png"));
-        crate::image_io::Output::create_with(&file, Default::default())?.commit(&image, 0.0)?;
+        crate::image_io::Output::create_with(&file, Default::default())?
+            .commit(&image, Look::default())?;
         println!("image {}: successive pairs in [0, 1/16)²", file.display());
     }
     Ok(())
@@ -107,7 +109,7 @@ pub(super) fn render_images(
         }
         let image = sppm.image()?;
         let seconds = started.elapsed().as_secs_f64();
-        output.commit(&image, 0.0)?;
+        output.commit(&image, Look::default())?;
         println!(
             "image {}: {} passes in {seconds:.1} s on the GPU",
             file.display(),

@@ -484,7 +484,14 @@ fn sppm_types_layout_matches_render_buffers() {
                 "scene_half_extent",
                 offset_of!(SppmParams, scene_half_extent),
             ),
+            ("aperture_blades", offset_of!(SppmParams, aperture_blades)),
+            (
+                "aperture_rotation",
+                offset_of!(SppmParams, aperture_rotation),
+            ),
             ("pad3", offset_of!(SppmParams, pad2)),
+            ("pad4", offset_of!(SppmParams, pad2) + 4),
+            ("pad5", offset_of!(SppmParams, pad2) + 8),
         ],
     );
 }

@@ -695,18 +695,23 @@ fn every_kernel_matches_its_twin_with_the_lamp_and_camera_under_water() {
     every_kernel_matches_its_twin(scene, DirectLight::Photons);
 }
 
-/// The same through a thin lens (`scene::Lens`, `render::lens::camera_ray`): eye paths start
-/// across the lens disk, the first of each pixel from `pixel_lens`, the extra paths of pixels
-/// showing glass (the second eye pass here) from the pixel's stream.
+/// The same through a thin lens (`scene::Lens`, `render::lens::camera_ray`), round and
+/// hexagonal (`render::sampling::aperture_point`): eye paths start across the aperture, the
+/// first of each pixel from `pixel_lens`, the extra paths of pixels showing glass (the second
+/// eye pass here) from the pixel's stream.
 #[test]
 fn every_kernel_matches_its_twin_through_a_thin_lens() {
-    let mut scene = scene::testing::cornell_caustics();
-    let diagonal = scene.bounds().extent().length();
-    let camera = scene.cameras[0].clone();
-    let focus = camera.eye.distance(scene.bounds().center());
-    let lens = scene::Lens::new(0.03 * diagonal, focus).expect("a lens");
-    scene.cameras[0] = camera.with_lens(lens);
-    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+    for blades in [0, 6] {
+        let mut scene = scene::testing::cornell_caustics();
+        let diagonal = scene.bounds().extent().length();
+        let camera = scene.cameras[0].clone();
+        let focus = camera.eye.distance(scene.bounds().center());
+        let lens = scene::Lens::new(0.03 * diagonal, focus)
+            .and_then(|l| l.with_blades(blades, 0.4))
+            .expect("a lens");
+        scene.cameras[0] = camera.with_lens(lens);
+        every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+    }
 }
 
 /// The same with a glass marble under the tinted water (`scene::testing::cornell_marble`):

@@ -711,6 +711,20 @@ pub struct CameraArgs {
     /// --aperture-radius). Default: the distance to what the image's centre shows.
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f32>,
+    /// The aperture's shape (with --aperture-radius): 0, round; 3 to 64, a regular polygon of
+    /// that many sides inscribed in the radius, as a camera's iris blades make it (out of
+    /// focus, points image as that polygon).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub aperture_blades: u32,
+    /// The polygon's turn: its first vertex this many degrees from the image's right towards
+    /// its top.
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    pub aperture_rotation: f32,
 }
 
 /// Lights added to the scene: a sun (a directional light) and a sky (uniform radiance from

@@ -206,15 +206,25 @@ fn render_refuses_bad_sppm_settings_and_leaves_no_file() {
     }
 }
 
-/// A lens's radius must be ≥ 0 and its focus distance > 0, a focus distance needs a lens,
-/// and a lens left to focus itself needs a surface at the image's centre.
+/// A lens's radius must be ≥ 0 and its focus distance > 0, its aperture round or of 3 to 64
+/// blades, a focus distance or blades need a lens, and a lens left to focus itself needs a
+/// surface at the image's centre.
 #[test]
 fn render_refuses_bad_lenses_and_leaves_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let scene = lit_quad_scene(dir.path());
     let out = dir.path().join("out.png");
     let away = ["--eye", "0.5,1,0.5", "--target", "0.5,1,-3"];
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 9] = [
+        (
+            &["--aperture-radius", "0.1", "--aperture-blades", "2"],
+            "--aperture-blades",
+        ),
+        (
+            &["--aperture-radius", "0.1", "--aperture-blades", "65"],
+            "--aperture-blades",
+        ),
+        (&["--aperture-blades", "6"], "--aperture-radius"),
         (&["--aperture-radius", "-0.1"], "--aperture-radius"),
         (&["--aperture-radius", "nan"], "--aperture-radius"),
         (&["--focus-distance", "2"], "--aperture-radius"),

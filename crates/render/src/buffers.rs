@@ -187,7 +187,7 @@ pub const SAMPLE_AT_VISIBLE_POINTS: u32 = 1;
 /// the lobe's own sampling.
 pub const SAMPLE_AT_GLOSSY: u32 = 2;
 
-/// Render-wide constants (uniform buffer, 144 bytes).
+/// Render-wide constants (uniform buffer, 160 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct SppmParams {
@@ -249,7 +249,11 @@ pub struct SppmParams {
     /// the box's shadow across their direction where it is smaller than the sphere's disk
     /// ([`crate::emission::parallel_start`]). Zero: always the disk.
     pub scene_half_extent: [f32; 3],
-    pub pad2: u32,
+    /// The lens's aperture (`scene::Lens::blades`, `rotation`): 0 round, else a regular
+    /// polygon with a vertex `aperture_rotation` radians from right towards up.
+    pub aperture_blades: u32,
+    pub aperture_rotation: f32,
+    pub pad2: [u32; 3],
 }
 
 impl Default for SppmParams {

@@ -184,7 +184,9 @@ pub fn params_with(
         lens_radius: camera.lens.radius,
         focus_distance: camera.lens.focus_distance,
         scene_half_extent: (0.5 * 1.01 * scene.bounds().extent()).to_array(),
-        pad2: 0,
+        aperture_blades: camera.lens.blades,
+        aperture_rotation: camera.lens.rotation,
+        pad2: [0; 3],
     }
 }
 

@@ -1,10 +1,11 @@
 //! Thin-lens camera rays (`scene::Lens`): depth of field. An eye path through film point
-//! (sx, sy) starts at a point of the lens disk (radius `SppmParams::lens_radius`, across the
-//! view about the eye) and heads for where the pinhole ray through that film point meets the
+//! (sx, sy) starts at a point of the lens's aperture (a disk of radius
+//! `SppmParams::lens_radius` across the view about the eye, or the regular polygon of
+//! `aperture_blades` sides inscribed in it: `crate::sampling::aperture_point`) and heads for where the pinhole ray through that film point meets the
 //! plane in focus, `focus_distance` ahead of the eye: what lies on that plane is sharp, and a
 //! point at depth d spreads over a disk of radius `radius · |1/focus − 1/d|` on the film plane
-//! one unit ahead of the eye (the pinhole's image scale). Radius 0 is the pinhole, ray for
-//! ray, so pinhole renders do not change.
+//! one unit ahead of the eye (the pinhole's image scale), or over the polygon scaled alike.
+//! Radius 0 is the pinhole, ray for ray, so pinhole renders do not change.
 //!
 //! Each first camera path of a pixel takes its lens point from [`crate::rng::pixel_lens`]
 //! (a low-discrepancy sequence independent of the jitter's); the extra paths of pixels
@@ -14,7 +15,7 @@ use glam::Vec3;
 
 use crate::buffers::SppmParams;
 use crate::integrator::camera_direction;
-use crate::sampling::concentric_disk;
+use crate::sampling::aperture_point;
 
 /// The origin and unit direction of the camera ray through film point (sx, sy) ∈ [−1, 1]²
 /// (+y up) that leaves the lens at the point `lens` ∈ [0, 1)² maps to.
@@ -29,6 +30,8 @@ pub fn camera_ray(params: &SppmParams, sx: f32, sy: f32, lens: [f32; 2]) -> (Vec
     let lens_shape = scene::Lens {
         radius: params.lens_radius,
         focus_distance: params.focus_distance,
+        blades: params.aperture_blades,
+        rotation: params.aperture_rotation,
     };
     thin_lens_ray(eye, through, lens_disk, lens_shape, lens)
 }
@@ -61,7 +64,7 @@ fn thin_lens_ray(
     lens: [f32; 2],
 ) -> (Vec3, Vec3) {
     let focus = eye + shape.focus_distance * through;
-    let disk = shape.radius * concentric_disk(lens[0], lens[1]);
+    let disk = shape.radius * aperture_point(lens[0], lens[1], shape.blades, shape.rotation);
     let origin = eye + disk.x * right + disk.y * up;
     (origin, (focus - origin).normalize())
 }

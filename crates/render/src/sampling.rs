@@ -80,6 +80,27 @@ pub fn concentric_disk(u1: f32, u2: f32) -> glam::Vec2 {
     glam::Vec2::new(r * phi.cos(), r * phi.sin())
 }
 
+/// Uniform point (as x, y) of a lens aperture of unit radius: the disk ([`concentric_disk`])
+/// for `blades` 0, else the regular polygon of `blades` sides inscribed in the unit circle
+/// with a vertex at angle `rotation`. `u1` picks the polygon's triangle about the centre
+/// (equal areas) and, rescaled, the distance from the centre (its square root: uniform in
+/// area), `u2` the point across it, so evenly spread numbers stay evenly spread.
+pub fn aperture_point(u1: f32, u2: f32, blades: u32, rotation: f32) -> glam::Vec2 {
+    if blades == 0 {
+        return concentric_disk(u1, u2);
+    }
+    let scaled = u1 * blades as f32;
+    let side = (scaled as u32).min(blades - 1);
+    let along = (scaled - side as f32).clamp(0.0, 1.0);
+    let step = std::f32::consts::TAU / blades as f32;
+    let corner = |k: u32| {
+        let angle = rotation + step * k as f32;
+        glam::Vec2::new(angle.cos(), angle.sin())
+    };
+    let (a, b) = (corner(side), corner(side + 1));
+    along.sqrt() * a.lerp(b, u2)
+}
+
 /// `local` (coordinates about +Z) turned to the frame of `n` (unit) built by
 /// [`orthonormal_basis`].
 pub fn about_axis(n: Vec3, local: Vec3) -> Vec3 {
@@ -152,6 +173,64 @@ mod tests {
                 assert!(x.dot(y).abs() < 1e-5);
             }
             assert!((t.length() - 1.0).abs() < 1e-5 && (b.length() - 1.0).abs() < 1e-5);
+        }
+    }
+
+    /// A polygonal aperture's points fill the polygon evenly: all inside it, each of its
+    /// triangles about the centre equally often, and the second moments of a uniform regular
+    /// polygon of unit circumradius ((1 + 2cos²(π/N))/12 per axis, none across); the disk's
+    /// (1/4) for 0 blades. The first vertex sits at the rotation.
+    #[test]
+    fn aperture_points_fill_their_shape() {
+        // A grid of numbers whose rows split evenly among 3, 5, 6 and 9 triangles.
+        let n = 360;
+        for (blades, rotation) in [(0, 0.0), (3, 0.3), (5, -1.0), (6, 0.0), (9, 2.0)] {
+            let want = if blades == 0 {
+                0.25
+            } else {
+                let cos = (std::f64::consts::PI / blades as f64).cos();
+                (1.0 + 2.0 * cos * cos) / 12.0
+            };
+            let (mut xx, mut yy, mut xy, mut farthest) = (0.0f64, 0.0f64, 0.0f64, glam::Vec2::ZERO);
+            for i in 0..n {
+                for j in 0..n {
+                    let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
+                    let p = aperture_point(u[0], u[1], blades, rotation);
+                    assert!(p.length() <= 1.0 + 1e-6);
+                    if blades > 0 {
+                        // Inside every edge: no farther along an edge's normal than its apothem.
+                        let step = std::f32::consts::TAU / blades as f32;
+                        let apothem = (0.5 * step).cos();
+                        for k in 0..blades {
+                            let normal = rotation + step * (k as f32 + 0.5);
+                            let along = p.dot(glam::Vec2::new(normal.cos(), normal.sin()));
+                            assert!(
+                                along <= apothem + 1e-5,
+                                "{blades} blades: {p} past edge {k}"
+                            );
+                        }
+                    }
+                    xx += (p.x * p.x) as f64;
+                    yy += (p.y * p.y) as f64;
+                    xy += (p.x * p.y) as f64;
+                    if p.length() > farthest.length() {
+                        farthest = p;
+                    }
+                }
+            }
+            let count = (n * n) as f64;
+            let (xx, yy, xy) = (xx / count, yy / count, xy / count);
+            assert!(
+                (xx / want - 1.0).abs() < 0.01 && (yy / want - 1.0).abs() < 0.01,
+                "{blades}: {xx} {yy} against {want}"
+            );
+            assert!(xy.abs() < 0.002, "{blades}: {xy}");
+            if blades > 0 {
+                // The outermost point is (nearly) a vertex.
+                let step = std::f32::consts::TAU / blades as f32;
+                let angle = (farthest.y.atan2(farthest.x) - rotation).rem_euclid(step);
+                assert!(angle.min(step - angle) < 0.05, "{blades}: {farthest}");
+            }
         }
     }
 }

@@ -5,20 +5,43 @@ use glam::{Mat4, Vec3};
 
 use crate::Bounds;
 
-/// A thin lens: rays leave a disk of `radius` about the eye, across the view, and every ray
-/// through one film point meets the others on the plane `focus_distance` ahead of the eye
-/// (along `forward`), where the scene is sharp. Radius 0 is a pinhole (glTF cameras are).
+/// A thin lens: rays leave its aperture, a disk of `radius` about the eye across the view (or
+/// the regular polygon of `blades` sides inscribed in it), and every ray through one film
+/// point meets the others on the plane `focus_distance` ahead of the eye (along `forward`),
+/// where the scene is sharp; out of focus a point images as the aperture's shape. Radius 0 is
+/// a pinhole (glTF cameras are).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Lens {
     pub radius: f32,
     pub focus_distance: f32,
+    /// 0: a round aperture; 3 or more: a polygon with a vertex at angle `rotation` from the
+    /// view's right towards its up.
+    pub blades: u32,
+    pub rotation: f32,
 }
 
 impl Lens {
     pub const PINHOLE: Lens = Lens {
         radius: 0.0,
         focus_distance: 0.0,
+        blades: 0,
+        rotation: 0.0,
     };
+
+    /// The most blades an aperture may have (more is round to the eye).
+    pub const MAX_BLADES: u32 = 64;
+
+    /// This lens with a polygonal aperture of `blades` sides (0: round) turned by `rotation`
+    /// radians; `None` for 1, 2 or more than [`Lens::MAX_BLADES`] blades or a non-finite turn.
+    pub fn with_blades(self, blades: u32, rotation: f32) -> Option<Lens> {
+        let valid =
+            (blades == 0 || (3..=Self::MAX_BLADES).contains(&blades)) && rotation.is_finite();
+        valid.then_some(Lens {
+            blades,
+            rotation,
+            ..self
+        })
+    }
 
     /// A lens of `radius` focused at `focus_distance`: `None` unless the radius is finite
     /// and ≥ 0 and, for a lens (radius > 0), the distance finite and > 0.
@@ -28,6 +51,7 @@ impl Lens {
         (valid_radius && valid_focus).then_some(Lens {
             radius,
             focus_distance,
+            ..Lens::PINHOLE
         })
     }
 

@@ -80,6 +80,23 @@ fn concentric_disk(u1: f32, u2: f32) -> vec2<f32> {
     return vec2<f32>(r * cos(phi), r * sin(phi));
 }
 
+// render::sampling::aperture_point: the unit disk for 0 blades, else the regular polygon of
+// `blades` sides inscribed in it with a vertex at angle `rotation`.
+fn aperture_point(u1: f32, u2: f32, blades: u32, rotation: f32) -> vec2<f32> {
+    if blades == 0u {
+        return concentric_disk(u1, u2);
+    }
+    let scaled = u1 * f32(blades);
+    let side = min(u32(scaled), blades - 1u);
+    let along = clamp(scaled - f32(side), 0.0, 1.0);
+    let step = 2.0 * PI / f32(blades);
+    let first = rotation + step * f32(side);
+    let second = rotation + step * f32(side + 1u);
+    let a = vec2<f32>(cos(first), sin(first));
+    let b = vec2<f32>(cos(second), sin(second));
+    return sqrt(along) * mix(a, b, u2);
+}
+
 // render::lens::camera_ray: the origin and unit direction of the camera ray through film point
 // (sx, sy) that leaves the lens at the point `lens` maps to; the pinhole's ray at radius 0.
 struct CameraRay {
@@ -93,7 +110,7 @@ fn camera_ray(sx: f32, sy: f32, lens: vec2<f32>) -> CameraRay {
         return CameraRay(params.eye, normalize(through));
     }
     let focus = params.eye + params.focus_distance * through;
-    let disk = params.lens_radius * concentric_disk(lens.x, lens.y);
+    let disk = params.lens_radius * aperture_point(lens.x, lens.y, params.aperture_blades, params.aperture_rotation);
     let origin = params.eye + disk.x * normalize(params.right) + disk.y * normalize(params.up);
     return CameraRay(origin, normalize(focus - origin));
 }

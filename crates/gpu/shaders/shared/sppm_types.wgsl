@@ -88,7 +88,12 @@ struct SppmParams {
     focus_distance: f32,
     // render::buffers::SppmParams::scene_half_extent (render::emission::parallel_start).
     scene_half_extent: vec3<f32>,
+    // render::buffers::SppmParams::aperture_blades and aperture_rotation (render::lens).
+    aperture_blades: u32,
+    aperture_rotation: f32,
     pad3: u32,
+    pad4: u32,
+    pad5: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

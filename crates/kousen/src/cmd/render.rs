@@ -78,6 +78,9 @@ struct Stats {
 struct LensStats {
     aperture_radius: f32,
     focus_distance: f32,
+    /// 0: round.
+    aperture_blades: u32,
+    aperture_rotation_degrees: f32,
 }
 
 /// Photon passes per eye pass where the render runs on CPU cores (the CPU backend, or a
@@ -374,6 +377,8 @@ fn finish<B: Backend>(
             lens: (!camera.lens.is_pinhole()).then_some(LensStats {
                 aperture_radius: camera.lens.radius,
                 focus_distance: camera.lens.focus_distance,
+                aperture_blades: camera.lens.blades,
+                aperture_rotation_degrees: camera.lens.rotation.to_degrees(),
             }),
         };
         let json = serde_json::to_string_pretty(&stats)?;
@@ -474,6 +479,9 @@ pub fn with_lens(
         if args.focus_distance.is_some() && args.aperture_radius.is_none() {
             bail!("--focus-distance needs a lens: give --aperture-radius too");
         }
+        if args.aperture_blades != 0 && args.aperture_radius.is_none() {
+            bail!("--aperture-blades shapes a lens: give --aperture-radius too");
+        }
         return Ok(camera);
     };
     let focus_distance = match args.focus_distance {
@@ -487,7 +495,16 @@ pub fn with_lens(
         }
     };
     let lens = scene::Lens::new(radius, focus_distance)
-        .context("--aperture-radius and --focus-distance do not make a lens")?;
+        .context("--aperture-radius and --focus-distance do not make a lens")?
+        .with_blades(args.aperture_blades, args.aperture_rotation.to_radians())
+        .with_context(|| {
+            format!(
+                "--aperture-blades {} --aperture-rotation {}: an aperture is round (0) or has 3 to {} blades, turned by a finite angle",
+                args.aperture_blades,
+                args.aperture_rotation,
+                scene::Lens::MAX_BLADES
+            )
+        })?;
     Ok(camera.with_lens(lens))
 }
 

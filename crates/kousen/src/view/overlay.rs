@@ -179,6 +179,18 @@ impl Overlay {
             actions.push(Action::ControlsChanged);
         }
         if !lens.is_pinhole() {
+            let before = lens.blades;
+            let blades = ui.add(
+                egui::Slider::new(&mut lens.blades, 0..=scene::Lens::MAX_BLADES)
+                    .text("aperture blades (0: round)"),
+            );
+            // One or two blades make no polygon: step past them, away from where it was.
+            if (1..3).contains(&lens.blades) {
+                lens.blades = if before == 0 { 3 } else { 0 };
+            }
+            if settled(&blades) {
+                actions.push(Action::ControlsChanged);
+            }
             let focus = ui.add(
                 egui::Slider::new(&mut lens.focus_distance, 1e-3 * size..=4.0 * size)
                     .logarithmic(true)

@@ -209,8 +209,8 @@ impl Session {
             .filter(|d| *d > 0.0)
             .unwrap_or(0.5 * self.scene_size().max(f32::MIN_POSITIVE));
         scene::Lens {
-            radius: 0.0,
             focus_distance,
+            ..scene::Lens::PINHOLE
         }
     }
 

@@ -711,6 +711,10 @@ pub struct CameraArgs {
     /// --aperture-radius). Default: the distance to what the image's centre shows.
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f32>,
+    /// Focus the lens on what pixel "x,y" of the image shows (0,0 the top-left; with
+    /// --aperture-radius, instead of --focus-distance): the glass, say, in a scripted render.
+    #[arg(long, value_name = "X,Y")]
+    pub focus_pixel: Option<String>,
     /// The aperture's shape (with --aperture-radius): 0, round; 3 to 64, a regular polygon of
     /// that many sides inscribed in the radius, as a camera's iris blades make it (out of
     /// focus, points image as that polygon).

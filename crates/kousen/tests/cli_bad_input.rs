@@ -215,7 +215,12 @@ fn render_refuses_bad_lenses_and_leaves_no_file() {
     let scene = lit_quad_scene(dir.path());
     let out = dir.path().join("out.png");
     let away = ["--eye", "0.5,1,0.5", "--target", "0.5,1,-3"];
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 14] = [
+        (&["--aperture-radius", "0.1", "--focus-pixel", "9,9"], "--focus-pixel"),
+        (&["--aperture-radius", "0.1", "--focus-pixel", "1"], "--focus-pixel"),
+        (&["--aperture-radius", "0.1", "--focus-pixel", "a,b"], "--focus-pixel"),
+        (&["--focus-pixel", "1,1"], "--aperture-radius"),
+        (&["--aperture-radius", "0.1", "--focus-pixel", "1,1", "--focus-distance", "2"], "give one"),
         (
             &["--aperture-radius", "0.1", "--aperture-blades", "2"],
             "--aperture-blades",
@@ -248,7 +253,7 @@ fn render_refuses_bad_lenses_and_leaves_no_file() {
             "-o",
             out.to_str().unwrap(),
         ];
-        args.extend(["--backend", "cpu", "--passes", "1"]);
+        args.extend(["--backend", "cpu", "--passes", "1", "--width", "8"]);
         args.extend(flags);
         assert_clean_error(&kousen(&args), words);
         assert_no_files_but(dir.path(), &["lit.gltf"]);

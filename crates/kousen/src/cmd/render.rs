@@ -145,7 +145,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         log::info!("no camera in the scene: the view {}", framed.name);
         framed
     });
-    let camera = with_lens(camera, &args.camera, &bvh)?;
+    let camera = with_lens(camera, &args.camera, &bvh, (width, height))?;
     let fingerprint = if args.checkpoint.is_some() || resume.is_some() {
         checkpoint_file::fingerprint(&bvh, &camera, &scene.lights)
     } else {
@@ -459,11 +459,13 @@ pub fn choose_camera(
 }
 
 /// `camera` with the lens of --aperture-radius and --focus-distance (a pinhole without them),
-/// focused by default on what the image's centre shows.
+/// focused by default on what the image's centre shows, or with --focus-pixel on what that
+/// pixel of an image of `size` shows.
 pub fn with_lens(
     camera: scene::Camera,
     args: &CameraArgs,
     bvh: &bvh::PackedBvh,
+    size: (u32, u32),
 ) -> anyhow::Result<scene::Camera> {
     if let Some(radius) = args.aperture_radius
         && !(radius.is_finite() && radius >= 0.0)
@@ -475,6 +477,9 @@ pub fn with_lens(
     {
         bail!("--focus-distance {distance}: the plane in focus lies a finite distance > 0 ahead");
     }
+    if args.focus_distance.is_some() && args.focus_pixel.is_some() {
+        bail!("--focus-distance and --focus-pixel both place the plane in focus: give one");
+    }
     let Some(radius) = args.aperture_radius.filter(|&r| r > 0.0) else {
         if args.focus_distance.is_some() && args.aperture_radius.is_none() {
             bail!("--focus-distance needs a lens: give --aperture-radius too");
@@ -482,11 +487,28 @@ pub fn with_lens(
         if args.aperture_blades != 0 && args.aperture_radius.is_none() {
             bail!("--aperture-blades shapes a lens: give --aperture-radius too");
         }
+        if args.focus_pixel.is_some() && args.aperture_radius.is_none() {
+            bail!("--focus-pixel focuses a lens: give --aperture-radius too");
+        }
         return Ok(camera);
     };
-    let focus_distance = match args.focus_distance {
-        Some(distance) => distance,
-        None => {
+    let focus_distance = match (args.focus_distance, &args.focus_pixel) {
+        (Some(distance), _) => distance,
+        (None, Some(pixel)) => {
+            let (x, y) = parse_pixel(pixel, size)?;
+            let (width, height) = (size.0 as f32, size.1 as f32);
+            let film = (
+                (x as f32 + 0.5) / width * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / height * 2.0,
+            );
+            let distance = render::lens::depth_along_view(bvh, &camera, film, width / height)
+                .with_context(|| {
+                    format!("--focus-pixel {pixel}: that pixel shows no surface to focus on")
+                })?;
+            log::info!("lens focused on pixel {x},{y}, {distance:.4} ahead");
+            distance
+        }
+        (None, None) => {
             let distance = render::lens::autofocus(bvh, &camera).context(
                 "--aperture-radius: the image's centre shows no surface to focus on; give --focus-distance",
             )?;
@@ -506,6 +528,17 @@ pub fn with_lens(
             )
         })?;
     Ok(camera.with_lens(lens))
+}
+
+/// --focus-pixel's "x,y", inside an image of `size`.
+fn parse_pixel(text: &str, (width, height): (u32, u32)) -> anyhow::Result<(u32, u32)> {
+    let values: Result<Vec<u32>, _> = text.split(',').map(|p| p.trim().parse::<u32>()).collect();
+    match values {
+        Ok(v) if v.len() == 2 && v[0] < width && v[1] < height => Ok((v[0], v[1])),
+        _ => bail!(
+            "--focus-pixel {text}: expected \"x,y\", whole numbers inside the {width}x{height} image"
+        ),
+    }
 }
 
 /// A flag that the first Ctrl-C sets, so that the render stops after the pass in flight and

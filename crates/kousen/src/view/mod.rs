@@ -18,7 +18,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let loaded = session::load_scene(&args.scene, args.bvh, &args.added_lights)?;
     let camera = crate::cmd::render::choose_camera(&loaded.scene, &args.camera)?
         .unwrap_or_else(|| render::framing::framed_view(&loaded.bvh, loaded.scene.bounds()));
-    let camera = crate::cmd::render::with_lens(camera, &args.camera, &loaded.bvh)?;
+    let size = (args.width, args.height);
+    let camera = crate::cmd::render::with_lens(camera, &args.camera, &loaded.bvh, size)?;
     let event_loop = winit::event_loop::EventLoop::new().map_err(|e| {
         log::debug!("view: no event loop: {e}");
         anyhow::anyhow!(

@@ -8,7 +8,8 @@
 #   3. the image converges: the later screenshot is closer to that reference than the earlier,
 #   4. opening a broken file (the path a drag and drop takes, driven by --open-after) reports
 #      the error and keeps the current scene; opening another scene shows that scene; opening
-#      a sky map (.hdr) lights that scene as `kousen render --sky-map` does,
+#      a sky map (.hdr) lights that scene as `kousen render --sky-map` does, and removing it
+#      (--remove-sky-map-after, the overlay's button) shows the scene without it again,
 #      the first scene, seen through a wide lens focused on its back wall, shows the blur that
 #      `kousen render` with the same lens shows (its blocks' edges nearer to it than to the
 #      pinhole's),
@@ -45,7 +46,8 @@ printf '{"asset": {"version": "2.0"}, "nodes": [' >"$work/broken.gltf"
     --open-after 12.5 "$work/broken.gltf" --screenshot-after 14 "$work/kept.png" \
     --open-after 14.5 "$second" --screenshot-after 28 "$work/second.png" \
     --open-after 28.5 "$sky_map" --screenshot-after 42 "$work/sky.png" \
-    --quit-after 43 >"$work/view.log" 2>&1 &
+    --remove-sky-map-after 42.5 --screenshot-after 56 "$work/unlit.png" \
+    --quit-after 57 >"$work/view.log" 2>&1 &
 view_pid=$!
 
 # Grab the whole X screen once the window has drawn for a while.
@@ -60,13 +62,15 @@ if [ $status -ne 0 ]; then
     echo "view_e2e: FAIL: kousen view exited with status $status" >&2
     exit 1
 fi
-for shot in early late kept second sky; do
+for shot in early late kept second sky unlit; do
     [ -s "$work/$shot.png" ] || { echo "view_e2e: FAIL: no $shot screenshot" >&2; exit 1; }
 done
 grep -q "cannot open $work/broken.gltf" "$work/view.log" \
     || { echo "view_e2e: FAIL: the broken file's error was not reported" >&2; exit 1; }
 grep -q "opened $sky_map" "$work/view.log" \
     || { echo "view_e2e: FAIL: the dropped sky map was not opened" >&2; exit 1; }
+grep -q "removed the sky map from $second" "$work/view.log" \
+    || { echo "view_e2e: FAIL: the sky map was not removed" >&2; exit 1; }
 
 # References: the same scenes, camera and size rendered to convergence on the CPU backend.
 "$kousen" render "$scene" $lens --backend cpu --width $size --height $size --passes 256 -o "$work/reference.png"
@@ -77,7 +81,7 @@ grep -q "opened $sky_map" "$work/view.log" \
 "$kousen" diff "$work/early.png" "$work/reference.png" --json "$work/early.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/reference.png" --json "$work/late.json" >/dev/null
 "$kousen" diff "$work/late.png" "$work/early.png" --json "$work/change.json" >/dev/null
-for image in late kept second sky reference pinhole second-reference sky-reference; do
+for image in late kept second sky unlit reference pinhole second-reference sky-reference; do
     pngtopnm "$work/$image.png" >"$work/$image.ppm"
 done
 
@@ -163,8 +167,10 @@ errors = {
     "second vs the second scene": block_error("second", "second-reference"),
     "sky (the map dropped on the second scene) vs it rendered with --sky-map":
         block_error("sky", "sky-reference"),
+    "unlit (the map removed again) vs the second scene": block_error("unlit", "second-reference"),
     "second vs the first scene": block_error("second", "reference"),
     "sky vs the second scene without the map": block_error("sky", "second-reference"),
+    "unlit vs the second scene with the map": block_error("unlit", "sky-reference"),
 }
 lens_error = block_error("late", "reference", 32)
 pinhole_error = block_error("late", "pinhole", 32)
@@ -175,13 +181,15 @@ if not lens_error < 0.5 * pinhole_error:
     failures.append("the window does not show its lens's blur")
 for what, error in errors.items():
     print(f"block error, {what}: {error:.3f}")
-for what in list(errors)[:4]:
+for what in list(errors)[:5]:
     if not errors[what] < 0.1:
         failures.append(f"block error {what} is {errors[what]:.3f} (must be < 0.1)")
 if not errors["second vs the first scene"] > 2 * errors["second vs the second scene"]:
     failures.append("after opening the second scene the window does not show it")
 if not errors["sky vs the second scene without the map"] > 2 * errors[list(errors)[3]]:
     failures.append("after dropping the sky map the window does not show it lit")
+if not errors["unlit vs the second scene with the map"] > 2 * errors[list(errors)[4]]:
+    failures.append("after removing the sky map the window still shows it lit")
 
 for f in failures:
     print(f"view_e2e: FAIL: {f}", file=sys.stderr)

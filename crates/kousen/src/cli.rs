@@ -664,6 +664,10 @@ pub struct ViewArgs {
     /// scripts and tests.
     #[arg(long, num_args = 2, value_names = ["SECONDS", "PATH"], action = clap::ArgAction::Append)]
     pub open_after: Vec<String>,
+    /// Take the sky map away this many seconds after the first frame, as the overlay's
+    /// "remove the sky map" does. For scripts and tests.
+    #[arg(long, value_name = "SECONDS")]
+    pub remove_sky_map_after: Option<f64>,
     /// Close the window this many seconds after the first frame (exit 0).
     #[arg(long, value_name = "SECONDS")]
     pub quit_after: Option<f64>,

@@ -216,11 +216,30 @@ fn render_refuses_bad_lenses_and_leaves_no_file() {
     let out = dir.path().join("out.png");
     let away = ["--eye", "0.5,1,0.5", "--target", "0.5,1,-3"];
     let cases: [(&[&str], &str); 14] = [
-        (&["--aperture-radius", "0.1", "--focus-pixel", "9,9"], "--focus-pixel"),
-        (&["--aperture-radius", "0.1", "--focus-pixel", "1"], "--focus-pixel"),
-        (&["--aperture-radius", "0.1", "--focus-pixel", "a,b"], "--focus-pixel"),
+        (
+            &["--aperture-radius", "0.1", "--focus-pixel", "9,9"],
+            "--focus-pixel",
+        ),
+        (
+            &["--aperture-radius", "0.1", "--focus-pixel", "1"],
+            "--focus-pixel",
+        ),
+        (
+            &["--aperture-radius", "0.1", "--focus-pixel", "a,b"],
+            "--focus-pixel",
+        ),
         (&["--focus-pixel", "1,1"], "--aperture-radius"),
-        (&["--aperture-radius", "0.1", "--focus-pixel", "1,1", "--focus-distance", "2"], "give one"),
+        (
+            &[
+                "--aperture-radius",
+                "0.1",
+                "--focus-pixel",
+                "1,1",
+                "--focus-distance",
+                "2",
+            ],
+            "give one",
+        ),
         (
             &["--aperture-radius", "0.1", "--aperture-blades", "2"],
             "--aperture-blades",

@@ -451,7 +451,10 @@ fn render_focuses_a_lens_on_the_image_s_centre() {
     // --focus-pixel: a pixel above the blocks shows the back wall, z = 559.2, a plane across
     // the view 1359.2 ahead whichever of its pixels is picked.
     let wall = dir.path().join("wall.pfm");
-    let stats = render_box(&wall, &format!("{base} --aperture-radius 20 --focus-pixel 18,8"));
+    let stats = render_box(
+        &wall,
+        &format!("{base} --aperture-radius 20 --focus-pixel 18,8"),
+    );
     let wall_distance = stats["lens"]["focus_distance"].as_f64().unwrap();
     assert!((wall_distance - 1359.2).abs() < 0.05, "{wall_distance}");
     let pinhole = dir.path().join("pinhole.pfm");

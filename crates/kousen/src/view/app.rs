@@ -101,6 +101,9 @@ pub struct App {
     session: Option<Session>,
     /// A dropped file being read on another thread.
     loading: Option<(PathBuf, mpsc::Receiver<anyhow::Result<Dropped>>)>,
+    /// While the scene is read again without its sky map (the overlay's "remove"): the map and
+    /// turn it had, put back if that fails (a scene with no light of its own).
+    removing_sky_map: Option<(Option<PathBuf>, f32)>,
     controller: Option<CameraController>,
     budget: FrameBudget,
     overlay: Overlay,
@@ -154,6 +157,7 @@ impl App {
             gfx: None,
             session: None,
             loading: None,
+            removing_sky_map: None,
             controller: None,
             budget: FrameBudget::new(TARGET_FRAME),
             overlay: Overlay::new(
@@ -365,6 +369,7 @@ impl App {
             Action::TogglePause => self.paused = !self.paused,
             Action::Restart | Action::ControlsChanged => self.restart = true,
             Action::Save => self.save(),
+            Action::RemoveSkyMap => self.remove_sky_map(),
             Action::SelectCamera(i) => {
                 let camera = self.session.as_ref().and_then(|s| s.scene.camera(Some(i)));
                 if let (Some(camera), Some(controller)) = (camera, &mut self.controller) {
@@ -401,10 +406,38 @@ impl App {
         });
     }
 
+    /// Reads the scene shown again without its sky map (nor later scenes get it), keeping the
+    /// view; the map stays if the scene has no light without it.
+    fn remove_sky_map(&mut self) {
+        let Some(path) = self.session.as_ref().map(|s| s.path.clone()) else {
+            return;
+        };
+        if self.removing_sky_map.is_some() {
+            return; // already being removed
+        }
+        if self.added_lights.sky_map.is_none() {
+            self.notify("there is no sky map to remove".into());
+            return;
+        }
+        let map = self.added_lights.sky_map.take();
+        let turn = self.overlay.controls.sky_rotation.take().unwrap_or(0.0);
+        self.open_dropped(&path);
+        self.removing_sky_map = Some((map, turn));
+    }
+
+    /// Puts back the sky map a removal took away (it failed, or another file was dropped).
+    fn keep_sky_map(&mut self) {
+        if let Some((map, turn)) = self.removing_sky_map.take() {
+            self.added_lights.sky_map = map;
+            self.overlay.controls.sky_rotation = Some(turn);
+        }
+    }
+
     /// A dropped file: read it on another thread; the current scene stays until it is ready.
     /// A scene opens; an image (.hdr, .exr, .pfm, .png) becomes the sky map, of this scene and
     /// of those opened after it.
     fn open_dropped(&mut self, path: &Path) {
+        self.keep_sky_map();
         let (send, receive) = mpsc::channel();
         let owned = path.to_owned();
         // The receiver may be gone if another file was dropped meanwhile.
@@ -467,7 +500,16 @@ impl App {
                     .map(|s| (s, false))
             }
         });
+        let removing = self.removing_sky_map.is_some();
         match opened {
+            Ok((session, _)) if removing => {
+                // The same scene without its map: the view, lens and title stay.
+                self.removing_sky_map = None;
+                self.added_lights.sky_rotate = 0.0;
+                self.session = Some(session);
+                self.notify(format!("removed the sky map from {}", path.display()));
+                self.restart = true;
+            }
             Ok((session, new_scene)) => {
                 if new_scene {
                     let camera = session.default_camera();
@@ -486,6 +528,10 @@ impl App {
                 self.photon_cuts_left = MAX_PHOTON_CUTS;
                 self.notify(format!("opened {}", path.display()));
                 self.restart = true;
+            }
+            Err(e) if removing => {
+                self.keep_sky_map();
+                self.notify(format!("the sky map stays: {e:#}"));
             }
             Err(e) => self.notify(format!("cannot open {}: {e:#}", path.display())),
         }
@@ -524,6 +570,7 @@ impl App {
                     eprintln!("kousen: saved {}", path.display());
                 }
                 Timed::Open(path) => self.open_dropped(&path),
+                Timed::RemoveSkyMap => self.remove_sky_map(),
             }
         }
         if self.schedule.should_quit(elapsed) {
@@ -836,7 +883,12 @@ impl ApplicationHandler for App {
 
 /// Every argument checked before a window opens: the schedule and the render's controls.
 pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderControls)> {
-    let schedule = Schedule::new(&args.screenshot_after, &args.open_after, args.quit_after)?;
+    let schedule = Schedule::new(
+        &args.screenshot_after,
+        &args.open_after,
+        args.remove_sky_map_after,
+        args.quit_after,
+    )?;
     if let Some(s) = args.render_scale {
         anyhow::ensure!(
             s.is_finite() && s > 0.0 && s <= 4.0,

@@ -32,6 +32,8 @@ pub enum Action {
     SelectCamera(usize),
     /// `Overlay::controls` changed: restart with them.
     ControlsChanged,
+    /// Light the scene without its sky map again (and the scenes opened after).
+    RemoveSkyMap,
 }
 
 pub struct Overlay {
@@ -208,6 +210,9 @@ impl Overlay {
             );
             if settled(&turn) {
                 actions.push(Action::ControlsChanged);
+            }
+            if ui.button("remove the sky map").clicked() {
+                actions.push(Action::RemoveSkyMap);
             }
         }
 

@@ -1,5 +1,5 @@
-//! Timed screenshots, scene opening and quitting (`--screenshot-after`, `--open-after`,
-//! `--quit-after`): what scripts and the end-to-end test use to drive the window without input.
+//! Timed screenshots, scene opening, sky map removal and quitting (`--screenshot-after`,
+//! `--open-after`, `--remove-sky-map-after`, `--quit-after`): what scripts and the end-to-end test use to drive the window without input.
 
 use std::path::PathBuf;
 
@@ -12,6 +12,8 @@ pub enum Timed {
     Screenshot(PathBuf),
     /// Open this scene file as if dropped on the window.
     Open(PathBuf),
+    /// Press the overlay's "remove the sky map".
+    RemoveSkyMap,
 }
 
 #[derive(Debug, Default)]
@@ -23,10 +25,11 @@ pub struct Schedule {
 
 impl Schedule {
     /// From `--screenshot-after SECONDS PATH` and `--open-after SECONDS PATH` pairs (flattened,
-    /// as clap gives them) and `--quit-after SECONDS`.
+    /// as clap gives them), `--remove-sky-map-after SECONDS` and `--quit-after SECONDS`.
     pub fn new(
         screenshots: &[String],
         opens: &[String],
+        remove_sky_map_after: Option<f64>,
         quit_after: Option<f64>,
     ) -> anyhow::Result<Schedule> {
         let mut events = Vec::new();
@@ -54,6 +57,10 @@ impl Schedule {
                 };
                 events.push((seconds, event));
             }
+        }
+        if let Some(seconds) = remove_sky_map_after {
+            let seconds = parse_seconds(&seconds.to_string()).context("--remove-sky-map-after")?;
+            events.push((seconds, Timed::RemoveSkyMap));
         }
         // Stable: events at the same time keep their command-line order.
         events.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -107,6 +114,7 @@ mod tests {
         let mut s = Schedule::new(
             &pairs(&["8", "b.png", "2", "a.png"]),
             &pairs(&["4", "next.glb"]),
+            Some(6.0),
             Some(9.0),
         )
         .unwrap();
@@ -114,6 +122,7 @@ mod tests {
         assert_eq!(s.take_due(2.5), vec![shot("a.png")]);
         assert!(s.take_due(2.6).is_empty(), "a shot is taken once");
         assert_eq!(s.take_due(4.0), vec![Timed::Open("next.glb".into())]);
+        assert_eq!(s.take_due(7.0), vec![Timed::RemoveSkyMap]);
         assert!(!s.should_quit(8.5), "b.png is still due");
         assert_eq!(s.take_due(100.0), vec![shot("b.png")]);
         assert!(!s.should_quit(8.9));
@@ -122,7 +131,7 @@ mod tests {
 
     #[test]
     fn quit_waits_for_late_events() {
-        let mut s = Schedule::new(&pairs(&["5", "a.png"]), &[], Some(1.0)).unwrap();
+        let mut s = Schedule::new(&pairs(&["5", "a.png"]), &[], None, Some(1.0)).unwrap();
         assert!(!s.should_quit(2.0));
         s.take_due(5.0);
         assert!(s.should_quit(5.0));
@@ -130,18 +139,19 @@ mod tests {
 
     #[test]
     fn without_flags_nothing_is_pending() {
-        let s = Schedule::new(&[], &[], None).unwrap();
+        let s = Schedule::new(&[], &[], None, None).unwrap();
         assert!(!s.is_pending());
         assert!(!s.should_quit(1e6));
     }
 
     #[test]
     fn bad_arguments_are_refused() {
-        assert!(Schedule::new(&pairs(&["x", "a.png"]), &[], None).is_err());
-        assert!(Schedule::new(&pairs(&["-1", "a.png"]), &[], None).is_err());
-        assert!(Schedule::new(&pairs(&["1", "a.exr"]), &[], None).is_err());
-        assert!(Schedule::new(&pairs(&["inf", "a.png"]), &[], None).is_err());
-        assert!(Schedule::new(&[], &pairs(&["soon", "a.glb"]), None).is_err());
-        assert!(Schedule::new(&[], &[], Some(f64::NAN)).is_err());
+        assert!(Schedule::new(&pairs(&["x", "a.png"]), &[], None, None).is_err());
+        assert!(Schedule::new(&pairs(&["-1", "a.png"]), &[], None, None).is_err());
+        assert!(Schedule::new(&pairs(&["1", "a.exr"]), &[], None, None).is_err());
+        assert!(Schedule::new(&pairs(&["inf", "a.png"]), &[], None, None).is_err());
+        assert!(Schedule::new(&[], &pairs(&["soon", "a.glb"]), None, None).is_err());
+        assert!(Schedule::new(&[], &[], None, Some(f64::NAN)).is_err());
+        assert!(Schedule::new(&[], &[], Some(-2.0), None).is_err());
     }
 }

@@ -36,9 +36,9 @@ use scene::{Material, Surface};
 use crate::SceneData;
 use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, clearcoat_bounce, dielectric_branches,
-    diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, hit_clearcoat, is_cut_out,
-    medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
-    specular_direction, trace, transmittance_to, unoccluded,
+    diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, hit_clearcoat, hit_sheen,
+    is_cut_out, medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce,
+    shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -148,6 +148,32 @@ pub fn photon_pass_with<R: StreamRng>(
         };
     }
     let root = hit.material;
+    // glTF's sheen beneath the coat meets it next (`render::sheen`): what it reflects is not
+    // kept on the material beneath and goes on from the sheen's lobe.
+    let through_sheen = hit_sheen(scene, root, hit.uv);
+    if let Some(sheen) = through_sheen
+        && let Some(reflected) = sheen_bounce(&hit, direction, &sheen, || rng.next_f32())
+    {
+        slot.depth += 1;
+        match reflected {
+            Some((next, weight)) if slot.depth < params.max_depth => {
+                let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
+                    * departure_factor(next, hit.shading, hit.geometric);
+                let coat = through_coat.map_or(1.0, |c| {
+                    clearcoat_transmittance(&c, next.dot(hit.interpolated))
+                });
+                slot.origin = offset_origin(&hit, next, params.epsilon).to_array();
+                slot.direction = next.to_array();
+                slot.flux = (flux * weight * (shading_factors * coat)).to_array();
+            }
+            _ => slot.depth = SLOT_IDLE,
+        }
+        return PhotonStep {
+            slot,
+            photon,
+            emitted,
+        };
+    }
     // A blend keeps the photon for its Lambertian member whichever member the path takes
     // (`render::blend`); the member is drawn only at blends, so other streams stay as they were.
     let keeper = blend_photon_member(&scene.materials, hit.material);
@@ -230,13 +256,14 @@ pub fn photon_pass_with<R: StreamRng>(
             (next, tint * spectral_weight)
         }
     };
-    // Out through the clear coat, if any.
+    // Out through the sheen and the clear coat, if any.
     let next = next.map(|(next, weight)| {
         let departure = departure_factor(next, hit.shading, hit.geometric);
         let coat = through_coat.map_or(1.0, |c| {
             clearcoat_transmittance(&c, next.dot(hit.interpolated))
         });
-        (next, weight * (arrival * departure * coat))
+        let sheen = through_sheen.map_or(1.0, |s| s.transmittance(next.dot(hit.shading)));
+        (next, weight * (arrival * departure * coat * sheen))
     });
     let survival = tint.max_element().min(1.0);
     slot.depth += 1;
@@ -469,6 +496,38 @@ fn eye_path(
             continue;
         }
         let root = hit.material;
+        // glTF's sheen beneath the coat meets it next (`render::sheen`): its reflection takes
+        // a light sample for the sheen's lobe and goes on from it, weighed against that sample.
+        let through_sheen = hit_sheen(scene, root, hit.uv);
+        if let Some(sheen) = through_sheen
+            && let Some(reflected) = sheen_bounce(&hit, direction, &sheen, || rng.next_f32())
+        {
+            let Some((next, weight)) = reflected else {
+                break;
+            };
+            let mut lit = LitLobes {
+                glossy: throughput * sheen.lobe_scale(direction.dot(hit.shading)),
+                lobe: GlossyLobe::sheen(sheen.table.alpha),
+                clearcoat: through_coat,
+                ..LitLobes::default()
+            };
+            if params.sample_lights & SAMPLE_AT_GLOSSY == 0 {
+                lit.lobe = GlossyLobe::default();
+            }
+            if lit.is_lit() && !scene.lights.is_empty() {
+                let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                direct += direct_light(scene, params, &hit, -direction, &lit, medium, u);
+            }
+            glossy = GlossyVertex::after(&hit, &lit, -direction, next);
+            let coat = through_coat.map_or(1.0, |c| {
+                clearcoat_transmittance(&c, next.dot(hit.interpolated))
+            });
+            throughput *= weight * coat;
+            depth += 1;
+            origin = offset_origin(&hit, next, params.epsilon);
+            direction = next;
+            continue;
+        }
         // A blend's member for this path (`render::blend`), drawn only at blends.
         let hit_texel = HitTexel::new(&scene.textures, hit.uv);
         let texel = |texture| hit_texel.get(texture);
@@ -486,6 +545,7 @@ fn eye_path(
         // always, the Lambertian one where the path ends on it (below).
         let mut lit = LitLobes {
             clearcoat: through_coat,
+            sheen: through_sheen,
             ..LitLobes::default()
         };
         // The surface the path meets: dispersive glass's, for the path's wavelength.
@@ -605,11 +665,12 @@ fn eye_path(
             break;
         };
         glossy = GlossyVertex::after(&hit, &lit, -direction, next);
-        // Out through the clear coat, if any.
+        // Out through the sheen and the clear coat, if any.
         let coat = through_coat.map_or(1.0, |c| {
             clearcoat_transmittance(&c, next.dot(hit.interpolated))
         });
-        throughput *= tint * (weight * coat);
+        let sheen = through_sheen.map_or(1.0, |s| s.transmittance(next.dot(hit.shading)));
+        throughput *= tint * (weight * coat * sheen);
         if throughput.max_element() <= 0.0 {
             break;
         }
@@ -671,6 +732,8 @@ pub struct LitLobes {
     pub lobe: GlossyLobe,
     /// glTF's clear coat over both lobes, which the light passes on its way in.
     pub clearcoat: Option<scene::Clearcoat>,
+    /// glTF's sheen over both lobes (beneath the clear coat), which the light passes too.
+    pub sheen: Option<render::sheen::SheenAt>,
 }
 
 impl LitLobes {
@@ -696,7 +759,8 @@ impl LitLobes {
         // In through the clear coat, if any (about the normal before the map).
         let through =
             |c: scene::Clearcoat| clearcoat_transmittance(&c, incident.dot(hit.interpolated));
-        response * self.clearcoat.map_or(1.0, through)
+        let sheen = self.sheen.map_or(1.0, |s| s.transmittance(cosine));
+        response * (self.clearcoat.map_or(1.0, through) * sheen)
     }
 }
 

@@ -42,6 +42,8 @@ pub struct SceneData {
     pub light_area_density: Vec<f32>,
     /// Every material's plastic coat, over its texture's widths where one maps it.
     pub coats: render::coats::Coats,
+    /// Every material's sheen table (`render::sheen`; `None` without a sheen).
+    pub sheens: Vec<Option<render::sheen::SheenTable>>,
 }
 
 impl SceneData {
@@ -53,6 +55,7 @@ impl SceneData {
             wide: bvh::WideMtbvh::new(&bvh).ok(),
             bvh,
             coats: render::coats::Coats::of(&nesting.materials),
+            sheens: render::sheen::sheen_tables(&nesting.materials),
             materials: nesting.materials,
             exterior: nesting.exterior,
             textures: TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE),

@@ -14,6 +14,7 @@ use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract,
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
+use render::sheen::{SheenAt, SheenEvent};
 use render::textures::TextureArray;
 use scene::{AlphaMode, Clearcoat, Material, Surface};
 
@@ -344,6 +345,34 @@ pub fn clearcoat_bounce(
             // Bent below the geometric surface by the shading normal: it would leak through.
             coat.alpha == 0.0 || next.dot(hit.geometric) > 0.0
         })),
+    }
+}
+
+/// The sheen of material `id` (a hit's root) at texture coordinates `uv`
+/// (`render::sheen::SheenAt`), `None` for none.
+pub fn hit_sheen(scene: &SceneData, id: u32, uv: Vec2) -> Option<SheenAt> {
+    let material = &scene.materials[id as usize];
+    let (sheen, table) = (material.sheen?, scene.sheens[id as usize]?);
+    let texel = |id| texture(&scene.textures, Some(id), uv);
+    Some(SheenAt::new(&sheen, table, texel))
+}
+
+/// glTF's sheen at `hit` (`render::sheen::sheen_event` about the shading normal, three numbers
+/// drawn from `next_number`): `None` where it lets the ray through to the material beneath;
+/// else the direction it reflects into and its weight, `None` where that lies below the
+/// geometric surface (the path ends).
+pub fn sheen_bounce(
+    hit: &SurfaceHit,
+    incoming: Vec3,
+    sheen: &SheenAt,
+    mut next_number: impl FnMut() -> f32,
+) -> Option<Option<(Vec3, Vec3)>> {
+    let u = [next_number(), next_number(), next_number()];
+    match sheen.event(incoming, hit.shading, u) {
+        SheenEvent::Through => None,
+        SheenEvent::Reflected(next, weight) => Some(
+            (next.dot(hit.geometric) > 0.0 && weight.max_element() > 0.0).then_some((next, weight)),
+        ),
     }
 }
 

@@ -62,6 +62,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MIRROR_MAX_ROUGHNESS", F32(scene::MIRROR_MAX_ROUGHNESS)),
         ("DIFFUSE_MIN_ROUGHNESS", F32(scene::DIFFUSE_MIN_ROUGHNESS)),
         ("CLEARCOAT_IOR", F32(scene::Clearcoat::IOR)),
+        ("SHEEN_NODES", U32(render::sheen::SHEEN_NODES as u32)),
         ("SLOT_IDLE", U32(buffers::SLOT_IDLE)),
         ("LIGHT_TRIANGLE", U32(buffers::LIGHT_TRIANGLE)),
         ("LIGHT_POINT", U32(buffers::LIGHT_POINT)),

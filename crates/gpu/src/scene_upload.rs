@@ -231,6 +231,12 @@ pub fn gpu_materials(
     for (gpu, &around) in records.iter_mut().zip(exterior) {
         gpu.exterior = around;
     }
+    let sheens = render::sheen::sheen_tables(materials);
+    for (gpu, table) in records.iter_mut().zip(&sheens) {
+        if let Some(table) = table {
+            gpu.set_sheen_table(table);
+        }
+    }
     for id in 0..materials.len() as u32 {
         let gpu = &mut records[id as usize];
         gpu.blend_photon_member = render::blend::blend_photon_member(materials, id);

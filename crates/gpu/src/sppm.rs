@@ -133,6 +133,8 @@ pub(crate) struct SceneFeatures {
     pub blends: bool,
     /// Some material wears a clear coat (`CLEARCOATS`).
     pub clearcoats: bool,
+    /// Some material wears a sheen (`SHEENS`).
+    pub sheens: bool,
     /// Some solid absorbs inside (`MEDIA`).
     pub media: bool,
     /// Some glass disperses (`DISPERSION`).
@@ -160,6 +162,7 @@ impl SceneFeatures {
             }),
             blends: any(|m| m.blend.is_some()),
             clearcoats: any(|m| m.clearcoat.is_some()),
+            sheens: any(|m| m.sheen.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
@@ -167,7 +170,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 9] {
+    fn constants(self) -> [(&'static str, f64); 10] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -175,6 +178,7 @@ impl SceneFeatures {
             ("FROSTED_GLASS", flag(self.frosted_glass)),
             ("BLENDS", flag(self.blends)),
             ("CLEARCOATS", flag(self.clearcoats)),
+            ("SHEENS", flag(self.sheens)),
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),
@@ -800,5 +804,7 @@ mod tests {
             features(&testing::cornell_blended()),
             (false, true, false, true)
         );
+        let sheens = |scene: &scene::Scene| SceneFeatures::of(scene).sheens;
+        assert!(sheens(&testing::cornell_sheen()) && !sheens(&testing::cornell_clearcoat()));
     }
 }

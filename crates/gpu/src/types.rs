@@ -140,7 +140,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (208 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (304 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -210,6 +210,14 @@ pub struct GpuMaterial {
     pub clearcoat_alpha: f32,
     pub clearcoat_texture: u32,
     pub clearcoat_roughness_texture: u32,
+    /// glTF's sheen (`render::sheen`): its colour (black: none) and Charlie width α, its
+    /// table's albedo nodes four a row (`render::sheen::SheenTable`; the upload sets them),
+    /// and its colour texture (`NO_TEXTURE` for none).
+    pub sheen_color: [f32; 3],
+    pub sheen_alpha: f32,
+    pub sheen_albedo: [[f32; 4]; 4],
+    pub sheen_color_texture: u32,
+    pub pad_sheen: [u32; 3],
 }
 
 impl GpuMaterial {
@@ -283,7 +291,21 @@ impl GpuMaterial {
             clearcoat_roughness_texture: (material.clearcoat)
                 .and_then(|c| c.roughness_texture)
                 .unwrap_or(NO_TEXTURE),
+            sheen_color: material.sheen.map_or([0.0; 3], |s| s.color.to_array()),
+            sheen_alpha: material.sheen.map_or(0.0, |s| s.roughness * s.roughness),
+            sheen_albedo: [[0.0; 4]; 4],
+            sheen_color_texture: (material.sheen)
+                .and_then(|s| s.color_texture)
+                .unwrap_or(NO_TEXTURE),
+            pad_sheen: [0; 3],
         }
+    }
+
+    /// The albedo nodes of this material's sheen `table` (`render::sheen::SheenTable`).
+    pub fn set_sheen_table(&mut self, table: &render::sheen::SheenTable) {
+        self.sheen_alpha = table.alpha;
+        self.sheen_albedo =
+            std::array::from_fn(|row| std::array::from_fn(|col| table.albedo_nodes[4 * row + col]));
     }
 }
 
@@ -305,6 +327,7 @@ impl GpuMaterial {
             exterior: render::medium::NO_MEDIUM,
             clearcoat_texture: NO_TEXTURE,
             clearcoat_roughness_texture: NO_TEXTURE,
+            sheen_color_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

@@ -353,6 +353,16 @@ fn gpu_types_layout_matches_rust() {
                 "clearcoat_roughness_texture",
                 offset_of!(GpuMaterial, clearcoat_roughness_texture),
             ),
+            ("sheen_color", offset_of!(GpuMaterial, sheen_color)),
+            ("sheen_alpha", offset_of!(GpuMaterial, sheen_alpha)),
+            ("sheen_albedo", offset_of!(GpuMaterial, sheen_albedo)),
+            (
+                "sheen_color_texture",
+                offset_of!(GpuMaterial, sheen_color_texture),
+            ),
+            ("pad_sheen0", offset_of!(GpuMaterial, pad_sheen)),
+            ("pad_sheen1", offset_of!(GpuMaterial, pad_sheen) + 4),
+            ("pad_sheen2", offset_of!(GpuMaterial, pad_sheen) + 8),
         ],
     );
     assert_layout(

@@ -855,6 +855,50 @@ fn every_kernel_matches_its_twin_under_textured_clear_coats() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same under sheens (`render::sheen` and its WGSL twin): velvet over a Lambertian base,
+/// and a sheen over rough plastic under half a clear coat; the sheen reflects or lets through,
+/// photons it reflects are not kept, its reflection takes a light sample for its own lobe, and
+/// light samples and bounces beneath pass it.
+#[test]
+fn every_kernel_matches_its_twin_under_sheens() {
+    every_kernel_matches_its_twin(scene::testing::cornell_sheen(), DirectLight::Sampled);
+}
+
+/// The same with the velvet's sheen colour textured (`render::sheen::SheenAt::new`): a
+/// checker of white and dark blue, so that hits meet sheens of different colour and strength.
+#[test]
+fn every_kernel_matches_its_twin_under_textured_sheens() {
+    let mut scene = scene::testing::cornell_sheen();
+    let side = 8u32;
+    let texels = (0..side * side)
+        .map(|i| match (i % side + i / side) % 2 {
+            0 => [1.0, 1.0, 1.0, 1.0],
+            _ => [0.1, 0.2, 0.6, 1.0],
+        })
+        .collect();
+    let texture = scene.textures.len() as u32;
+    scene.textures.push(scene::Texture {
+        name: "sheen checker".into(),
+        width: side,
+        height: side,
+        texels: scene::Texels::LinearF32(texels),
+    });
+    let velvet = (scene.materials.iter())
+        .position(|m| m.name == "red velvet")
+        .expect("the velvet") as usize;
+    scene.materials[velvet]
+        .sheen
+        .as_mut()
+        .unwrap()
+        .color_texture = Some(texture);
+    for triangle in (scene.triangles.iter_mut()).filter(|t| t.material as usize == velvet) {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x, v.position.y) / 40.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
 /// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
 /// solid glass or diffuse), and photons are kept for the Lambertian member whichever member

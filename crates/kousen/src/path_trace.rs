@@ -31,6 +31,7 @@ use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract}
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::{is_lifted, shadow_origin};
+use render::sheen::{SheenAt, SheenEvent, SheenTable};
 use render::sky_map::{sky_map_buffer, sky_radiance};
 
 /// What to render and how much.
@@ -72,6 +73,8 @@ pub struct PathTracer<'a> {
     light_area_density: Vec<f32>,
     /// Every material's plastic coat, over its texture's widths where one maps it.
     coats: Coats,
+    /// Every material's sheen table (`render::sheen`).
+    sheens: Vec<Option<SheenTable>>,
     /// Whether any material has alpha cut-outs (shadow rays must then look through them).
     has_cut_outs: bool,
     /// Offset of a continuation ray's origin, relative to the scene's size.
@@ -144,6 +147,9 @@ struct LitLobes<'a> {
     /// glTF's clear coat over both lobes, which the light passes on its way in, and the normal
     /// it follows (the shading one before the normal map, facing the path).
     clearcoat: Option<(scene::Clearcoat, Vec3)>,
+    /// glTF's sheen over both lobes (beneath the clear coat), which the light passes too, and
+    /// the normal it follows (the shading one, facing the path).
+    sheen: Option<(SheenAt, Vec3)>,
 }
 
 impl<'a> LitLobes<'a> {
@@ -172,6 +178,7 @@ impl<'a> LitLobes<'a> {
                     glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
                     lobe: GlossyLobe::reflection(alpha, ior),
                     clearcoat: None,
+                    sheen: None,
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
@@ -249,7 +256,8 @@ impl<'a> LitLobes<'a> {
         let through = |(c, normal): (scene::Clearcoat, Vec3)| {
             clearcoat_transmittance(&c, incident.dot(normal))
         };
-        response * self.clearcoat.map_or(1.0, through)
+        let sheen = |(s, normal): (SheenAt, Vec3)| s.transmittance(incident.dot(normal));
+        response * (self.clearcoat.map_or(1.0, through) * self.sheen.map_or(1.0, sheen))
     }
 }
 
@@ -274,6 +282,7 @@ impl<'a> PathTracer<'a> {
             light_triangles: light_table_triangles(scene),
             light_area_density: light_area_density(scene),
             coats: Coats::of(&nesting.materials),
+            sheens: render::sheen::sheen_tables(&nesting.materials),
             materials: nesting.materials,
             exterior: nesting.exterior,
             has_cut_outs,
@@ -382,6 +391,43 @@ impl<'a> PathTracer<'a> {
                 }
             }
             let root = point.material;
+            let coat_normal = facing_interpolated_normals(&point, front).1;
+            // glTF's sheen beneath the coat meets it next (`render::sheen`): its reflection
+            // takes a light sample for the sheen's lobe and goes on from it.
+            let through_sheen = (material.sheen)
+                .zip(self.sheens[root as usize])
+                .map(|(s, t)| SheenAt::new(&s, t, |id| self.texture(Some(id), point.uv)));
+            if let Some(sheen) = through_sheen {
+                let (geometric, shading) = facing_normals(&point, front);
+                let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                if let SheenEvent::Reflected(next, weight) = sheen.event(direction, shading, u) {
+                    if next.dot(geometric) <= 0.0 || weight.max_element() <= 0.0 {
+                        break;
+                    }
+                    let lit = LitLobes {
+                        glossy: sheen.lobe_scale(direction.dot(shading)),
+                        lobe: GlossyLobe::sheen(sheen.table.alpha),
+                        clearcoat: through_coat.map(|c| (c, coat_normal)),
+                        ..LitLobes::default()
+                    };
+                    if !self.lights.is_empty() {
+                        let light = self.direct_light(&point, front, -direction, &lit, medium, rng);
+                        radiance += throughput * light;
+                    }
+                    arrival = Arrival::Sampled {
+                        from: point.position,
+                        normal: shading,
+                        pdf: lit.lobe.response(shading, -direction, next).pdf,
+                    };
+                    let coat = through_coat
+                        .map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(coat_normal)));
+                    throughput *= weight * coat;
+                    depth += 1;
+                    origin = self.leaving(&point, next);
+                    direction = next;
+                    continue;
+                }
+            }
             // A blend's member for this path (`render::blend`), drawn only at blends.
             let texel = |texture| self.texture(Some(texture), point.uv);
             if material.blend.is_some() {
@@ -415,7 +461,8 @@ impl<'a> PathTracer<'a> {
                 &dispersed
             };
             let lit = LitLobes {
-                clearcoat: through_coat.map(|c| (c, facing_interpolated_normals(&point, front).1)),
+                clearcoat: through_coat.map(|c| (c, coat_normal)),
+                sheen: through_sheen.map(|s| (s, shading)),
                 ..LitLobes::of(lobes_of, &coat, tint, (-direction, shading), front)
             };
             if lit.is_lit() && !self.lights.is_empty() {
@@ -426,10 +473,11 @@ impl<'a> PathTracer<'a> {
             let Some((next, weight, lobe)) = scattered else {
                 break;
             };
-            // Out through the clear coat, if any (about the normal before the map).
-            let coat_normal = facing_interpolated_normals(&point, front).1;
+            // Out through the sheen and the clear coat, if any (the coat about the normal
+            // before the map).
             let weight = weight
-                * through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(coat_normal)));
+                * through_coat.map_or(1.0, |c| clearcoat_transmittance(&c, next.dot(coat_normal)))
+                * through_sheen.map_or(1.0, |s| s.transmittance(next.dot(shading)));
             arrival = match lobe {
                 // Light samples (the sky's hemisphere) were drawn about the lobe's facing side.
                 Lobe::LightSampled { pdf } => Arrival::Sampled {

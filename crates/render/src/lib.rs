@@ -32,6 +32,7 @@ pub mod rng;
 pub mod sampling;
 pub mod settings;
 pub mod shadow_terminator;
+pub mod sheen;
 pub mod sky_map;
 pub mod textures;
 pub mod tonemap;

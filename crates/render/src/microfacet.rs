@@ -206,7 +206,8 @@ pub fn sheet_response(
 /// that is nonzero: a plastic coat's, solid frosted glass's from outside; 0 for a metal's);
 /// where `refraction_eta` is nonzero, solid frosted glass's refraction out of it to the far
 /// side instead ([`refraction_response`] with that relative index); where `sheet_eta` is
-/// nonzero, a thin frosted sheet's reflection and transmission ([`sheet_response`]).
+/// nonzero, a thin frosted sheet's reflection and transmission ([`sheet_response`]); where
+/// `sheen` is set, glTF's sheen of Charlie width `alpha` (`render::sheen::sheen_response`).
 /// `alpha` 0: no lobe.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GlossyLobe {
@@ -214,6 +215,7 @@ pub struct GlossyLobe {
     pub fresnel_ior: f32,
     pub refraction_eta: f32,
     pub sheet_eta: f32,
+    pub sheen: bool,
 }
 
 impl GlossyLobe {
@@ -244,6 +246,15 @@ impl GlossyLobe {
         }
     }
 
+    /// glTF's sheen of Charlie width `alpha` (`render::sheen`).
+    pub fn sheen(alpha: f32) -> GlossyLobe {
+        GlossyLobe {
+            alpha,
+            sheen: true,
+            ..GlossyLobe::default()
+        }
+    }
+
     pub fn is_some(&self) -> bool {
         self.alpha > 0.0
     }
@@ -268,7 +279,9 @@ impl GlossyLobe {
     /// and lit along `incident`: its value as the eye path carries it (light refracted out
     /// towards a viewer inside gains `eye_refraction_scale`) and its own sampling density.
     pub fn response(&self, shading: Vec3, outgoing: Vec3, incident: Vec3) -> GlossyResponse {
-        if self.refraction_eta > 0.0 {
+        if self.sheen {
+            crate::sheen::sheen_response(shading, outgoing, incident, self.alpha)
+        } else if self.refraction_eta > 0.0 {
             let (alpha, eta) = (self.alpha, self.refraction_eta);
             let mut response = refraction_response(outgoing, incident, shading, alpha, eta);
             response.value *= eye_refraction_scale(eta);

@@ -28,8 +28,9 @@ pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{
     AlphaMode, Blend, Clearcoat, DIFFUSE_MIN_ROUGHNESS, MAX_BLEND_MEMBERS, MIRROR_MAX_ROUGHNESS,
-    Material, RoughnessMap, Surface, TextureRoughness, TexturedLobe, absorption_from_attenuation,
-    coated_surface, dispersion_from_abbe, glass_surface, metal_surface,
+    Material, RoughnessMap, Sheen, Surface, TextureRoughness, TexturedLobe,
+    absorption_from_attenuation, coated_surface, dispersion_from_abbe, glass_surface,
+    metal_surface,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use sky_map::SkyMap;

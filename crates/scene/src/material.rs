@@ -81,6 +81,39 @@ pub struct Material {
     /// A clear coat over the whole material (glTF's `KHR_materials_clearcoat`; every member
     /// of a blend carries it, the kernels read the root's); `None` for none.
     pub clearcoat: Option<Clearcoat>,
+    /// A sheen over the material beneath the clear coat (glTF's `KHR_materials_sheen`: velvet,
+    /// cloth); `None` for none.
+    pub sheen: Option<Sheen>,
+}
+
+/// glTF's sheen (`KHR_materials_sheen`): a retro-reflective fibre layer of the Charlie
+/// distribution over the material, reflecting its colour most at grazing angles and dimming
+/// what lies beneath by the share it reflects (`render::sheen`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sheen {
+    /// glTF's `sheenColorFactor` (linear RGB, each channel in [0, 1]; not all zero).
+    pub color: Vec3,
+    /// glTF's `sheenRoughnessFactor`, raised to [`Sheen::MIN_ROUGHNESS`].
+    pub roughness: f32,
+    /// glTF's `sheenColorTexture` (sRGB): multiplies `color`.
+    pub color_texture: Option<TextureId>,
+}
+
+impl Sheen {
+    /// The least roughness kept: the Charlie distribution's peak grows as 1 / roughness², and
+    /// below this the lobe's weights (and its albedo table) would be dominated by a sliver of
+    /// grazing directions.
+    pub const MIN_ROUGHNESS: f32 = 0.07;
+
+    /// The sheen of glTF's `sheenColorFactor` and `sheenRoughnessFactor`; `None` where the
+    /// colour is black (glTF's default: no sheen).
+    pub fn new(color: Vec3, roughness: f32) -> Option<Sheen> {
+        (color.max_element() > 0.0).then_some(Sheen {
+            color,
+            roughness: roughness.clamp(Sheen::MIN_ROUGHNESS, 1.0),
+            color_texture: None,
+        })
+    }
 }
 
 /// A thin clear layer of index [`Clearcoat::IOR`] over a material, reflecting `weight` times
@@ -386,6 +419,7 @@ impl Default for Material {
             dispersion: 0.0,
             roughness_map: None,
             clearcoat: None,
+            sheen: None,
         }
     }
 }

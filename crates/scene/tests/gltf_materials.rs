@@ -561,7 +561,7 @@ fn an_emissive_quad_is_collected_as_a_light_with_its_area_and_power() {
 fn ignored_extensions_are_named_in_one_warning() {
     let mut doc = quad_doc(None);
     doc.json["extensionsUsed"] = json!([
-        "KHR_materials_sheen",
+        "KHR_materials_anisotropy",
         "KHR_materials_ior",
         "KHR_materials_specular"
     ]);
@@ -572,7 +572,7 @@ fn ignored_extensions_are_named_in_one_warning() {
         .filter(|w| w.contains("extension"))
         .collect();
     assert_eq!(warnings.len(), 2, "{warnings:?}");
-    assert_mentions(warnings[0], &["ignoring", "KHR_materials_sheen"]);
+    assert_mentions(warnings[0], &["ignoring", "KHR_materials_anisotropy"]);
     assert!(!warnings[0].contains("KHR_materials_specular"));
     // Read in part: named on its own, with what is read.
     assert_mentions(warnings[1], &["KHR_materials_specular", "specularFactor 0"]);
@@ -956,4 +956,75 @@ fn a_metallic_roughness_texture_maps_the_metal_and_the_coat() {
         (opaque.surface, opaque.roughness_map),
         (Surface::Diffuse, None)
     );
+}
+
+/// `KHR_materials_sheen`'s factors as `Material::sheen` (roughness raised to its least), on
+/// every member of a blend; a black colour is no sheen; its colour texture is read as sRGB,
+/// its roughness texture warned about; bad factors are refused; it may be required.
+#[test]
+fn sheen_factors_are_read() {
+    let sheened = |metallic: f32, sheen: Value| {
+        let mut material = pbr(metallic, 0.4);
+        material["extensions"] = json!({ "KHR_materials_sheen": sheen });
+        quad_doc(Some(material)).load()
+    };
+    let scene = sheened(
+        0.0,
+        json!({ "sheenColorFactor": [0.9, 0.5, 0.2], "sheenRoughnessFactor": 0.4 }),
+    )
+    .expect("loads");
+    let sheen = scene.materials[0].sheen.expect("a sheen");
+    assert_eq!(sheen.color, Vec3::new(0.9, 0.5, 0.2));
+    assert_eq!(sheen.roughness, 0.4);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let smooth = sheened(0.0, json!({ "sheenColorFactor": [1, 1, 1] })).expect("loads");
+    assert_eq!(
+        smooth.materials[0].sheen.map(|s| s.roughness),
+        Some(scene::Sheen::MIN_ROUGHNESS),
+        "roughness 0 (the default) is raised"
+    );
+    let none = sheened(0.0, json!({ "sheenRoughnessFactor": 0.5 })).expect("loads");
+    assert_eq!(none.materials[0].sheen, None, "a black colour: no sheen");
+    let half = sheened(0.5, json!({ "sheenColorFactor": [1, 1, 1] })).expect("loads");
+    let id = half.triangles[0].material as usize;
+    let other = half.materials[id].blend.expect("a blend").other as usize;
+    for member in [id, other] {
+        assert!(half.materials[member].sheen.is_some(), "member {member}");
+    }
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let mut material = pbr(0.0, 0.8);
+    material["extensions"] = json!({ "KHR_materials_sheen": {
+        "sheenColorFactor": [1, 1, 1],
+        "sheenColorTexture": { "index": 0 },
+        "sheenRoughnessTexture": { "index": 0 },
+    } });
+    let material = doc.material(material);
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    let textured = doc.load().expect("loads");
+    assert_eq!(textured.materials[0].sheen.unwrap().color_texture, Some(0));
+    assert!(
+        !matches!(textured.textures[0].texels, Texels::LinearF32(_)),
+        "the sheen colour is sRGB"
+    );
+    assert!(
+        (textured.warnings.iter())
+            .any(|w| w.contains("sheenRoughnessTexture") && w.contains("not read")),
+        "{:?}",
+        textured.warnings
+    );
+    for bad in [
+        json!({ "sheenColorFactor": [1.5, 1, 1] }),
+        json!({ "sheenColorFactor": [1, 1] }),
+        json!({ "sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": "rough" }),
+        json!({ "sheenColorFactor": [1, 1, 1], "sheenColorTexture": { "index": 7 } }),
+    ] {
+        let error = sheened(0.0, bad.clone()).expect_err("refused");
+        assert!(error.to_string().contains("sheen"), "{bad}: {error}");
+    }
+    let mut doc = quad_doc(None);
+    doc.json["extensionsRequired"] = json!(["KHR_materials_sheen"]);
+    doc.json["extensionsUsed"] = json!(["KHR_materials_sheen"]);
+    assert!(doc.load().is_ok(), "KHR_materials_sheen may be required");
 }

@@ -388,6 +388,10 @@ struct LitLobes {
     // glTF's clear coat over both lobes (its weight; 0: none), which the light passes on its
     // way in.
     clearcoat: f32,
+    // The glossy lobe is glTF's sheen (render::microfacet::GlossyLobe::sheen) of width alpha.
+    sheen_lobe: bool,
+    // glTF's sheen over both lobes (colour black: none), which the light passes too.
+    sheen: Sheen,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -400,6 +404,9 @@ fn lit_facing(lit: LitLobes, hit: SurfaceHit) -> vec3<f32> {
 
 // render::microfacet::GlossyLobe::response.
 fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: vec3<f32>) -> GlossyResponse {
+    if SHEENS && lit.sheen_lobe {
+        return sheen_response(outgoing, incident, hit.shading, lit.alpha);
+    }
     if FROSTED_GLASS && lit.refraction_eta > 0.0 {
         var response = refraction_response(outgoing, incident, hit.shading, lit.alpha, lit.refraction_eta);
         // Light refracting out towards the eye inside (render::optics::eye_refraction_scale).
@@ -433,8 +440,10 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
             response += lit.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
     }
-    // In through the clear coat, if any (about the normal before the map).
-    return response * clearcoat_transmittance(lit.clearcoat, dot(incident, hit.interpolated));
+    // In through the clear coat and the sheen, if any (the coat about the normal before the
+    // map).
+    let sheen = sheen_transmittance(lit.sheen, cosine);
+    return response * (clearcoat_transmittance(lit.clearcoat, dot(incident, hit.interpolated)) * sheen);
 }
 
 // cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
@@ -479,6 +488,18 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32
         return vec3<f32>(0.0);
     }
     return light.incident * response * medium_transmittance(shadow_medium, shadow.w);
+}
+
+// cpu::kernels::eye_path: one light sample through the lobes `lit` names, its three numbers
+// drawn only where they light something.
+fn sampled_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
+    if !is_lit(lit) || params.light_count == 0u {
+        return vec3<f32>(0.0);
+    }
+    let u0 = next_f32(rng);
+    let u1 = next_f32(rng);
+    let u2 = next_f32(rng);
+    return direct_light(hit, outgoing, lit, medium, u0, u1, u2);
 }
 
 // cpu::kernels::GlossyVertex: where an eye path last left a glossy lobe (pdf 0: it did not).
@@ -593,6 +614,27 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             return PhotonStep(slot, photon, emitted);
         }
     }
+    // cpu::kernels: glTF's sheen beneath the coat meets it next; what it reflects is not kept
+    // on the material beneath and goes on from the sheen's lobe.
+    var sheen = no_sheen();
+    if SHEENS && max3(root.sheen_color) > 0.0 {
+        sheen = sheen_at(root_id, root, hit.uv);
+        let bounce = sheen_bounce(sheen, hit, direction, &rng);
+        if bounce.reflected {
+            slot.depth += 1u;
+            if max3(bounce.weight) > 0.0 && slot.depth < params.max_depth {
+                let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
+                    * departure_factor(bounce.direction, hit.shading, hit.geometric);
+                let coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.interpolated));
+                slot.origin = offset_origin(hit, bounce.direction, params.epsilon);
+                slot.direction = bounce.direction;
+                slot.flux = flux * bounce.weight * (shading_factors * coat);
+            } else {
+                slot.depth = SLOT_IDLE;
+            }
+            return PhotonStep(slot, photon, emitted);
+        }
+    }
     // cpu::kernels: a blend keeps the photon for its Lambertian member whichever member the
     // path takes; the member is drawn only at blends.
     var keeper = hit.material;
@@ -675,9 +717,10 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         tint = surface_tint * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
-    // Out through the clear coat, if any.
+    // Out through the sheen and the clear coat, if any.
     let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, hit.interpolated));
-    weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric) * out_of_coat);
+    let out_of_sheen = sheen_transmittance(sheen, dot(next, hit.shading));
+    weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric) * out_of_coat * out_of_sheen);
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
@@ -883,6 +926,30 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
                 continue;
             }
         }
+        // cpu::kernels::eye_path: glTF's sheen beneath the coat meets it next; its reflection
+        // takes a light sample for the sheen's lobe and goes on from it.
+        var sheen = no_sheen();
+        if SHEENS && max3(root.sheen_color) > 0.0 {
+            sheen = sheen_at(root_id, root, hit.uv);
+            let bounce = sheen_bounce(sheen, hit, direction, rng);
+            if bounce.reflected {
+                if max3(bounce.weight) <= 0.0 {
+                    break;
+                }
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen());
+                if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
+                    lit.alpha = 0.0;
+                }
+                direct += sampled_light(hit, -direction, lit, medium, rng);
+                glossy = glossy_after(hit, lit, -direction, bounce.direction);
+                let coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.interpolated));
+                throughput *= bounce.weight * coat;
+                depth += 1u;
+                origin = offset_origin(hit, bounce.direction, params.epsilon);
+                direction = bounce.direction;
+                continue;
+            }
+        }
         // cpu::kernels::eye_path: a blend's member, drawn only at blends.
         var material = root;
         let map_texel = roughness_texel(root, hit.uv);
@@ -902,7 +969,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen);
         if plastic {
             lit.coat_ior = material.ior;
             var u_micro = vec2<f32>(0.0);
@@ -985,19 +1052,15 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
         if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
             lit.alpha = 0.0;
         }
-        if is_lit(lit) && params.light_count > 0u {
-            let u0 = next_f32(rng);
-            let u1 = next_f32(rng);
-            let u2 = next_f32(rng);
-            direct += direct_light(hit, -direction, lit, medium, u0, u1, u2);
-        }
+        direct += sampled_light(hit, -direction, lit, medium, rng);
         if base || bounce.weight <= 0.0 {
             break;
         }
         glossy = glossy_after(hit, lit, -direction, bounce.direction);
-        // Out through the clear coat, if any.
+        // Out through the sheen and the clear coat, if any.
         let out_of_coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.interpolated));
-        throughput *= bounce_tint * (bounce.weight * out_of_coat);
+        let out_of_sheen = sheen_transmittance(sheen, dot(bounce.direction, hit.shading));
+        throughput *= bounce_tint * (bounce.weight * out_of_coat * out_of_sheen);
         if max3(throughput) <= 0.0 {
             break;
         }

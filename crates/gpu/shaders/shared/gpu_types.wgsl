@@ -74,4 +74,13 @@ struct GpuMaterial {
     clearcoat_alpha: f32,
     clearcoat_texture: u32,
     clearcoat_roughness_texture: u32,
+    // scene::Sheen (render::sheen): colour (black: none) and Charlie width, its table's albedo
+    // nodes (render::sheen::SheenTable, four a row), its colour texture (NO_TEXTURE: none).
+    sheen_color: vec3<f32>,
+    sheen_alpha: f32,
+    sheen_albedo: array<vec4<f32>, 4>,
+    sheen_color_texture: u32,
+    pad_sheen0: u32,
+    pad_sheen1: u32,
+    pad_sheen2: u32,
 }

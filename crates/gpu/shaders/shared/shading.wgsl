@@ -214,6 +214,8 @@ override FROSTED_GLASS: bool = true;
 override BLENDS: bool = true;
 // Whether some material wears glTF's clear coat (scene::Clearcoat).
 override CLEARCOATS: bool = true;
+// Whether some material wears glTF's sheen (scene::Sheen).
+override SHEENS: bool = true;
 // Whether the sky has an environment map (render::sky_map, read in sppm.wgsl): compiled out
 // otherwise, as NORMAL_MAPS is (its lookups and searches, inlined, made lavapipe's eye pass
 // ~10 % slower in scenes without one).
@@ -707,13 +709,25 @@ fn coat_transmittance(cos_view: f32, ior: f32) -> f32 {
 // read straight from the storage buffer (a copy of the table to index it cost lavapipe's
 // plastic scenes ~14 %).
 fn coat_table(record: u32, cos_view: f32) -> f32 {
-    let x = sqrt(min(abs(cos_view), 1.0)) * f32(COAT_NODES - 1u);
-    let i = min(u32(x), COAT_NODES - 2u);
-    let t = x - f32(i);
-    let j = i + 1u;
-    let first = materials[record].coat_transmittance[i / 4u][i % 4u];
+    let node = table_node(cos_view, COAT_NODES);
+    let j = node.i + 1u;
+    let first = materials[record].coat_transmittance[node.i / 4u][node.i % 4u];
     let second = materials[record].coat_transmittance[j / 4u][j % 4u];
-    return first * (1.0 - t) + second * t;
+    return first * (1.0 - node.t) + second * node.t;
+}
+
+// Where cosine `cos` falls in a table of `count` nodes at cosines (i / (count − 1))²: the node
+// below it and the weight of the one above (render::plastic::Coat::transmittance,
+// render::sheen::SheenTable::albedo).
+struct TableNode {
+    i: u32,
+    t: f32,
+}
+
+fn table_node(cos: f32, count: u32) -> TableNode {
+    let x = sqrt(min(abs(cos), 1.0)) * f32(count - 1u);
+    let i = min(u32(x), count - 2u);
+    return TableNode(i, x - f32(i));
 }
 
 // render::coats::CoatGrid::at: the records of the rough nodes about width `alpha` of material
@@ -840,6 +854,135 @@ fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32
         return ClearcoatBounce(true, Scattered(reflect_about(incoming, hit.shading), 1.0));
     }
     return ClearcoatBounce(true, rough_reflection(hit, incoming, coat.alpha, u_micro.x, u_micro.y));
+}
+
+// ---- render::sheen ----
+// render::sheen::SheenAt: a material's sheen at a hit (colour black: none), its table in
+// record `id`'s sheen_albedo.
+struct Sheen {
+    color: vec3<f32>,
+    alpha: f32,
+    id: u32,
+}
+
+fn no_sheen() -> Sheen {
+    return Sheen(vec3<f32>(0.0), 0.0, 0u);
+}
+
+// render::sheen::SheenAt::new: material `id`'s sheen where the hit's texture coordinates are
+// `uv`.
+fn sheen_at(id: u32, material: GpuMaterial, uv: vec2<f32>) -> Sheen {
+    var scale = vec3<f32>(1.0);
+    if material.sheen_color_texture != NO_TEXTURE {
+        scale = sample_texture(material.sheen_color_texture, uv).xyz;
+    }
+    return Sheen(material.sheen_color * clamp(scale, vec3<f32>(0.0), vec3<f32>(1.0)), material.sheen_alpha, id);
+}
+
+// render::sheen::SheenTable::albedo, read straight from the storage buffer as coat_table is.
+fn sheen_albedo(id: u32, cos: f32) -> f32 {
+    let node = table_node(cos, SHEEN_NODES);
+    let j = node.i + 1u;
+    let first = materials[id].sheen_albedo[node.i / 4u][node.i % 4u];
+    let second = materials[id].sheen_albedo[j / 4u][j % 4u];
+    return first * (1.0 - node.t) + second * node.t;
+}
+
+// render::sheen::SheenTable::reflectance.
+fn sheen_reflectance(sheen: Sheen, cos: f32) -> f32 {
+    return max3(sheen.color) * min(sheen_albedo(sheen.id, cos), 1.0);
+}
+
+// render::sheen::SheenTable::transmittance: 1 without a sheen.
+fn sheen_transmittance(sheen: Sheen, cos: f32) -> f32 {
+    if !SHEENS || max3(sheen.color) <= 0.0 {
+        return 1.0;
+    }
+    return 1.0 - sheen_reflectance(sheen, cos);
+}
+
+// render::sheen::SheenTable::lobe_scale.
+fn sheen_lobe_scale(sheen: Sheen, cos: f32) -> vec3<f32> {
+    let denominator = max3(sheen.color) * sheen_albedo(sheen.id, cos);
+    if denominator > 0.0 {
+        return sheen.color / denominator;
+    }
+    return vec3<f32>(0.0);
+}
+
+// render::sheen::charlie_distribution.
+fn charlie_distribution(alpha: f32, cos_h: f32) -> f32 {
+    let sin2 = max(1.0 - cos_h * cos_h, 0.0);
+    if sin2 <= 0.0 {
+        return 0.0;
+    }
+    let inverse = 1.0 / alpha;
+    return (2.0 + inverse) * pow(sin2, 0.5 * inverse) / (2.0 * PI);
+}
+
+// render::sheen::lambda_exponent (Estevez and Kulla's fit).
+fn sheen_lambda_exponent(x: f32, alpha: f32) -> f32 {
+    let t = (1.0 - alpha) * (1.0 - alpha);
+    let a = mix(21.5473, 25.3245, t);
+    let b = mix(3.82987, 3.32435, t);
+    let c = mix(0.19823, 0.16801, t);
+    let d = mix(-1.97760, -1.27393, t);
+    let e = mix(-4.32054, -4.85967, t);
+    return a / (1.0 + b * select(pow(x, c), 0.0, x <= 0.0)) + d * x + e;
+}
+
+// render::sheen::charlie_lambda.
+fn charlie_lambda(cos_in: f32, alpha: f32) -> f32 {
+    let cos = abs(cos_in);
+    if cos < 0.5 {
+        return exp(sheen_lambda_exponent(cos, alpha));
+    }
+    return exp(2.0 * sheen_lambda_exponent(0.5, alpha) - sheen_lambda_exponent(1.0 - cos, alpha));
+}
+
+// render::sheen::local_sheen: `f cos θi` of the white lobe and the cosine density.
+fn local_sheen(view: vec3<f32>, light: vec3<f32>, alpha: f32) -> GlossyResponse {
+    if view.z <= 0.0 || light.z <= 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    let half = normalize(view + light);
+    let shadowing = 1.0 + charlie_lambda(light.z, alpha) + charlie_lambda(view.z, alpha);
+    let visibility = 1.0 / (shadowing * 4.0 * light.z * view.z);
+    let value = charlie_distribution(alpha, half.z) * visibility * light.z;
+    return GlossyResponse(value, light.z / PI);
+}
+
+// render::sheen::sheen_response.
+fn sheen_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f32>, alpha: f32) -> GlossyResponse {
+    let frame = frame_about(normal);
+    return local_sheen(to_local(frame, outgoing), to_local(frame, incident), alpha);
+}
+
+// cpu::surface::sheen_bounce (render::sheen::sheen_event about the shading normal, three
+// numbers): `reflected` where the sheen reflects the ray (weight 0 where the path ends),
+// otherwise it passes to the material beneath.
+struct SheenBounce {
+    reflected: bool,
+    direction: vec3<f32>,
+    weight: vec3<f32>,
+}
+
+fn sheen_bounce(sheen: Sheen, hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> SheenBounce {
+    let u0 = next_f32(rng);
+    let u1 = next_f32(rng);
+    let u2 = next_f32(rng);
+    let cos_view = -dot(incoming, hit.shading);
+    if cos_view <= 0.0 || u0 >= sheen_reflectance(sheen, cos_view) {
+        return SheenBounce(false, vec3<f32>(0.0), vec3<f32>(0.0));
+    }
+    let light = cosine_hemisphere(u1, u2);
+    let response = local_sheen(to_local(frame_about(hit.shading), -incoming), light, sheen.alpha);
+    let direction = about_axis(hit.shading, light);
+    var weight = vec3<f32>(0.0);
+    if response.pdf > 0.0 && dot(direction, hit.geometric) > 0.0 {
+        weight = sheen_lobe_scale(sheen, cos_view) * (response.value / response.pdf);
+    }
+    return SheenBounce(true, direction, weight);
 }
 
 // cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.

@@ -12,6 +12,7 @@
 //!   `KHR_materials_volume` (thickness: the material's smallest extent) when solid, and
 //!   `KHR_materials_dispersion` where it disperses;
 //! - a clear coat → `KHR_materials_clearcoat` (roughness √α);
+//! - a sheen → `KHR_materials_sheen`;
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -38,7 +39,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 16] = [
+pub const SHIPPED: [(&str, Fixture); 17] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -57,6 +58,7 @@ pub const SHIPPED: [(&str, Fixture); 16] = [
     ),
     ("prism", scene::testing::prism),
     ("cornell-clearcoat", scene::testing::cornell_clearcoat),
+    ("cornell-sheen", scene::testing::cornell_sheen),
     ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
 
@@ -418,6 +420,15 @@ impl Document {
                 }),
             );
         }
+        if let Some(sheen) = m.sheen {
+            extensions.insert(
+                "KHR_materials_sheen".into(),
+                json!({
+                    "sheenColorFactor": numbers(&sheen.color.to_array()),
+                    "sheenRoughnessFactor": number(sheen.roughness),
+                }),
+            );
+        }
         let strength = m.emission.max_element();
         if strength > 0.0 {
             let factor = if strength > 1.0 {
@@ -499,6 +510,7 @@ fn known_extension(name: &str) -> &'static str {
         "KHR_materials_dispersion",
         "KHR_materials_emissive_strength",
         "KHR_materials_ior",
+        "KHR_materials_sheen",
         "KHR_materials_transmission",
         "KHR_materials_volume",
     ]

@@ -27,6 +27,9 @@
 //!   multiplied per hit by its texture (`clearcoatTexture`'s red, `clearcoatRoughnessTexture`'s
 //!   green, linear data); `clearcoatNormalTexture` is not read (a warning). A factor of 0 is
 //!   no coat.
+//! - `KHR_materials_sheen` → [`Sheen`] beneath the clear coat: `sheenColorFactor` (×
+//!   `sheenColorTexture`, sRGB) its colour, `sheenRoughnessFactor` its roughness (raised to
+//!   0.07); `sheenRoughnessTexture` is not read (a warning). A black colour is no sheen.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -78,7 +81,7 @@ use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, Clearcoat, DIFFUSE_MIN_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError,
-    Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
+    Sheen, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
     absorption_from_attenuation as scene_absorption, coated_surface, glass_surface, metal_surface,
 };
 
@@ -269,6 +272,7 @@ impl Materials {
             dispersion,
             roughness_map: None,
             clearcoat: self.clearcoat(input, builder, &check, m)?,
+            sheen: self.sheen(input, builder, &check, m)?,
         };
         if is_unlit(m) {
             return Ok((
@@ -311,6 +315,35 @@ impl Materials {
             }
         }
         Ok(Some(coat))
+    }
+
+    /// `KHR_materials_sheen` as a [`Sheen`] ([`sheen`]'s factors) with its colour texture,
+    /// decoded as sRGB.
+    fn sheen(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        m: &json::Material,
+    ) -> Result<Option<Sheen>, SceneError> {
+        let Some(mut sheen) = sheen(check, m, builder)? else {
+            return Ok(None);
+        };
+        let extension = m
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("KHR_materials_sheen"));
+        if let Some(value) = extension.and_then(|e| e.get("sheenColorTexture")) {
+            let name = "sheenColorTexture";
+            let info: json::texture::Info = serde_json::from_value(value.clone()).map_err(|e| {
+                check.error(format!(
+                    "KHR_materials_sheen's {name} is not a texture: {e}"
+                ))
+            })?;
+            let slot = TextureSlot::colour(&info, name);
+            sheen.color_texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        Ok(Some(sheen))
     }
 
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
@@ -663,6 +696,7 @@ fn unlit(material: Material) -> Material {
         emission_texture: material.base_color_texture,
         base_color: Vec3::ZERO,
         clearcoat: None,
+        sheen: None,
         roughness_map: None,
         normal_texture: None,
         absorption: Vec3::ZERO,
@@ -706,6 +740,54 @@ fn clearcoat(
         ));
     }
     Ok(Clearcoat::new(weight, roughness))
+}
+
+/// `KHR_materials_sheen`'s factors as a [`Sheen`] (none for a black colour); its roughness
+/// texture is not read (a warning).
+fn sheen(
+    check: &Check,
+    m: &json::Material,
+    builder: &mut SceneBuilder,
+) -> Result<Option<Sheen>, SceneError> {
+    let Some(value) = m
+        .extensions
+        .as_ref()
+        .and_then(|e| e.others.get("KHR_materials_sheen"))
+    else {
+        return Ok(None);
+    };
+    let not_a = |what: &str| check.error(format!("KHR_materials_sheen's {what}"));
+    let color = match value.get("sheenColorFactor") {
+        None => Vec3::ZERO,
+        Some(v) => {
+            let channels: Vec<f32> = (v.as_array())
+                .filter(|a| a.len() == 3)
+                .and_then(|a| a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect())
+                .ok_or_else(|| not_a("sheenColorFactor is not three numbers"))?;
+            for &c in &channels {
+                check.unit(c, "KHR_materials_sheen's sheenColorFactor")?;
+            }
+            Vec3::from_slice(&channels)
+        }
+    };
+    let roughness = match value.get("sheenRoughnessFactor") {
+        None => 0.0,
+        Some(v) => {
+            let x = v
+                .as_f64()
+                .ok_or_else(|| not_a("sheenRoughnessFactor is not a number"))?;
+            check.unit(x as f32, "KHR_materials_sheen's sheenRoughnessFactor")?
+        }
+    };
+    let sheen = Sheen::new(color, roughness);
+    if sheen.is_some() && value.get("sheenRoughnessTexture").is_some() {
+        builder.warn(format!(
+            "{}: KHR_materials_sheen's sheenRoughnessTexture not read (the sheen keeps its \
+             roughness factor)",
+            check.label
+        ));
+    }
+    Ok(sheen)
 }
 
 /// `KHR_materials_dispersion` as [`Material::dispersion`]: (ior − 1) / V with the Abbe

@@ -47,7 +47,7 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 12] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
@@ -55,6 +55,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_sheen",
     "KHR_materials_unlit",
     "KHR_materials_volume",
     "KHR_mesh_quantization",

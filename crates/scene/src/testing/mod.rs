@@ -272,6 +272,36 @@ pub fn cornell_clearcoat() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_caustics`] with glTF sheens (`scene::Sheen`): a sphere front right
+/// of red velvet (a dark red Lambertian base under a pink sheen of roughness 0.3), and one
+/// back left of blue plastic (coat roughness 0.2) under a white sheen of roughness 0.6 and
+/// half a smooth clear coat: every layer over one another.
+pub fn cornell_sheen() -> Scene {
+    let mut f = Fixture::new("testing::cornell_sheen");
+    let white = f.material("white", Surface::Diffuse, CORNELL_WHITE);
+    cornell_room_on(&mut f, white, white);
+    let velvet = f.builder.add_material(Material {
+        name: "red velvet".into(),
+        base_color: Vec3::new(0.25, 0.01, 0.03),
+        sheen: crate::Sheen::new(Vec3::new(1.0, 0.45, 0.55), 0.3),
+        ..Material::default()
+    });
+    let layered = f.builder.add_material(Material {
+        name: "sheen over coated blue plastic".into(),
+        surface: Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.2 * 0.2,
+        },
+        base_color: Vec3::new(0.1, 0.25, 0.7),
+        sheen: crate::Sheen::new(Vec3::splat(0.8), 0.6),
+        clearcoat: crate::Clearcoat::new(0.5, 0.0),
+        ..Material::default()
+    });
+    f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, velvet, false);
+    f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, layered, false);
+    f.finish()
+}
+
 /// The room of [`cornell_caustics`] with blends (`SceneBuilder::add_blend`, as glTF's partial
 /// metallic and transmission factors make them): the floor 30 % mirror over white plastic,
 /// a gold sphere front right half rough metal (GGX α 0.04) half rough plastic, and a sphere

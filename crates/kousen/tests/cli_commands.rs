@@ -174,6 +174,19 @@ fn info_counts_clear_coated_materials() {
 }
 
 #[test]
+fn info_counts_sheened_materials() {
+    let scene = shipped("cornell-sheen.gltf");
+    assert_eq!(info_json(&scene)["sheened_materials"], 2);
+    let table = kousen(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.contains("sheens               2 materials"), "{text}");
+    assert_eq!(
+        info_json(&shipped("cornell-box.gltf"))["sheened_materials"],
+        0
+    );
+}
+
+#[test]
 fn info_json_keeps_the_contract_for_scripts() {
     let info = info_json(&shipped("cornell-box.gltf"));
     let number = |pointer: &str| {

@@ -27,6 +27,8 @@ struct Info {
     /// Materials (blend members) under a clear coat (`scene::Clearcoat`: glTF's
     /// `KHR_materials_clearcoat`).
     clear_coated_materials: usize,
+    /// Materials (blend members) with a sheen (`scene::Sheen`: glTF's `KHR_materials_sheen`).
+    sheened_materials: usize,
     /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
     /// their indices of refraction count against its.
     inside_solids: Vec<InsideSolid>,
@@ -279,6 +281,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         clear_coated_materials: (scene.materials.iter())
             .filter(|m| m.clearcoat.is_some())
             .count(),
+        sheened_materials: (scene.materials.iter())
+            .filter(|m| m.sheen.is_some())
+            .count(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
@@ -408,6 +413,7 @@ fn print_table(info: &Info) {
             "clear coats",
             format!("{} materials", info.clear_coated_materials),
         ),
+        ("sheens", format!("{} materials", info.sheened_materials)),
         (
             "inside solids",
             if info.inside_solids.is_empty() {

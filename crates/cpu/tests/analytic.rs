@@ -1200,8 +1200,8 @@ fn sky_lights_a_plane_through_its_clear_coat() {
 /// channel's sheen is weaker than the green one that sets the choice, so the colour's share of
 /// the weight counts. Both direct-light modes: photons the sheen reflects are not kept, its
 /// reflection takes a light sample for its own lobe weighed against the sky met after it
-/// (1024 and 256 passes). Tolerances as the clear coat's: mean within 2.5 %, rms below 8 %
-/// and 3 %.
+/// (1024 and 256 passes); and a rougher sheen whose texture reads 0.5 (sampled). Tolerances
+/// as the clear coat's: mean within 2.5 %, rms below 8 % and 3 %.
 #[test]
 fn sky_lights_a_plane_through_its_sheen() {
     use render::sheen::{SheenTable, directional_albedo};
@@ -1236,6 +1236,23 @@ fn sky_lights_a_plane_through_its_sheen() {
     assert_matches("sheen, photons", &image, expected, 0.025, 0.08);
     let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
     assert_matches("sheen, sampled", &image, expected, 0.025, 0.03);
+    // A sheen of roughness 1 whose texture's alpha reads 0.5 everywhere is the same sheen,
+    // its table the grid's (`render::sheen::grid_table`).
+    let texture = scene.textures.len() as u32;
+    scene.textures.push(scene::Texture {
+        name: "sheen roughness".into(),
+        width: 1,
+        height: 1,
+        texels: scene::Texels::LinearF32(vec![[1.0, 1.0, 1.0, 0.5]]),
+    });
+    for material in &mut scene.materials {
+        material.sheen = Some(scene::Sheen {
+            roughness_texture: Some(texture),
+            ..scene::Sheen::new(color, 1.0).unwrap()
+        });
+    }
+    let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
+    assert_matches("textured sheen, sampled", &image, expected, 0.025, 0.03);
 }
 
 /// A plastic plane (smooth coat of ior 1.5 over albedo ρ, `render::plastic`) under the sky L:

@@ -63,6 +63,11 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("DIFFUSE_MIN_ROUGHNESS", F32(scene::DIFFUSE_MIN_ROUGHNESS)),
         ("CLEARCOAT_IOR", F32(scene::Clearcoat::IOR)),
         ("SHEEN_NODES", U32(render::sheen::SHEEN_NODES as u32)),
+        (
+            "SHEEN_GRID_NODES",
+            U32(render::sheen::SHEEN_GRID_NODES as u32),
+        ),
+        ("SHEEN_MIN_ROUGHNESS", F32(scene::Sheen::MIN_ROUGHNESS)),
         ("SLOT_IDLE", U32(buffers::SLOT_IDLE)),
         ("LIGHT_TRIANGLE", U32(buffers::LIGHT_TRIANGLE)),
         ("LIGHT_POINT", U32(buffers::LIGHT_POINT)),

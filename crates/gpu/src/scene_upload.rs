@@ -214,7 +214,8 @@ fn record_sizes(bvh: &PackedBvh) -> [(&'static str, u64); 3] {
 /// The materials buffer's records: each material (its light-sampling density per area and
 /// the solid around it where given; missing entries: 0 and none), then the tables of every
 /// mapped coat's grid (`render::coats::CoatGrid`: its smooth coat, then its rough nodes), which
-/// the material's `coat_grid_*` fields point at. One record where there are no materials: a
+/// the material's `coat_grid_*` fields point at, then the sheen grid's tables where a texture
+/// gives some sheen's roughness (`GpuMaterial::sheen_grid_first`). One record where there are no materials: a
 /// binding cannot be empty (no triangle refers to it).
 pub fn gpu_materials(
     materials: &[Material],
@@ -256,6 +257,21 @@ pub fn gpu_materials(
         gpu.coat_grid_nodes = grid.nodes.len() as u32;
         gpu.coat_grid_roughness = grid.first_roughness;
         gpu.coat_grid_step = grid.roughness_step;
+    }
+    // The sheen grid's tables, once, where some sheen's roughness follows a texture.
+    let textured_sheen = |m: &Material| m.sheen.is_some_and(|s| s.roughness_texture.is_some());
+    if materials.iter().any(textured_sheen) {
+        let first = records.len() as u32;
+        records.extend(
+            render::sheen::sheen_grid()
+                .iter()
+                .map(GpuMaterial::sheen_record),
+        );
+        for (gpu, material) in records.iter_mut().zip(materials) {
+            if textured_sheen(material) {
+                gpu.sheen_grid_first = first;
+            }
+        }
     }
     if records.is_empty() {
         records.push(GpuMaterial::new(&Material::default(), &Default::default()));

@@ -212,12 +212,16 @@ pub struct GpuMaterial {
     pub clearcoat_roughness_texture: u32,
     /// glTF's sheen (`render::sheen`): its colour (black: none) and Charlie width α, its
     /// table's albedo nodes four a row (`render::sheen::SheenTable`; the upload sets them),
-    /// and its colour texture (`NO_TEXTURE` for none).
+    /// its colour and roughness textures (`NO_TEXTURE` for none), where the latter is given
+    /// the index in the materials buffer of the grid's first table (`render::sheen::
+    /// sheen_grid`, `SHEEN_GRID_NODES` records; the upload sets it), and its roughness.
     pub sheen_color: [f32; 3],
     pub sheen_alpha: f32,
     pub sheen_albedo: [[f32; 4]; 4],
     pub sheen_color_texture: u32,
-    pub pad_sheen: [u32; 3],
+    pub sheen_roughness_texture: u32,
+    pub sheen_grid_first: u32,
+    pub sheen_roughness: f32,
 }
 
 impl GpuMaterial {
@@ -297,15 +301,31 @@ impl GpuMaterial {
             sheen_color_texture: (material.sheen)
                 .and_then(|s| s.color_texture)
                 .unwrap_or(NO_TEXTURE),
-            pad_sheen: [0; 3],
+            sheen_roughness_texture: (material.sheen)
+                .and_then(|s| s.roughness_texture)
+                .unwrap_or(NO_TEXTURE),
+            sheen_grid_first: 0,
+            sheen_roughness: material.sheen.map_or(0.0, |s| s.roughness),
         }
     }
 
     /// The albedo nodes of this material's sheen `table` (`render::sheen::SheenTable`).
     pub fn set_sheen_table(&mut self, table: &render::sheen::SheenTable) {
         self.sheen_alpha = table.alpha;
-        self.sheen_albedo =
-            std::array::from_fn(|row| std::array::from_fn(|col| table.albedo_nodes[4 * row + col]));
+        self.sheen_albedo = std::array::from_fn(|row| {
+            std::array::from_fn(|column| table.albedo_nodes[4 * row + column])
+        });
+    }
+
+    /// A record holding one table of the sheen grid (after the scene's materials; no triangle
+    /// refers to it): what `sheen_albedo` reads for a textured roughness.
+    pub fn sheen_record(table: &render::sheen::SheenTable) -> GpuMaterial {
+        let mut record = GpuMaterial::coat_record(&render::plastic::Coat::default());
+        record.surface = SURFACE_DIFFUSE;
+        record.sheen_color_texture = NO_TEXTURE;
+        record.sheen_roughness_texture = NO_TEXTURE;
+        record.set_sheen_table(table);
+        record
     }
 }
 
@@ -328,6 +348,7 @@ impl GpuMaterial {
             clearcoat_texture: NO_TEXTURE,
             clearcoat_roughness_texture: NO_TEXTURE,
             sheen_color_texture: NO_TEXTURE,
+            sheen_roughness_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

@@ -360,9 +360,15 @@ fn gpu_types_layout_matches_rust() {
                 "sheen_color_texture",
                 offset_of!(GpuMaterial, sheen_color_texture),
             ),
-            ("pad_sheen0", offset_of!(GpuMaterial, pad_sheen)),
-            ("pad_sheen1", offset_of!(GpuMaterial, pad_sheen) + 4),
-            ("pad_sheen2", offset_of!(GpuMaterial, pad_sheen) + 8),
+            (
+                "sheen_roughness_texture",
+                offset_of!(GpuMaterial, sheen_roughness_texture),
+            ),
+            (
+                "sheen_grid_first",
+                offset_of!(GpuMaterial, sheen_grid_first),
+            ),
+            ("sheen_roughness", offset_of!(GpuMaterial, sheen_roughness)),
         ],
     );
     assert_layout(

@@ -864,16 +864,20 @@ fn every_kernel_matches_its_twin_under_sheens() {
     every_kernel_matches_its_twin(scene::testing::cornell_sheen(), DirectLight::Sampled);
 }
 
-/// The same with the velvet's sheen colour textured (`render::sheen::SheenAt::new`): a
-/// checker of white and dark blue, so that hits meet sheens of different colour and strength.
+/// The same with the velvet's sheen colour and roughness textured (`render::sheen::SheenAt::
+/// new`): a checker of white and dark blue, its alpha (the roughness) 1 or 0.4 in bands across
+/// it, so that hits meet sheens of different colour, strength and width (the grid's tables).
 #[test]
 fn every_kernel_matches_its_twin_under_textured_sheens() {
     let mut scene = scene::testing::cornell_sheen();
     let side = 8u32;
     let texels = (0..side * side)
-        .map(|i| match (i % side + i / side) % 2 {
-            0 => [1.0, 1.0, 1.0, 1.0],
-            _ => [0.1, 0.2, 0.6, 1.0],
+        .map(|i| {
+            let roughness = if (i / side) % 4 < 2 { 1.0 } else { 0.4 };
+            match (i % side + i / side) % 2 {
+                0 => [1.0, 1.0, 1.0, roughness],
+                _ => [0.1, 0.2, 0.6, roughness],
+            }
         })
         .collect();
     let texture = scene.textures.len() as u32;
@@ -886,11 +890,9 @@ fn every_kernel_matches_its_twin_under_textured_sheens() {
     let velvet = (scene.materials.iter())
         .position(|m| m.name == "red velvet")
         .expect("the velvet") as usize;
-    scene.materials[velvet]
-        .sheen
-        .as_mut()
-        .unwrap()
-        .color_texture = Some(texture);
+    let sheen = scene.materials[velvet].sheen.as_mut().unwrap();
+    sheen.color_texture = Some(texture);
+    sheen.roughness_texture = Some(texture);
     for triangle in (scene.triangles.iter_mut()).filter(|t| t.material as usize == velvet) {
         for v in &mut triangle.vertices {
             v.uv = glam::Vec2::new(v.position.x, v.position.y) / 40.0;

@@ -91,6 +91,45 @@ impl SheenTable {
     }
 }
 
+/// Roughness nodes of the grid a textured sheen's roughness reads its table from
+/// ([`grid_table`]): from `scene::Sheen::MIN_ROUGHNESS` to 1, evenly in the square root of
+/// the distance from the least (denser where smooth, where the albedo changes fastest).
+pub const SHEEN_GRID_NODES: usize = 16;
+
+/// The tables at the grid's roughness nodes, integrated once.
+pub fn sheen_grid() -> &'static [SheenTable; SHEEN_GRID_NODES] {
+    static GRID: std::sync::OnceLock<[SheenTable; SHEEN_GRID_NODES]> = std::sync::OnceLock::new();
+    GRID.get_or_init(|| std::array::from_fn(|i| SheenTable::new(grid_roughness(i))))
+}
+
+/// The roughness of the grid's node `i`.
+pub fn grid_roughness(i: usize) -> f32 {
+    let least = scene::Sheen::MIN_ROUGHNESS;
+    let s = i as f32 / (SHEEN_GRID_NODES - 1) as f32;
+    least + (1.0 - least) * s * s
+}
+
+/// Where `roughness` falls in the grid: the node below it and the weight of the one above.
+pub fn grid_position(roughness: f32) -> (usize, f32) {
+    let least = scene::Sheen::MIN_ROUGHNESS;
+    let s = ((roughness - least) / (1.0 - least)).clamp(0.0, 1.0).sqrt();
+    let x = s * (SHEEN_GRID_NODES - 1) as f32;
+    let i = (x as usize).min(SHEEN_GRID_NODES - 2);
+    (i, x - i as f32)
+}
+
+/// The table of a sheen of `roughness` (a texel's), its nodes interpolated linearly between the
+/// grid's two tables about it, its width `roughness²`.
+pub fn grid_table(roughness: f32) -> SheenTable {
+    let (i, t) = grid_position(roughness);
+    let grid = sheen_grid();
+    let (below, above) = (&grid[i].albedo_nodes, &grid[i + 1].albedo_nodes);
+    SheenTable {
+        alpha: roughness * roughness,
+        albedo_nodes: std::array::from_fn(|k| below[k] * (1.0 - t) + above[k] * t),
+    }
+}
+
 /// Each material's sheen table (`None` where it has no sheen), each roughness integrated once.
 pub fn sheen_tables(materials: &[scene::Material]) -> Vec<Option<SheenTable>> {
     let mut made: std::collections::HashMap<u32, SheenTable> = Default::default();
@@ -115,7 +154,9 @@ pub struct SheenAt {
 }
 
 impl SheenAt {
-    /// `sheen` with `table` at a hit whose textures read `texel(id)` (linear RGBA).
+    /// `sheen` with `table` (its own roughness's) at a hit whose textures read `texel(id)`
+    /// (linear RGBA); where a texture gives its roughness, the grid's table of the texel's
+    /// roughness ([`grid_table`]).
     pub fn new(
         sheen: &scene::Sheen,
         table: SheenTable,
@@ -124,6 +165,10 @@ impl SheenAt {
         let scale = sheen
             .color_texture
             .map_or(Vec3::ONE, |id| texel(id).truncate());
+        let table = match sheen.roughness_texture {
+            Some(id) => grid_table(textured_roughness(sheen.roughness, texel(id).w)),
+            None => table,
+        };
         SheenAt {
             color: sheen.color * scale.clamp(Vec3::ZERO, Vec3::ONE),
             table,
@@ -144,6 +189,12 @@ impl SheenAt {
     pub fn event(&self, incoming: Vec3, normal: Vec3, u: [f32; 3]) -> SheenEvent {
         sheen_event(incoming, normal, self.color, &self.table, u)
     }
+}
+
+/// A sheen's roughness where its roughness texture's alpha reads `texel`: the product, raised
+/// to `scene::Sheen::MIN_ROUGHNESS` again.
+pub fn textured_roughness(roughness: f32, texel: f32) -> f32 {
+    (roughness * texel.clamp(0.0, 1.0)).max(scene::Sheen::MIN_ROUGHNESS)
 }
 
 /// Where the table's first node (cosine 0) is evaluated: the lobe's visibility term is
@@ -319,6 +370,30 @@ mod tests {
         let (smooth, rough) = (SheenTable::new(0.1), SheenTable::new(1.0));
         assert!(rough.albedo(1.0) > 2.0 * smooth.albedo(1.0));
         assert!(smooth.albedo(0.05) > smooth.albedo(1.0));
+    }
+
+    /// A textured roughness's table, interpolated over the grid, stays within 3 % (or 0.003)
+    /// of its own from cosine 0.1 (and at the grid's nodes equals it).
+    #[test]
+    fn the_grid_interpolates_tables_between_roughnesses() {
+        for roughness in [0.1f32, 0.23, 0.45, 0.8] {
+            let (own, grid) = (SheenTable::new(roughness), grid_table(roughness));
+            assert_eq!(grid.alpha, roughness * roughness);
+            for cos in [0.1f32, 0.3, 0.6, 1.0] {
+                let (a, b) = (own.albedo(cos), grid.albedo(cos));
+                assert!(
+                    (a - b).abs() < 0.03 * a.max(0.1),
+                    "r {roughness}, cos {cos}: {a} vs {b}"
+                );
+            }
+        }
+        let node = grid_roughness(5);
+        assert_eq!(
+            grid_table(node).albedo_nodes,
+            SheenTable::new(node).albedo_nodes
+        );
+        assert_eq!(textured_roughness(0.5, 0.5), 0.25);
+        assert_eq!(textured_roughness(0.5, 0.0), scene::Sheen::MIN_ROUGHNESS);
     }
 
     /// The lobe is reciprocal, and `π f cos θi` stays moderate (the events' weights).

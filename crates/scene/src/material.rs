@@ -97,6 +97,9 @@ pub struct Sheen {
     pub roughness: f32,
     /// glTF's `sheenColorTexture` (sRGB): multiplies `color`.
     pub color_texture: Option<TextureId>,
+    /// glTF's `sheenRoughnessTexture` (linear data): its alpha channel multiplies `roughness`
+    /// (the product raised to [`Sheen::MIN_ROUGHNESS`] again).
+    pub roughness_texture: Option<TextureId>,
 }
 
 impl Sheen {
@@ -112,6 +115,7 @@ impl Sheen {
             color,
             roughness: roughness.clamp(Sheen::MIN_ROUGHNESS, 1.0),
             color_texture: None,
+            roughness_texture: None,
         })
     }
 }

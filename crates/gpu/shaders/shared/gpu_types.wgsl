@@ -75,12 +75,14 @@ struct GpuMaterial {
     clearcoat_texture: u32,
     clearcoat_roughness_texture: u32,
     // scene::Sheen (render::sheen): colour (black: none) and Charlie width, its table's albedo
-    // nodes (render::sheen::SheenTable, four a row), its colour texture (NO_TEXTURE: none).
+    // nodes (render::sheen::SheenTable, four a row), its colour and roughness textures
+    // (NO_TEXTURE: none), the record of the sheen grid's first table (with a roughness
+    // texture) and its roughness.
     sheen_color: vec3<f32>,
     sheen_alpha: f32,
     sheen_albedo: array<vec4<f32>, 4>,
     sheen_color_texture: u32,
-    pad_sheen0: u32,
-    pad_sheen1: u32,
-    pad_sheen2: u32,
+    sheen_roughness_texture: u32,
+    sheen_grid_first: u32,
+    sheen_roughness: f32,
 }

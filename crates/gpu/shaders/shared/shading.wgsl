@@ -857,16 +857,19 @@ fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32
 }
 
 // ---- render::sheen ----
-// render::sheen::SheenAt: a material's sheen at a hit (colour black: none), its table in
-// record `id`'s sheen_albedo.
+// render::sheen::SheenAt: a material's sheen at a hit (colour black: none); its table is
+// record `id`'s sheen_albedo, or for a textured roughness the blend by `t` of the sheen grid's
+// tables in records `id` and `upper` (render::sheen::grid_table).
 struct Sheen {
     color: vec3<f32>,
     alpha: f32,
     id: u32,
+    upper: u32,
+    t: f32,
 }
 
 fn no_sheen() -> Sheen {
-    return Sheen(vec3<f32>(0.0), 0.0, 0u);
+    return Sheen(vec3<f32>(0.0), 0.0, 0u, 0u, 0.0);
 }
 
 // render::sheen::SheenAt::new: material `id`'s sheen where the hit's texture coordinates are
@@ -876,11 +879,23 @@ fn sheen_at(id: u32, material: GpuMaterial, uv: vec2<f32>) -> Sheen {
     if material.sheen_color_texture != NO_TEXTURE {
         scale = sample_texture(material.sheen_color_texture, uv).xyz;
     }
-    return Sheen(material.sheen_color * clamp(scale, vec3<f32>(0.0), vec3<f32>(1.0)), material.sheen_alpha, id);
+    let color = material.sheen_color * clamp(scale, vec3<f32>(0.0), vec3<f32>(1.0));
+    if material.sheen_roughness_texture == NO_TEXTURE {
+        return Sheen(color, material.sheen_alpha, id, id, 0.0);
+    }
+    // render::sheen::textured_roughness and grid_position.
+    let texel = sample_texture(material.sheen_roughness_texture, uv).w;
+    let roughness = max(material.sheen_roughness * clamp(texel, 0.0, 1.0), SHEEN_MIN_ROUGHNESS);
+    let s = sqrt(clamp((roughness - SHEEN_MIN_ROUGHNESS) / (1.0 - SHEEN_MIN_ROUGHNESS), 0.0, 1.0));
+    let x = s * f32(SHEEN_GRID_NODES - 1u);
+    let i = min(u32(x), SHEEN_GRID_NODES - 2u);
+    let record = material.sheen_grid_first + i;
+    return Sheen(color, roughness * roughness, record, record + 1u, x - f32(i));
 }
 
-// render::sheen::SheenTable::albedo, read straight from the storage buffer as coat_table is.
-fn sheen_albedo(id: u32, cos: f32) -> f32 {
+// render::sheen::SheenTable::albedo of one record's table, read straight from the storage
+// buffer as coat_table is.
+fn sheen_record_albedo(id: u32, cos: f32) -> f32 {
     let node = table_node(cos, SHEEN_NODES);
     let j = node.i + 1u;
     let first = materials[id].sheen_albedo[node.i / 4u][node.i % 4u];
@@ -888,9 +903,18 @@ fn sheen_albedo(id: u32, cos: f32) -> f32 {
     return first * (1.0 - node.t) + second * node.t;
 }
 
+// render::sheen::SheenTable::albedo of the sheen's table.
+fn sheen_albedo(sheen: Sheen, cos: f32) -> f32 {
+    let below = sheen_record_albedo(sheen.id, cos);
+    if sheen.t <= 0.0 {
+        return below;
+    }
+    return below * (1.0 - sheen.t) + sheen_record_albedo(sheen.upper, cos) * sheen.t;
+}
+
 // render::sheen::SheenTable::reflectance.
 fn sheen_reflectance(sheen: Sheen, cos: f32) -> f32 {
-    return max3(sheen.color) * min(sheen_albedo(sheen.id, cos), 1.0);
+    return max3(sheen.color) * min(sheen_albedo(sheen, cos), 1.0);
 }
 
 // render::sheen::SheenTable::transmittance: 1 without a sheen.
@@ -903,7 +927,7 @@ fn sheen_transmittance(sheen: Sheen, cos: f32) -> f32 {
 
 // render::sheen::SheenTable::lobe_scale.
 fn sheen_lobe_scale(sheen: Sheen, cos: f32) -> vec3<f32> {
-    let denominator = max3(sheen.color) * sheen_albedo(sheen.id, cos);
+    let denominator = max3(sheen.color) * sheen_albedo(sheen, cos);
     if denominator > 0.0 {
         return sheen.color / denominator;
     }

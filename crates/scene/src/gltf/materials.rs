@@ -28,8 +28,9 @@
 //!   green, linear data); `clearcoatNormalTexture` is not read (a warning). A factor of 0 is
 //!   no coat.
 //! - `KHR_materials_sheen` → [`Sheen`] beneath the clear coat: `sheenColorFactor` (×
-//!   `sheenColorTexture`, sRGB) its colour, `sheenRoughnessFactor` its roughness (raised to
-//!   0.07); `sheenRoughnessTexture` is not read (a warning). A black colour is no sheen.
+//!   `sheenColorTexture`, sRGB) its colour, `sheenRoughnessFactor` (× the alpha channel of
+//!   `sheenRoughnessTexture`, linear data) its roughness, raised to 0.07. A black colour is no
+//!   sheen.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -318,7 +319,7 @@ impl Materials {
     }
 
     /// `KHR_materials_sheen` as a [`Sheen`] ([`sheen`]'s factors) with its colour texture,
-    /// decoded as sRGB.
+    /// decoded as sRGB, and its roughness texture, as linear data.
     fn sheen(
         &mut self,
         input: &Input,
@@ -326,22 +327,29 @@ impl Materials {
         check: &Check,
         m: &json::Material,
     ) -> Result<Option<Sheen>, SceneError> {
-        let Some(mut sheen) = sheen(check, m, builder)? else {
+        let Some(mut sheen) = sheen(check, m)? else {
             return Ok(None);
         };
         let extension = m
             .extensions
             .as_ref()
             .and_then(|e| e.others.get("KHR_materials_sheen"));
-        if let Some(value) = extension.and_then(|e| e.get("sheenColorTexture")) {
-            let name = "sheenColorTexture";
+        for name in ["sheenColorTexture", "sheenRoughnessTexture"] {
+            let Some(value) = extension.and_then(|e| e.get(name)) else {
+                continue;
+            };
             let info: json::texture::Info = serde_json::from_value(value.clone()).map_err(|e| {
                 check.error(format!(
                     "KHR_materials_sheen's {name} is not a texture: {e}"
                 ))
             })?;
-            let slot = TextureSlot::colour(&info, name);
-            sheen.color_texture = Some(self.texture(input, builder, slot, check.label)?);
+            if name == "sheenColorTexture" {
+                let slot = TextureSlot::colour(&info, name);
+                sheen.color_texture = Some(self.texture(input, builder, slot, check.label)?);
+            } else {
+                let slot = TextureSlot::data(&info, name);
+                sheen.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
+            }
         }
         Ok(Some(sheen))
     }
@@ -742,13 +750,8 @@ fn clearcoat(
     Ok(Clearcoat::new(weight, roughness))
 }
 
-/// `KHR_materials_sheen`'s factors as a [`Sheen`] (none for a black colour); its roughness
-/// texture is not read (a warning).
-fn sheen(
-    check: &Check,
-    m: &json::Material,
-    builder: &mut SceneBuilder,
-) -> Result<Option<Sheen>, SceneError> {
+/// `KHR_materials_sheen`'s factors as a [`Sheen`] (none for a black colour).
+fn sheen(check: &Check, m: &json::Material) -> Result<Option<Sheen>, SceneError> {
     let Some(value) = m
         .extensions
         .as_ref()
@@ -779,15 +782,7 @@ fn sheen(
             check.unit(x as f32, "KHR_materials_sheen's sheenRoughnessFactor")?
         }
     };
-    let sheen = Sheen::new(color, roughness);
-    if sheen.is_some() && value.get("sheenRoughnessTexture").is_some() {
-        builder.warn(format!(
-            "{}: KHR_materials_sheen's sheenRoughnessTexture not read (the sheen keeps its \
-             roughness factor)",
-            check.label
-        ));
-    }
-    Ok(sheen)
+    Ok(Sheen::new(color, roughness))
 }
 
 /// `KHR_materials_dispersion` as [`Material::dispersion`]: (ior − 1) / V with the Abbe

@@ -1198,13 +1198,12 @@ fn sky_lights_a_plane_through_its_clear_coat() {
 /// the plane beneath, lit through the sheen, E the lobe's directional albedo (by quadrature;
 /// the dimming by the sheen's own table), Ē = 2∫E(μ)μ dμ by the midpoint rule. The red
 /// channel's sheen is weaker than the green one that sets the choice, so the colour's share of
-/// the weight counts. Both direct-light modes: photons the sheen reflects are not kept, its
+/// the weight counts (`render::sheen::sky_plane_radiance`). Both direct-light modes: photons the sheen reflects are not kept, its
 /// reflection takes a light sample for its own lobe weighed against the sky met after it
 /// (1024 and 256 passes); and a rougher sheen whose texture reads 0.5 (sampled). Tolerances
 /// as the clear coat's: mean within 2.5 %, rms below 8 % and 3 %.
 #[test]
 fn sky_lights_a_plane_through_its_sheen() {
-    use render::sheen::{SheenTable, directional_albedo};
     let sky = 2.0f32;
     let color = Vec3::new(0.5, 0.9, 0.3);
     let mut scene = testing::punctual_plane(&[]);
@@ -1213,24 +1212,12 @@ fn sky_lights_a_plane_through_its_sheen() {
     for material in &mut scene.materials {
         material.sheen = scene::Sheen::new(color, 0.5);
     }
-    let table = SheenTable::new(0.5);
-    let strongest = color.max_element() as f64;
-    let dimming = |cos: f32| 1.0 - strongest * table.albedo(cos).min(1.0) as f64;
-    let steps = 2000;
-    let lit_through: f64 = (0..steps)
-        .map(|i| {
-            let mu = (i as f64 + 0.5) / steps as f64;
-            2.0 * mu * dimming(mu as f32) / steps as f64
-        })
-        .sum();
-    let albedo = testing::LIT_PLANE_ALBEDO as f64;
+    let radiance = render::sheen::sky_plane_radiance(sky, testing::LIT_PLANE_ALBEDO, color, 0.5, 0);
     let view = TopView::new(0.4, 16);
     let expected = |index: usize| {
         let (x, z) = view.point(index);
         let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
-        let reflected = color.x as f64 * directional_albedo(cos, table.alpha, 64);
-        let beneath = dimming(cos) * albedo * lit_through;
-        (sky as f64 * (reflected + beneath)) as f32
+        radiance(cos) as f32
     };
     let (image, _, _) = render_top_view(&scene, &view, 1, 1024);
     assert_matches("sheen, photons", &image, expected, 0.025, 0.08);

@@ -282,6 +282,35 @@ pub fn directional_albedo(cos_view: f32, alpha: f32, n: u32) -> f64 {
     sum / (n * n) as f64
 }
 
+/// The closed form the renderers are checked against: a Lambertian plane of albedo `albedo`
+/// under a sheen of `color` and `roughness`, lit by a uniform sky of radiance `sky`, seen at
+/// cosine `cos`, channel `channel`: `L·(C·E(θ) + (1 − max(C)E(θ))·ρ·(1 − max(C)Ē))`, the
+/// sheen's reflection of the sky (E by quadrature) and the plane beneath lit through it (the
+/// dimming by the sheen's table, Ē = 2∫min(E, 1)μ dμ by the midpoint rule).
+pub fn sky_plane_radiance(
+    sky: f32,
+    albedo: f32,
+    color: Vec3,
+    roughness: f32,
+    channel: usize,
+) -> impl Fn(f32) -> f64 {
+    let table = SheenTable::new(roughness);
+    let strongest = color.max_element() as f64;
+    let dimming = move |cos: f32| 1.0 - strongest * table.albedo(cos).min(1.0) as f64;
+    let steps = 2000;
+    let lit_through: f64 = (0..steps)
+        .map(|i| {
+            let mu = (i as f64 + 0.5) / steps as f64;
+            2.0 * mu * dimming(mu as f32) / steps as f64
+        })
+        .sum();
+    move |cos| {
+        let reflected = color[channel] as f64 * directional_albedo(cos, table.alpha, 64);
+        let beneath = dimming(cos) * albedo as f64 * lit_through;
+        sky as f64 * (reflected + beneath)
+    }
+}
+
 /// What the sheen does with a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SheenEvent {

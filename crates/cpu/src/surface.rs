@@ -34,7 +34,8 @@ pub struct SurfaceHit {
     /// Unit shading normal on the ray's side: interpolated, then bent by the material's normal
     /// map if it has one (the geometric one where that turns it below the surface).
     pub shading: Vec3,
-    /// The same before the normal map: the interpolated normal, which a clear coat over the
+    /// The same before the normal map: the interpolated normal (bent by the clear coat's own
+    /// normal map where it has one), which a clear coat over the
     /// material follows (glTF's coat has a normal of its own).
     pub interpolated: Vec3,
     pub uv: Vec2,
@@ -89,10 +90,18 @@ pub fn trace_within(
         let texel = scene.textures.sample(map, uv).truncate();
         shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
     }
+    // A clear coat with a normal map of its own follows it.
+    let mut coat_normal = unit_interpolated;
+    if let Some(coat) = material.clearcoat
+        && let Some(map) = coat.normal_texture
+    {
+        let texel = scene.textures.sample(map, uv).truncate();
+        coat_normal = mapped_normal(coat_normal, positions, uvs, texel, coat.normal_scale);
+    }
     let front = direction.dot(geometric) < 0.0;
     let side = if front { 1.0 } else { -1.0 };
     let (geometric, mut shading) = (side * geometric, side * shading);
-    let mut interpolated = side * unit_interpolated;
+    let mut interpolated = side * coat_normal;
     if shading.dot(geometric) <= 0.0 {
         shading = geometric;
     }

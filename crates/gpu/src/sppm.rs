@@ -121,7 +121,7 @@ fn compile_kernels(
 /// What a scene uses that the kernels can be compiled without (WGSL `override` constants).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct SceneFeatures {
-    /// Some material has a normal map (`NORMAL_MAPS` in `shading.wgsl`).
+    /// Some material, or its clear coat, has a normal map (`NORMAL_MAPS` in `shading.wgsl`).
     pub normal_maps: bool,
     /// Some material is rough plastic, or plastic a metallic-roughness texture may roughen
     /// (`ROUGH_COATS`).
@@ -149,7 +149,10 @@ impl SceneFeatures {
     pub(crate) fn of(scene: &scene::Scene) -> SceneFeatures {
         let any = |f: fn(&scene::Material) -> bool| scene.materials.iter().any(f);
         SceneFeatures {
-            normal_maps: any(|m| m.normal_texture.is_some()),
+            normal_maps: any(|m| {
+                m.normal_texture.is_some()
+                    || m.clearcoat.is_some_and(|c| c.normal_texture.is_some())
+            }),
             rough_coats: any(|m| {
                 matches!(m.surface, scene::Surface::Plastic { alpha, .. } if alpha > 0.0)
                     || m.roughness_map

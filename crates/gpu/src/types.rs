@@ -140,7 +140,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (304 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (320 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -222,6 +222,11 @@ pub struct GpuMaterial {
     pub sheen_roughness_texture: u32,
     pub sheen_grid_first: u32,
     pub sheen_roughness: f32,
+    /// The clear coat's own normal map (`scene::Clearcoat::normal_texture`; `NO_TEXTURE`
+    /// for none) and its scale.
+    pub clearcoat_normal_texture: u32,
+    pub clearcoat_normal_scale: f32,
+    pub pad_coat_normal: [u32; 2],
 }
 
 impl GpuMaterial {
@@ -306,6 +311,11 @@ impl GpuMaterial {
                 .unwrap_or(NO_TEXTURE),
             sheen_grid_first: 0,
             sheen_roughness: material.sheen.map_or(0.0, |s| s.roughness),
+            clearcoat_normal_texture: (material.clearcoat)
+                .and_then(|c| c.normal_texture)
+                .unwrap_or(NO_TEXTURE),
+            clearcoat_normal_scale: material.clearcoat.map_or(1.0, |c| c.normal_scale),
+            pad_coat_normal: [0; 2],
         }
     }
 
@@ -349,6 +359,7 @@ impl GpuMaterial {
             clearcoat_roughness_texture: NO_TEXTURE,
             sheen_color_texture: NO_TEXTURE,
             sheen_roughness_texture: NO_TEXTURE,
+            clearcoat_normal_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

@@ -369,6 +369,19 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, sheen_grid_first),
             ),
             ("sheen_roughness", offset_of!(GpuMaterial, sheen_roughness)),
+            (
+                "clearcoat_normal_texture",
+                offset_of!(GpuMaterial, clearcoat_normal_texture),
+            ),
+            (
+                "clearcoat_normal_scale",
+                offset_of!(GpuMaterial, clearcoat_normal_scale),
+            ),
+            ("pad_coat_normal0", offset_of!(GpuMaterial, pad_coat_normal)),
+            (
+                "pad_coat_normal1",
+                offset_of!(GpuMaterial, pad_coat_normal) + 4,
+            ),
         ],
     );
     assert_layout(

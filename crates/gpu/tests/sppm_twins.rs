@@ -855,6 +855,28 @@ fn every_kernel_matches_its_twin_under_textured_clear_coats() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same with the floor's coat following a normal map of its own (dimples,
+/// `scene::Clearcoat::normal_texture`) over the plain Lambertian floor: the coat's choice, its
+/// reflection and its transmittance for light samples and bounces take the bent normal.
+#[test]
+fn every_kernel_matches_its_twin_under_a_normal_mapped_clear_coat() {
+    let mut scene = scene::testing::cornell_clearcoat();
+    let floor = (scene.materials.iter())
+        .position(|m| m.name == "coated white")
+        .expect("the coated floor") as u32;
+    let dimples = scene.textures.len() as u32;
+    scene.textures.push(scene::testing::dimple_normal_map(32));
+    let coat = scene.materials[floor as usize].clearcoat.as_mut().unwrap();
+    coat.normal_texture = Some(dimples);
+    coat.normal_scale = 0.8;
+    for triangle in scene.triangles.iter_mut().filter(|t| t.material == floor) {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x, v.position.z) / 140.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same under sheens (`render::sheen` and its WGSL twin): velvet over a Lambertian base,
 /// and a sheen over rough plastic under half a clear coat; the sheen reflects or lets through,
 /// photons it reflects are not kept, its reflection takes a light sample for its own lobe, and

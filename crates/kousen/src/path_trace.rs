@@ -91,7 +91,7 @@ struct SurfacePoint {
     shadow_origin: Vec3,
     /// Unit geometric normal, front face.
     geometric: Vec3,
-    /// Unit interpolated normal (bent by a normal map), front face.
+    /// Unit interpolated normal (bent by the clear coat's own normal map, if any), front face.
     shading: Vec3,
     /// The same before the normal map, which a clear coat follows.
     interpolated: Vec3,
@@ -696,17 +696,25 @@ impl<'a> PathTracer<'a> {
         let mut shading = unit_interpolated;
         let uv = w * a.uv + hit.u * b.uv + hit.v * c.uv;
         let material = &self.materials[triangle.material as usize];
+        let uvs = [a.uv, b.uv, c.uv];
         if let Some(map) = material.normal_texture {
             let texel = self.texture(Some(map), uv).truncate();
-            let uvs = [a.uv, b.uv, c.uv];
             shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
+        }
+        // A clear coat with a normal map of its own follows it.
+        let mut coat_normal = unit_interpolated;
+        if let Some(coat) = material.clearcoat
+            && let Some(map) = coat.normal_texture
+        {
+            let texel = self.texture(Some(map), uv).truncate();
+            coat_normal = mapped_normal(coat_normal, positions, uvs, texel, coat.normal_scale);
         }
         Some(SurfacePoint {
             position,
             shadow_origin,
             geometric,
             shading,
-            interpolated: unit_interpolated,
+            interpolated: coat_normal,
             uv,
             material: triangle.material,
         })

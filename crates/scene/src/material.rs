@@ -135,6 +135,12 @@ pub struct Clearcoat {
     /// glTF's `clearcoatRoughnessTexture` (linear data): its green channel multiplies the
     /// roughness.
     pub roughness_texture: Option<TextureId>,
+    /// glTF's `clearcoatNormalTexture`: a tangent-space normal map (as
+    /// [`Material::normal_texture`]) bending the coat's own normal, which otherwise follows the
+    /// interpolated normal, not the material's map beneath.
+    pub normal_texture: Option<TextureId>,
+    /// Its `scale`.
+    pub normal_scale: f32,
 }
 
 impl Clearcoat {
@@ -149,6 +155,8 @@ impl Clearcoat {
             alpha: coat_alpha(roughness),
             weight_texture: None,
             roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
         })
     }
 
@@ -168,6 +176,8 @@ impl Clearcoat {
             },
             weight_texture: None,
             roughness_texture: None,
+            normal_texture: self.normal_texture,
+            normal_scale: self.normal_scale,
         }
     }
 }

@@ -743,7 +743,7 @@ fn dispersion_is_read_on_solid_glass() {
 
 /// `KHR_materials_clearcoat`'s factors as `Material::clearcoat` (GGX width the roughness
 /// squared, smooth below 0.01), carried by every member of a blend; a factor of 0 is no coat;
-/// its weight and roughness textures are read, its normal texture warned about; a factor
+/// its weight, roughness and normal textures are read (the last with its scale); a factor
 /// outside [0, 1] is refused; the extension may be required.
 #[test]
 fn clearcoat_factors_are_read() {
@@ -790,7 +790,7 @@ fn clearcoat_factors_are_read() {
         "clearcoatFactor": 1.0,
         "clearcoatTexture": { "index": 0 },
         "clearcoatRoughnessTexture": { "index": 0 },
-        "clearcoatNormalTexture": { "index": 0 },
+        "clearcoatNormalTexture": { "index": 0, "scale": 0.5 },
     } });
     let material = doc.material(material);
     let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
@@ -798,21 +798,19 @@ fn clearcoat_factors_are_read() {
     let textured = doc.load().expect("loads");
     let coat = textured.materials[0].clearcoat.expect("a coat");
     assert_eq!(
-        (coat.weight_texture, coat.roughness_texture),
-        (Some(0), Some(0))
+        (
+            coat.weight_texture,
+            coat.roughness_texture,
+            coat.normal_texture
+        ),
+        (Some(0), Some(0), Some(0))
     );
+    assert_eq!(coat.normal_scale, 0.5);
     assert!(
         matches!(textured.textures[0].texels, Texels::LinearF32(_)),
         "coat textures are data"
     );
-    assert!(
-        textured
-            .warnings
-            .iter()
-            .any(|w| w.contains("clearcoatNormalTexture") && w.contains("not read")),
-        "{:?}",
-        textured.warnings
-    );
+    assert!(textured.warnings.is_empty(), "{:?}", textured.warnings);
     let bad = coated(
         0.0,
         json!({ "clearcoatFactor": 1.0, "clearcoatTexture": { "index": 7 } }),

@@ -85,4 +85,9 @@ struct GpuMaterial {
     sheen_roughness_texture: u32,
     sheen_grid_first: u32,
     sheen_roughness: f32,
+    // scene::Clearcoat::normal_texture (NO_TEXTURE: none) and its scale.
+    clearcoat_normal_texture: u32,
+    clearcoat_normal_scale: f32,
+    pad_coat_normal0: u32,
+    pad_coat_normal1: u32,
 }

@@ -350,7 +350,14 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     }
     result.interpolated = result.shading;
     if NORMAL_MAPS {
-        result.interpolated = side * unit_interpolated;
+        // cpu::surface::trace_within: a clear coat with a normal map of its own follows it.
+        var coat_normal = unit_interpolated;
+        let coat_map = materials[material_index].clearcoat_normal_texture;
+        if CLEARCOATS && coat_map != NO_TEXTURE {
+            let texel = sample_texture(coat_map, uv).xyz;
+            coat_normal = mapped_normal(coat_normal, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].clearcoat_normal_scale);
+        }
+        result.interpolated = side * coat_normal;
         if dot(result.interpolated, result.geometric) <= 0.0 {
             result.interpolated = result.geometric;
         }

@@ -25,8 +25,8 @@
 //! - `KHR_materials_clearcoat` → [`Clearcoat`] over every member: `clearcoatFactor` its
 //!   weight, `clearcoatRoughnessFactor` its GGX width (squared; smooth below 0.01), each
 //!   multiplied per hit by its texture (`clearcoatTexture`'s red, `clearcoatRoughnessTexture`'s
-//!   green, linear data); `clearcoatNormalTexture` is not read (a warning). A factor of 0 is
-//!   no coat.
+//!   green, linear data); `clearcoatNormalTexture` (with its `scale`) bends the coat's own
+//!   normal, which otherwise follows the interpolated one. A factor of 0 is no coat.
 //! - `KHR_materials_sheen` → [`Sheen`] beneath the clear coat: `sheenColorFactor` (×
 //!   `sheenColorTexture`, sRGB) its colour, `sheenRoughnessFactor` (× the alpha channel of
 //!   `sheenRoughnessTexture`, linear data) its roughness, raised to 0.07. A black colour is no
@@ -285,7 +285,7 @@ impl Materials {
     }
 
     /// `KHR_materials_clearcoat` as a [`Clearcoat`] ([`clearcoat`]'s factors) with its
-    /// weight and roughness textures, decoded as linear data.
+    /// weight, roughness and normal textures, decoded as linear data.
     fn clearcoat(
         &mut self,
         input: &Input,
@@ -293,7 +293,7 @@ impl Materials {
         check: &Check,
         m: &json::Material,
     ) -> Result<Option<Clearcoat>, SceneError> {
-        let Some(mut coat) = clearcoat(check, m, builder)? else {
+        let Some(mut coat) = clearcoat(check, m)? else {
             return Ok(None);
         };
         let extension = m
@@ -314,6 +314,25 @@ impl Materials {
                 "clearcoatTexture" => coat.weight_texture = Some(id),
                 _ => coat.roughness_texture = Some(id),
             }
+        }
+        if let Some(value) = extension.and_then(|e| e.get("clearcoatNormalTexture")) {
+            let normal: json::material::NormalTexture = serde_json::from_value(value.clone())
+                .map_err(|e| {
+                    check.error(format!(
+                        "KHR_materials_clearcoat's clearcoatNormalTexture is not a normal \
+                         texture: {e}"
+                    ))
+                })?;
+            if !normal.scale.is_finite() {
+                return Err(check.error(format!(
+                    "clearcoatNormalTexture's scale {} is not finite",
+                    normal.scale
+                )));
+            }
+            let mut slot = TextureSlot::normal(&normal);
+            slot.name = "clearcoatNormalTexture";
+            coat.normal_texture = Some(self.texture(input, builder, slot, check.label)?);
+            coat.normal_scale = normal.scale;
         }
         Ok(Some(coat))
     }
@@ -713,13 +732,8 @@ fn unlit(material: Material) -> Material {
     }
 }
 
-/// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0); its
-/// normal texture is not read (a warning).
-fn clearcoat(
-    check: &Check,
-    m: &json::Material,
-    builder: &mut SceneBuilder,
-) -> Result<Option<Clearcoat>, SceneError> {
+/// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0).
+fn clearcoat(check: &Check, m: &json::Material) -> Result<Option<Clearcoat>, SceneError> {
     let Some(value) = m
         .extensions
         .as_ref()
@@ -740,13 +754,6 @@ fn clearcoat(
     };
     let weight = factor("clearcoatFactor")?;
     let roughness = factor("clearcoatRoughnessFactor")?;
-    if weight > 0.0 && value.get("clearcoatNormalTexture").is_some() {
-        builder.warn(format!(
-            "{}: KHR_materials_clearcoat's clearcoatNormalTexture not read (the coat follows \
-             the surface's own normal)",
-            check.label
-        ));
-    }
     Ok(Clearcoat::new(weight, roughness))
 }
 

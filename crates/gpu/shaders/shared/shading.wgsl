@@ -352,10 +352,12 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     if NORMAL_MAPS {
         // cpu::surface::trace_within: a clear coat with a normal map of its own follows it.
         var coat_normal = unit_interpolated;
-        let coat_map = materials[material_index].clearcoat_normal_texture;
-        if CLEARCOATS && coat_map != NO_TEXTURE {
-            let texel = sample_texture(coat_map, uv).xyz;
-            coat_normal = mapped_normal(coat_normal, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].clearcoat_normal_scale);
+        if CLEARCOATS {
+            let coat_map = materials[material_index].clearcoat_normal_texture;
+            if coat_map != NO_TEXTURE {
+                let texel = sample_texture(coat_map, uv).xyz;
+                coat_normal = mapped_normal(coat_normal, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].clearcoat_normal_scale);
+            }
         }
         result.interpolated = side * coat_normal;
         if dot(result.interpolated, result.geometric) <= 0.0 {

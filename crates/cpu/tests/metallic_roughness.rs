@@ -3,7 +3,8 @@
 //! untextured blend glTF's factors would make, bit for bit (the same random numbers are drawn
 //! and the same surfaces met), the factors being the texel as the texture array keeps it. The
 //! texel picks each lobe's surface: mirror or rough metal, plastic or Lambertian coat, clear or
-//! frosted glass.
+//! frosted glass. The same holds for glTF's transmission texture
+//! (`scene::Material::transmission_texture`), which weighs a blend's glass member by its red.
 
 use glam::Vec2;
 use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
@@ -92,4 +93,64 @@ fn a_uniform_texture_renders_as_the_factors_it_reads() {
         let (other, _) = uniform(blue, green);
         assert_ne!(image, render(&other), "texel ({green}, {blue}) swapped");
     }
+}
+
+/// The ids of `testing::cornell_blended`'s sphere of 60 % glass and 40 % plastic: its glass
+/// member (first) and its plastic one.
+fn milky_members(scene: &Scene) -> [usize; 2] {
+    let glass = (scene.materials.iter())
+        .position(|m| m.name == "glass and plastic" && m.surface.is_glass())
+        .expect("the milky sphere's glass");
+    let plastic = scene.materials[glass].blend.expect("a blend").other as usize;
+    [glass, plastic]
+}
+
+/// `testing::cornell_blended` whose milky sphere's members carry a transmission texture
+/// reading `red` everywhere.
+fn uniform_transmission(red: u8) -> Scene {
+    let mut scene = testing::cornell_blended();
+    let texture = scene.textures.len() as u32;
+    scene.textures.push(scene::Texture {
+        name: "transmission".into(),
+        width: 1,
+        height: 1,
+        texels: Texels::LinearF32(vec![[f32::from(red) / 255.0, 0.0, 0.0, 1.0]]),
+    });
+    for id in milky_members(&scene) {
+        scene.materials[id].transmission_texture = Some(texture);
+    }
+    scene
+}
+
+/// [`uniform_transmission`] with the texture gone: the glass member's weight is the factor times the texel
+/// as the renderers' texture array stores it.
+fn factored_transmission(red: u8) -> Scene {
+    let mut scene = uniform_transmission(red);
+    let texel = TextureArray::build(&scene.textures, DEFAULT_MAX_SIDE)
+        .sample(scene.textures.len() as u32 - 1, Vec2::splat(0.3));
+    let [glass, plastic] = milky_members(&scene);
+    let blend = scene.materials[glass].blend.as_mut().unwrap();
+    blend.weight *= texel.x;
+    for id in [glass, plastic] {
+        scene.materials[id].transmission_texture = None;
+    }
+    scene
+}
+
+#[test]
+fn a_uniform_transmission_texture_renders_as_the_factor_it_reads() {
+    for red in [0, 90, 255] {
+        let image = render(&uniform_transmission(red));
+        assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
+        assert_eq!(
+            image,
+            render(&factored_transmission(red)),
+            "texel {red} renders otherwise than its factor"
+        );
+    }
+    // And the texel matters: another one gives another image.
+    assert_ne!(
+        render(&uniform_transmission(90)),
+        render(&uniform_transmission(200))
+    );
 }

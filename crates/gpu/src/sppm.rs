@@ -135,6 +135,8 @@ pub(crate) struct SceneFeatures {
     pub clearcoats: bool,
     /// Some material wears a sheen (`SHEENS`).
     pub sheens: bool,
+    /// Some blend's glass member is weighed by a transmission texture (`TRANSMISSION_MAPS`).
+    pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
     pub media: bool,
     /// Some glass disperses (`DISPERSION`).
@@ -166,6 +168,7 @@ impl SceneFeatures {
             blends: any(|m| m.blend.is_some()),
             clearcoats: any(|m| m.clearcoat.is_some()),
             sheens: any(|m| m.sheen.is_some()),
+            transmission_maps: any(|m| m.transmission_texture.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
@@ -173,7 +176,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 10] {
+    fn constants(self) -> [(&'static str, f64); 11] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -182,6 +185,7 @@ impl SceneFeatures {
             ("BLENDS", flag(self.blends)),
             ("CLEARCOATS", flag(self.clearcoats)),
             ("SHEENS", flag(self.sheens)),
+            ("TRANSMISSION_MAPS", flag(self.transmission_maps)),
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),

@@ -226,7 +226,10 @@ pub struct GpuMaterial {
     /// for none) and its scale.
     pub clearcoat_normal_texture: u32,
     pub clearcoat_normal_scale: f32,
-    pub pad_coat_normal: [u32; 2],
+    /// glTF's transmission texture (`scene::Material::transmission_texture`), or
+    /// `NO_TEXTURE`.
+    pub transmission_texture: u32,
+    pub pad_transmission: u32,
 }
 
 impl GpuMaterial {
@@ -315,7 +318,8 @@ impl GpuMaterial {
                 .and_then(|c| c.normal_texture)
                 .unwrap_or(NO_TEXTURE),
             clearcoat_normal_scale: material.clearcoat.map_or(1.0, |c| c.normal_scale),
-            pad_coat_normal: [0; 2],
+            transmission_texture: material.transmission_texture.unwrap_or(NO_TEXTURE),
+            pad_transmission: 0,
         }
     }
 
@@ -360,6 +364,7 @@ impl GpuMaterial {
             sheen_color_texture: NO_TEXTURE,
             sheen_roughness_texture: NO_TEXTURE,
             clearcoat_normal_texture: NO_TEXTURE,
+            transmission_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

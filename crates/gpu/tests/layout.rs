@@ -377,10 +377,13 @@ fn gpu_types_layout_matches_rust() {
                 "clearcoat_normal_scale",
                 offset_of!(GpuMaterial, clearcoat_normal_scale),
             ),
-            ("pad_coat_normal0", offset_of!(GpuMaterial, pad_coat_normal)),
             (
-                "pad_coat_normal1",
-                offset_of!(GpuMaterial, pad_coat_normal) + 4,
+                "transmission_texture",
+                offset_of!(GpuMaterial, transmission_texture),
+            ),
+            (
+                "pad_transmission",
+                offset_of!(GpuMaterial, pad_transmission),
             ),
         ],
     );

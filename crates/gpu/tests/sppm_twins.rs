@@ -819,21 +819,10 @@ fn every_kernel_matches_its_twin_under_clear_coats() {
 #[test]
 fn every_kernel_matches_its_twin_under_textured_clear_coats() {
     let mut scene = scene::testing::cornell_clearcoat();
-    let side = 8u32;
-    let texels = (0..side * side)
-        .map(|i| {
-            let (x, y) = (i % side, i / side);
-            let weight = if (x + y) % 2 == 0 { 0.2 } else { 1.0 };
-            let roughness = if y < side / 2 { 0.3 } else { 1.0 };
-            [weight, roughness, 0.0, 1.0]
-        })
-        .collect();
-    let texture = scene.textures.len() as u32;
-    scene.textures.push(scene::Texture {
-        name: "coat checker".into(),
-        width: side,
-        height: side,
-        texels: scene::Texels::LinearF32(texels),
+    let texture = push_checker(&mut scene, "coat checker", |x, y| {
+        let weight = if (x + y) % 2 == 0 { 0.2 } else { 1.0 };
+        let roughness = if y < CHECKER_SIDE / 2 { 0.3 } else { 1.0 };
+        [weight, roughness, 0.0, 1.0]
     });
     let floor = (scene.materials.iter())
         .position(|m| m.name == "coated white")
@@ -892,22 +881,12 @@ fn every_kernel_matches_its_twin_under_sheens() {
 #[test]
 fn every_kernel_matches_its_twin_under_textured_sheens() {
     let mut scene = scene::testing::cornell_sheen();
-    let side = 8u32;
-    let texels = (0..side * side)
-        .map(|i| {
-            let roughness = if (i / side) % 4 < 2 { 1.0 } else { 0.4 };
-            match (i % side + i / side) % 2 {
-                0 => [1.0, 1.0, 1.0, roughness],
-                _ => [0.1, 0.2, 0.6, roughness],
-            }
-        })
-        .collect();
-    let texture = scene.textures.len() as u32;
-    scene.textures.push(scene::Texture {
-        name: "sheen checker".into(),
-        width: side,
-        height: side,
-        texels: scene::Texels::LinearF32(texels),
+    let texture = push_checker(&mut scene, "sheen checker", |x, y| {
+        let roughness = if y % 4 < 2 { 1.0 } else { 0.4 };
+        match (x + y) % 2 {
+            0 => [1.0, 1.0, 1.0, roughness],
+            _ => [0.1, 0.2, 0.6, roughness],
+        }
     });
     let velvet = (scene.materials.iter())
         .position(|m| m.name == "red velvet")
@@ -930,6 +909,30 @@ fn every_kernel_matches_its_twin_under_textured_sheens() {
 #[test]
 fn every_kernel_matches_its_twin_through_blends() {
     every_kernel_matches_its_twin(scene::testing::cornell_blended(), DirectLight::Sampled);
+}
+
+/// The same with the glass-and-plastic sphere's glass weighed by a transmission texture
+/// (`render::blend::transmission_weight`): a checker of 1 and 0.2, so that hits draw glass or
+/// plastic with the texel's share of the factor.
+#[test]
+fn every_kernel_matches_its_twin_through_a_transmission_texture() {
+    let mut scene = scene::testing::cornell_blended();
+    let texture = push_checker(&mut scene, "transmission checker", |x, y| {
+        let red = if (x + y) % 2 == 0 { 1.0 } else { 0.2 };
+        [red, 0.0, 0.0, 1.0]
+    });
+    let milky: Vec<u32> = (0..scene.materials.len() as u32)
+        .filter(|&id| scene.materials[id as usize].name == "glass and plastic")
+        .collect();
+    for &id in &milky {
+        scene.materials[id as usize].transmission_texture = Some(texture);
+    }
+    for triangle in (scene.triangles.iter_mut()).filter(|t| milky.contains(&t.material)) {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x, v.position.y) / 40.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
 /// The same with glTF's metallic-roughness texture (`scene::RoughnessMap`,
@@ -955,6 +958,25 @@ fn every_kernel_matches_its_twin_under_a_sky_map() {
     assert!(render::sky_map::MapFrame::of(lights.last().unwrap()).is_some());
     every_kernel_matches_its_twin(scene.clone(), DirectLight::Sampled);
     every_kernel_matches_its_twin(scene, DirectLight::Photons);
+}
+
+/// Texels a side of the textures [`push_checker`] makes.
+const CHECKER_SIDE: u32 = 8;
+
+/// Adds a [`CHECKER_SIDE`]² texture of linear data whose texel at column `x`, row `y` is
+/// `texel(x, y)`, and returns its id.
+fn push_checker(scene: &mut scene::Scene, name: &str, texel: impl Fn(u32, u32) -> [f32; 4]) -> u32 {
+    let side = CHECKER_SIDE;
+    let texels = (0..side * side)
+        .map(|i| texel(i % side, i / side))
+        .collect();
+    scene.textures.push(scene::Texture {
+        name: name.into(),
+        width: side,
+        height: side,
+        texels: scene::Texels::LinearF32(texels),
+    });
+    scene.textures.len() as u32 - 1
 }
 
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {

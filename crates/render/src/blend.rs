@@ -11,22 +11,24 @@ use scene::{MAX_BLEND_MEMBERS, Material, Surface, TextureId};
 /// The member of the blend starting at material `id` that a hit takes for a uniform `u`:
 /// the chain's first material whose weight `u` falls under, `u` rescaled onto the rest of
 /// the interval at each step, so one number decides the whole chain. `id` itself for a
-/// material without a blend. `texel` reads the hit's texture where the first material's
-/// weight is a textured metal's ([`scene::RoughnessMap::blend_weight`]).
+/// material without a blend. `texel` reads the hit's textures: where the first material's
+/// weight is a textured metal's ([`scene::RoughnessMap::blend_weight`]), and where a glass
+/// member's weight is scaled by the transmission texture's red ([`transmission_weight`]).
 pub fn blend_member(
     materials: &[Material],
     id: u32,
     u: f32,
-    texel: impl FnOnce(TextureId) -> Vec4,
+    texel: impl Fn(TextureId) -> Vec4,
 ) -> u32 {
     let first = &materials[id as usize];
     let Some(blend) = first.blend else {
         return id;
     };
-    let mut weight = match first.roughness_map {
+    let weight = match first.roughness_map {
         Some(map) => map.blend_weight(blend.weight, texel(map.texture)),
         None => blend.weight,
     };
+    let mut weight = transmission_weight(first, weight, &texel);
     let (mut id, mut u) = (id, u);
     for _ in 1..MAX_BLEND_MEMBERS {
         let Some(blend) = materials[id as usize].blend else {
@@ -37,9 +39,25 @@ pub fn blend_member(
         }
         u = (u - weight) / (1.0 - weight);
         id = blend.other;
-        weight = materials[id as usize].blend.map_or(1.0, |b| b.weight);
+        let member = &materials[id as usize];
+        weight = transmission_weight(member, member.blend.map_or(1.0, |b| b.weight), &texel);
     }
     id
+}
+
+/// A blend member's `weight` at a hit whose textures read `texel`: a glass member's scaled by
+/// its transmission texture's red (glTF's `transmissionTexture`), the others' as they are.
+pub fn transmission_weight(
+    member: &Material,
+    weight: f32,
+    texel: impl Fn(TextureId) -> Vec4,
+) -> f32 {
+    match member.transmission_texture {
+        Some(texture) if member.blend.is_some() && member.surface.is_glass() => {
+            weight * texel(texture).x.clamp(0.0, 1.0)
+        }
+        _ => weight,
+    }
 }
 
 /// The surface a hit meets on `material` (a blend's member): its own, or where a

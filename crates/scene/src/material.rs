@@ -84,6 +84,10 @@ pub struct Material {
     /// A sheen over the material beneath the clear coat (glTF's `KHR_materials_sheen`: velvet,
     /// cloth); `None` for none.
     pub sheen: Option<Sheen>,
+    /// glTF's `transmissionTexture` (linear data): its red channel multiplies the weight of a
+    /// blend's glass member (a dielectric surface) at each hit, the opaque member after it
+    /// taking the rest (`render::blend::blend_member`). Every member of the blend carries it.
+    pub transmission_texture: Option<TextureId>,
 }
 
 /// glTF's sheen (`KHR_materials_sheen`): a retro-reflective fibre layer of the Charlie
@@ -434,11 +438,21 @@ impl Default for Material {
             roughness_map: None,
             clearcoat: None,
             sheen: None,
+            transmission_texture: None,
         }
     }
 }
 
 impl Surface {
+    /// Whether it is glass, smooth or frosted (a blend's member that glTF's
+    /// `transmissionTexture` weighs).
+    pub fn is_glass(self) -> bool {
+        matches!(
+            self,
+            Surface::Dielectric { .. } | Surface::RoughDielectric { .. }
+        )
+    }
+
     /// Whether it has a Lambertian lobe (diffuse, or plastic's base), where photons are kept
     /// and eye paths end.
     pub fn has_diffuse_lobe(self) -> bool {

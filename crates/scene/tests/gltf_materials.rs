@@ -1029,3 +1029,52 @@ fn sheen_factors_are_read() {
     doc.json["extensionsUsed"] = json!(["KHR_materials_sheen"]);
     assert!(doc.load().is_ok(), "KHR_materials_sheen may be required");
 }
+
+/// `KHR_materials_transmission`'s texture (`Material::transmission_texture`, linear data) on
+/// every member of the blend it makes; at factor 1 the opaque member stays, with what the
+/// texel leaves (the glass's weight just short of 1); with factor 0 there is no glass and the
+/// texture is not read.
+#[test]
+fn transmission_textures_weigh_the_glass() {
+    let textured = |factor: f32| {
+        let mut doc = doc_with_embedded_png();
+        doc.push("textures", json!({ "source": 0 }));
+        let mut material = pbr(0.0, 0.0);
+        material["extensions"] = json!({ "KHR_materials_transmission": {
+            "transmissionFactor": factor,
+            "transmissionTexture": { "index": 0 },
+        } });
+        let material = doc.material(material);
+        let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+        doc.instance(mesh);
+        doc.load().expect("loads")
+    };
+    let full = textured(1.0);
+    let first = full.triangles[0].material as usize;
+    let glass = &full.materials[first];
+    assert!(glass.surface.is_glass(), "{:?}", glass.surface);
+    let blend = glass.blend.expect("glass and the opaque member");
+    assert!(
+        blend.weight > 0.999 && blend.weight < 1.0,
+        "{}",
+        blend.weight
+    );
+    let opaque = &full.materials[blend.other as usize];
+    assert!(matches!(opaque.surface, Surface::Plastic { .. }));
+    assert_eq!(glass.transmission_texture, Some(0));
+    assert_eq!(opaque.transmission_texture, Some(0));
+    assert!(matches!(full.textures[0].texels, Texels::LinearF32(_)));
+    let half = textured(0.5);
+    let first = half.triangles[0].material as usize;
+    assert_eq!(half.materials[first].blend.map(|b| b.weight), Some(0.5));
+    let none = textured(0.0);
+    assert!(
+        none.materials
+            .iter()
+            .all(|m| m.transmission_texture.is_none())
+    );
+    assert!(
+        none.textures.is_empty(),
+        "factor 0: the texture is not read"
+    );
+}

@@ -642,7 +642,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let map_texel = roughness_texel(root, hit.uv);
     if BLENDS && (root.flags & MATERIAL_BLEND) != 0u {
         keeper = root.blend_photon_member;
-        hit.material = blend_member(hit.material, next_f32(&rng), map_texel);
+        hit.material = blend_member(hit.material, next_f32(&rng), map_texel, hit.uv);
         material = materials[hit.material];
     }
     // cpu::kernels: where a metallic-roughness texture maps the member, its surface here.
@@ -954,7 +954,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
         var material = root;
         let map_texel = roughness_texel(root, hit.uv);
         if BLENDS && (root.flags & MATERIAL_BLEND) != 0u {
-            hit.material = blend_member(hit.material, next_f32(rng), map_texel);
+            hit.material = blend_member(hit.material, next_f32(rng), map_texel, hit.uv);
             material = materials[hit.material];
         }
         // cpu::kernels::eye_path: where a metallic-roughness texture maps the member, its

@@ -88,6 +88,7 @@ struct GpuMaterial {
     // scene::Clearcoat::normal_texture (NO_TEXTURE: none) and its scale.
     clearcoat_normal_texture: u32,
     clearcoat_normal_scale: f32,
-    pad_coat_normal0: u32,
-    pad_coat_normal1: u32,
+    // scene::Material::transmission_texture (NO_TEXTURE: none).
+    transmission_texture: u32,
+    pad_transmission: u32,
 }

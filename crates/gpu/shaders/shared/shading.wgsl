@@ -216,6 +216,8 @@ override BLENDS: bool = true;
 override CLEARCOATS: bool = true;
 // Whether some material wears glTF's sheen (scene::Sheen).
 override SHEENS: bool = true;
+// Whether some blend's glass member is weighed by a transmission texture.
+override TRANSMISSION_MAPS: bool = true;
 // Whether the sky has an environment map (render::sky_map, read in sppm.wgsl): compiled out
 // otherwise, as NORMAL_MAPS is (its lookups and searches, inlined, made lavapipe's eye pass
 // ~10 % slower in scenes without one).
@@ -239,22 +241,41 @@ fn roughness_texel(root: GpuMaterial, uv: vec2<f32>) -> vec4<f32> {
 // takes for a uniform `u`, which is rescaled onto the rest of its interval at each step; a
 // textured metal's weight is multiplied by the hit's metalness (`texel`, roughness_texel).
 // Materials without a blend have weight 1, so `u` always stops at them.
-fn blend_member(id: u32, u: f32, texel: vec4<f32>) -> u32 {
+fn blend_member(id: u32, u: f32, texel: vec4<f32>, uv: vec2<f32>) -> u32 {
     var member = id;
     var rest = u;
     var weight = materials[id].blend_weight;
     if ROUGHNESS_MAPS && materials[id].roughness_lobe == ROUGHNESS_METAL {
         weight *= clamp(texel.z, 0.0, 1.0);
     }
+    weight = transmission_weight(id, weight, uv);
     for (var i = 1u; i < MAX_BLEND_MEMBERS; i += 1u) {
         if rest < weight {
             break;
         }
         rest = (rest - weight) / (1.0 - weight);
         member = materials[member].blend_other;
-        weight = materials[member].blend_weight;
+        weight = transmission_weight(member, materials[member].blend_weight, uv);
     }
     return member;
+}
+
+// render::blend::transmission_weight: a glass member's weight scaled by its transmission
+// texture's red at `uv`.
+fn transmission_weight(member: u32, weight: f32, uv: vec2<f32>) -> f32 {
+    if !TRANSMISSION_MAPS {
+        return weight;
+    }
+    let texture = materials[member].transmission_texture;
+    if texture == NO_TEXTURE {
+        return weight;
+    }
+    let surface = materials[member].surface;
+    let is_glass = surface == SURFACE_DIELECTRIC || surface == SURFACE_ROUGH_DIELECTRIC;
+    if !is_glass || (materials[member].flags & MATERIAL_BLEND) == 0u {
+        return weight;
+    }
+    return weight * clamp(sample_texture(texture, uv).x, 0.0, 1.0);
 }
 
 // render::blend::mapped_material (scene::RoughnessMap::surface): the member as a hit meets

@@ -65,7 +65,10 @@
 //!   member is stored at the mean roughness of the texels where it shows, which what reads
 //!   the material outside a hit sees (`kousen info`).
 //!
-//! Ignored: occlusion (a path tracer's light needs none), transmission and thickness textures,
+//! - `transmissionTexture` (linear data: its red channel) multiplies the glass member's weight
+//!   at each hit, the opaque dielectric taking the rest (`Material::transmission_texture`).
+//!
+//! Ignored: occlusion (a path tracer's light needs none), thickness textures,
 //! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
 //! as sRGB, each image once however many materials use it.
 
@@ -183,7 +186,22 @@ impl Materials {
         }
         let metallic = check.unit(pbr.metallic_factor.0, "metallicFactor")?;
         let roughness = check.unit(pbr.roughness_factor.0, "roughnessFactor")?;
-        let transmission = transmission(&check, m)?;
+        let transmission_info = (m.extensions.as_ref())
+            .and_then(|e| e.transmission.as_ref())
+            .and_then(|t| t.transmission_texture.as_ref());
+        let transmission_texture = match transmission_info {
+            Some(info) if transmission(&check, m)? > 0.0 => {
+                let slot = TextureSlot::data(info, "transmissionTexture");
+                Some(self.texture(input, builder, slot, &label)?)
+            }
+            _ => None,
+        };
+        // A texture needs the opaque member even at factor 1 (the builder keeps members of
+        // some probability, and its blend weights stop short of 1 anyway).
+        let transmission = match transmission_texture {
+            Some(_) => transmission(&check, m)?.min(1.0 - TEXTURED_TRANSMISSION_GAP),
+            None => transmission(&check, m)?,
+        };
         let mapped = match &pbr.metallic_roughness_texture {
             Some(info) => {
                 let slot = TextureSlot::data(info, "metallicRoughnessTexture");
@@ -212,6 +230,11 @@ impl Materials {
             }
         };
         let surfaces = members.surfaces();
+        if transmission_texture.is_some() && !surfaces.iter().any(|(_, s)| s.is_glass()) {
+            builder.warn(format!(
+                "{label}: transmissionTexture not read (ior 0 makes the glass a mirror)"
+            ));
+        }
         let dispersion = dispersion(&check, m, &surfaces, builder)?;
         let absorption = absorption(&check, m, &surfaces)?;
         let emission = emission(&check, m)?;
@@ -274,6 +297,7 @@ impl Materials {
             roughness_map: None,
             clearcoat: self.clearcoat(input, builder, &check, m)?,
             sheen: self.sheen(input, builder, &check, m)?,
+            transmission_texture,
         };
         if is_unlit(m) {
             return Ok((
@@ -575,6 +599,9 @@ struct Lobes {
     opaque: Surface,
 }
 
+/// What a textured transmission's factor stays below, so that the opaque member is kept.
+const TEXTURED_TRANSMISSION_GAP: f32 = 1.0 / (1 << 20) as f32;
+
 /// `KHR_materials_transmission`'s factor (0 without it).
 fn transmission(check: &Check, m: &json::Material) -> Result<f32, SceneError> {
     let transmission = (m.extensions.as_ref())
@@ -724,6 +751,7 @@ fn unlit(material: Material) -> Material {
         base_color: Vec3::ZERO,
         clearcoat: None,
         sheen: None,
+        transmission_texture: None,
         roughness_map: None,
         normal_texture: None,
         absorption: Vec3::ZERO,

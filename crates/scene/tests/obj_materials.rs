@@ -120,6 +120,38 @@ fn specular_colour_and_shininess_make_plastic_and_pm_metal() {
     );
 }
 
+/// The PBR extension's coat and sheen, as Blender writes them: `Pc` and `Pcr` a clear coat of
+/// that weight and roughness, `Ps` a white sheen of that strength and roughness 0.5; 0 is
+/// none; a metal blend's members all carry them; mirrors and glass wear none.
+#[test]
+fn pc_pcr_and_ps_make_a_clear_coat_and_a_sheen() {
+    let dir = tempfile::tempdir().unwrap();
+    let mtl = "newmtl coated\nKd 0.8 0.1 0.1\nPr 0.6\nPc 0.7\nPcr 0.2\n\
+               newmtl velvet\nKd 0.3 0.0 0.0\nPr 0.9\nPs 0.8\n\
+               newmtl none\nKd 0.5 0.5 0.5\nPc 0\nPs 0\n\
+               newmtl half\nKd 0.9 0.7 0.3\nPr 0.3\nPm 0.5\nPc 1\nPs 0.5\n\
+               newmtl glass\nillum 7\nPc 1\nPs 1\n";
+    let names = ["coated", "velvet", "none", "half", "glass"];
+    let scene = load(dir.path(), &names, mtl);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let coated = material(&scene, "coated");
+    assert_eq!(coated.clearcoat, scene::Clearcoat::new(0.7, 0.2));
+    assert_eq!(coated.sheen, None);
+    let velvet = material(&scene, "velvet");
+    assert_eq!(velvet.sheen, scene::Sheen::new(Vec3::splat(0.8), 0.5));
+    assert_eq!(velvet.clearcoat, None);
+    let none = material(&scene, "none");
+    assert_eq!((none.clearcoat, none.sheen), (None, None));
+    let half = material(&scene, "half");
+    let other = &scene.materials[half.blend.expect("Pm 0.5 blends").other as usize];
+    for member in [half, other] {
+        assert_eq!(member.clearcoat, scene::Clearcoat::new(1.0, 0.0));
+        assert_eq!(member.sheen, scene::Sheen::new(Vec3::splat(0.5), 0.5));
+    }
+    let glass = material(&scene, "glass");
+    assert_eq!((glass.clearcoat, glass.sheen), (None, None));
+}
+
 #[test]
 fn illum_3_and_5_are_mirrors_tinted_by_ks_else_kd() {
     let dir = tempfile::tempdir().unwrap();

@@ -5,10 +5,14 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::mtl::resolve;
-use crate::{AlphaMode, Material, Surface};
+use crate::{AlphaMode, Clearcoat, Material, Sheen, Surface};
 
 /// The index of refraction of a dielectric whose `Ni` is missing or below 1.
 pub const DEFAULT_IOR: f32 = 1.5;
+
+/// The roughness of a sheen from `Ps`: Blender's Principled BSDF's default sheen roughness
+/// (its exporter writes the sheen's weight only).
+pub const BLENDER_SHEEN_ROUGHNESS: f32 = 0.5;
 
 /// The alpha cut-out threshold for `map_d` masks.
 pub const MASK_CUTOFF: f32 = 0.5;
@@ -43,6 +47,11 @@ pub(super) fn plan(
         notes.push("negative Ke clamped to 0".into());
     }
     let alpha = finite(m.dissolve, "d")?.unwrap_or(1.0);
+    // Mirrors and glass wear no layers.
+    let (clearcoat, sheen) = match m.illumination_model {
+        Some(3..=7) => (None, None),
+        _ => layers(m, &mut notes)?,
+    };
     let mut plan = Plan {
         material: Material {
             name: m.name.clone(),
@@ -50,6 +59,8 @@ pub(super) fn plan(
             base_color: clamp_unit(tint, "colour", &mut notes),
             emission: ke.unwrap_or(Vec3::ZERO).max(Vec3::ZERO),
             alpha: alpha.clamp(0.0, 1.0),
+            clearcoat,
+            sheen,
             ..Material::default()
         },
         base_color_map: texture(dir, m.diffuse_texture.as_deref(), "map_Kd", &mut notes),
@@ -134,23 +145,8 @@ fn glossy_members(
     ks: Option<Vec3>,
     notes: &mut Vec<String>,
 ) -> Result<Vec<(f32, Surface)>, String> {
-    let pbr = |key: &str, notes: &mut Vec<String>| -> Result<Option<f32>, String> {
-        let Some(text) = m.unknown_param.get(key) else {
-            return Ok(None);
-        };
-        let value: f32 = text
-            .split_whitespace()
-            .next()
-            .and_then(|w| w.parse().ok())
-            .ok_or_else(|| format!("{key} '{text}' is not a number"))?;
-        let value = finite(Some(value), key)?.unwrap_or(0.0);
-        if !(0.0..=1.0).contains(&value) {
-            notes.push(format!("{key} {value} clamped to [0, 1]"));
-        }
-        Ok(Some(value.clamp(0.0, 1.0)))
-    };
-    let pr = pbr("Pr", notes)?;
-    let metallic = pbr("Pm", notes)?.unwrap_or(0.0);
+    let pr = pbr_parameter(m, "Pr", notes)?;
+    let metallic = pbr_parameter(m, "Pm", notes)?.unwrap_or(0.0);
     let shininess = finite(m.shininess, "Ns")?;
     let roughness = pr.or(shininess.map(|ns| 1.0 - (ns.clamp(0.0, 1000.0) / 1000.0).sqrt()));
     let specular = pr.is_some() || ks.is_some_and(|ks| ks.max_element() > 0.0);
@@ -172,6 +168,44 @@ fn glossy_members(
     } else {
         vec![(metallic, metal), (1.0 - metallic, dielectric)]
     })
+}
+
+/// A number of the PBR extension (`Pr`, `Pm`, `Pc`, ...), which `tobj` keeps as text: `None`
+/// where missing, clamped to [0, 1] with a note.
+fn pbr_parameter(
+    m: &tobj::Material,
+    key: &str,
+    notes: &mut Vec<String>,
+) -> Result<Option<f32>, String> {
+    let Some(text) = m.unknown_param.get(key) else {
+        return Ok(None);
+    };
+    let value: f32 = text
+        .split_whitespace()
+        .next()
+        .and_then(|w| w.parse().ok())
+        .ok_or_else(|| format!("{key} '{text}' is not a number"))?;
+    let value = finite(Some(value), key)?.unwrap_or(0.0);
+    if !(0.0..=1.0).contains(&value) {
+        notes.push(format!("{key} {value} clamped to [0, 1]"));
+    }
+    Ok(Some(value.clamp(0.0, 1.0)))
+}
+
+/// The PBR extension's clear coat (`Pc` its weight, `Pcr` its roughness) and sheen (`Ps` its
+/// weight, a white sheen of Blender's default roughness, [`BLENDER_SHEEN_ROUGHNESS`]), as
+/// Blender's exporter writes its Principled BSDF's coat and sheen.
+fn layers(
+    m: &tobj::Material,
+    notes: &mut Vec<String>,
+) -> Result<(Option<Clearcoat>, Option<Sheen>), String> {
+    let coat = pbr_parameter(m, "Pc", notes)?.unwrap_or(0.0);
+    let coat_roughness = pbr_parameter(m, "Pcr", notes)?.unwrap_or(0.0);
+    let sheen = pbr_parameter(m, "Ps", notes)?.unwrap_or(0.0);
+    Ok((
+        Clearcoat::new(coat, coat_roughness),
+        Sheen::new(Vec3::splat(sheen), BLENDER_SHEEN_ROUGHNESS),
+    ))
 }
 
 /// The maps that are read but not supported, as one note.

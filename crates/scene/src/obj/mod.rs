@@ -23,6 +23,9 @@
 //!     multiplying it: exporters such as 3ds Max write their default `Kd 0.588` beside every
 //!     map, and glTF conversions of those scenes use a factor of 1. `map_Kd` on a mirror or
 //!     glass is ignored. `Ks`'s colour and strength are not used (glTF's coat is untinted).
+//!     The PBR extension's `Pc` and `Pcr` put a clear coat of that weight and roughness over
+//!     it ([`crate::Clearcoat`]), and `Ps` a white sheen of that strength and roughness 0.5
+//!     ([`crate::Sheen`]), as Blender writes its Principled BSDF's coat and sheen.
 //!   - `Ke` → emitted radiance (front face only); `map_Ke` multiplies it (`Ke` missing → 1).
 //!   - `map_d` → [`AlphaMode::Mask`] with cutoff 0.5 on the base colour texture's alpha: the
 //!     `map_Kd` image itself when `map_d` names the same file and it has an alpha channel;

@@ -5,20 +5,22 @@
 //!
 //! `f(ωo, ωi) = C · D(h) · G(ωo, ωi) / (4 cos θi cos θo)`, `D(h) = (2 + 1/α) sin(θh)^(1/α) / 2π`,
 //! `G = 1 / (1 + Λ(θi) + Λ(θo))`, α = roughness². (Neubelt and Pettineo's cheaper visibility,
-//! the other one glTF names, returns up to 3× the light it receives at grazing angles when
-//! smooth: not used.)
+//! the other one glTF names, returns up to 2.6× the light it receives at grazing angles when
+//! smooth: not used. The fitted shadowing still lets smooth sheens seen within a few degrees of
+//! grazing return up to 1.9×: there the lobe is scaled by 1 / E.)
 //!
-//! The layer reflects `max(C) · E(θ)` of the light meeting it (E: the white lobe's directional
-//! albedo, tabulated per roughness, [`SheenTable`]) and lets the rest through to the material
-//! beneath, which it dims that way on the way in and again on the way out: the base's light
-//! is scaled by `(1 − max(C) E(θi)) (1 − max(C) E(θo))`. glTF's own model scales it by the
+//! The layer reflects `max(C) · min(E(θ), 1)` of the light meeting it (E: the white lobe's
+//! directional albedo, tabulated per roughness, [`SheenTable`]) and lets the rest through to
+//! the material beneath, which it dims that way on the way in and again on the way out: the
+//! base's light is scaled by `(1 − max(C) E(θi)) (1 − max(C) E(θo))`. glTF's own model scales it by the
 //! smaller of the two factors instead; the product keeps the layer reciprocal, as the clear
 //! coat is here (`render::clearcoat`), and the two differ only where the sheen is bright.
 //!
 //! The kernels (CPU, WGSL twins in `shading.wgsl`, the path tracer) meet the sheen after the
 //! clear coat ([`sheen_event`]): it reflects with that probability, into a cosine-distributed
-//! direction weighted by the lobe over the choice (the weight's mean is `C / max(C)`, whatever
-//! the table's error), or lets the ray through, weight 1. An eye path it reflects takes a light
+//! direction weighted by the lobe over the choice ([`SheenTable::lobe_scale`]: choice and
+//! weight together return `C · E · min(1, 1/E)`, the table's error moving only the choice), or
+//! lets the ray through, weight 1. An eye path it reflects takes a light
 //! sample for the sheen's lobe ([`sheen_response`], weighed against its own sampling by the
 //! power heuristic); light samples of the material beneath carry [`SheenTable::transmittance`]
 //! for the light's direction, and what leaves it carries it for the way out.

@@ -1078,3 +1078,39 @@ fn transmission_textures_weigh_the_glass() {
         "factor 0: the texture is not read"
     );
 }
+
+/// The layers' textures read the material's one set of coordinates: a transform of their own
+/// that differs from the base colour's is warned about, naming the slot; the same one is not.
+#[test]
+fn layer_textures_with_their_own_transform_are_warned_about() {
+    let load = |offset: [f32; 2]| {
+        let mut doc = doc_with_embedded_png();
+        doc.push("textures", json!({ "source": 0 }));
+        let shifted = json!({ "index": 0, "extensions": {
+            "KHR_texture_transform": { "offset": offset } } });
+        let mut material = pbr(0.0, 0.4);
+        material["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
+        material["extensions"] = json!({
+            "KHR_materials_sheen": { "sheenColorFactor": [1, 1, 1], "sheenColorTexture": shifted },
+            "KHR_materials_transmission": {
+                "transmissionFactor": 0.5,
+                "transmissionTexture": shifted,
+            },
+        });
+        let material = doc.material(material);
+        let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+        doc.instance(mesh);
+        doc.load().expect("loads")
+    };
+    let shifted = load([0.5, 0.0]);
+    for slot in ["sheenColorTexture", "transmissionTexture"] {
+        assert!(
+            (shifted.warnings.iter())
+                .any(|w| w.contains(slot) && w.contains("KHR_texture_transform")),
+            "{slot}: {:?}",
+            shifted.warnings
+        );
+    }
+    let identity = load([0.0, 0.0]);
+    assert!(identity.warnings.is_empty(), "{:?}", identity.warnings);
+}

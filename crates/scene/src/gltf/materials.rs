@@ -278,6 +278,7 @@ impl Materials {
             let own = slot_transform(info);
             warn_own_transform("metallicRoughnessTexture", own, transform, &label, builder);
         }
+        warn_layer_transforms(m, transform, &label, builder);
         self.uv_transforms[index] = transform;
         let material = Material {
             name: m.name.clone().unwrap_or_else(|| label.clone()),
@@ -505,6 +506,58 @@ fn warn_own_transform(
             "{label}: {slot}'s KHR_texture_transform differs from the base colour's; \
              the base colour's is used for both"
         ));
+    }
+}
+
+/// [`warn_own_transform`] for the textures of the clear coat, the sheen and the transmission,
+/// which read the material's one set of coordinates too.
+fn warn_layer_transforms(
+    m: &json::Material,
+    transform: Option<Affine2>,
+    label: &str,
+    builder: &mut SceneBuilder,
+) {
+    let Some(extensions) = m.extensions.as_ref() else {
+        return;
+    };
+    let layers = [
+        (
+            "KHR_materials_clearcoat",
+            &[
+                "clearcoatTexture",
+                "clearcoatRoughnessTexture",
+                "clearcoatNormalTexture",
+            ][..],
+        ),
+        (
+            "KHR_materials_sheen",
+            &["sheenColorTexture", "sheenRoughnessTexture"][..],
+        ),
+    ];
+    for (extension, slots) in layers {
+        for &slot in slots {
+            let own = (extensions.others.get(extension))
+                .and_then(|e| e.get(slot))
+                .and_then(|info| info.get("extensions"))
+                .and_then(|e| e.get("KHR_texture_transform"))
+                .and_then(|t| serde_json::from_value(t.clone()).ok())
+                .map(|t| transform_of(&t));
+            if own.is_some() {
+                warn_own_transform(slot, own, transform, label, builder);
+            }
+        }
+    }
+    let transmission = (extensions.transmission.as_ref())
+        .and_then(|t| t.transmission_texture.as_ref())
+        .and_then(slot_transform);
+    if transmission.is_some() {
+        warn_own_transform(
+            "transmissionTexture",
+            transmission,
+            transform,
+            label,
+            builder,
+        );
     }
 }
 

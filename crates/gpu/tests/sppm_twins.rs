@@ -877,12 +877,13 @@ fn every_kernel_matches_its_twin_under_sheens() {
 
 /// The same with the velvet's sheen colour and roughness textured (`render::sheen::SheenAt::
 /// new`): a checker of white and dark blue, its alpha (the roughness) 1 or 0.4 in bands across
-/// it, so that hits meet sheens of different colour, strength and width (the grid's tables).
+/// it, so that hits meet sheens of different colour, strength and width (the grid's tables);
+/// the white room wears the same textured sheen.
 #[test]
 fn every_kernel_matches_its_twin_under_textured_sheens() {
     let mut scene = scene::testing::cornell_sheen();
     let texture = push_checker(&mut scene, "sheen checker", |x, y| {
-        let roughness = if y % 4 < 2 { 1.0 } else { 0.4 };
+        let roughness = if y % 4 < 2 { 1.0 } else { 0.15 };
         match (x + y) % 2 {
             0 => [1.0, 1.0, 1.0, roughness],
             _ => [0.1, 0.2, 0.6, roughness],
@@ -894,9 +895,20 @@ fn every_kernel_matches_its_twin_under_textured_sheens() {
     let sheen = scene.materials[velvet].sheen.as_mut().unwrap();
     sheen.color_texture = Some(texture);
     sheen.roughness_texture = Some(texture);
-    for triangle in (scene.triangles.iter_mut()).filter(|t| t.material as usize == velvet) {
+    // The white room too, so that most photons and eye paths meet a textured sheen.
+    let white = (scene.materials.iter())
+        .position(|m| m.name == "white")
+        .expect("the white walls");
+    scene.materials[white].sheen = Some(scene::Sheen {
+        color_texture: Some(texture),
+        roughness_texture: Some(texture),
+        ..scene::Sheen::new(glam::Vec3::splat(0.6), 1.0).unwrap()
+    });
+    for triangle in
+        (scene.triangles.iter_mut()).filter(|t| [velvet, white].contains(&(t.material as usize)))
+    {
         for v in &mut triangle.vertices {
-            v.uv = glam::Vec2::new(v.position.x, v.position.y) / 40.0;
+            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
         }
     }
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);

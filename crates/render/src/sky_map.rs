@@ -28,6 +28,11 @@
 //! | 3N + (H + 1)W + j | the CDF over the cell rows of j's half at row j (each half's last entry 1): the upper half rows 0 ..= H/2 (the row holding the horizon, or the last above it), the lower half the rest |
 //! | 3N + (H + 1)(W + 1) + j | cell row j's density factor: the sine at its centre ÷ its half's total (Σ over its cells of mean × sine × area) |
 //! | 3N + (H + 1)(W + 2) | the upper half's share of the map's total |
+//! | 3N + (H + 1)(W + 2) + 1 + j(B + 1) + k | cell row j's guide: the cell its CDF search returns for u = k / B, k = 0 ..= B ([`GUIDE_BUCKETS`] B) |
+//! | 3N + (H + 1)(W + B + 3) + 1 + h(B + 1) + k | the same for the CDF over the rows of half h (0: upper) |
+//!
+//! The guides only narrow the CPU's searches, to the cells between the guide's entries about
+//! u; a search returns the same cell with or without them (the GPU searches the whole CDF).
 //!
 //! Without a map the buffer is four zeros (a binding cannot be empty). The map's size and
 //! rotation travel in the sky's light-table entry ([`sky_light`]).
@@ -45,8 +50,11 @@ pub const NO_SKY_MAP: [f32; 4] = [0.0; 4];
 
 /// The length in floats of the buffer of a `width` × `height` map.
 fn buffer_len(width: usize, height: usize) -> usize {
-    3 * width * height + (width + 2) * (height + 1) + 1
+    3 * width * height + (width + 2) * (height + 1) + 1 + (height + 3) * (GUIDE_BUCKETS + 1)
 }
+
+/// Buckets of a CDF's guide (a power of two, so that `u · B` and `k / B` are exact in f32).
+pub const GUIDE_BUCKETS: usize = 64;
 
 /// The last cell row of the upper half of a map `height` texels tall.
 fn last_upper_row(height: u32) -> u32 {
@@ -121,7 +129,27 @@ pub fn sky_map_buffer(sky: Option<&Sky>) -> Vec<f32> {
     } else {
         0.5
     };
+    // The guides, cell rows' then halves'.
+    let guides = 3 * count + cells + 2 * (height + 1) + 1;
+    for j in 0..height + 1 {
+        let cdf = buffer[3 * count + j * width..][..width].to_vec();
+        write_guide(&cdf, &mut buffer[guides + j * (GUIDE_BUCKETS + 1)..]);
+    }
+    for (h, rows) in [0..split, split..height + 1].into_iter().enumerate() {
+        let cdf = buffer[3 * count + cells + rows.start..][..rows.len()].to_vec();
+        let at = guides + (height + 1 + h) * (GUIDE_BUCKETS + 1);
+        write_guide(&cdf, &mut buffer[at..]);
+    }
     buffer
+}
+
+/// Writes `cdf`'s guide into the first [`GUIDE_BUCKETS`] + 1 entries of `guide`: entry k the
+/// index [`search`] returns for u = k / B.
+fn write_guide(cdf: &[f32], guide: &mut [f32]) {
+    for (k, entry) in guide[..=GUIDE_BUCKETS].iter_mut().enumerate() {
+        let u = k as f32 / GUIDE_BUCKETS as f32;
+        *entry = search(cdf, u).0 as f32;
+    }
 }
 
 /// Where cell row `j` of a map `height` texels tall spans in v: between the centres of texel
@@ -234,13 +262,14 @@ impl MapFrame {
     }
 
     /// Where the rows' CDFs over cells begin in the buffer, then those over rows, the rows'
-    /// density factors, and the upper half's share.
-    fn offsets(&self) -> [usize; 4] {
+    /// density factors, the upper half's share, and the guides (cell rows', then halves').
+    fn offsets(&self) -> [usize; 5] {
         let count = (self.width * self.height) as usize;
         let rows = self.height as usize + 1;
         let cells = 3 * count;
         let marginal = cells + rows * self.width as usize;
-        [cells, marginal, marginal + rows, marginal + 2 * rows]
+        let share = marginal + 2 * rows;
+        [cells, marginal, marginal + rows, share, share + 1]
     }
 
     /// The upper half's share of the map's power: the probability of drawing from it that
@@ -325,18 +354,20 @@ pub fn sample_sky_map(
     upper: f32,
 ) -> Option<SkyDirection> {
     let (width, height) = (frame.width, frame.height);
-    let [cells, marginal, _, _] = frame.offsets();
+    let [cells, marginal, _, _, guides] = frame.offsets();
     let split = last_upper_row(height) + 1;
-    let (first, rows, u1) = if u1 < upper {
-        (0, split, u1 / upper)
+    let (first, rows, u1, half) = if u1 < upper {
+        (0, split, u1 / upper, 0)
     } else {
-        (split, height + 1 - split, (u1 - upper) / (1.0 - upper))
+        (split, height + 1 - split, (u1 - upper) / (1.0 - upper), 1)
     };
+    let guide = |i: u32| &buffer[guides + i as usize * (GUIDE_BUCKETS + 1)..][..=GUIDE_BUCKETS];
     let half_cdf = &buffer[marginal + first as usize..][..rows as usize];
-    let (row, row_fraction) = search(half_cdf, u1.min(0.999_999_94));
+    let (row, row_fraction) =
+        guided_search(half_cdf, guide(height + 1 + half), u1.min(0.999_999_94));
     let j = first + row as u32;
     let row_cdf = &buffer[cells + (j * width) as usize..][..width as usize];
-    let (x, column_fraction) = search(row_cdf, u2);
+    let (x, column_fraction) = guided_search(row_cdf, guide(j), u2);
     let x = x as u32;
     // The cell's corners, then a point by the bilinear patch their radiance sums span: v by
     // its marginal (linear between the upper and lower edges' means), u given v.
@@ -390,7 +421,20 @@ fn sample_linear(u: f32, p0: f32, p1: f32) -> f32 {
 /// The first entry of `cdf` above `u` (a binary search) and where `u` lies within its
 /// interval, in [0, 1).
 fn search(cdf: &[f32], u: f32) -> (usize, f32) {
-    let (mut lo, mut hi) = (0usize, cdf.len() - 1);
+    search_between(cdf, u, 0, cdf.len() - 1)
+}
+
+/// [`search`] narrowed by `cdf`'s guide to the entries between those of u's bucket: the same
+/// result, as the search's answer grows with u and the guide holds it at the buckets' edges.
+fn guided_search(cdf: &[f32], guide: &[f32], u: f32) -> (usize, f32) {
+    let bucket = ((u * GUIDE_BUCKETS as f32) as usize).min(GUIDE_BUCKETS - 1);
+    let (lo, hi) = (guide[bucket] as usize, guide[bucket + 1] as usize);
+    search_between(cdf, u, lo, hi)
+}
+
+/// [`search`] among entries `lo ..= hi`, which hold its answer.
+fn search_between(cdf: &[f32], u: f32, lo: usize, hi: usize) -> (usize, f32) {
+    let (mut lo, mut hi) = (lo, hi);
     while lo < hi {
         let mid = (lo + hi) / 2;
         if u < cdf[mid] {
@@ -480,6 +524,59 @@ pub(crate) mod tests {
                 Vec3::splat(0.2 + 0.1 * y as f32)
             }
         })
+    }
+
+    /// The guides change no search: for CDFs flat, peaked, with empty stretches and of one
+    /// entry, and every cell row and half of a sun's map, the guided search returns what the
+    /// whole search does, at the buckets' edges, just below them and between.
+    #[test]
+    fn guided_searches_return_what_whole_searches_do() {
+        let mut cdfs: Vec<Vec<f32>> = vec![
+            (1..=37).map(|i| i as f32 / 37.0).collect(),
+            vec![0.0, 0.0, 0.001, 0.001, 0.999, 1.0, 1.0],
+            vec![1.0],
+            (0..300)
+                .map(|i| {
+                    if i < 290 {
+                        0.0
+                    } else {
+                        (i - 289) as f32 / 10.0
+                    }
+                })
+                .collect(),
+        ];
+        let sky = sun_sky(0.4);
+        let frame = frame_of(&sky);
+        let buffer = sky_map_buffer(Some(&sky));
+        let [cells, marginal, _, _, _] = frame.offsets();
+        let (w, h) = (frame.width as usize, frame.height as usize);
+        cdfs.extend((0..=h).map(|j| buffer[cells + j * w..][..w].to_vec()));
+        let split = last_upper_row(frame.height) as usize + 1;
+        cdfs.push(buffer[marginal..][..split].to_vec());
+        cdfs.push(buffer[marginal + split..][..h + 1 - split].to_vec());
+        let mut us: Vec<f32> = (0..=4096).map(|i| i as f32 / 4096.0).collect();
+        us.extend((1..=GUIDE_BUCKETS).map(|k| k as f32 / GUIDE_BUCKETS as f32 - 6e-8));
+        us.push(0.999_999_94);
+        for cdf in &cdfs {
+            let mut guide = vec![0.0; GUIDE_BUCKETS + 1];
+            write_guide(cdf, &mut guide);
+            for &u in us.iter().filter(|&&u| u < 1.0) {
+                assert_eq!(
+                    guided_search(cdf, &guide, u),
+                    search(cdf, u),
+                    "u {u}, {cdf:?}"
+                );
+            }
+        }
+        // The buffer's own guides are those.
+        let guides = frame.offsets()[4];
+        let mut guide = vec![0.0; GUIDE_BUCKETS + 1];
+        write_guide(&buffer[cells + 3 * w..][..w], &mut guide);
+        assert_eq!(
+            &buffer[guides + 3 * (GUIDE_BUCKETS + 1)..][..=GUIDE_BUCKETS],
+            &guide[..]
+        );
+        assert_eq!(buffer.len(), buffer_len(w, h));
     }
 
     #[test]

@@ -150,7 +150,7 @@ pub fn photon_pass_with<R: StreamRng>(
     let root = hit.material;
     // glTF's sheen beneath the coat meets it next (`render::sheen`): what it reflects is not
     // kept on the material beneath and goes on from the sheen's lobe.
-    let through_sheen = hit_sheen(scene, root, hit.uv);
+    let through_sheen = hit_sheen(scene, root, &hit);
     if let Some(sheen) = through_sheen
         && let Some(reflected) = sheen_bounce(&hit, direction, &sheen, || rng.next_f32())
     {
@@ -498,7 +498,7 @@ fn eye_path(
         let root = hit.material;
         // glTF's sheen beneath the coat meets it next (`render::sheen`): its reflection takes
         // a light sample for the sheen's lobe and goes on from it, weighed against that sample.
-        let through_sheen = hit_sheen(scene, root, hit.uv);
+        let through_sheen = hit_sheen(scene, root, &hit);
         if let Some(sheen) = through_sheen
             && let Some(reflected) = sheen_bounce(&hit, direction, &sheen, || rng.next_f32())
         {

@@ -357,13 +357,24 @@ pub fn clearcoat_bounce(
     }
 }
 
-/// The sheen of material `id` (a hit's root) at texture coordinates `uv`
-/// (`render::sheen::SheenAt`), `None` for none.
-pub fn hit_sheen(scene: &SceneData, id: u32, uv: Vec2) -> Option<SheenAt> {
+/// The sheen of material `id` (`hit`'s root) at the hit (`render::sheen::SheenAt`), `None`
+/// for none, and where the hit is on the inside of solid glass: the sheen lies on its outside
+/// ([`sheen_faces`]).
+pub fn hit_sheen(scene: &SceneData, id: u32, hit: &SurfaceHit) -> Option<SheenAt> {
     let material = &scene.materials[id as usize];
     let (sheen, table) = (material.sheen?, scene.sheens[id as usize]?);
-    let texel = |id| texture(&scene.textures, Some(id), uv);
+    if !sheen_faces(material.surface, hit.front) {
+        return None;
+    }
+    let texel = |id| texture(&scene.textures, Some(id), hit.uv);
     Some(SheenAt::new(&sheen, table, texel))
+}
+
+/// Whether a sheen on a material of `surface` meets a ray hitting its `front` (or back) face:
+/// everywhere but on the inside of a solid dielectric (a blend's root surface standing for
+/// the blend).
+pub fn sheen_faces(surface: Surface, front: bool) -> bool {
+    front || !surface.is_solid_dielectric()
 }
 
 /// glTF's sheen at `hit` (`render::sheen::sheen_event` about the shading normal, three numbers
@@ -509,5 +520,34 @@ pub fn dielectric_branches(
         reflectance,
         reflected,
         transmitted,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sheen meets rays everywhere but inside solid glass, smooth or frosted.
+    #[test]
+    fn a_sheen_lies_outside_solid_glass() {
+        let solid = Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: false,
+        };
+        let frosted = Surface::RoughDielectric {
+            ior: 1.5,
+            thin_walled: false,
+            alpha: 0.1,
+        };
+        let sheet = Surface::Dielectric {
+            ior: 1.5,
+            thin_walled: true,
+        };
+        for surface in [solid, frosted] {
+            assert!(sheen_faces(surface, true) && !sheen_faces(surface, false));
+        }
+        for surface in [sheet, Surface::Diffuse] {
+            assert!(sheen_faces(surface, true) && sheen_faces(surface, false));
+        }
     }
 }

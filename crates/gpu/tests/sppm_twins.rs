@@ -914,6 +914,18 @@ fn every_kernel_matches_its_twin_under_textured_sheens() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same with a white sheen on `cornell-caustics`'s solid glass sphere: the sheen meets
+/// paths arriving from outside and not those inside the glass (`cpu::surface::sheen_faces`).
+#[test]
+fn every_kernel_matches_its_twin_with_a_sheen_on_glass() {
+    let mut scene = scene::testing::cornell_caustics();
+    let glass = (scene.materials.iter())
+        .position(|m| m.surface.is_solid_dielectric())
+        .expect("the glass sphere");
+    scene.materials[glass].sheen = scene::Sheen::new(glam::Vec3::ONE, 0.3);
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
 /// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
 /// solid glass or diffuse), and photons are kept for the Lambertian member whichever member

@@ -396,6 +396,7 @@ impl<'a> PathTracer<'a> {
             // takes a light sample for the sheen's lobe and goes on from it.
             let through_sheen = (material.sheen)
                 .zip(self.sheens[root as usize])
+                .filter(|_| cpu::surface::sheen_faces(material.surface, front))
                 .map(|(s, t)| SheenAt::new(&s, t, |id| self.texture(Some(id), point.uv)));
             if let Some(sheen) = through_sheen {
                 let (geometric, shading) = facing_normals(&point, front);

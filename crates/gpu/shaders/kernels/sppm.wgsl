@@ -617,7 +617,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // cpu::kernels: glTF's sheen beneath the coat meets it next; what it reflects is not kept
     // on the material beneath and goes on from the sheen's lobe.
     var sheen = no_sheen();
-    if SHEENS && max3(root.sheen_color) > 0.0 {
+    if SHEENS && max3(root.sheen_color) > 0.0 && sheen_faces(root, hit.front) {
         sheen = sheen_at(root_id, root, hit.uv);
         let bounce = sheen_bounce(sheen, hit, direction, &rng);
         if bounce.reflected {
@@ -929,7 +929,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
         // cpu::kernels::eye_path: glTF's sheen beneath the coat meets it next; its reflection
         // takes a light sample for the sheen's lobe and goes on from it.
         var sheen = no_sheen();
-        if SHEENS && max3(root.sheen_color) > 0.0 {
+        if SHEENS && max3(root.sheen_color) > 0.0 && sheen_faces(root, hit.front) {
             sheen = sheen_at(root_id, root, hit.uv);
             let bounce = sheen_bounce(sheen, hit, direction, rng);
             if bounce.reflected {

@@ -923,6 +923,12 @@ fn sheen_at(id: u32, material: GpuMaterial, uv: vec2<f32>) -> Sheen {
     return Sheen(color, roughness * roughness, record, record + 1u, x - f32(i));
 }
 
+// cpu::surface::sheen_faces: everywhere but on the inside of solid glass.
+fn sheen_faces(material: GpuMaterial, front: bool) -> bool {
+    let glass = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
+    return front || !glass || (material.flags & MATERIAL_THIN_WALLED) != 0u;
+}
+
 // render::sheen::SheenTable::albedo of one record's table, read straight from the storage
 // buffer as coat_table is.
 fn sheen_record_albedo(id: u32, cos: f32) -> f32 {

@@ -409,6 +409,15 @@ fn a_metallic_roughness_texture_tiles_the_lit_plane() {
     }
 }
 
+/// The punctual plane (`testing::punctual_plane`) with no light but a uniform sky of
+/// radiance `sky`.
+fn sky_lit_plane(sky: f32) -> Scene {
+    let mut scene = testing::punctual_plane(&[]);
+    let bounds = scene.bounds();
+    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    scene
+}
+
 /// A square camera straight above the origin seeing the plane y = 0 for |x|, |z| ≤ `half_view`.
 ///
 /// Two settings differ from a default render, for reasons of these scenes, not of SPPM:
@@ -451,6 +460,13 @@ impl TopView {
         let sx = (x + 0.5) / self.side as f32 * 2.0 - 1.0;
         let sy = 1.0 - (y + 0.5) / self.side as f32 * 2.0;
         (sx * self.half_view, -sy * self.half_view)
+    }
+
+    /// The cosine between the plane's normal and the view from the camera (straight above
+    /// the origin) to where pixel `index`'s centre sees it.
+    fn cosine(&self, index: usize) -> f32 {
+        let (x, z) = self.point(index);
+        Self::HEIGHT / (x * x + z * z + Self::HEIGHT * Self::HEIGHT).sqrt()
     }
 }
 
@@ -768,9 +784,7 @@ fn a_normal_map_tilts_the_lit_plane_by_its_shading_cosine() {
 #[test]
 fn sky_lights_an_open_plane_to_albedo_times_its_radiance() {
     let sky = 2.0;
-    let mut scene = testing::punctual_plane(&[]);
-    let bounds = scene.bounds();
-    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    let scene = sky_lit_plane(sky);
     let view = TopView::new(0.4, 16);
     let (image, pixels, _) = render_top_view(&scene, &view, 1, 1024);
     assert!(
@@ -985,9 +999,7 @@ fn sampled_direct_light_matches_every_analytic_case() {
     );
 
     let sky = 2.0;
-    let mut scene = testing::punctual_plane(&[]);
-    let bounds = scene.bounds();
-    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    let scene = sky_lit_plane(sky);
     let image = sampled(&scene, &view);
     let radiance = testing::LIT_PLANE_ALBEDO * sky;
     assert_matches("sampled, sky", &image, |_| radiance, 0.01, 0.005);
@@ -1041,9 +1053,7 @@ fn sky_lights_a_roughness_mapped_plastic_plane_texel_by_texel() {
     let (sky, ior) = (2.0f32, 1.5f32);
     let roughness = [0.12f32, 0.45];
     let side = 64u32;
-    let mut scene = testing::punctual_plane(&[]);
-    let bounds = scene.bounds();
-    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    let mut scene = sky_lit_plane(sky);
     let texels = (0..side)
         .map(|x| {
             let r = roughness[usize::from(x >= side / 2)];
@@ -1100,14 +1110,13 @@ fn sky_lights_a_roughness_mapped_plastic_plane_texel_by_texel() {
     for (side_index, coat) in coats.iter().enumerate() {
         let pairs: Vec<(f32, f32)> = (0..image.len())
             .filter_map(|i| {
-                let (x, z) = view.point(i);
+                let (x, _) = view.point(i);
                 let on_side = if side_index == 0 {
                     x < -pixel
                 } else {
                     x > pixel
                 };
-                let cos =
-                    TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
+                let cos = view.cosine(i);
                 on_side.then(|| (image[i].x, coat(cos)))
             })
             .collect();
@@ -1148,9 +1157,7 @@ fn sky_lights_a_roughness_mapped_plastic_plane_texel_by_texel() {
 fn sky_lights_a_plane_through_its_clear_coat() {
     use render::optics::fresnel_dielectric;
     let (sky, weight) = (2.0f32, 0.7f32);
-    let mut scene = testing::punctual_plane(&[]);
-    let bounds = scene.bounds();
-    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    let mut scene = sky_lit_plane(sky);
     for material in &mut scene.materials {
         material.clearcoat = scene::Clearcoat::new(weight, 0.0);
     }
@@ -1158,8 +1165,7 @@ fn sky_lights_a_plane_through_its_clear_coat() {
         testing::clear_coated_sky_plane(sky, testing::LIT_PLANE_ALBEDO, weight, fresnel_dielectric);
     let view = TopView::new(0.4, 16);
     let expected = |index: usize| {
-        let (x, z) = view.point(index);
-        let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
+        let cos = view.cosine(index);
         radiance(cos) as f32
     };
     let (image, _, _) = render_top_view(&scene, &view, 1, 1024);
@@ -1257,25 +1263,23 @@ fn a_clear_coat_follows_its_own_normal_map() {
 /// the plane beneath, lit through the sheen, E the lobe's directional albedo (by quadrature;
 /// the dimming by the sheen's own table), Ē = 2∫E(μ)μ dμ by the midpoint rule. The red
 /// channel's sheen is weaker than the green one that sets the choice, so the colour's share of
-/// the weight counts (`render::sheen::sky_plane_radiance`). Both direct-light modes: photons the sheen reflects are not kept, its
-/// reflection takes a light sample for its own lobe weighed against the sky met after it
-/// (1024 and 256 passes); and a rougher sheen whose texture reads 0.5 (sampled). Tolerances
-/// as the clear coat's: mean within 2.5 %, rms below 8 % and 3 %.
+/// the weight counts (`render::sheen::sky_plane_radiance`). Both direct-light modes: photons
+/// the sheen reflects are not kept, its reflection takes a light sample for its own lobe
+/// weighed against the sky met after it (1024 and 256 passes); and a rougher sheen whose
+/// texture reads 0.5 (sampled). Tolerances as the clear coat's: mean within 2.5 %, rms below
+/// 8 % and 3 %.
 #[test]
 fn sky_lights_a_plane_through_its_sheen() {
     let sky = 2.0f32;
     let color = Vec3::new(0.5, 0.9, 0.3);
-    let mut scene = testing::punctual_plane(&[]);
-    let bounds = scene.bounds();
-    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    let mut scene = sky_lit_plane(sky);
     for material in &mut scene.materials {
         material.sheen = scene::Sheen::new(color, 0.5);
     }
     let radiance = render::sheen::sky_plane_radiance(sky, testing::LIT_PLANE_ALBEDO, color, 0.5, 0);
     let view = TopView::new(0.4, 16);
     let expected = |index: usize| {
-        let (x, z) = view.point(index);
-        let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
+        let cos = view.cosine(index);
         radiance(cos) as f32
     };
     let (image, _, _) = render_top_view(&scene, &view, 1, 1024);
@@ -1315,9 +1319,7 @@ fn sky_lights_a_plane_through_its_sheen() {
 fn sky_lights_a_plastic_plane_through_its_coat() {
     use render::plastic::{coat_reflectance, diffuse_scale};
     let (sky, ior) = (2.0f32, 1.5f32);
-    let mut scene = testing::punctual_plane(&[]);
-    let bounds = scene.bounds();
-    scene.lights.set_sky(Vec3::splat(sky), bounds);
+    let mut scene = sky_lit_plane(sky);
     for material in &mut scene.materials {
         material.surface = scene::Surface::Plastic { ior, alpha: 0.0 };
     }
@@ -1330,8 +1332,7 @@ fn sky_lights_a_plastic_plane_through_its_coat() {
         .sum();
     let view = TopView::new(0.4, 16);
     let expected = |index: usize| {
-        let (x, z) = view.point(index);
-        let cos = TopView::HEIGHT / (x * x + z * z + TopView::HEIGHT * TopView::HEIGHT).sqrt();
+        let cos = view.cosine(index);
         let f = coat_reflectance(cos, ior) as f64;
         let albedo = testing::LIT_PLANE_ALBEDO as f64;
         (sky as f64 * (f + albedo * diffuse_scale(ior) as f64 * (1.0 - f) * transmittance)) as f32

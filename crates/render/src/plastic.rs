@@ -154,15 +154,9 @@ pub fn rough_transmittance(cos_view: f32, eta: f32, alpha: f32, n: u32) -> f64 {
 /// [`sample_visible_normal`] draws them from.
 fn over_visible_normals(cos_view: f32, alpha: f32, n: u32, f: impl Fn(Vec3, Vec3) -> f32) -> f64 {
     let view = Vec3::new((1.0 - cos_view * cos_view).max(0.0).sqrt(), 0.0, cos_view);
-    let mut sum = 0.0f64;
-    for i in 0..n {
-        for j in 0..n {
-            let u1 = (i as f32 + 0.5) / n as f32;
-            let u2 = (j as f32 + 0.5) / n as f32;
-            sum += f(view, sample_visible_normal(view, alpha, u1, u2)) as f64;
-        }
-    }
-    sum / (n * n) as f64
+    crate::sampling::midpoint_grid_mean(n, |u1, u2| {
+        f(view, sample_visible_normal(view, alpha, u1, u2)) as f64
+    })
 }
 
 /// The coat's choice for a ray along `incoming` at a surface with unit `normal` (facing the

@@ -101,6 +101,18 @@ pub fn aperture_point(u1: f32, u2: f32, blades: u32, rotation: f32) -> glam::Vec
     along.sqrt() * a.lerp(b, u2)
 }
 
+/// The mean of `f(u1, u2)` over the unit square by the midpoint rule on an `n`×`n` grid:
+/// the quadrature the tables integrate their lobes with, over the numbers that draw them.
+pub fn midpoint_grid_mean(n: u32, f: impl Fn(f32, f32) -> f64) -> f64 {
+    let mut sum = 0.0f64;
+    for i in 0..n {
+        for j in 0..n {
+            sum += f((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+        }
+    }
+    sum / (n * n) as f64
+}
+
 /// `local` (coordinates about +Z) turned to the frame of `n` (unit) built by
 /// [`orthonormal_basis`].
 pub fn about_axis(n: Vec3, local: Vec3) -> Vec3 {

@@ -270,18 +270,14 @@ pub fn sheen_response(normal: Vec3, outgoing: Vec3, incident: Vec3, alpha: f32) 
 /// over the cosine distribution, by the midpoint rule on an `n`×`n` grid of its numbers.
 pub fn directional_albedo(cos_view: f32, alpha: f32, n: u32) -> f64 {
     let view = Vec3::new((1.0 - cos_view * cos_view).max(0.0).sqrt(), 0.0, cos_view);
-    let mut sum = 0.0f64;
-    for i in 0..n {
-        for j in 0..n {
-            let u1 = (i as f32 + 0.5) / n as f32;
-            let u2 = (j as f32 + 0.5) / n as f32;
-            let response = local_sheen(view, cosine_hemisphere(u1, u2), alpha);
-            if response.pdf > 0.0 {
-                sum += (response.value / response.pdf) as f64;
-            }
+    crate::sampling::midpoint_grid_mean(n, |u1, u2| {
+        let response = local_sheen(view, cosine_hemisphere(u1, u2), alpha);
+        if response.pdf > 0.0 {
+            (response.value / response.pdf) as f64
+        } else {
+            0.0
         }
-    }
-    sum / (n * n) as f64
+    })
 }
 
 /// The closed form the renderers are checked against: a Lambertian plane of albedo `albedo`
@@ -299,13 +295,7 @@ pub fn sky_plane_radiance(
     let table = SheenTable::new(roughness);
     let strongest = color.max_element() as f64;
     let dimming = move |cos: f32| 1.0 - strongest * table.albedo(cos).min(1.0) as f64;
-    let steps = 2000;
-    let lit_through: f64 = (0..steps)
-        .map(|i| {
-            let mu = (i as f64 + 0.5) / steps as f64;
-            2.0 * mu * dimming(mu as f32) / steps as f64
-        })
-        .sum();
+    let lit_through = scene::testing::cosine_weighted_mean(dimming);
     move |cos| {
         let reflected = color[channel] as f64 * directional_albedo(cos, table.alpha, 64);
         let beneath = dimming(cos) * albedo as f64 * lit_through;

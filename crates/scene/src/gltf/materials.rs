@@ -321,41 +321,27 @@ impl Materials {
         let Some(mut coat) = clearcoat(check, m)? else {
             return Ok(None);
         };
-        let extension = m
-            .extensions
-            .as_ref()
-            .and_then(|e| e.others.get("KHR_materials_clearcoat"));
-        for name in ["clearcoatTexture", "clearcoatRoughnessTexture"] {
-            let Some(value) = extension.and_then(|e| e.get(name)) else {
-                continue;
-            };
-            let info: json::texture::Info = serde_json::from_value(value.clone()).map_err(|e| {
-                check.error(format!(
-                    "KHR_materials_clearcoat's {name} is not a texture: {e}"
-                ))
-            })?;
-            let id = self.texture(input, builder, TextureSlot::data(&info, name), check.label)?;
-            match name {
-                "clearcoatTexture" => coat.weight_texture = Some(id),
-                _ => coat.roughness_texture = Some(id),
-            }
+        const COAT: &str = "KHR_materials_clearcoat";
+        let data = |name| layer_slot::<json::texture::Info>(check, m, COAT, name, "texture");
+        if let Some(info) = data("clearcoatTexture")? {
+            let slot = TextureSlot::data(&info, "clearcoatTexture");
+            coat.weight_texture = Some(self.texture(input, builder, slot, check.label)?);
         }
-        if let Some(value) = extension.and_then(|e| e.get("clearcoatNormalTexture")) {
-            let normal: json::material::NormalTexture = serde_json::from_value(value.clone())
-                .map_err(|e| {
-                    check.error(format!(
-                        "KHR_materials_clearcoat's clearcoatNormalTexture is not a normal \
-                         texture: {e}"
-                    ))
-                })?;
+        if let Some(info) = data("clearcoatRoughnessTexture")? {
+            let slot = TextureSlot::data(&info, "clearcoatRoughnessTexture");
+            coat.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        let name = "clearcoatNormalTexture";
+        if let Some(normal) =
+            layer_slot::<json::material::NormalTexture>(check, m, COAT, name, "normal texture")?
+        {
             if !normal.scale.is_finite() {
-                return Err(check.error(format!(
-                    "clearcoatNormalTexture's scale {} is not finite",
-                    normal.scale
-                )));
+                return Err(check.error(format!("{name}'s scale {} is not finite", normal.scale)));
             }
-            let mut slot = TextureSlot::normal(&normal);
-            slot.name = "clearcoatNormalTexture";
+            let slot = TextureSlot {
+                name,
+                ..TextureSlot::normal(&normal)
+            };
             coat.normal_texture = Some(self.texture(input, builder, slot, check.label)?);
             coat.normal_scale = normal.scale;
         }
@@ -374,26 +360,15 @@ impl Materials {
         let Some(mut sheen) = sheen(check, m)? else {
             return Ok(None);
         };
-        let extension = m
-            .extensions
-            .as_ref()
-            .and_then(|e| e.others.get("KHR_materials_sheen"));
-        for name in ["sheenColorTexture", "sheenRoughnessTexture"] {
-            let Some(value) = extension.and_then(|e| e.get(name)) else {
-                continue;
-            };
-            let info: json::texture::Info = serde_json::from_value(value.clone()).map_err(|e| {
-                check.error(format!(
-                    "KHR_materials_sheen's {name} is not a texture: {e}"
-                ))
-            })?;
-            if name == "sheenColorTexture" {
-                let slot = TextureSlot::colour(&info, name);
-                sheen.color_texture = Some(self.texture(input, builder, slot, check.label)?);
-            } else {
-                let slot = TextureSlot::data(&info, name);
-                sheen.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
-            }
+        const SHEEN: &str = "KHR_materials_sheen";
+        let info = |name| layer_slot::<json::texture::Info>(check, m, SHEEN, name, "texture");
+        if let Some(info) = info("sheenColorTexture")? {
+            let slot = TextureSlot::colour(&info, "sheenColorTexture");
+            sheen.color_texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        if let Some(info) = info("sheenRoughnessTexture")? {
+            let slot = TextureSlot::data(&info, "sheenRoughnessTexture");
+            sheen.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
         }
         Ok(Some(sheen))
     }
@@ -811,6 +786,26 @@ fn unlit(material: Material) -> Material {
         dispersion: 0.0,
         ..material
     }
+}
+
+/// The slot `name` of `m`'s extension `extension` (read as a `what`), `None` where either is
+/// missing; one that does not read as one is an error.
+fn layer_slot<T: serde::de::DeserializeOwned>(
+    check: &Check,
+    m: &json::Material,
+    extension: &str,
+    name: &str,
+    what: &str,
+) -> Result<Option<T>, SceneError> {
+    let Some(value) = (m.extensions.as_ref())
+        .and_then(|e| e.others.get(extension))
+        .and_then(|e| e.get(name))
+    else {
+        return Ok(None);
+    };
+    serde_json::from_value(value.clone())
+        .map(Some)
+        .map_err(|e| check.error(format!("{extension}'s {name} is not a {what}: {e}")))
 }
 
 /// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0).

@@ -678,6 +678,18 @@ pub fn glass_pane_radiance(cos_incident: f32, fresnel: impl Fn(f32, f32) -> f32)
     sheet * GLASS_PANE_BACK_EMISSION + (1.0 - sheet) * GLASS_PANE_FRONT_EMISSION
 }
 
+/// `2∫ f(μ) μ dμ` over [0, 1]: the mean of `f` over the cosine of a direction drawn from a
+/// uniform sky's light on a plane (its cosine-weighted hemisphere), by the midpoint rule.
+pub fn cosine_weighted_mean(f: impl Fn(f32) -> f64) -> f64 {
+    let steps = 100_000;
+    (0..steps)
+        .map(|i| {
+            let mu = (i as f64 + 0.5) / steps as f64;
+            2.0 * mu * f(mu as f32) / steps as f64
+        })
+        .sum()
+}
+
 /// What a Lambertian plane of `albedo` under a smooth clear coat of `weight` (index
 /// [`crate::Clearcoat::IOR`]) returns under a uniform sky of radiance `sky`, seen at cosine
 /// `cos`: sky·(w·F(θ) + (1 − w·F(θ))·ρ·(1 − w·F̄)), the coat's reflection of the sky plus the
@@ -690,13 +702,7 @@ pub fn clear_coated_sky_plane(
     fresnel: impl Fn(f32, f32) -> f32,
 ) -> impl Fn(f32) -> f64 {
     let fresnel = move |cos: f32| fresnel(cos, 1.0 / crate::Clearcoat::IOR) as f64;
-    let steps = 100_000;
-    let mean_fresnel: f64 = (0..steps)
-        .map(|i| {
-            let mu = (i as f64 + 0.5) / steps as f64;
-            2.0 * mu * fresnel(mu as f32) / steps as f64
-        })
-        .sum();
+    let mean_fresnel = cosine_weighted_mean(&fresnel);
     let weight = weight as f64;
     move |cos| {
         let reflected = weight * fresnel(cos);

@@ -28,7 +28,7 @@ use render::optics::relative_eta;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
 use render::rng::{
-    EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_wavelength,
+    EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_side, pixel_wavelength,
 };
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
@@ -36,9 +36,10 @@ use scene::{Material, Surface};
 use crate::SceneData;
 use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, clearcoat_bounce, dielectric_branches,
-    diffuse_bounce, dispersed_surface, emitted, eye_crossing_scale, hit_clearcoat, hit_sheen,
-    is_cut_out, medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce,
-    shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
+    diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted, eye_crossing_scale,
+    hit_clearcoat, hit_sheen, is_cut_out, lambertian_side, medium_after_bounce,
+    medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin, sheen_bounce,
+    specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -229,12 +230,25 @@ pub fn photon_pass_with<R: StreamRng>(
             pad: 0,
         };
     }
+    // glTF's diffuse transmission sends the Lambertian lobe's light out on the far side when
+    // a further number chooses it; materials without it draw none.
+    let transmission = diffuse_transmission_at(scene, material, hit.uv)
+        .filter(|_| material.surface.has_diffuse_lobe())
+        .map(|t| (t, rng.next_f32()));
+    let lambertian = |tint| match transmission {
+        Some((t, u)) => lambertian_side(&hit, tint, Some(t), u),
+        None => (hit, tint),
+    };
+    // The side the path leaves from: the hit's, but the far one where it passed through.
+    let mut out = hit;
     // The way on and its tint. After a diffuse bounce the path's later photons are indirect
     // (if it goes on; an ended slot's is not read).
     let (next, tint) = match material.surface {
         Surface::Diffuse => {
             bounced = true;
-            (diffuse_bounce(&hit, u_direction), tint)
+            let side_tint;
+            (out, side_tint) = lambertian(tint);
+            (diffuse_bounce(&out, u_direction), side_tint)
         }
         surface @ Surface::Plastic { .. } => {
             let coat = scene.coats.at(hit.material, surface);
@@ -242,11 +256,13 @@ pub fn photon_pass_with<R: StreamRng>(
                 PlasticBounce::Coat(next) => (next, Vec3::ONE),
                 PlasticBounce::Base(weight) => {
                     bounced = true;
-                    let next = diffuse_bounce(&hit, u_direction);
+                    let side_tint;
+                    (out, side_tint) = lambertian(tint);
+                    let next = diffuse_bounce(&out, u_direction);
                     // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
                     let leaving =
-                        next.map_or(0.0, |(next, _)| coat.transmittance(next.dot(hit.shading)));
-                    (next, tint * (coat.diffuse_scale * leaving * weight))
+                        next.map_or(0.0, |(next, _)| coat.transmittance(next.dot(out.shading)));
+                    (next, side_tint * (coat.diffuse_scale * leaving * weight))
                 }
             }
         }
@@ -256,13 +272,14 @@ pub fn photon_pass_with<R: StreamRng>(
             (next, tint * spectral_weight)
         }
     };
-    // Out through the sheen and the clear coat, if any.
+    // Out through the sheen and the clear coat, if any (the far side's, by symmetry, where
+    // the light passed through).
     let next = next.map(|(next, weight)| {
-        let departure = departure_factor(next, hit.shading, hit.geometric);
+        let departure = departure_factor(next, out.shading, out.geometric);
         let coat = through_coat.map_or(1.0, |c| {
-            clearcoat_transmittance(&c, next.dot(hit.interpolated))
+            clearcoat_transmittance(&c, next.dot(out.interpolated))
         });
-        let sheen = through_sheen.map_or(1.0, |s| s.transmittance(next.dot(hit.shading)));
+        let sheen = through_sheen.map_or(1.0, |s| s.transmittance(next.dot(out.shading)));
         (next, weight * (arrival * departure * coat * sheen))
     });
     let survival = tint.max_element().min(1.0);
@@ -386,13 +403,14 @@ pub fn eye_pass(
     let jitter = pixel_jitter(params.seed, index, eye_pass);
     let lens = pixel_lens(params.seed, index, eye_pass);
     let wavelength = |path| Some(pixel_wavelength(params.seed, index, eye_pass, path));
+    let side = pixel_side(params.seed, index, eye_pass);
     let first = eye_path(
         scene,
         params,
         &mut rng,
         index,
         [jitter, lens],
-        wavelength(0),
+        (wavelength(0), Some(side)),
     );
     let mut direct = first.direct;
     for path in 1..=extra {
@@ -404,7 +422,8 @@ pub fn eye_pass(
             lens
         };
         let start = [jitter, lens];
-        direct += eye_path(scene, params, &mut rng, index, start, wavelength(path)).direct;
+        let numbers = (wavelength(path), None);
+        direct += eye_path(scene, params, &mut rng, index, start, numbers).direct;
     }
     EyeStep {
         visible_point: first.visible_point,
@@ -425,14 +444,16 @@ struct EyePath {
 /// A camera path through pixel `index` at sub-pixel `jitter`, leaving the lens at `lens`
 /// (`render::lens::camera_ray`); at the first dispersive glass
 /// it draws its wavelength with `wavelength_number` (`render::rng::pixel_wavelength`); it
-/// keeps that wavelength at later ones (`render::dispersion`).
+/// keeps that wavelength at later ones (`render::dispersion`). At a translucent surface it
+/// chooses the Lambertian lobe's side with `side_number` (`render::rng::pixel_side`), or
+/// draws one where that is `None`.
 fn eye_path(
     scene: &SceneData,
     params: &SppmParams,
     rng: &mut KernelRng,
     index: u32,
     [[jx, jy], lens]: [[f32; 2]; 2],
-    mut wavelength_number: Option<f32>,
+    (mut wavelength_number, side_number): (Option<f32>, Option<f32>),
 ) -> EyePath {
     let (x, y) = (index % params.width, index / params.width);
     let sx = (x as f32 + jx) / params.width as f32 * 2.0 - 1.0;
@@ -634,15 +655,27 @@ fn eye_path(
                 Some((next, tint))
             }
         };
+        // Where glTF's diffuse transmission took the light through, the Lambertian lobe's
+        // side: the visible point gathers the photons landing there, and its light sample
+        // is taken there (a second one; the glossy lobes keep the hit's).
+        let mut far_side = None;
         if bounce.is_none() {
             // A Lambertian surface, or plastic's base (the coat's T(θo) in the choice's
             // weight, its T(θi) left to the light sample and the photons).
+            let transmission = diffuse_transmission_at(scene, material, hit.uv);
+            let (side, tint) = match transmission {
+                Some(t) => {
+                    let u = side_number.unwrap_or_else(|| rng.next_f32());
+                    lambertian_side(&hit, tint, Some(t), u)
+                }
+                None => (hit, tint),
+            };
             let scale = lit.coat.map_or(1.0, |coat| coat.diffuse_scale);
             let weight = throughput * tint * (scale * base_weight * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
                     position: hit.position.to_array(),
-                    normal: pack_normal(hit.shading),
+                    normal: pack_normal(side.shading),
                     weight: weight.to_array(),
                     pad: 0,
                 };
@@ -650,13 +683,33 @@ fn eye_path(
                     lit.diffuse = weight;
                 }
             }
+            far_side = (side.front != hit.front).then_some(side);
         }
         if params.sample_lights & SAMPLE_AT_GLOSSY == 0 {
             lit.lobe = GlossyLobe::default();
         }
-        if lit.is_lit() && !scene.lights.is_empty() {
-            let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-            direct += direct_light(scene, params, &hit, -direction, &lit, medium, u);
+        if !scene.lights.is_empty() {
+            let mut light_sample = |at: &SurfaceHit, lit: &LitLobes| {
+                if lit.is_lit() {
+                    let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+                    direct += direct_light(scene, params, at, -direction, lit, medium, u);
+                }
+            };
+            match far_side {
+                None => light_sample(&hit, &lit),
+                Some(far) => {
+                    let far_lit = LitLobes {
+                        diffuse: lit.diffuse,
+                        coat: lit.coat,
+                        clearcoat: lit.clearcoat,
+                        sheen: lit.sheen,
+                        ..LitLobes::default()
+                    };
+                    lit.diffuse = Vec3::ZERO;
+                    light_sample(&hit, &lit);
+                    light_sample(&far, &far_lit);
+                }
+            }
         }
         let Some((next, tint)) = bounce else {
             break;

@@ -44,6 +44,54 @@ pub struct SurfaceHit {
     pub front: bool,
 }
 
+impl SurfaceHit {
+    /// The same point seen from the other side of the surface: where glTF's diffuse
+    /// transmission sends light through, the Lambertian lobe lies on that side (no lift onto
+    /// the smooth surface there: it was the arriving side's).
+    pub fn flipped(&self) -> SurfaceHit {
+        SurfaceHit {
+            shadow_origin: self.position,
+            geometric: -self.geometric,
+            shading: -self.shading,
+            interpolated: -self.interpolated,
+            front: !self.front,
+            ..*self
+        }
+    }
+}
+
+/// glTF's diffuse transmission of `material` at `uv` (`scene::DiffuseTransmission`): the
+/// share of its Lambertian lobe's light that leaves from the other side, and that light's
+/// tint; `None` where the material has none.
+pub fn diffuse_transmission_at(
+    scene: &SceneData,
+    material: &Material,
+    uv: Vec2,
+) -> Option<(f32, Vec3)> {
+    let transmission = material.diffuse_transmission?;
+    let share = transmission.factor * texture(&scene.textures, transmission.texture, uv).w;
+    let tint =
+        transmission.color * texture(&scene.textures, transmission.color_texture, uv).truncate();
+    Some((share.clamp(0.0, 1.0), tint))
+}
+
+/// The side of `hit` a Lambertian lobe sends its light to and takes it from, and the lobe's
+/// tint there: the far side with the transmission's tint where glTF's diffuse transmission
+/// (`share`, `tint` from [`diffuse_transmission_at`]) is chosen by `u`, else the hit and
+/// `reflected` (the base colour). The choice's probability is the share, so neither side's
+/// weight carries it.
+pub fn lambertian_side(
+    hit: &SurfaceHit,
+    reflected: Vec3,
+    transmission: Option<(f32, Vec3)>,
+    u: f32,
+) -> (SurfaceHit, Vec3) {
+    match transmission {
+        Some((share, tint)) if u < share => (hit.flipped(), tint),
+        _ => (*hit, reflected),
+    }
+}
+
 /// Closest hit along a ray, or `None` if it leaves the scene.
 pub fn trace(scene: &SceneData, origin: Vec3, direction: Vec3) -> Option<SurfaceHit> {
     trace_within(scene, origin, direction, RAY_T_MAX)

@@ -89,6 +89,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("R2_STEP_X", U32(rng::R2_STEP[0])),
         ("R2_STEP_Y", U32(rng::R2_STEP[1])),
         ("GOLDEN_STEP", U32(rng::GOLDEN_STEP)),
+        ("SIDE_STEP", U32(rng::SIDE_STEP)),
         ("LENS_STEP_X", U32(rng::LENS_STEP[0])),
         ("LENS_STEP_Y", U32(rng::LENS_STEP[1])),
         ("CLASS_MARK_SHIFT", U32(render::hash::CLASS_MARK_SHIFT)),

@@ -135,6 +135,8 @@ pub(crate) struct SceneFeatures {
     pub clearcoats: bool,
     /// Some material wears a sheen (`SHEENS`).
     pub sheens: bool,
+    /// Some material transmits diffusely (`DIFFUSE_TRANSMISSION`).
+    pub diffuse_transmission: bool,
     /// Some blend's glass member is weighed by a transmission texture (`TRANSMISSION_MAPS`).
     pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
@@ -169,6 +171,7 @@ impl SceneFeatures {
             clearcoats: any(|m| m.clearcoat.is_some()),
             sheens: any(|m| m.sheen.is_some()),
             transmission_maps: any(|m| m.transmission_texture.is_some()),
+            diffuse_transmission: any(|m| m.diffuse_transmission.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
@@ -176,7 +179,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 11] {
+    fn constants(self) -> [(&'static str, f64); 12] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -186,6 +189,7 @@ impl SceneFeatures {
             ("CLEARCOATS", flag(self.clearcoats)),
             ("SHEENS", flag(self.sheens)),
             ("TRANSMISSION_MAPS", flag(self.transmission_maps)),
+            ("DIFFUSE_TRANSMISSION", flag(self.diffuse_transmission)),
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),

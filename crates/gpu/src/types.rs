@@ -140,7 +140,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (320 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (352 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -229,7 +229,14 @@ pub struct GpuMaterial {
     /// glTF's transmission texture (`scene::Material::transmission_texture`), or
     /// `NO_TEXTURE`.
     pub transmission_texture: u32,
-    pub pad_transmission: u32,
+    /// glTF's diffuse transmission (`scene::DiffuseTransmission`): its strength texture
+    /// (alpha channel), its colour, its factor (0: none) and its colour texture
+    /// (`NO_TEXTURE` for none).
+    pub diffuse_transmission_texture: u32,
+    pub diffuse_transmission_color: [f32; 3],
+    pub diffuse_transmission: f32,
+    pub diffuse_transmission_color_texture: u32,
+    pub pad_diffuse_transmission: [u32; 3],
 }
 
 impl GpuMaterial {
@@ -319,7 +326,16 @@ impl GpuMaterial {
                 .unwrap_or(NO_TEXTURE),
             clearcoat_normal_scale: material.clearcoat.map_or(1.0, |c| c.normal_scale),
             transmission_texture: material.transmission_texture.unwrap_or(NO_TEXTURE),
-            pad_transmission: 0,
+            diffuse_transmission_texture: (material.diffuse_transmission)
+                .and_then(|t| t.texture)
+                .unwrap_or(NO_TEXTURE),
+            diffuse_transmission_color: (material.diffuse_transmission)
+                .map_or([0.0; 3], |t| t.color.to_array()),
+            diffuse_transmission: material.diffuse_transmission.map_or(0.0, |t| t.factor),
+            diffuse_transmission_color_texture: (material.diffuse_transmission)
+                .and_then(|t| t.color_texture)
+                .unwrap_or(NO_TEXTURE),
+            pad_diffuse_transmission: [0; 3],
         }
     }
 
@@ -365,6 +381,8 @@ impl GpuMaterial {
             sheen_roughness_texture: NO_TEXTURE,
             clearcoat_normal_texture: NO_TEXTURE,
             transmission_texture: NO_TEXTURE,
+            diffuse_transmission_texture: NO_TEXTURE,
+            diffuse_transmission_color_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

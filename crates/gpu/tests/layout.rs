@@ -382,8 +382,24 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, transmission_texture),
             ),
             (
-                "pad_transmission",
-                offset_of!(GpuMaterial, pad_transmission),
+                "diffuse_transmission_texture",
+                offset_of!(GpuMaterial, diffuse_transmission_texture),
+            ),
+            (
+                "diffuse_transmission_color",
+                offset_of!(GpuMaterial, diffuse_transmission_color),
+            ),
+            (
+                "diffuse_transmission",
+                offset_of!(GpuMaterial, diffuse_transmission),
+            ),
+            (
+                "diffuse_transmission_color_texture",
+                offset_of!(GpuMaterial, diffuse_transmission_color_texture),
+            ),
+            (
+                "pad_diffuse_transmission",
+                offset_of!(GpuMaterial, pad_diffuse_transmission),
             ),
         ],
     );

@@ -926,6 +926,38 @@ fn every_kernel_matches_its_twin_with_a_sheen_on_glass() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same with glTF's diffuse transmission (`scene::DiffuseTransmission`, `cpu::surface::
+/// lambertian_side` and its WGSL twin) on `cornell_sheen`'s spheres: the velvet's Lambertian
+/// base lets 60 % through tinted orange; the layered plastic's base a share and tint read from
+/// a checker (strength in its alpha), beneath its sheen and clear coat. Photons and eye paths
+/// pass to the spheres' insides and back, the visible points' side follows each pixel's
+/// number, and light samples are taken on the far side.
+#[test]
+fn every_kernel_matches_its_twin_through_diffuse_transmission() {
+    let mut scene = scene::testing::cornell_sheen();
+    let texture = push_checker(&mut scene, "transmission checker", |x, y| {
+        match (x + y) % 2 {
+            0 => [1.0, 1.0, 1.0, 0.9],
+            _ => [0.2, 0.9, 0.4, if y % 4 < 2 { 0.0 } else { 0.5 }],
+        }
+    });
+    let named = |name: &str| (scene.materials.iter()).position(|m| m.name.contains(name));
+    let (velvet, layered) = (named("velvet").unwrap(), named("plastic").unwrap());
+    scene.materials[velvet].diffuse_transmission =
+        scene::DiffuseTransmission::new(0.6, glam::Vec3::new(1.0, 0.6, 0.2));
+    scene.materials[layered].diffuse_transmission = Some(scene::DiffuseTransmission {
+        texture: Some(texture),
+        color_texture: Some(texture),
+        ..scene::DiffuseTransmission::new(1.0, glam::Vec3::splat(0.9)).unwrap()
+    });
+    for triangle in (scene.triangles.iter_mut()).filter(|t| t.material as usize == layered) {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
 /// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
 /// solid glass or diffuse), and photons are kept for the Lambertian member whichever member

@@ -72,6 +72,22 @@ pub fn pixel_wavelength(seed: u32, index: u32, eye_pass: u32, path: u32) -> f32 
     (fixed >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
+/// √11's fraction in 32-bit fixed point: the step of [`pixel_side`]'s Kronecker sequence,
+/// independent over the rationals of the jitter's, the lens's and the wavelength's steps.
+pub const SIDE_STEP: u32 = 1_359_893_120;
+
+/// The number with which eye pass `eye_pass`'s first camera path through pixel `index`
+/// chooses the side of a translucent surface's Lambertian lobe (glTF's diffuse transmission:
+/// the far side where the number lies below the share transmitted): [`pixel_jitter`]'s scheme
+/// with [`SIDE_STEP`], from its stream with axis 5. Any run of consecutive eye passes takes
+/// the far side in the share's proportion to within one pass; independent draws left the
+/// proportion's binomial noise (7 % after 128 eye passes at a share of 0.6).
+pub fn pixel_side(seed: u32, index: u32, eye_pass: u32) -> f32 {
+    let shift = stream_key(seed, JITTER_STREAM, 5, index);
+    let fixed = eye_pass.wrapping_mul(SIDE_STEP).wrapping_add(shift);
+    (fixed >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
 /// A PCG stream.
 #[derive(Clone, Copy, Debug)]
 pub struct KernelRng {
@@ -166,6 +182,40 @@ mod tests {
             [(x + 0.3) % 1.0, (y + 0.6) % 1.0]
         };
         assert!(chi_square(&tied, 1, 0) > 1000.0);
+    }
+
+    /// A pixel's side numbers take the far side of a translucent surface in the share's
+    /// proportion to within a pass or two over any run of eye passes (independent draws: ±8
+    /// passes, one standard deviation, over 256 at a share of 0.6), and are independent of its
+    /// jitter: over 4,096 passes the (jitter x, side) pairs fill 8 × 8 cells evenly (chi-square
+    /// 5.6–7.4 measured; independent points average 63 ± 11).
+    #[test]
+    fn pixel_side_takes_each_side_in_proportion() {
+        for index in [0, 1, 777, 65_535] {
+            for start in [0, 3000] {
+                for share in [0.1, 0.6, 0.95] {
+                    let far = (start..start + 256)
+                        .filter(|&k| pixel_side(9, index, k) < share)
+                        .count() as f32;
+                    let off = (far - 256.0 * share).abs();
+                    assert!(
+                        off <= 2.0,
+                        "pixel {index} from {start}, share {share}: {far}"
+                    );
+                }
+                let mut cells = [0u32; 64];
+                for k in start..start + 4096 {
+                    let side = pixel_side(9, index, k);
+                    assert!((0.0..1.0).contains(&side));
+                    let x = pixel_jitter(9, index, k)[0];
+                    cells[(x * 8.0) as usize + 8 * (side * 8.0) as usize] += 1;
+                }
+                let chi_square: f64 = (cells.iter())
+                    .map(|&c| (c as f64 - 64.0).powi(2) / 64.0)
+                    .sum();
+                assert!(chi_square < 100.0, "pixel {index}: chi-square {chi_square}");
+            }
+        }
     }
 
     /// Chi-square over 64 bins of many streams' first draws and of one stream's sequence.

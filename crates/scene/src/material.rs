@@ -88,6 +88,40 @@ pub struct Material {
     /// blend's glass member (a dielectric surface) at each hit, the opaque member after it
     /// taking the rest (`render::blend::blend_member`). Every member of the blend carries it.
     pub transmission_texture: Option<TextureId>,
+    /// Lambertian transmission through the material's diffuse lobe (glTF's
+    /// `KHR_materials_diffuse_transmission`: leaves, paper, a lamp shade); `None` for none.
+    pub diffuse_transmission: Option<DiffuseTransmission>,
+}
+
+/// glTF's diffuse transmission: of what reaches the Lambertian lobe (a diffuse surface, or
+/// plastic's base under its coat), the share `factor` leaves from the other side of the
+/// surface, cosine-distributed and tinted by `color`, and the rest is reflected with the base
+/// colour as before. The surface is thin: what passes it is on the other side at once
+/// (`render::diffuse_transmission`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffuseTransmission {
+    /// glTF's `diffuseTransmissionFactor`, in (0, 1].
+    pub factor: f32,
+    /// glTF's `diffuseTransmissionColorFactor` (linear RGB, each channel in [0, 1]).
+    pub color: Vec3,
+    /// glTF's `diffuseTransmissionTexture` (linear data): its alpha channel multiplies
+    /// `factor`.
+    pub texture: Option<TextureId>,
+    /// glTF's `diffuseTransmissionColorTexture` (sRGB): multiplies `color`.
+    pub color_texture: Option<TextureId>,
+}
+
+impl DiffuseTransmission {
+    /// The transmission of glTF's `diffuseTransmissionFactor` `factor` and colour `color`;
+    /// `None` where the factor is 0.
+    pub fn new(factor: f32, color: Vec3) -> Option<DiffuseTransmission> {
+        (factor > 0.0).then_some(DiffuseTransmission {
+            factor,
+            color,
+            texture: None,
+            color_texture: None,
+        })
+    }
 }
 
 /// glTF's sheen (`KHR_materials_sheen`): a retro-reflective fibre layer of the Charlie
@@ -439,6 +473,7 @@ impl Default for Material {
             clearcoat: None,
             sheen: None,
             transmission_texture: None,
+            diffuse_transmission: None,
         }
     }
 }

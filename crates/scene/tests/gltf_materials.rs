@@ -1030,6 +1030,100 @@ fn sheen_factors_are_read() {
     assert!(doc.load().is_ok(), "KHR_materials_sheen may be required");
 }
 
+/// `KHR_materials_diffuse_transmission`'s factors as `Material::diffuse_transmission` (the
+/// colour white by default), on every member of a blend; a factor of 0 is none; its strength
+/// texture is read as data, its colour texture as sRGB; bad factors are refused; it may be
+/// required.
+#[test]
+fn diffuse_transmission_is_read() {
+    const DIFFUSE: &str = "KHR_materials_diffuse_transmission";
+    let translucent = |metallic: f32, transmission: Value| {
+        let mut material = pbr(metallic, 0.3);
+        material["extensions"] = json!({ DIFFUSE: transmission });
+        quad_doc(Some(material)).load()
+    };
+    let scene = translucent(
+        0.0,
+        json!({ "diffuseTransmissionFactor": 0.4, "diffuseTransmissionColorFactor": [0.9, 0.5, 0.2] }),
+    )
+    .expect("loads");
+    let transmission = scene.materials[0]
+        .diffuse_transmission
+        .expect("transmission");
+    assert_eq!(
+        (transmission.factor, transmission.color),
+        (0.4, Vec3::new(0.9, 0.5, 0.2))
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let white = translucent(0.0, json!({ "diffuseTransmissionFactor": 1.0 })).expect("loads");
+    assert_eq!(
+        white.materials[0].diffuse_transmission.map(|t| t.color),
+        Some(Vec3::ONE),
+        "the colour is white by default"
+    );
+    let none =
+        translucent(0.0, json!({ "diffuseTransmissionColorFactor": [1, 0, 0] })).expect("loads");
+    assert_eq!(
+        none.materials[0].diffuse_transmission, None,
+        "factor 0: none"
+    );
+    let half = translucent(0.5, json!({ "diffuseTransmissionFactor": 0.5 })).expect("loads");
+    let id = half.triangles[0].material as usize;
+    let other = half.materials[id].blend.expect("a blend").other as usize;
+    for member in [id, other] {
+        let transmission = half.materials[member].diffuse_transmission;
+        assert!(transmission.is_some(), "member {member}");
+    }
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let mut material = pbr(0.0, 0.8);
+    material["extensions"] = json!({ DIFFUSE: {
+        "diffuseTransmissionFactor": 1.0,
+        "diffuseTransmissionTexture": { "index": 0 },
+        "diffuseTransmissionColorTexture": { "index": 0 },
+    } });
+    let material = doc.material(material);
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    let textured = doc.load().expect("loads");
+    let transmission = textured.materials[0].diffuse_transmission.unwrap();
+    let (strength, color) = (
+        transmission.texture.unwrap(),
+        transmission.color_texture.unwrap(),
+    );
+    assert!(
+        matches!(
+            textured.textures[strength as usize].texels,
+            Texels::LinearF32(_)
+        ),
+        "the strength is data"
+    );
+    assert!(
+        !matches!(
+            textured.textures[color as usize].texels,
+            Texels::LinearF32(_)
+        ),
+        "the colour is sRGB"
+    );
+    assert!(textured.warnings.is_empty(), "{:?}", textured.warnings);
+    for bad in [
+        json!({ "diffuseTransmissionFactor": 1.5 }),
+        json!({ "diffuseTransmissionFactor": "half" }),
+        json!({ "diffuseTransmissionFactor": 1, "diffuseTransmissionColorFactor": [1, 1] }),
+        json!({ "diffuseTransmissionFactor": 1, "diffuseTransmissionTexture": { "index": 7 } }),
+    ] {
+        let error = translucent(0.0, bad.clone()).expect_err("refused");
+        assert!(
+            error.to_string().contains("diffuseTransmission"),
+            "{bad}: {error}"
+        );
+    }
+    let mut doc = quad_doc(None);
+    doc.json["extensionsRequired"] = json!([DIFFUSE]);
+    doc.json["extensionsUsed"] = json!([DIFFUSE]);
+    assert!(doc.load().is_ok(), "{DIFFUSE} may be required");
+}
+
 /// `KHR_materials_transmission`'s texture (`Material::transmission_texture`, linear data) on
 /// every member of the blend it makes; at factor 1 the opaque member stays, with what the
 /// texel leaves (the glass's weight just short of 1); with factor 0 there is no glass and the

@@ -664,9 +664,17 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if draws_wavelength(material, wavelength) {
         u_wavelength = next_f32(&rng);
     }
+    // cpu::kernels: glTF's diffuse transmission chooses the Lambertian lobe's side with one
+    // more number.
+    var u_side = 1.0;
+    if transmits_diffusely(material) {
+        u_side = next_f32(&rng);
+    }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
     var tint = surface_tint;
+    // The side the path leaves from: the far one where it passed through.
+    var out = hit;
     // cpu::kernels: weighted where the shading normal is not the geometric one.
     let arrival = arrival_factor(-direction, hit.shading, hit.geometric);
     // cpu::kernels: a Lambertian surface, or plastic's base under the coat, keeps the photon
@@ -690,20 +698,25 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if material.surface == SURFACE_DIFFUSE {
         // Its later photons are indirect (if it goes on; an ended slot's is not read).
         bounced = true;
-        let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
+        let side = lambertian_side(material, hit, surface_tint, u_side);
+        out = side.hit;
+        tint = side.tint;
+        let bounce = diffuse_bounce(out, u_direction0, u_direction1);
         next = bounce.direction;
         weight = bounce.weight;
     } else if plastic {
         let choice = plastic_bounce(material, hit, direction, u_choice, u_direction0, u_direction1);
         if choice.base {
             bounced = true;
-            let bounce = diffuse_bounce(hit, u_direction0, u_direction1);
+            let side = lambertian_side(material, hit, surface_tint, u_side);
+            out = side.hit;
+            let bounce = diffuse_bounce(out, u_direction0, u_direction1);
             next = bounce.direction;
             weight = bounce.weight;
             let alpha = material.roughness_alpha;
-            let leaving = coat_transmittance_of(hit.material, alpha, dot(next, hit.shading));
+            let leaving = coat_transmittance_of(hit.material, alpha, dot(next, out.shading));
             let scale = coat_diffuse_scale_of(hit.material, alpha);
-            tint = surface_tint * (scale * leaving * choice.base_weight);
+            tint = side.tint * (scale * leaving * choice.base_weight);
         } else {
             next = choice.coat.direction;
             weight = choice.coat.weight;
@@ -717,10 +730,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         tint = surface_tint * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
-    // Out through the sheen and the clear coat, if any.
-    let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, hit.interpolated));
-    let out_of_sheen = sheen_transmittance(sheen, dot(next, hit.shading));
-    weight = weight * (arrival * departure_factor(next, hit.shading, hit.geometric) * out_of_coat * out_of_sheen);
+    // Out through the sheen and the clear coat, if any (the far side's where it passed
+    // through).
+    let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, out.interpolated));
+    let out_of_sheen = sheen_transmittance(sheen, dot(next, out.shading));
+    weight = weight * (arrival * departure_factor(next, out.shading, out.geometric) * out_of_coat * out_of_sheen);
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {
@@ -765,6 +779,12 @@ fn pixel_lens(index: u32, eye_pass: u32) -> vec2<f32> {
     return vec2<f32>(fixed >> vec2<u32>(8u)) * (1.0 / 16777216.0);
 }
 
+// render::rng::pixel_side: √11's Kronecker sequence's point `eye_pass`, rotated per pixel.
+fn pixel_side(index: u32, eye_pass: u32) -> f32 {
+    let shift = stream_key(params.seed, JITTER_STREAM, 5u, index);
+    return f32((eye_pass * SIDE_STEP + shift) >> 8u) * (1.0 / 16777216.0);
+}
+
 // render::rng::pixel_wavelength: 1/φ further each eye pass and path (`step`: their sum),
 // rotated per pixel.
 fn pixel_wavelength(index: u32, step: u32) -> f32 {
@@ -792,6 +812,8 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     let eye_pass_index = pass_index / max(params.eye_every, 1u);
     var jitter = pixel_jitter(index, eye_pass_index);
     var lens = pixel_lens(index, eye_pass_index);
+    // render::rng::pixel_side for the first path; the extra paths draw their own (negative).
+    var side_number = pixel_side(index, eye_pass_index);
     var wavelength_number = 0.0;
     var direct = vec3<f32>(0.0);
     for (var path_index = 0u; path_index <= extra; path_index += 1u) {
@@ -809,7 +831,8 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         if DISPERSION {
             wavelength_number = pixel_wavelength(index, eye_pass_index + path_index);
         }
-        let path = eye_path(index, jitter, lens, wavelength_number, &rng);
+        let path = eye_path(index, jitter, lens, vec2<f32>(wavelength_number, side_number), &rng);
+        side_number = -1.0;
         direct += path.direct;
         if path_index == 0u {
             store_visible_point(index, path.point);
@@ -829,10 +852,11 @@ struct EyePath {
 }
 
 // cpu::kernels::eye_path: a camera path through pixel `index` at sub-pixel `jitter`, leaving
-// the lens at `lens`, drawing
-// its wavelength at the first dispersive glass with `wavelength_number`, keeping it after.
-fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f32, rng: ptr<function, Rng>) -> EyePath {
-    var pending_number = wavelength_number;
+// the lens at `lens`, drawing its wavelength at the first dispersive glass with `numbers.x`,
+// keeping it after, and choosing a translucent surface's side with `numbers.y` (negative:
+// drawn).
+fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, rng: ptr<function, Rng>) -> EyePath {
+    var pending_number = numbers.x;
     var wavelength = WHOLE_SPECTRUM;
     let x = index % params.width;
     let y = index / params.width;
@@ -986,14 +1010,26 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
             bounce = choice.coat;
             bounce_tint = vec3<f32>(1.0);
         }
+        // cpu::kernels::eye_path: where glTF's diffuse transmission took the light through,
+        // the Lambertian lobe's side, with a light sample of its own.
+        var far_side = false;
+        var side = LambertianSide(hit, tint);
         if base {
             var scale = 1.0;
             if plastic {
                 scale = coat_diffuse_scale_of(hit.material, material.roughness_alpha);
             }
-            let weight = throughput * tint * (scale * base_weight / PI);
+            if transmits_diffusely(material) {
+                var u_side = numbers.y;
+                if u_side < 0.0 {
+                    u_side = next_f32(rng);
+                }
+                side = lambertian_side(material, hit, tint, u_side);
+                far_side = side.hit.front != hit.front;
+            }
+            let weight = throughput * side.tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {
-                point = VisiblePoint(hit.position, pack_normal(hit.shading), weight, 0u);
+                point = VisiblePoint(hit.position, pack_normal(side.hit.shading), weight, 0u);
                 if (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) != 0u {
                     lit.diffuse = weight;
                 }
@@ -1048,6 +1084,19 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, wavelength_number: f
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
+        }
+        if DIFFUSE_TRANSMISSION && far_side {
+            // The glossy lobes keep the hit's light sample, the Lambertian one takes the far
+            // side's (its coat's width stays in `alpha`, its glossy weight cleared).
+            var far_lit = lit;
+            far_lit.glossy = vec3<f32>(0.0);
+            lit.diffuse = vec3<f32>(0.0);
+            if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
+                lit.alpha = 0.0;
+            }
+            direct += sampled_light(hit, -direction, lit, medium, rng);
+            direct += sampled_light(side.hit, -direction, far_lit, medium, rng);
+            break;
         }
         if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
             lit.alpha = 0.0;

@@ -90,5 +90,11 @@ struct GpuMaterial {
     clearcoat_normal_scale: f32,
     // scene::Material::transmission_texture (NO_TEXTURE: none).
     transmission_texture: u32,
-    pad_transmission: u32,
+    // scene::DiffuseTransmission: its strength texture (alpha), colour, factor (0: none) and
+    // colour texture (NO_TEXTURE: none).
+    diffuse_transmission_texture: u32,
+    diffuse_transmission_color: vec3<f32>,
+    diffuse_transmission: f32,
+    diffuse_transmission_color_texture: u32,
+    pad_diffuse_transmission: array<u32, 3>,
 }

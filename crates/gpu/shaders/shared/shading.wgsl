@@ -218,6 +218,8 @@ override CLEARCOATS: bool = true;
 override SHEENS: bool = true;
 // Whether some blend's glass member is weighed by a transmission texture.
 override TRANSMISSION_MAPS: bool = true;
+// Whether some material transmits diffusely (scene::DiffuseTransmission).
+override DIFFUSE_TRANSMISSION: bool = true;
 // Whether the sky has an environment map (render::sky_map, read in sppm.wgsl): compiled out
 // otherwise, as NORMAL_MAPS is (its lookups and searches, inlined, made lavapipe's eye pass
 // ~10 % slower in scenes without one).
@@ -411,6 +413,43 @@ fn is_cut_out(material: GpuMaterial, uv: vec2<f32>) -> bool {
 
 fn base_color(material: GpuMaterial, uv: vec2<f32>) -> vec3<f32> {
     return material.base_color * sample_texture(material.base_color_texture, uv).xyz;
+}
+
+// Whether `material` (a hit's member) has glTF's diffuse transmission on a Lambertian lobe:
+// its paths draw one more number to choose the lobe's side (cpu::kernels).
+fn transmits_diffusely(material: GpuMaterial) -> bool {
+    let lambertian = material.surface == SURFACE_DIFFUSE || material.surface == SURFACE_PLASTIC;
+    return DIFFUSE_TRANSMISSION && material.diffuse_transmission > 0.0 && lambertian;
+}
+
+// cpu::surface::SurfaceHit::flipped: the point seen from the other side.
+fn flipped(hit: SurfaceHit) -> SurfaceHit {
+    var far = hit;
+    far.shadow_origin = hit.position;
+    far.geometric = -hit.geometric;
+    far.shading = -hit.shading;
+    far.interpolated = -hit.interpolated;
+    far.front = !hit.front;
+    return far;
+}
+
+// cpu::surface::lambertian_side: the side of `hit` the Lambertian lobe of `material` sends
+// its light to and its tint there, the far one where its diffuse transmission's share (its
+// factor times its texture's alpha) exceeds `u`, else the hit and `reflected`.
+struct LambertianSide {
+    hit: SurfaceHit,
+    tint: vec3<f32>,
+}
+
+fn lambertian_side(material: GpuMaterial, hit: SurfaceHit, reflected: vec3<f32>, u: f32) -> LambertianSide {
+    if transmits_diffusely(material) {
+        let share = material.diffuse_transmission * sample_texture(material.diffuse_transmission_texture, hit.uv).w;
+        if u < clamp(share, 0.0, 1.0) {
+            let texel = sample_texture(material.diffuse_transmission_color_texture, hit.uv).xyz;
+            return LambertianSide(flipped(hit), material.diffuse_transmission_color * texel);
+        }
+    }
+    return LambertianSide(hit, reflected);
 }
 
 fn emitted(material: GpuMaterial, hit: SurfaceHit) -> vec3<f32> {

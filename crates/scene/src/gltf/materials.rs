@@ -31,6 +31,11 @@
 //!   `sheenColorTexture`, sRGB) its colour, `sheenRoughnessFactor` (× the alpha channel of
 //!   `sheenRoughnessTexture`, linear data) its roughness, raised to 0.07. A black colour is no
 //!   sheen.
+//! - `KHR_materials_diffuse_transmission` → [`DiffuseTransmission`] of the Lambertian lobe
+//!   (diffuse, or plastic's base): `diffuseTransmissionFactor` (× the alpha channel of
+//!   `diffuseTransmissionTexture`, linear data) the share passing to the other side,
+//!   `diffuseTransmissionColorFactor` (× `diffuseTransmissionColorTexture`, sRGB) its tint. The
+//!   surface is thin whatever `KHR_materials_volume` says. A factor of 0 is none.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -84,8 +89,8 @@ use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
-    AlphaMode, Clearcoat, DIFFUSE_MIN_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError,
-    Sheen, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
+    AlphaMode, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Material, RoughnessMap,
+    SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
     absorption_from_attenuation as scene_absorption, coated_surface, glass_surface, metal_surface,
 };
 
@@ -299,6 +304,7 @@ impl Materials {
             clearcoat: self.clearcoat(input, builder, &check, m)?,
             sheen: self.sheen(input, builder, &check, m)?,
             transmission_texture,
+            diffuse_transmission: self.diffuse_transmission(input, builder, &check, m)?,
         };
         if is_unlit(m) {
             return Ok((
@@ -360,7 +366,6 @@ impl Materials {
         let Some(mut sheen) = sheen(check, m)? else {
             return Ok(None);
         };
-        const SHEEN: &str = "KHR_materials_sheen";
         let info = |name| layer_slot::<json::texture::Info>(check, m, SHEEN, name, "texture");
         if let Some(info) = info("sheenColorTexture")? {
             let slot = TextureSlot::colour(&info, "sheenColorTexture");
@@ -371,6 +376,31 @@ impl Materials {
             sheen.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
         }
         Ok(Some(sheen))
+    }
+
+    /// `KHR_materials_diffuse_transmission` as a [`DiffuseTransmission`]
+    /// ([`diffuse_transmission`]'s factors) with its strength texture, as linear data, and its
+    /// colour texture, as sRGB.
+    fn diffuse_transmission(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        m: &json::Material,
+    ) -> Result<Option<DiffuseTransmission>, SceneError> {
+        let Some(mut transmission) = diffuse_transmission(check, m)? else {
+            return Ok(None);
+        };
+        let info = |name| layer_slot::<json::texture::Info>(check, m, DIFFUSE, name, "texture");
+        if let Some(info) = info("diffuseTransmissionTexture")? {
+            let slot = TextureSlot::data(&info, "diffuseTransmissionTexture");
+            transmission.texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        if let Some(info) = info("diffuseTransmissionColorTexture")? {
+            let slot = TextureSlot::colour(&info, "diffuseTransmissionColorTexture");
+            transmission.color_texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        Ok(Some(transmission))
     }
 
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
@@ -507,6 +537,13 @@ fn warn_layer_transforms(
         (
             "KHR_materials_sheen",
             &["sheenColorTexture", "sheenRoughnessTexture"][..],
+        ),
+        (
+            DIFFUSE,
+            &[
+                "diffuseTransmissionTexture",
+                "diffuseTransmissionColorTexture",
+            ][..],
         ),
     ];
     for (extension, slots) in layers {
@@ -780,6 +817,7 @@ fn unlit(material: Material) -> Material {
         clearcoat: None,
         sheen: None,
         transmission_texture: None,
+        diffuse_transmission: None,
         roughness_map: None,
         normal_texture: None,
         absorption: Vec3::ZERO,
@@ -810,62 +848,91 @@ fn layer_slot<T: serde::de::DeserializeOwned>(
 
 /// `KHR_materials_clearcoat`'s factors as a [`Clearcoat`] (none for a factor of 0).
 fn clearcoat(check: &Check, m: &json::Material) -> Result<Option<Clearcoat>, SceneError> {
-    let Some(value) = m
-        .extensions
-        .as_ref()
-        .and_then(|e| e.others.get("KHR_materials_clearcoat"))
-    else {
+    const COAT: &str = "KHR_materials_clearcoat";
+    let Some(value) = extension(m, COAT) else {
         return Ok(None);
     };
-    let factor = |name: &str| -> Result<f32, SceneError> {
-        match value.get(name) {
-            None => Ok(0.0),
-            Some(v) => match v.as_f64() {
-                Some(x) => check.unit(x as f32, &format!("KHR_materials_clearcoat's {name}")),
-                None => {
-                    Err(check.error(format!("KHR_materials_clearcoat's {name} is not a number")))
-                }
-            },
-        }
-    };
-    let weight = factor("clearcoatFactor")?;
-    let roughness = factor("clearcoatRoughnessFactor")?;
+    let weight = unit_factor(check, value, COAT, "clearcoatFactor", 0.0)?;
+    let roughness = unit_factor(check, value, COAT, "clearcoatRoughnessFactor", 0.0)?;
     Ok(Clearcoat::new(weight, roughness))
 }
 
 /// `KHR_materials_sheen`'s factors as a [`Sheen`] (none for a black colour).
 fn sheen(check: &Check, m: &json::Material) -> Result<Option<Sheen>, SceneError> {
-    let Some(value) = m
-        .extensions
-        .as_ref()
-        .and_then(|e| e.others.get("KHR_materials_sheen"))
-    else {
+    let Some(value) = extension(m, SHEEN) else {
         return Ok(None);
     };
-    let not_a = |what: &str| check.error(format!("KHR_materials_sheen's {what}"));
-    let color = match value.get("sheenColorFactor") {
-        None => Vec3::ZERO,
-        Some(v) => {
-            let channels: Vec<f32> = (v.as_array())
-                .filter(|a| a.len() == 3)
-                .and_then(|a| a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect())
-                .ok_or_else(|| not_a("sheenColorFactor is not three numbers"))?;
-            for &c in &channels {
-                check.unit(c, "KHR_materials_sheen's sheenColorFactor")?;
-            }
-            Vec3::from_slice(&channels)
-        }
-    };
-    let roughness = match value.get("sheenRoughnessFactor") {
-        None => 0.0,
-        Some(v) => {
-            let x = v
-                .as_f64()
-                .ok_or_else(|| not_a("sheenRoughnessFactor is not a number"))?;
-            check.unit(x as f32, "KHR_materials_sheen's sheenRoughnessFactor")?
-        }
-    };
+    let color = unit_color(check, value, SHEEN, "sheenColorFactor", Vec3::ZERO)?;
+    let roughness = unit_factor(check, value, SHEEN, "sheenRoughnessFactor", 0.0)?;
     Ok(Sheen::new(color, roughness))
+}
+
+const SHEEN: &str = "KHR_materials_sheen";
+const DIFFUSE: &str = "KHR_materials_diffuse_transmission";
+
+/// `KHR_materials_diffuse_transmission`'s factors as a [`DiffuseTransmission`] (none for a
+/// factor of 0).
+fn diffuse_transmission(
+    check: &Check,
+    m: &json::Material,
+) -> Result<Option<DiffuseTransmission>, SceneError> {
+    let Some(value) = extension(m, DIFFUSE) else {
+        return Ok(None);
+    };
+    let factor = unit_factor(check, value, DIFFUSE, "diffuseTransmissionFactor", 0.0)?;
+    let color = unit_color(
+        check,
+        value,
+        DIFFUSE,
+        "diffuseTransmissionColorFactor",
+        Vec3::ONE,
+    )?;
+    Ok(DiffuseTransmission::new(factor, color))
+}
+
+/// `m`'s extension `name`, if it has it.
+fn extension<'a>(m: &'a json::Material, name: &str) -> Option<&'a serde_json::Value> {
+    m.extensions.as_ref().and_then(|e| e.others.get(name))
+}
+
+/// The number `name` of extension `extension` (`value`), in [0, 1]; `default` where missing.
+fn unit_factor(
+    check: &Check,
+    value: &serde_json::Value,
+    extension: &str,
+    name: &str,
+    default: f32,
+) -> Result<f32, SceneError> {
+    match value.get(name) {
+        None => Ok(default),
+        Some(v) => {
+            let x = (v.as_f64())
+                .ok_or_else(|| check.error(format!("{extension}'s {name} is not a number")))?;
+            check.unit(x as f32, &format!("{extension}'s {name}"))
+        }
+    }
+}
+
+/// The colour `name` of extension `extension` (`value`): three numbers, each in [0, 1];
+/// `default` where missing.
+fn unit_color(
+    check: &Check,
+    value: &serde_json::Value,
+    extension: &str,
+    name: &str,
+    default: Vec3,
+) -> Result<Vec3, SceneError> {
+    let Some(v) = value.get(name) else {
+        return Ok(default);
+    };
+    let channels: Vec<f32> = (v.as_array())
+        .filter(|a| a.len() == 3)
+        .and_then(|a| a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect())
+        .ok_or_else(|| check.error(format!("{extension}'s {name} is not three numbers")))?;
+    for &c in &channels {
+        check.unit(c, &format!("{extension}'s {name}"))?;
+    }
+    Ok(Vec3::from_slice(&channels))
 }
 
 /// `KHR_materials_dispersion` as [`Material::dispersion`]: (ior − 1) / V with the Abbe

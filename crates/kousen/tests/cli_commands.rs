@@ -186,6 +186,18 @@ fn info_counts_sheened_materials() {
     );
 }
 
+/// `kousen info` counts the materials with diffuse transmission (the shipped translucent
+/// room's lantern paper and leaf; none in the Cornell box).
+#[test]
+fn info_counts_translucent_materials() {
+    let scene = shipped("cornell-translucent.gltf");
+    assert_eq!(info_json(&scene)["translucent_materials"], 2);
+    assert_eq!(
+        info_json(&shipped("cornell-box.gltf"))["translucent_materials"],
+        0
+    );
+}
+
 #[test]
 fn info_json_keeps_the_contract_for_scripts() {
     let info = info_json(&shipped("cornell-box.gltf"));

@@ -193,6 +193,11 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             y.dispersion
         );
         assert_eq!(x.clearcoat, y.clearcoat, "{stem}: clear coat");
+        assert_eq!(x.sheen, y.sheen, "{stem}: sheen");
+        assert_eq!(
+            x.diffuse_transmission, y.diffuse_transmission,
+            "{stem}: diffuse transmission"
+        );
         match (x.blend, y.blend) {
             (Some(a), Some(b)) => assert!(
                 a.other == b.other && (a.weight - b.weight).abs() < 1e-6,

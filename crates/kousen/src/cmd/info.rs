@@ -29,6 +29,9 @@ struct Info {
     clear_coated_materials: usize,
     /// Materials (blend members) with a sheen (`scene::Sheen`: glTF's `KHR_materials_sheen`).
     sheened_materials: usize,
+    /// Materials (blend members) with diffuse transmission (`scene::DiffuseTransmission`:
+    /// glTF's `KHR_materials_diffuse_transmission`).
+    translucent_materials: usize,
     /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
     /// their indices of refraction count against its.
     inside_solids: Vec<InsideSolid>,
@@ -284,6 +287,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         sheened_materials: (scene.materials.iter())
             .filter(|m| m.sheen.is_some())
             .count(),
+        translucent_materials: (scene.materials.iter())
+            .filter(|m| m.diffuse_transmission.is_some())
+            .count(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
@@ -414,6 +420,10 @@ fn print_table(info: &Info) {
             format!("{} materials", info.clear_coated_materials),
         ),
         ("sheens", format!("{} materials", info.sheened_materials)),
+        (
+            "diffuse transmission",
+            format!("{} materials", info.translucent_materials),
+        ),
         (
             "inside solids",
             if info.inside_solids.is_empty() {

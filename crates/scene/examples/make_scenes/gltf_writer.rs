@@ -13,6 +13,7 @@
 //!   `KHR_materials_dispersion` where it disperses;
 //! - a clear coat → `KHR_materials_clearcoat` (roughness √α);
 //! - a sheen → `KHR_materials_sheen`;
+//! - diffuse transmission → `KHR_materials_diffuse_transmission`;
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -39,7 +40,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 17] = [
+pub const SHIPPED: [(&str, Fixture); 18] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -59,6 +60,7 @@ pub const SHIPPED: [(&str, Fixture); 17] = [
     ("prism", scene::testing::prism),
     ("cornell-clearcoat", scene::testing::cornell_clearcoat),
     ("cornell-sheen", scene::testing::cornell_sheen),
+    ("cornell-translucent", scene::testing::cornell_translucent),
     ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
 
@@ -420,6 +422,15 @@ impl Document {
                 }),
             );
         }
+        if let Some(transmission) = m.diffuse_transmission {
+            extensions.insert(
+                "KHR_materials_diffuse_transmission".into(),
+                json!({
+                    "diffuseTransmissionFactor": number(transmission.factor),
+                    "diffuseTransmissionColorFactor": numbers(&transmission.color.to_array()),
+                }),
+            );
+        }
         if let Some(sheen) = m.sheen {
             extensions.insert(
                 "KHR_materials_sheen".into(),
@@ -507,6 +518,7 @@ fn roughness_map(materials: &[Material], id: u32) -> Option<RoughnessMap> {
 fn known_extension(name: &str) -> &'static str {
     [
         "KHR_materials_clearcoat",
+        "KHR_materials_diffuse_transmission",
         "KHR_materials_dispersion",
         "KHR_materials_emissive_strength",
         "KHR_materials_ior",

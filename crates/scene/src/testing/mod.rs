@@ -302,6 +302,45 @@ pub fn cornell_sheen() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_box`] with glTF's diffuse transmission (`KHR_materials_diffuse_
+/// transmission`): a paper lantern back left (a white sphere resting on the floor that lets
+/// 60 % of what reaches its Lambertian lobe through, warmed, from a bulb inside it), and a
+/// green leaf-like sheet hung tilted under the ceiling light, letting half its light through
+/// onto the floor tinted green.
+pub fn cornell_translucent() -> Scene {
+    let mut f = Fixture::new("testing::cornell_translucent");
+    cornell_room(&mut f);
+    let paper = f.builder.add_material(Material {
+        name: "lantern paper".into(),
+        base_color: Vec3::new(0.85, 0.83, 0.78),
+        diffuse_transmission: crate::DiffuseTransmission::new(0.6, Vec3::new(1.0, 0.85, 0.6)),
+        ..Material::default()
+    });
+    let bulb = f.builder.add_material(Material {
+        name: "bulb".into(),
+        base_color: Vec3::ZERO,
+        emission: Vec3::new(40.0, 30.0, 15.0),
+        ..Material::default()
+    });
+    let leaf = f.builder.add_material(Material {
+        name: "leaf".into(),
+        base_color: Vec3::new(0.2, 0.4, 0.08),
+        diffuse_transmission: crate::DiffuseTransmission::new(0.5, Vec3::new(0.5, 0.9, 0.2)),
+        ..Material::default()
+    });
+    let lantern = Vec3::new(380.0, 110.0, 370.0);
+    f.sphere(lantern, 110.0, paper, false);
+    f.sphere(lantern, 20.0, bulb, false);
+    let leaf_corners = [
+        Vec3::new(150.0, 340.0, 160.0),
+        Vec3::new(350.0, 340.0, 160.0),
+        Vec3::new(350.0, 460.0, 330.0),
+        Vec3::new(150.0, 460.0, 330.0),
+    ];
+    f.quad(leaf_corners, leaf, Vec3::new(0.0, -1.0, 0.7));
+    f.finish()
+}
+
 /// The room of [`cornell_caustics`] with blends (`SceneBuilder::add_blend`, as glTF's partial
 /// metallic and transmission factors make them): the floor 30 % mirror over white plastic,
 /// a gold sphere front right half rough metal (GGX α 0.04) half rough plastic, and a sphere

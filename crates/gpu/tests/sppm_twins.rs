@@ -958,6 +958,19 @@ fn every_kernel_matches_its_twin_through_diffuse_transmission() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same without light samples at glossy lobes (`--glossy-light off`): rough plastic's
+/// Lambertian base keeps its light sample, through the rough coat's own transmittance table.
+#[test]
+fn every_kernel_matches_its_twin_without_glossy_light_samples() {
+    let settings = Settings {
+        eye_every: 2,
+        direct: DirectLight::Sampled,
+        glossy_light_sampling: false,
+        ..caustics_settings()
+    };
+    every_kernel_matches_its_twin_with(context(), scene::testing::cornell_plastic(), settings);
+}
+
 /// The same through blends (`scene::Blend`, `render::blend` and its WGSL twin): each hit on
 /// the floor and spheres draws its member (mirror or plastic, rough metal or rough plastic,
 /// solid glass or diffuse), and photons are kept for the Lambertian member whichever member
@@ -1040,6 +1053,19 @@ fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
 }
 
 fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, direct: DirectLight) {
+    let settings = Settings {
+        eye_every: 2,
+        direct,
+        ..caustics_settings()
+    };
+    every_kernel_matches_its_twin_with(context, scene, settings);
+}
+
+fn every_kernel_matches_its_twin_with(
+    context: GpuContext,
+    scene: scene::Scene,
+    settings: Settings,
+) {
     // Mirrors, glass and metal seen first send pixels extra eye paths; plastic coats do not.
     let flags_pixels = scene.materials.iter().any(|m| {
         !matches!(
@@ -1057,11 +1083,6 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
         RELATIVE_TOLERANCE
     };
     let fixture = Fixture::new(scene);
-    let settings = Settings {
-        eye_every: 2,
-        direct,
-        ..caustics_settings()
-    };
     let data = fixture.scene_data();
     let params = fixture.params(&settings);
     let d = fixture.diagonal;

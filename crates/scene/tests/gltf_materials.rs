@@ -1032,8 +1032,8 @@ fn sheen_factors_are_read() {
 
 /// `KHR_materials_diffuse_transmission`'s factors as `Material::diffuse_transmission` (the
 /// colour white by default), on every member of a blend; a factor of 0 is none; its strength
-/// texture is read as data, its colour texture as sRGB; bad factors are refused; it may be
-/// required.
+/// texture is read as data, its colour texture as sRGB; bad factors are refused; a volume is
+/// warned about (the surface is thin); it may be required.
 #[test]
 fn diffuse_transmission_is_read() {
     const DIFFUSE: &str = "KHR_materials_diffuse_transmission";
@@ -1118,6 +1118,18 @@ fn diffuse_transmission_is_read() {
             "{bad}: {error}"
         );
     }
+    let mut material = pbr(0.0, 0.3);
+    material["extensions"] = json!({
+        DIFFUSE: { "diffuseTransmissionFactor": 0.5 },
+        "KHR_materials_volume": { "thicknessFactor": 1.0 },
+    });
+    let thick = quad_doc(Some(material)).load().expect("loads");
+    assert!(thick.materials[0].diffuse_transmission.is_some());
+    assert!(
+        thick.warnings.iter().any(|w| w.contains("taken as thin")),
+        "{:?}",
+        thick.warnings
+    );
     let mut doc = quad_doc(None);
     doc.json["extensionsRequired"] = json!([DIFFUSE]);
     doc.json["extensionsUsed"] = json!([DIFFUSE]);

@@ -377,7 +377,8 @@ fn unoccluded(origin_in: vec3<f32>, direction: vec3<f32>, distance_in: f32) -> b
 // cpu::kernels::LitLobes: the lobes one light sample at an eye path's hit serves, with their
 // weights (zero for a lobe that is not there). `alpha`, `coat_ior` and `refraction_eta` are
 // its render::microfacet::GlossyLobe (`coat_ior` its fresnel_ior), `coat_ior` also telling a
-// coat over the Lambertian lobe (LitLobes::coated): where both lobes are there they share it.
+// coat over the Lambertian lobe (LitLobes::coated): where both lobes are there they share it;
+// the coat's width for its tables is `coat_alpha`, kept where the glossy lobe is not sampled.
 struct LitLobes {
     diffuse: vec3<f32>,
     glossy: vec3<f32>,
@@ -392,6 +393,7 @@ struct LitLobes {
     sheen_lobe: bool,
     // glTF's sheen over both lobes (colour black: none), which the light passes too.
     sheen: Sheen,
+    coat_alpha: f32,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -430,7 +432,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     if max3(lit.diffuse) > 0.0 {
         var coat = 1.0;
         if lit.coat_ior > 0.0 {
-            coat = coat_transmittance_of(hit.material, lit.alpha, cosine);
+            coat = coat_transmittance_of(hit.material, lit.coat_alpha, cosine);
         }
         response += lit.diffuse * (cosine * coat);
     }
@@ -960,7 +962,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen());
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0);
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -993,9 +995,10 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0);
         if plastic {
             lit.coat_ior = material.ior;
+            lit.coat_alpha = material.roughness_alpha;
             var u_micro = vec2<f32>(0.0);
             if material.roughness_alpha > 0.0 {
                 lit.glossy = throughput;
@@ -1087,9 +1090,10 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         }
         if DIFFUSE_TRANSMISSION && far_side {
             // The glossy lobes keep the hit's light sample, the Lambertian one takes the far
-            // side's (its coat's width stays in `alpha`, its glossy weight cleared).
+            // side's.
             var far_lit = lit;
             far_lit.glossy = vec3<f32>(0.0);
+            far_lit.alpha = 0.0;
             lit.diffuse = vec3<f32>(0.0);
             if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                 lit.alpha = 0.0;

@@ -391,6 +391,14 @@ impl Materials {
         let Some(mut transmission) = diffuse_transmission(check, m)? else {
             return Ok(None);
         };
+        let volume = (m.extensions.as_ref()).and_then(|e| e.volume.as_ref());
+        if volume.is_some_and(|v| v.thickness_factor.0 > 0.0) {
+            builder.warn(format!(
+                "{}: {DIFFUSE} is taken as thin (light passing it is at once on the other \
+                 side); KHR_materials_volume does not apply to it",
+                check.label
+            ));
+        }
         let info = |name| layer_slot::<json::texture::Info>(check, m, DIFFUSE, name, "texture");
         if let Some(info) = info("diffuseTransmissionTexture")? {
             let slot = TextureSlot::data(&info, "diffuseTransmissionTexture");

@@ -18,8 +18,12 @@
 //!   Lambertian base of the base colour under glTF's clear dielectric coat of
 //!   `KHR_materials_ior` (default 1.5), smooth below 0.01, else GGX of width α = roughness²;
 //!   rougher coats spread their 4 % so widely that Lambertian alone stands for them, as for
-//!   metal. `KHR_materials_specular`'s `specularFactor` 0 removes the coat (Lambertian); its
-//!   other values and colour are ignored.
+//!   metal. `KHR_materials_specular` (`Specular`): the coat's F0 becomes the layer's,
+//!   `min(F0 · c, 1) · s` for `specularColorFactor` c (a tint kept as its mean) and
+//!   `specularFactor` s, which moves its index (up to 5); s = 0 removes the coat
+//!   (Lambertian). Exact at normal incidence; towards grazing the coat's reflectance still
+//!   rises to 1 where glTF's rises to s. Its textures are not read, and the glass member
+//!   keeps its own index.
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).
 //! - `KHR_materials_clearcoat` → [`Clearcoat`] over every member: `clearcoatFactor` its
@@ -702,14 +706,15 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
     } else {
         glass_surface(ior, thickness == 0.0, roughness)
     };
-    let opaque = if !has_specular_layer(m) || ior == 1.0 {
+    let specular = specular(check, m)?;
+    let opaque = if specular.factor == 0.0 || ior == 1.0 {
         Surface::Diffuse
     } else if ior == 0.0 && roughness < DIFFUSE_MIN_ROUGHNESS {
         Surface::Mirror
     } else if ior == 0.0 {
         Surface::Diffuse
     } else {
-        coated_surface(ior, roughness)
+        coated_surface(specular.coat_ior(ior), roughness)
     };
     Ok(Lobes {
         metal: metal_surface(roughness),
@@ -800,11 +805,59 @@ fn mapped_members(
     })
 }
 
-/// Whether a non-metal wears glTF's dielectric specular layer: always, unless
-/// `KHR_materials_specular` turns it off with `specularFactor` 0.
-fn has_specular_layer(m: &json::Material) -> bool {
-    let specular = m.extensions.as_ref().and_then(|e| e.specular.as_ref());
-    specular.is_none_or(|s| s.specular_factor.0 > 0.0)
+/// glTF's dielectric specular layer as `KHR_materials_specular` sets it (without it: factor
+/// 1, colour white). The spec scales the layer's F0 by `color` (up to 1) and its whole
+/// Fresnel reflectance by `factor`, the base taking what the layer leaves.
+struct Specular {
+    /// `specularFactor`, in [0, 1].
+    factor: f32,
+    /// The mean of `specularColorFactor`'s channels (each ≥ 0).
+    color: f32,
+}
+
+/// The largest index [`Specular::coat_ior`] gives (F0 = 44 %).
+const MAX_SPECULAR_IOR: f32 = 5.0;
+
+impl Specular {
+    /// The plastic coat's index for the layer over a dielectric of index `ior`: the one whose
+    /// F0 is the layer's, `min(F0 · color, 1) · factor`, up to [`MAX_SPECULAR_IOR`]. kousen's
+    /// coat is an exact dielectric interface over a Lambertian base (`render::plastic`), so
+    /// the layer's strength moves its index: right at normal incidence, where glTF's scaled
+    /// reflectance rises towards `factor` at grazing and the coat's towards 1 (a coat a blend
+    /// would weigh needs two Lambertian members, which one photon cannot serve). A tint is
+    /// kept as its mean.
+    fn coat_ior(&self, ior: f32) -> f32 {
+        if self.color == 1.0 && self.factor == 1.0 {
+            return ior;
+        }
+        let f0 = (((ior - 1.0) / (ior + 1.0)).powi(2) * self.color).min(1.0) * self.factor;
+        let root = f0.sqrt();
+        ((1.0 + root) / (1.0 - root).max(f32::MIN_POSITIVE)).clamp(1.0, MAX_SPECULAR_IOR)
+    }
+}
+
+/// `KHR_materials_specular`'s factors as a [`Specular`].
+fn specular(check: &Check, m: &json::Material) -> Result<Specular, SceneError> {
+    let Some(specular) = m.extensions.as_ref().and_then(|e| e.specular.as_ref()) else {
+        return Ok(Specular {
+            factor: 1.0,
+            color: 1.0,
+        });
+    };
+    let factor = check.unit(specular.specular_factor.0, "specularFactor")?;
+    let mut color = 0.0;
+    for (c, name) in specular
+        .specular_color_factor
+        .0
+        .iter()
+        .zip(["red", "green", "blue"])
+    {
+        color += check.non_negative(*c, &format!("specularColorFactor's {name}"))? / 3.0;
+    }
+    if specular.specular_color_factor.0 == [1.0; 3] {
+        color = 1.0;
+    }
+    Ok(Specular { factor, color })
 }
 
 /// Whether the material is `KHR_materials_unlit`.

@@ -67,7 +67,9 @@ pub const SUPPORTED_EXTENSIONS: [&str; 13] = [
 /// a used one gets a warning of its own saying so.
 pub const PARTLY_SUPPORTED_EXTENSIONS: [(&str, &str); 1] = [(
     "KHR_materials_specular",
-    "only specularFactor 0 (no specular layer) is read; other factors, colours and textures are ignored",
+    "specularFactor and specularColorFactor (its mean) set the opaque dielectric's coat by \
+     its reflectance at normal incidence; textures are not read, and the glass keeps its own \
+     index",
 )];
 
 /// The most triangles a file may place in the world (and a third of the most vertices it may

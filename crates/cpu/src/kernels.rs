@@ -236,7 +236,7 @@ pub fn photon_pass_with<R: StreamRng>(
         .filter(|_| material.surface.has_diffuse_lobe())
         .map(|t| (t, rng.next_f32()));
     let lambertian = |tint| match transmission {
-        Some((t, u)) => lambertian_side(&hit, tint, Some(t), u),
+        Some((t, u)) => lambertian_side(&hit, tint, t, u),
         None => (hit, tint),
     };
     // The side the path leaves from: the hit's, but the far one where it passed through.
@@ -666,7 +666,7 @@ fn eye_path(
             let (side, tint) = match transmission {
                 Some(t) => {
                     let u = side_number.unwrap_or_else(|| rng.next_f32());
-                    lambertian_side(&hit, tint, Some(t), u)
+                    lambertian_side(&hit, tint, t, u)
                 }
                 None => (hit, tint),
             };

@@ -77,18 +77,19 @@ pub fn diffuse_transmission_at(
 
 /// The side of `hit` a Lambertian lobe sends its light to and takes it from, and the lobe's
 /// tint there: the far side with the transmission's tint where glTF's diffuse transmission
-/// (`share`, `tint` from [`diffuse_transmission_at`]) is chosen by `u`, else the hit and
-/// `reflected` (the base colour). The choice's probability is the share, so neither side's
-/// weight carries it.
+/// (`(share, tint)` from [`diffuse_transmission_at`]) is chosen by `u` below the share, else
+/// the hit and `reflected` (the base colour). The choice's probability is the share, so
+/// neither side's weight carries it.
 pub fn lambertian_side(
     hit: &SurfaceHit,
     reflected: Vec3,
-    transmission: Option<(f32, Vec3)>,
+    (share, tint): (f32, Vec3),
     u: f32,
 ) -> (SurfaceHit, Vec3) {
-    match transmission {
-        Some((share, tint)) if u < share => (hit.flipped(), tint),
-        _ => (*hit, reflected),
+    if u < share {
+        (hit.flipped(), tint)
+    } else {
+        (*hit, reflected)
     }
 }
 

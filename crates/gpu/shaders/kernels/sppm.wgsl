@@ -815,7 +815,10 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     var jitter = pixel_jitter(index, eye_pass_index);
     var lens = pixel_lens(index, eye_pass_index);
     // render::rng::pixel_side for the first path; the extra paths draw their own (negative).
-    var side_number = pixel_side(index, eye_pass_index);
+    var side_number = -1.0;
+    if DIFFUSE_TRANSMISSION {
+        side_number = pixel_side(index, eye_pass_index);
+    }
     var wavelength_number = 0.0;
     var direct = vec3<f32>(0.0);
     for (var path_index = 0u; path_index <= extra; path_index += 1u) {

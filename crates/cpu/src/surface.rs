@@ -68,10 +68,17 @@ pub fn diffuse_transmission_at(
     material: &Material,
     uv: Vec2,
 ) -> Option<(f32, Vec3)> {
+    diffuse_transmission_of(material, |id| texture(&scene.textures, id, uv))
+}
+
+/// [`diffuse_transmission_at`] with the hit's texels read by `texel` (white for `None`).
+pub fn diffuse_transmission_of(
+    material: &Material,
+    texel: impl Fn(Option<u32>) -> Vec4,
+) -> Option<(f32, Vec3)> {
     let transmission = material.diffuse_transmission?;
-    let share = transmission.factor * texture(&scene.textures, transmission.texture, uv).w;
-    let tint =
-        transmission.color * texture(&scene.textures, transmission.color_texture, uv).truncate();
+    let share = transmission.factor * texel(transmission.texture).w;
+    let tint = transmission.color * texel(transmission.color_texture).truncate();
     Some((share.clamp(0.0, 1.0), tint))
 }
 

@@ -793,13 +793,10 @@ impl<'a> PathTracer<'a> {
         material.base_color * self.texture(material.base_color_texture, uv).truncate()
     }
 
-    /// glTF's diffuse transmission at `uv` (`cpu::surface::diffuse_transmission_at`): the
+    /// glTF's diffuse transmission at `uv` (`cpu::surface::diffuse_transmission_of`): the
     /// share through and its tint, `None` for none.
     fn diffuse_transmission(&self, material: &Material, uv: Vec2) -> Option<(f32, Vec3)> {
-        let transmission = material.diffuse_transmission?;
-        let share = transmission.factor * self.texture(transmission.texture, uv).w;
-        let tint = transmission.color * self.texture(transmission.color_texture, uv).truncate();
-        Some((share.clamp(0.0, 1.0), tint))
+        cpu::surface::diffuse_transmission_of(material, |id| self.texture(id, uv))
     }
 
     /// Samples the next direction; returns it with the throughput weight (BSDF·cos/pdf) and

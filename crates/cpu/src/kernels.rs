@@ -616,7 +616,7 @@ fn eye_path(
                 throughput *= weight;
                 if let Surface::RoughConductor { alpha } = surface {
                     lit.glossy = throughput * tint;
-                    lit.lobe = GlossyLobe::reflection(alpha, 0.0);
+                    lit.lobe = GlossyLobe::metal(alpha, hit.brush);
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
                 // visible micro-normal, reflection about it with its Fresnel probability,

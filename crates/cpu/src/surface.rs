@@ -8,8 +8,8 @@ use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
 use render::dispersion::{disperse, draws_wavelength};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
-use render::microfacet::{rough_dielectric, rough_reflection};
-use render::normal_map::mapped_normal;
+use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
+use render::normal_map::{brushing, mapped_normal};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
@@ -42,6 +42,9 @@ pub struct SurfaceHit {
     pub material: u32,
     /// Whether the ray met the triangle's front (counter-clockwise) face.
     pub front: bool,
+    /// A brushed metal's brushing here (`render::normal_map::brushing`, from the root
+    /// material's `scene::Anisotropy`): its direction times its strength; zero elsewhere.
+    pub brush: Vec3,
 }
 
 impl SurfaceHit {
@@ -100,6 +103,27 @@ pub fn lambertian_side(
     }
 }
 
+/// A brushed metal's brushing (`render::normal_map::brushing`) at a hit on `material` (the
+/// root: every member carries its anisotropy) with unit interpolated `normal` on the triangle
+/// of corner `positions` and `uvs`, its texture read by `texel`; zero without anisotropy.
+pub fn brush_at(
+    material: &Material,
+    texel: impl Fn(u32) -> Vec4,
+    normal: Vec3,
+    positions: [Vec3; 3],
+    uvs: [Vec2; 3],
+) -> Vec3 {
+    let Some(anisotropy) = material.anisotropy else {
+        return Vec3::ZERO;
+    };
+    brushing(
+        normal,
+        positions,
+        uvs,
+        anisotropy.at(anisotropy.texture.map(texel)),
+    )
+}
+
 /// Closest hit along a ray, or `None` if it leaves the scene.
 pub fn trace(scene: &SceneData, origin: Vec3, direction: Vec3) -> Option<SurfaceHit> {
     trace_within(scene, origin, direction, RAY_T_MAX)
@@ -146,6 +170,9 @@ pub fn trace_within(
         let texel = scene.textures.sample(map, uv).truncate();
         shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
     }
+    // A brushed metal's brushing, in the triangle's texture frame.
+    let texel = |t| scene.textures.sample(t, uv);
+    let brush = brush_at(material, texel, unit_interpolated, positions, uvs);
     // A clear coat with a normal map of its own follows it.
     let mut coat_normal = unit_interpolated;
     if let Some(coat) = material.clearcoat
@@ -174,6 +201,7 @@ pub fn trace_within(
         uv,
         material: triangle.material,
         front,
+        brush,
     })
 }
 
@@ -357,7 +385,11 @@ pub fn specular_direction(
     let direction = match surface {
         Surface::Diffuse | Surface::Plastic { .. } => return None,
         Surface::RoughConductor { alpha } => {
-            let (next, weight) = rough_reflection(incoming, normal, alpha, u[0], u[1])?;
+            let (next, weight) = if hit.brush == Vec3::ZERO {
+                rough_reflection(incoming, normal, alpha, u[0], u[1])?
+            } else {
+                brushed_reflection(incoming, normal, hit.brush, alpha, [u[0], u[1]])?
+            };
             // Bent below the geometric surface by the shading normal: it would leak through.
             return (next.dot(hit.geometric) > 0.0).then_some((next, weight));
         }

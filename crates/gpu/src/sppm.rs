@@ -137,6 +137,8 @@ pub(crate) struct SceneFeatures {
     pub sheens: bool,
     /// Some material transmits diffusely (`DIFFUSE_TRANSMISSION`).
     pub diffuse_transmission: bool,
+    /// Some material is brushed (`ANISOTROPY`).
+    pub anisotropy: bool,
     /// Some blend's glass member is weighed by a transmission texture (`TRANSMISSION_MAPS`).
     pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
@@ -172,6 +174,7 @@ impl SceneFeatures {
             sheens: any(|m| m.sheen.is_some()),
             transmission_maps: any(|m| m.transmission_texture.is_some()),
             diffuse_transmission: any(|m| m.diffuse_transmission.is_some()),
+            anisotropy: any(|m| m.anisotropy.is_some()),
             media: any(|m| m.interior_absorption().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
@@ -179,7 +182,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 12] {
+    fn constants(self) -> [(&'static str, f64); 13] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -190,6 +193,7 @@ impl SceneFeatures {
             ("SHEENS", flag(self.sheens)),
             ("TRANSMISSION_MAPS", flag(self.transmission_maps)),
             ("DIFFUSE_TRANSMISSION", flag(self.diffuse_transmission)),
+            ("ANISOTROPY", flag(self.anisotropy)),
             ("MEDIA", flag(self.media)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),

@@ -236,7 +236,10 @@ pub struct GpuMaterial {
     pub diffuse_transmission_color: [f32; 3],
     pub diffuse_transmission: f32,
     pub diffuse_transmission_color_texture: u32,
-    pub pad_diffuse_transmission: [u32; 3],
+    /// glTF's anisotropy (`scene::Anisotropy`): its texture (`NO_TEXTURE` for none) and its
+    /// brushing without a texture in the texture frame (`Anisotropy::base`; zero: none).
+    pub anisotropy_texture: u32,
+    pub anisotropy: [f32; 2],
 }
 
 impl GpuMaterial {
@@ -335,7 +338,12 @@ impl GpuMaterial {
             diffuse_transmission_color_texture: (material.diffuse_transmission)
                 .and_then(|t| t.color_texture)
                 .unwrap_or(NO_TEXTURE),
-            pad_diffuse_transmission: [0; 3],
+            anisotropy: material
+                .anisotropy
+                .map_or([0.0; 2], |a| a.base().to_array()),
+            anisotropy_texture: (material.anisotropy)
+                .and_then(|a| a.texture)
+                .unwrap_or(NO_TEXTURE),
         }
     }
 
@@ -383,6 +391,7 @@ impl GpuMaterial {
             transmission_texture: NO_TEXTURE,
             diffuse_transmission_texture: NO_TEXTURE,
             diffuse_transmission_color_texture: NO_TEXTURE,
+            anisotropy_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

@@ -398,9 +398,10 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, diffuse_transmission_color_texture),
             ),
             (
-                "pad_diffuse_transmission",
-                offset_of!(GpuMaterial, pad_diffuse_transmission),
+                "anisotropy_texture",
+                offset_of!(GpuMaterial, anisotropy_texture),
             ),
+            ("anisotropy", offset_of!(GpuMaterial, anisotropy)),
         ],
     );
     assert_layout(

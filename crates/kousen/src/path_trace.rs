@@ -97,6 +97,8 @@ struct SurfacePoint {
     interpolated: Vec3,
     uv: Vec2,
     material: u32,
+    /// A brushed metal's brushing (`cpu::surface::brush_at`); zero elsewhere.
+    brush: Vec3,
 }
 
 /// How the path reached the current vertex, for weighting emission found there.
@@ -155,12 +157,12 @@ struct LitLobes<'a> {
 impl<'a> LitLobes<'a> {
     /// A material's lobes (`coat` its coat) at a point with unit `shading` normal, seen along
     /// `outgoing` (unit, away from the surface) from its `front` or back, `tint` its base
-    /// colour there.
+    /// colour there, a metal brushed along `brush` (zero: isotropic).
     fn of(
         material: &Material,
         coat: &'a Coat,
         tint: Vec3,
-        (outgoing, shading): (Vec3, Vec3),
+        (outgoing, shading, brush): (Vec3, Vec3, Vec3),
         front: bool,
     ) -> LitLobes<'a> {
         match material.surface {
@@ -183,7 +185,7 @@ impl<'a> LitLobes<'a> {
             }
             Surface::RoughConductor { alpha } => LitLobes {
                 glossy: tint,
-                lobe: GlossyLobe::reflection(alpha, 0.0),
+                lobe: GlossyLobe::metal(alpha, brush),
                 ..LitLobes::default()
             },
             // Solid frosted glass seen from outside reflects as a coat does; from inside, its
@@ -476,7 +478,7 @@ impl<'a> PathTracer<'a> {
                     lobes_of,
                     &coat,
                     lambertian_tint,
-                    (-direction, shading),
+                    (-direction, shading, point.brush),
                     front,
                 )
             };
@@ -755,6 +757,8 @@ impl<'a> PathTracer<'a> {
             let texel = self.texture(Some(map), uv).truncate();
             coat_normal = mapped_normal(coat_normal, positions, uvs, texel, coat.normal_scale);
         }
+        let texel = |t| self.texture(Some(t), uv);
+        let brush = cpu::surface::brush_at(material, texel, unit_interpolated, positions, uvs);
         Some(SurfacePoint {
             position,
             shadow_origin,
@@ -763,6 +767,7 @@ impl<'a> PathTracer<'a> {
             interpolated: coat_normal,
             uv,
             material: triangle.material,
+            brush,
         })
     }
 
@@ -831,10 +836,22 @@ impl<'a> PathTracer<'a> {
         let direction = match surface {
             Surface::RoughConductor { alpha } => {
                 let (u1, u2) = (rng.next_f32(), rng.next_f32());
-                let (next, weight) =
-                    render::microfacet::rough_reflection(incoming, shading, alpha, u1, u2)?;
+                let brush = point.brush;
+                let (next, weight) = if brush == Vec3::ZERO {
+                    render::microfacet::rough_reflection(incoming, shading, alpha, u1, u2)?
+                } else {
+                    render::microfacet::brushed_reflection(
+                        incoming,
+                        shading,
+                        brush,
+                        alpha,
+                        [u1, u2],
+                    )?
+                };
                 // Bent below the geometric surface by the shading normal: it would leak.
-                let pdf = glossy_response(-incoming, next, shading, alpha, 0.0).pdf;
+                let pdf = GlossyLobe::metal(alpha, brush)
+                    .response(shading, -incoming, next)
+                    .pdf;
                 return (next.dot(geometric) > 0.0).then_some((
                     next,
                     tint * weight,
@@ -1638,6 +1655,72 @@ mod tests {
         let tracer = PathTracer::new(&scene, &bvh, camera);
         let radiance = share * tint.x * std::f32::consts::FRAC_1_PI * 0.8 * illuminance;
         assert_sky_plane(&tracer, |_| radiance as f64, 40_000, 0.015);
+    }
+
+    /// A brushed white-ish metal plane (GGX α 0.1, glTF anisotropy 0.8 turned 0.3 rad) under
+    /// the sky L: seen straight down and at 60°, it returns L·ρ·E(view), E the brushed lobe's
+    /// directional albedo by quadrature over the hemisphere (`render::microfacet::
+    /// brushed_response`, about the brushing the hit computes: the plane has no texture
+    /// coordinates, so any frame about its normal), within 0.5 % over 200,000 paths (20,000
+    /// left 1 % of noise): the tracer's brushed bounces and light samples under MIS. The same plane brushed at right angles returns a different
+    /// light at 60° (the check can tell the brushing's direction).
+    #[test]
+    fn brushed_metal_plane_under_the_sky_returns_its_albedo() {
+        let (sky, alpha) = (2.0f32, 0.1f32);
+        let albedo_of = |brush: Vec3, view: Vec3| {
+            let n = 600;
+            let mut sum = 0.0f64;
+            for i in 0..n {
+                let x = (i as f64 + 0.5) / n as f64;
+                let cos_theta = 1.0 - x * x;
+                let d_cos = 2.0 * x / n as f64;
+                let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+                for j in 0..n {
+                    let phi = (j as f64 + 0.5) / n as f64 * std::f64::consts::TAU;
+                    // About +Y, the plane's normal.
+                    let l = Vec3::new(
+                        (sin_theta * phi.cos()) as f32,
+                        cos_theta as f32,
+                        (sin_theta * phi.sin()) as f32,
+                    );
+                    let value =
+                        render::microfacet::brushed_response(view, l, Vec3::Y, brush, alpha);
+                    sum += value.value as f64 * d_cos * std::f64::consts::TAU / n as f64;
+                }
+            }
+            sum
+        };
+        let mut radiances = Vec::new();
+        for rotation in [0.3f32, 0.3 + std::f32::consts::FRAC_PI_2] {
+            let mut scene = plane_under_sky(Surface::RoughConductor { alpha }, sky);
+            let anisotropy = scene::Anisotropy {
+                strength: 0.8,
+                rotation,
+                texture: None,
+            };
+            for material in &mut scene.materials {
+                material.anisotropy = Some(anisotropy);
+            }
+            let rho = scene.materials[0].base_color.x as f64;
+            let brush = render::normal_map::brushing(
+                Vec3::Y,
+                [Vec3::ZERO, Vec3::X, Vec3::Z],
+                [Vec2::ZERO; 3],
+                anisotropy.base(),
+            );
+            let (bvh, camera) = tracer_for(&scene);
+            let tracer = PathTracer::new(&scene, &bvh, camera);
+            let radiance = |cos: f32| {
+                let view = Vec3::new(-(1.0 - cos * cos).sqrt(), cos, 0.0);
+                sky as f64 * rho * albedo_of(brush, view)
+            };
+            radiances.push(radiance(0.5));
+            assert_sky_plane(&tracer, radiance, 200_000, 0.005);
+        }
+        assert!(
+            (radiances[0] / radiances[1] - 1.0).abs() > 0.02,
+            "{radiances:?}"
+        );
     }
 
     /// The red channel of `samples` paths at the origin's plane seen straight down and at 60°

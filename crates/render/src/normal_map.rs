@@ -10,6 +10,46 @@
 
 use glam::{Vec2, Vec3};
 
+/// The texture frame about unit `normal` on the triangle with corner `positions` and texture
+/// coordinates `uvs`: a unit tangent along increasing u (perpendicular to `normal`) and the
+/// bitangent towards the image's top (mirrored coordinates turn it left-handed); `None` where
+/// the coordinates are degenerate (no gradient).
+pub fn texture_frame(normal: Vec3, positions: [Vec3; 3], uvs: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
+    let (e1, e2) = (positions[1] - positions[0], positions[2] - positions[0]);
+    let (d1, d2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
+    let determinant = d1.x * d2.y - d2.x * d1.y;
+    if determinant == 0.0 {
+        return None;
+    }
+    // dp/du and −dp/dv times |determinant| (their lengths do not matter, only directions).
+    let sign = determinant.signum();
+    let along_u = sign * (e1 * d2.y - e2 * d1.y);
+    let towards_top = -sign * (e2 * d1.x - e1 * d2.x);
+    let tangent = along_u - normal * normal.dot(along_u);
+    let length_squared = tangent.length_squared();
+    if length_squared <= 0.0 || !length_squared.is_finite() {
+        return None;
+    }
+    let tangent = tangent / length_squared.sqrt();
+    let bitangent = normal.cross(tangent);
+    // Mirrored texture coordinates turn the frame left-handed.
+    let bitangent = if bitangent.dot(towards_top) < 0.0 {
+        -bitangent
+    } else {
+        bitangent
+    };
+    Some((tangent, bitangent))
+}
+
+/// A brushed metal's brushing at a hit (`render::microfacet::brushed_reflection`): `brush`,
+/// given in the texture frame about unit `normal` ([`texture_frame`]; any frame about it
+/// where the coordinates are degenerate), in the world, its length (the strength) kept.
+pub fn brushing(normal: Vec3, positions: [Vec3; 3], uvs: [Vec2; 3], brush: Vec2) -> Vec3 {
+    let (tangent, bitangent) = texture_frame(normal, positions, uvs)
+        .unwrap_or_else(|| crate::sampling::orthonormal_basis(normal));
+    tangent * brush.x + bitangent * brush.y
+}
+
 /// `normal` (unit, interpolated) bent by a map's linear `texel` on the triangle with corner
 /// `positions` and texture coordinates `uvs`; `scale` multiplies the texel's X and Y (glTF's
 /// `normalTexture.scale`). The triangle's normal as it was where its coordinates are
@@ -21,28 +61,8 @@ pub fn mapped_normal(
     texel: Vec3,
     scale: f32,
 ) -> Vec3 {
-    let (e1, e2) = (positions[1] - positions[0], positions[2] - positions[0]);
-    let (d1, d2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
-    let determinant = d1.x * d2.y - d2.x * d1.y;
-    if determinant == 0.0 {
+    let Some((tangent, bitangent)) = texture_frame(normal, positions, uvs) else {
         return normal;
-    }
-    // dp/du and −dp/dv times |determinant| (their lengths do not matter, only directions).
-    let sign = determinant.signum();
-    let along_u = sign * (e1 * d2.y - e2 * d1.y);
-    let towards_top = -sign * (e2 * d1.x - e1 * d2.x);
-    let tangent = along_u - normal * normal.dot(along_u);
-    let length_squared = tangent.length_squared();
-    if length_squared <= 0.0 || !length_squared.is_finite() {
-        return normal;
-    }
-    let tangent = tangent / length_squared.sqrt();
-    let bitangent = normal.cross(tangent);
-    // Mirrored texture coordinates turn the frame left-handed.
-    let bitangent = if bitangent.dot(towards_top) < 0.0 {
-        -bitangent
-    } else {
-        bitangent
     };
     let local = texel * 2.0 - Vec3::ONE;
     let bent = tangent * (local.x * scale) + bitangent * (local.y * scale) + normal * local.z;

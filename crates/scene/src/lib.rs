@@ -27,10 +27,10 @@ pub use camera::{Camera, Lens};
 pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{
-    AlphaMode, Blend, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, MAX_BLEND_MEMBERS,
-    MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, Sheen, Surface, TextureRoughness, TexturedLobe,
-    absorption_from_attenuation, coated_surface, dispersion_from_abbe, glass_surface,
-    metal_surface,
+    AlphaMode, Anisotropy, Blend, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission,
+    MAX_BLEND_MEMBERS, MIN_BRUSHED_ALPHA, MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, Sheen,
+    Surface, TextureRoughness, TexturedLobe, absorption_from_attenuation, brushed_metal_surface,
+    coated_surface, dispersion_from_abbe, glass_surface, metal_surface,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use sky_map::SkyMap;

@@ -91,6 +91,46 @@ pub struct Material {
     /// Lambertian transmission through the material's diffuse lobe (glTF's
     /// `KHR_materials_diffuse_transmission`: leaves, paper, a lamp shade); `None` for none.
     pub diffuse_transmission: Option<DiffuseTransmission>,
+    /// Brushing of the metal's GGX lobe (glTF's `KHR_materials_anisotropy`); `None` for an
+    /// isotropic lobe. Every member of a blend carries it; only rough metal reads it.
+    pub anisotropy: Option<Anisotropy>,
+}
+
+/// glTF's anisotropy of a metal's lobe (brushed metal): along a direction in the surface the
+/// GGX width grows from α to `α + (1 − α)·s²`, across it stays α
+/// (`render::microfacet::brushed_widths`). The direction is the texture frame's +u turned by
+/// `rotation` (counter-clockwise towards +v), or the texture's own direction turned so.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Anisotropy {
+    /// glTF's `anisotropyStrength`, in [0, 1].
+    pub strength: f32,
+    /// glTF's `anisotropyRotation`, radians.
+    pub rotation: f32,
+    /// glTF's `anisotropyTexture` (linear data): red and green the direction in the texture
+    /// frame (each mapped from [0, 1] to [−1, 1]), blue multiplying the strength.
+    pub texture: Option<TextureId>,
+}
+
+impl Anisotropy {
+    /// The brushing without a texture, in the texture frame (+u, +v): +u turned by the
+    /// rotation, times the strength (what the GPU's material record holds).
+    pub fn base(&self) -> glam::Vec2 {
+        let (sin, cos) = self.rotation.sin_cos();
+        glam::Vec2::new(cos, sin) * self.strength
+    }
+
+    /// The brushing in the texture frame where the texture reads `texel` (`None`: no
+    /// texture): its direction turned by the rotation, times the strength and its blue.
+    pub fn at(&self, texel: Option<glam::Vec4>) -> glam::Vec2 {
+        let base = self.base();
+        let Some(texel) = texel else {
+            return base;
+        };
+        let d = (glam::Vec2::new(texel.x, texel.y) * 2.0 - glam::Vec2::ONE)
+            .try_normalize()
+            .unwrap_or(glam::Vec2::X);
+        glam::Vec2::new(d.x * base.x - d.y * base.y, d.x * base.y + d.y * base.x) * texel.z
+    }
 }
 
 /// glTF's diffuse transmission: of what reaches the Lambertian lobe (a diffuse surface, or
@@ -247,6 +287,21 @@ pub fn metal_surface(roughness: f32) -> Surface {
         }
     } else {
         Surface::Diffuse
+    }
+}
+
+/// The least GGX width across a brushed metal's brushing: glTF's smooth metal brushed (its
+/// roughness 0) stays a lobe the kernels can sample.
+pub const MIN_BRUSHED_ALPHA: f32 = 1e-3;
+
+/// [`metal_surface`] for a metal brushed with some strength (`Anisotropy`): a mirror becomes
+/// rough metal of width [`MIN_BRUSHED_ALPHA`], which the brushing widens along its direction.
+pub fn brushed_metal_surface(roughness: f32) -> Surface {
+    match metal_surface(roughness) {
+        Surface::Mirror => Surface::RoughConductor {
+            alpha: (roughness * roughness).max(MIN_BRUSHED_ALPHA),
+        },
+        other => other,
     }
 }
 
@@ -474,6 +529,7 @@ impl Default for Material {
             sheen: None,
             transmission_texture: None,
             diffuse_transmission: None,
+            anisotropy: None,
         }
     }
 }

@@ -600,7 +600,7 @@ fn an_emissive_quad_is_collected_as_a_light_with_its_area_and_power() {
 fn ignored_extensions_are_named_in_one_warning() {
     let mut doc = quad_doc(None);
     doc.json["extensionsUsed"] = json!([
-        "KHR_materials_anisotropy",
+        "KHR_materials_iridescence",
         "KHR_materials_ior",
         "KHR_materials_specular"
     ]);
@@ -611,7 +611,7 @@ fn ignored_extensions_are_named_in_one_warning() {
         .filter(|w| w.contains("extension"))
         .collect();
     assert_eq!(warnings.len(), 2, "{warnings:?}");
-    assert_mentions(warnings[0], &["ignoring", "KHR_materials_anisotropy"]);
+    assert_mentions(warnings[0], &["ignoring", "KHR_materials_iridescence"]);
     assert!(!warnings[0].contains("KHR_materials_specular"));
     // Read in part: named on its own, with what is read.
     assert_mentions(
@@ -1070,6 +1070,82 @@ fn sheen_factors_are_read() {
     doc.json["extensionsRequired"] = json!(["KHR_materials_sheen"]);
     doc.json["extensionsUsed"] = json!(["KHR_materials_sheen"]);
     assert!(doc.load().is_ok(), "KHR_materials_sheen may be required");
+}
+
+/// `KHR_materials_anisotropy` as `Material::anisotropy` (strength, rotation, texture read as
+/// data); a smooth metal brushed becomes rough metal of the least brushed width; a strength
+/// of 0 is none; a material that is not wholly metal is warned about (only the metal's lobe
+/// is brushed); bad values are refused; it may be required.
+#[test]
+fn anisotropy_is_read() {
+    const ANISOTROPY: &str = "KHR_materials_anisotropy";
+    let brushed = |metallic: f32, roughness: f32, anisotropy: Value| {
+        let mut material = pbr(metallic, roughness);
+        material["extensions"] = json!({ ANISOTROPY: anisotropy });
+        quad_doc(Some(material)).load()
+    };
+    let scene = brushed(
+        1.0,
+        0.3,
+        json!({ "anisotropyStrength": 0.6, "anisotropyRotation": 1.2 }),
+    )
+    .expect("loads");
+    let anisotropy = scene.materials[0].anisotropy.expect("brushed");
+    assert_eq!((anisotropy.strength, anisotropy.rotation), (0.6, 1.2));
+    assert_eq!(
+        scene.materials[0].surface,
+        Surface::RoughConductor { alpha: 0.3 * 0.3 }
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let smooth = brushed(1.0, 0.0, json!({ "anisotropyStrength": 1.0 })).expect("loads");
+    assert_eq!(
+        smooth.materials[0].surface,
+        Surface::RoughConductor {
+            alpha: scene::MIN_BRUSHED_ALPHA
+        }
+    );
+    let none = brushed(1.0, 0.0, json!({ "anisotropyRotation": 1.0 })).expect("loads");
+    assert_eq!(none.materials[0].anisotropy, None);
+    assert_eq!(none.materials[0].surface, Surface::Mirror);
+    let half = brushed(0.5, 0.3, json!({ "anisotropyStrength": 0.5 })).expect("loads");
+    assert!(
+        half.warnings
+            .iter()
+            .any(|w| w.contains("metal's lobe only")),
+        "{:?}",
+        half.warnings
+    );
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let mut material = pbr(1.0, 0.2);
+    material["extensions"] = json!({ ANISOTROPY: {
+        "anisotropyStrength": 1.0,
+        "anisotropyTexture": { "index": 0 },
+    } });
+    let material = doc.material(material);
+    let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+    doc.instance(mesh);
+    let textured = doc.load().expect("loads");
+    let texture = textured.materials[0].anisotropy.unwrap().texture.unwrap();
+    assert!(
+        matches!(
+            textured.textures[texture as usize].texels,
+            Texels::LinearF32(_)
+        ),
+        "the direction is data"
+    );
+    for bad in [
+        json!({ "anisotropyStrength": 1.5 }),
+        json!({ "anisotropyStrength": 0.5, "anisotropyRotation": "a quarter" }),
+        json!({ "anisotropyStrength": 0.5, "anisotropyTexture": { "index": 7 } }),
+    ] {
+        let error = brushed(1.0, 0.3, bad.clone()).expect_err("refused");
+        assert!(error.to_string().contains("anisotropy"), "{bad}: {error}");
+    }
+    let mut doc = quad_doc(None);
+    doc.json["extensionsRequired"] = json!([ANISOTROPY]);
+    doc.json["extensionsUsed"] = json!([ANISOTROPY]);
+    assert!(doc.load().is_ok(), "{ANISOTROPY} may be required");
 }
 
 /// `KHR_materials_diffuse_transmission`'s factors as `Material::diffuse_transmission` (the

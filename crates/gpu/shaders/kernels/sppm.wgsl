@@ -394,6 +394,8 @@ struct LitLobes {
     // glTF's sheen over both lobes (colour black: none), which the light passes too.
     sheen: Sheen,
     coat_alpha: f32,
+    // render::microfacet::GlossyLobe::brush: a brushed metal's brushing (zero: isotropic).
+    brush: vec3<f32>,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -417,6 +419,9 @@ fn lit_glossy_lobe(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident
     }
     if FROSTED_GLASS && lit.sheet_eta > 0.0 {
         return sheet_response(outgoing, incident, hit.shading, lit.alpha, lit.sheet_eta);
+    }
+    if ANISOTROPY && any(lit.brush != vec3<f32>(0.0)) {
+        return brushed_response(outgoing, incident, hit.shading, lit.brush, lit.alpha);
     }
     return glossy_response(outgoing, incident, hit.shading, lit.alpha, lit.coat_ior);
 }
@@ -965,7 +970,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0);
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0));
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -998,7 +1003,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0);
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0));
         if plastic {
             lit.coat_ior = material.ior;
             lit.coat_alpha = material.roughness_alpha;
@@ -1071,6 +1076,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if material.surface == SURFACE_ROUGH_CONDUCTOR {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
+                lit.brush = hit.brush;
             }
             // cpu::kernels: solid frosted glass met from outside reflects as a coat does; met
             // from inside, its refraction out is the lobe.

@@ -96,5 +96,7 @@ struct GpuMaterial {
     diffuse_transmission_color: vec3<f32>,
     diffuse_transmission: f32,
     diffuse_transmission_color_texture: u32,
-    pad_diffuse_transmission: array<u32, 3>,
+    // scene::Anisotropy's texture (NO_TEXTURE: none) and Anisotropy::base (zero: none).
+    anisotropy_texture: u32,
+    anisotropy: vec2<f32>,
 }

@@ -113,14 +113,23 @@ fn refract_or_reflect(incoming: vec3<f32>, normal: vec3<f32>, eta: f32) -> vec3<
 }
 
 // ---- render::normal_map ----
-fn mapped_normal(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
+// render::normal_map::texture_frame: the tangent along +u and the bitangent towards the
+// image's top about `normal`; `found` false where the coordinates are degenerate.
+struct TextureFrame {
+    tangent: vec3<f32>,
+    bitangent: vec3<f32>,
+    found: bool,
+}
+
+fn texture_frame(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>) -> TextureFrame {
+    var frame: TextureFrame;
     let e1 = p1 - p0;
     let e2 = p2 - p0;
     let d1 = uv1 - uv0;
     let d2 = uv2 - uv0;
     let determinant = d1.x * d2.y - d2.x * d1.y;
     if determinant == 0.0 {
-        return normal;
+        return frame;
     }
     let s = sign(determinant);
     let along_u = s * (e1 * d2.y - e2 * d1.y);
@@ -129,13 +138,34 @@ fn mapped_normal(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>,
     let length_squared = dot(unnormalised, unnormalised);
     // Also false for NaN (and for infinity, which the next test catches).
     if !(length_squared > 0.0) || length_squared > 3.40282347e38 {
+        return frame;
+    }
+    frame.tangent = unnormalised / sqrt(length_squared);
+    frame.bitangent = cross(normal, frame.tangent);
+    if dot(frame.bitangent, towards_top) < 0.0 {
+        frame.bitangent = -frame.bitangent;
+    }
+    frame.found = true;
+    return frame;
+}
+
+// render::normal_map::brushing: `brush` (in the texture frame) in the world.
+fn brushing(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, brush: vec2<f32>) -> vec3<f32> {
+    var frame = texture_frame(normal, p0, p1, p2, uv0, uv1, uv2);
+    if !frame.found {
+        frame.tangent = basis_tangent(normal);
+        frame.bitangent = basis_bitangent(normal);
+    }
+    return frame.tangent * brush.x + frame.bitangent * brush.y;
+}
+
+fn mapped_normal(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
+    let frame = texture_frame(normal, p0, p1, p2, uv0, uv1, uv2);
+    if !frame.found {
         return normal;
     }
-    let tangent = unnormalised / sqrt(length_squared);
-    var bitangent = cross(normal, tangent);
-    if dot(bitangent, towards_top) < 0.0 {
-        bitangent = -bitangent;
-    }
+    let tangent = frame.tangent;
+    let bitangent = frame.bitangent;
     let local = texel * 2.0 - vec3<f32>(1.0);
     let bent = tangent * (local.x * scale) + bitangent * (local.y * scale) + normal * local.z;
     return normalize_or(bent, normal);
@@ -189,6 +219,8 @@ struct SurfaceHit {
     material: u32,
     front: bool,
     found: bool,
+    // cpu::surface::SurfaceHit::brush: a brushed metal's brushing (zero elsewhere).
+    brush: vec3<f32>,
 }
 
 fn vertex_normal(v: PackedVertex) -> vec3<f32> {
@@ -220,6 +252,8 @@ override SHEENS: bool = true;
 override TRANSMISSION_MAPS: bool = true;
 // Whether some material transmits diffusely (scene::DiffuseTransmission).
 override DIFFUSE_TRANSMISSION: bool = true;
+// Whether some material is brushed (scene::Anisotropy): hits carry the brushing.
+override ANISOTROPY: bool = true;
 // Whether the sky has an environment map (render::sky_map, read in sppm.wgsl): compiled out
 // otherwise, as NORMAL_MAPS is (its lookups and searches, inlined, made lavapipe's eye pass
 // ~10 % slower in scenes without one).
@@ -362,6 +396,25 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
         if map != NO_TEXTURE {
             let texel = sample_texture(map, uv).xyz;
             shading = mapped_normal(shading, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].normal_scale);
+        }
+    }
+    if ANISOTROPY {
+        // cpu::surface::brush_at: a brushed metal's brushing in the triangle's texture frame.
+        let base = materials[material_index].anisotropy;
+        if any(base != vec2<f32>(0.0)) {
+            var brush = base;
+            let map = materials[material_index].anisotropy_texture;
+            if map != NO_TEXTURE {
+                let texel = sample_texture(map, uv);
+                let raw = texel.xy * 2.0 - vec2<f32>(1.0);
+                let length_squared = dot(raw, raw);
+                var d = vec2<f32>(1.0, 0.0);
+                if length_squared > 0.0 {
+                    d = raw * (1.0 / sqrt(length_squared));
+                }
+                brush = vec2<f32>(d.x * base.x - d.y * base.y, d.x * base.y + d.y * base.x) * texel.z;
+            }
+            result.brush = brushing(unit_interpolated, a.position, b.position, c.position, uv_a, uv_b, uv_c, brush);
         }
     }
     let front = dot(direction, geometric) < 0.0;
@@ -575,21 +628,7 @@ fn dispersed_material(material: GpuMaterial, wavelength: u32, u: f32) -> Dispers
 
 // ---- render::microfacet ----
 fn sample_visible_normal(view: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
-    let stretched = normalize(vec3<f32>(alpha * view.x, alpha * view.y, view.z));
-    let length_sq = stretched.x * stretched.x + stretched.y * stretched.y;
-    var t1 = vec3<f32>(1.0, 0.0, 0.0);
-    if length_sq > 0.0 {
-        t1 = vec3<f32>(-stretched.y, stretched.x, 0.0) / sqrt(length_sq);
-    }
-    let t2 = cross(stretched, t1);
-    let r = sqrt(u1);
-    let phi = 2.0 * PI * u2;
-    let p1 = r * cos(phi);
-    let s = 0.5 * (1.0 + stretched.z);
-    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
-    let p3 = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
-    let normal = p1 * t1 + p2 * t2 + p3 * stretched;
-    return normalize(vec3<f32>(alpha * normal.x, alpha * normal.y, max(normal.z, 0.0)));
+    return sample_visible_normal_brushed(view, alpha, alpha, u1, u2);
 }
 
 fn smith_g1(w: vec3<f32>, alpha: f32) -> f32 {
@@ -642,6 +681,90 @@ fn rough_reflection(hit: SurfaceHit, incoming: vec3<f32>, alpha: f32, u1: f32, u
         return Scattered(vec3<f32>(0.0), 0.0);
     }
     return Scattered(next, weight);
+}
+
+// render::microfacet's brushed (anisotropic) GGX: widths `ax` along +X, `ay` along +Y.
+fn sample_visible_normal_brushed(view: vec3<f32>, ax: f32, ay: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let stretched = normalize(vec3<f32>(ax * view.x, ay * view.y, view.z));
+    let length_sq = stretched.x * stretched.x + stretched.y * stretched.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if length_sq > 0.0 {
+        t1 = vec3<f32>(-stretched.y, stretched.x, 0.0) / sqrt(length_sq);
+    }
+    let t2 = cross(stretched, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + stretched.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let p3 = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    let normal = p1 * t1 + p2 * t2 + p3 * stretched;
+    return normalize(vec3<f32>(ax * normal.x, ay * normal.y, max(normal.z, 0.0)));
+}
+
+fn smith_g1_brushed(w: vec3<f32>, ax: f32, ay: f32) -> f32 {
+    if w.z <= 0.0 {
+        return 0.0;
+    }
+    let tan2 = ((ax * w.x) * (ax * w.x) + (ay * w.y) * (ay * w.y)) / (w.z * w.z);
+    return 2.0 / (1.0 + sqrt(1.0 + tan2));
+}
+
+fn ggx_d_brushed(m: vec3<f32>, ax: f32, ay: f32) -> f32 {
+    if m.z <= 0.0 {
+        return 0.0;
+    }
+    let t = (m.x / ax) * (m.x / ax) + (m.y / ay) * (m.y / ay) + m.z * m.z;
+    return 1.0 / (PI * ax * ay * t * t);
+}
+
+// render::microfacet::Frame::along.
+fn frame_along(normal: vec3<f32>, direction: vec3<f32>) -> Frame {
+    let projected = direction - normal * dot(normal, direction);
+    let length_squared = dot(projected, projected);
+    if !(length_squared > 1e-12) || length_squared > 3.40282347e38 {
+        return frame_about(normal);
+    }
+    let t = projected / sqrt(length_squared);
+    return Frame(t, cross(normal, t), normal);
+}
+
+// render::microfacet::brushed_widths: (along the brushing, across it).
+fn brushed_widths(alpha: f32, strength: f32) -> vec2<f32> {
+    return vec2<f32>(alpha + (1.0 - alpha) * strength * strength, alpha);
+}
+
+// render::microfacet::brushed_reflection about the hit's brushing, with specular_direction's
+// check against the geometric normal.
+fn brushed_reflection(hit: SurfaceHit, incoming: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> Scattered {
+    let frame = frame_along(hit.shading, hit.brush);
+    let widths = brushed_widths(alpha, min(length(hit.brush), 1.0));
+    let view = to_local(frame, -incoming);
+    if view.z <= 0.0 {
+        return Scattered(vec3<f32>(0.0), 0.0);
+    }
+    let micro = sample_visible_normal_brushed(view, widths.x, widths.y, u1, u2);
+    let out = reflect_about(-view, micro);
+    let weight = smith_g1_brushed(out, widths.x, widths.y);
+    let next = to_world(frame, out);
+    if weight <= 0.0 || dot(next, hit.geometric) <= 0.0 {
+        return Scattered(vec3<f32>(0.0), 0.0);
+    }
+    return Scattered(next, weight);
+}
+
+// render::microfacet::brushed_response.
+fn brushed_response(outgoing: vec3<f32>, incident: vec3<f32>, normal: vec3<f32>, brush: vec3<f32>, alpha: f32) -> GlossyResponse {
+    let frame = frame_along(normal, brush);
+    let widths = brushed_widths(alpha, min(length(brush), 1.0));
+    let view = to_local(frame, outgoing);
+    let light = to_local(frame, incident);
+    if view.z <= 0.0 || light.z <= 0.0 {
+        return GlossyResponse(0.0, 0.0);
+    }
+    let half = normalize(view + light);
+    let pdf = smith_g1_brushed(view, widths.x, widths.y) * ggx_d_brushed(half, widths.x, widths.y) / (4.0 * view.z);
+    return GlossyResponse(pdf * smith_g1_brushed(light, widths.x, widths.y), pdf);
 }
 
 // render::microfacet::ggx_d.
@@ -1134,6 +1257,9 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u
 fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32, u_second: f32, u_third: f32) -> Scattered {
     let normal = hit.shading;
     if material.surface == SURFACE_ROUGH_CONDUCTOR {
+        if ANISOTROPY && any(hit.brush != vec3<f32>(0.0)) {
+            return brushed_reflection(hit, incoming, material.roughness_alpha, u, u_second);
+        }
         return rough_reflection(hit, incoming, material.roughness_alpha, u, u_second);
     }
     if material.surface == SURFACE_ROUGH_DIELECTRIC {

@@ -93,9 +93,10 @@ use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
-    AlphaMode, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Material, RoughnessMap,
-    SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId, TextureRoughness, TexturedLobe,
-    absorption_from_attenuation as scene_absorption, coated_surface, glass_surface, metal_surface,
+    AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Material,
+    RoughnessMap, SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId, TextureRoughness,
+    TexturedLobe, absorption_from_attenuation as scene_absorption, brushed_metal_surface,
+    coated_surface, glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -309,6 +310,7 @@ impl Materials {
             sheen: self.sheen(input, builder, &check, m)?,
             transmission_texture,
             diffuse_transmission: self.diffuse_transmission(input, builder, &check, m)?,
+            anisotropy: self.anisotropy(input, builder, &check, m)?,
         };
         if is_unlit(m) {
             return Ok((
@@ -413,6 +415,39 @@ impl Materials {
             transmission.color_texture = Some(self.texture(input, builder, slot, check.label)?);
         }
         Ok(Some(transmission))
+    }
+
+    /// `KHR_materials_anisotropy` as an [`Anisotropy`] ([`anisotropy`]'s factors) with its
+    /// texture, decoded as linear data.
+    fn anisotropy(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        m: &json::Material,
+    ) -> Result<Option<Anisotropy>, SceneError> {
+        let Some(mut anisotropy) = anisotropy(check, m)? else {
+            return Ok(None);
+        };
+        let info = layer_slot::<json::texture::Info>(
+            check,
+            m,
+            ANISOTROPY,
+            "anisotropyTexture",
+            "texture",
+        )?;
+        if let Some(info) = info {
+            let slot = TextureSlot::data(&info, "anisotropyTexture");
+            anisotropy.texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        if m.pbr_metallic_roughness.metallic_factor.0 < 1.0 {
+            builder.warn(format!(
+                "{}: {ANISOTROPY} brushes the metal's lobe only (the dielectric's coat and \
+                 glass stay isotropic)",
+                check.label
+            ));
+        }
+        Ok(Some(anisotropy))
     }
 
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
@@ -717,7 +752,11 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
         coated_surface(specular.coat_ior(ior), roughness)
     };
     Ok(Lobes {
-        metal: metal_surface(roughness),
+        metal: if anisotropy(check, m)?.is_some() {
+            brushed_metal_surface(roughness)
+        } else {
+            metal_surface(roughness)
+        },
         glass,
         opaque,
     })
@@ -879,6 +918,7 @@ fn unlit(material: Material) -> Material {
         sheen: None,
         transmission_texture: None,
         diffuse_transmission: None,
+        anisotropy: None,
         roughness_map: None,
         normal_texture: None,
         absorption: Vec3::ZERO,
@@ -929,6 +969,32 @@ fn sheen(check: &Check, m: &json::Material) -> Result<Option<Sheen>, SceneError>
 }
 
 const SHEEN: &str = "KHR_materials_sheen";
+const ANISOTROPY: &str = "KHR_materials_anisotropy";
+
+/// `KHR_materials_anisotropy`'s factors as an [`Anisotropy`] (none for a strength of 0
+/// without a texture, which can only lower it).
+fn anisotropy(check: &Check, m: &json::Material) -> Result<Option<Anisotropy>, SceneError> {
+    let Some(value) = extension(m, ANISOTROPY) else {
+        return Ok(None);
+    };
+    let strength = unit_factor(check, value, ANISOTROPY, "anisotropyStrength", 0.0)?;
+    let rotation = match value.get("anisotropyRotation") {
+        None => 0.0,
+        Some(v) => match v.as_f64() {
+            Some(x) if x.is_finite() => x as f32,
+            _ => {
+                return Err(check.error(format!(
+                    "{ANISOTROPY}'s anisotropyRotation is not a finite number"
+                )));
+            }
+        },
+    };
+    Ok((strength > 0.0).then_some(Anisotropy {
+        strength,
+        rotation,
+        texture: None,
+    }))
+}
 const DIFFUSE: &str = "KHR_materials_diffuse_transmission";
 
 /// `KHR_materials_diffuse_transmission`'s factors as a [`DiffuseTransmission`] (none for a

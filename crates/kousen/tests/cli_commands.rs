@@ -186,6 +186,19 @@ fn info_counts_sheened_materials() {
     );
 }
 
+/// `kousen info` counts the brushed materials (the shipped brushed room's two spheres).
+#[test]
+fn info_counts_brushed_materials() {
+    assert_eq!(
+        info_json(&shipped("cornell-brushed.gltf"))["brushed_materials"],
+        2
+    );
+    assert_eq!(
+        info_json(&shipped("cornell-box.gltf"))["brushed_materials"],
+        0
+    );
+}
+
 /// `kousen info` counts the materials with diffuse transmission (the shipped translucent
 /// room's lantern paper and leaf; none in the Cornell box).
 #[test]

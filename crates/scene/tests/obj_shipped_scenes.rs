@@ -194,6 +194,7 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
         );
         assert_eq!(x.clearcoat, y.clearcoat, "{stem}: clear coat");
         assert_eq!(x.sheen, y.sheen, "{stem}: sheen");
+        assert_eq!(x.anisotropy, y.anisotropy, "{stem}: anisotropy");
         assert_eq!(
             x.diffuse_transmission, y.diffuse_transmission,
             "{stem}: diffuse transmission"

@@ -32,6 +32,9 @@ struct Info {
     /// Materials (blend members) with diffuse transmission (`scene::DiffuseTransmission`:
     /// glTF's `KHR_materials_diffuse_transmission`).
     translucent_materials: usize,
+    /// Materials (blend members) brushed (`scene::Anisotropy`: glTF's
+    /// `KHR_materials_anisotropy`).
+    brushed_materials: usize,
     /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
     /// their indices of refraction count against its.
     inside_solids: Vec<InsideSolid>,
@@ -290,6 +293,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         translucent_materials: (scene.materials.iter())
             .filter(|m| m.diffuse_transmission.is_some())
             .count(),
+        brushed_materials: (scene.materials.iter())
+            .filter(|m| m.anisotropy.is_some())
+            .count(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
@@ -423,6 +429,10 @@ fn print_table(info: &Info) {
         (
             "diffuse transmission",
             format!("{} materials", info.translucent_materials),
+        ),
+        (
+            "anisotropy",
+            format!("{} materials", info.brushed_materials),
         ),
         (
             "inside solids",

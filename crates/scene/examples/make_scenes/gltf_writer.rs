@@ -14,6 +14,7 @@
 //! - a clear coat → `KHR_materials_clearcoat` (roughness √α);
 //! - a sheen → `KHR_materials_sheen`;
 //! - diffuse transmission → `KHR_materials_diffuse_transmission`;
+//! - anisotropy → `KHR_materials_anisotropy` (strength and rotation);
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -40,7 +41,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 18] = [
+pub const SHIPPED: [(&str, Fixture); 19] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -61,6 +62,7 @@ pub const SHIPPED: [(&str, Fixture); 18] = [
     ("cornell-clearcoat", scene::testing::cornell_clearcoat),
     ("cornell-sheen", scene::testing::cornell_sheen),
     ("cornell-translucent", scene::testing::cornell_translucent),
+    ("cornell-brushed", scene::testing::cornell_brushed),
     ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
 
@@ -422,6 +424,15 @@ impl Document {
                 }),
             );
         }
+        if let Some(anisotropy) = m.anisotropy {
+            extensions.insert(
+                "KHR_materials_anisotropy".into(),
+                json!({
+                    "anisotropyStrength": number(anisotropy.strength),
+                    "anisotropyRotation": number(anisotropy.rotation),
+                }),
+            );
+        }
         if let Some(transmission) = m.diffuse_transmission {
             extensions.insert(
                 "KHR_materials_diffuse_transmission".into(),
@@ -517,6 +528,7 @@ fn roughness_map(materials: &[Material], id: u32) -> Option<RoughnessMap> {
 
 fn known_extension(name: &str) -> &'static str {
     [
+        "KHR_materials_anisotropy",
         "KHR_materials_clearcoat",
         "KHR_materials_diffuse_transmission",
         "KHR_materials_dispersion",

@@ -302,6 +302,69 @@ pub fn cornell_sheen() -> Scene {
     f.finish()
 }
 
+/// The room of [`cornell_caustics`] with brushed metal (glTF's `KHR_materials_anisotropy`):
+/// a gold sphere front right (GGX α 0.04) brushed at strength 0.9 around its vertical axis,
+/// and a silver one back left (α 0.02) brushed at 0.8 from pole to pole (rotated a quarter
+/// turn); their texture coordinates run along longitude (u) and latitude (v), which only
+/// the brushing reads.
+pub fn cornell_brushed() -> Scene {
+    let mut f = Fixture::new("testing::cornell_brushed");
+    cornell_room(&mut f);
+    let brushed = |f: &mut Fixture, name: &str, color: Vec3, roughness: f32, strength, rotation| {
+        f.builder.add_material(Material {
+            name: name.into(),
+            surface: Surface::RoughConductor {
+                alpha: roughness * roughness,
+            },
+            base_color: color,
+            anisotropy: Some(crate::Anisotropy {
+                strength,
+                rotation,
+                texture: None,
+            }),
+            ..Material::default()
+        })
+    };
+    let gold = brushed(
+        &mut f,
+        "brushed gold",
+        Vec3::new(0.95, 0.75, 0.4),
+        0.2,
+        0.9,
+        0.0,
+    );
+    let quarter = std::f32::consts::FRAC_PI_2;
+    let silver = brushed(
+        &mut f,
+        "brushed silver",
+        Vec3::splat(0.9),
+        0.15,
+        0.8,
+        quarter,
+    );
+    let spheres = [
+        (Vec3::new(180.0, 90.0, 170.0), 90.0, gold),
+        (Vec3::new(380.0, 110.0, 370.0), 110.0, silver),
+    ];
+    for (centre, radius, material) in spheres {
+        f.sphere(centre, radius, material, false);
+    }
+    let mut scene = f.finish();
+    // Longitude and latitude as texture coordinates (the seam's triangles see u run the
+    // other way, which a brushing does not tell from its own).
+    for triangle in &mut scene.triangles {
+        let Some(&(centre, _, _)) = spheres.iter().find(|s| s.2 == triangle.material) else {
+            continue;
+        };
+        for v in &mut triangle.vertices {
+            let d = (v.position - centre).normalize();
+            let u = d.z.atan2(d.x) / std::f32::consts::TAU;
+            v.uv = Vec2::new(u, d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI);
+        }
+    }
+    scene
+}
+
 /// The room of [`cornell_box`] with glTF's diffuse transmission (`KHR_materials_diffuse_
 /// transmission`): a paper lantern back left (a white sphere resting on the floor that lets
 /// 60 % of what reaches its Lambertian lobe through, warmed, from a bulb inside it), and a

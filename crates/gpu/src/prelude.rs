@@ -60,6 +60,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("ROUGHNESS_UNMAPPED", U32(types::ROUGHNESS_UNMAPPED)),
         ("ROUGHNESS_GLASS", U32(types::ROUGHNESS_GLASS)),
         ("MIRROR_MAX_ROUGHNESS", F32(scene::MIRROR_MAX_ROUGHNESS)),
+        ("MIN_BRUSHED_ALPHA", F32(scene::MIN_BRUSHED_ALPHA)),
         ("DIFFUSE_MIN_ROUGHNESS", F32(scene::DIFFUSE_MIN_ROUGHNESS)),
         ("CLEARCOAT_IOR", F32(scene::Clearcoat::IOR)),
         ("SHEEN_NODES", U32(render::sheen::SHEEN_NODES as u32)),

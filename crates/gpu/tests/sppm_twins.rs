@@ -992,6 +992,23 @@ fn every_kernel_matches_its_twin_on_brushed_metal() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same on `cornell_metallic_roughness` with its brass brushed (strength 0.7): the
+/// texture's polished tiles, mirrors before, are rough metal of the least brushed width
+/// (`scene::brushed_metal_surface`), widened along the brushing, on both backends.
+#[test]
+fn every_kernel_matches_its_twin_on_brushed_textured_metal() {
+    let mut scene = scene::testing::cornell_metallic_roughness();
+    for material in (scene.materials.iter_mut()).filter(|m| m.name.contains("brass")) {
+        material.anisotropy = Some(scene::Anisotropy {
+            strength: 0.7,
+            rotation: 0.4,
+            texture: None,
+        });
+    }
+    assert!(scene.materials.iter().any(|m| m.anisotropy.is_some()));
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same without light samples at glossy lobes (`--glossy-light off`): rough plastic's
 /// Lambertian base keeps its light sample, through the rough coat's own transmittance table.
 #[test]

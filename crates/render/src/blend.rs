@@ -64,7 +64,10 @@ pub fn transmission_weight(
 /// metallic-roughness texture maps it, the one the texel `texel` reads makes.
 pub fn mapped_surface(material: &Material, texel: impl FnOnce(TextureId) -> Vec4) -> Surface {
     match material.roughness_map {
-        Some(map) => map.surface(material.surface, texel(map.texture)),
+        Some(map) => {
+            let brushed = material.anisotropy.is_some();
+            map.surface(material.surface, texel(map.texture), brushed)
+        }
         None => material.surface,
     }
 }

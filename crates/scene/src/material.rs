@@ -364,10 +364,12 @@ pub enum TexturedLobe {
 
 impl RoughnessMap {
     /// The surface of `member` (whose map this is) where the texture reads `texel` (linear
-    /// RGBA).
-    pub fn surface(&self, member: Surface, texel: glam::Vec4) -> Surface {
+    /// RGBA); a `brushed` metal (one with an [`Anisotropy`]) is rough metal where the texel
+    /// would make it a mirror ([`brushed_metal_surface`]).
+    pub fn surface(&self, member: Surface, texel: glam::Vec4, brushed: bool) -> Surface {
         let roughness = (self.roughness_factor * texel.y).clamp(0.0, 1.0);
         match self.lobe {
+            TexturedLobe::Metal if brushed => brushed_metal_surface(roughness),
             TexturedLobe::Metal => metal_surface(roughness),
             TexturedLobe::Coated => match member {
                 Surface::Plastic { ior, .. } => coated_surface(ior, roughness),
@@ -626,12 +628,25 @@ mod tests {
         let texel = |green: f32, blue: f32| glam::Vec4::new(0.9, green, blue, 1.0);
         let metal = map(TexturedLobe::Metal);
         let member = Surface::RoughConductor { alpha: 0.3 };
-        assert_eq!(metal.surface(member, texel(0.01, 1.0)), Surface::Mirror);
         assert_eq!(
-            metal.surface(member, texel(0.6, 1.0)),
+            metal.surface(member, texel(0.01, 1.0), false),
+            Surface::Mirror
+        );
+        assert_eq!(
+            metal.surface(member, texel(0.6, 1.0), false),
             Surface::RoughConductor { alpha: 0.09 }
         );
-        assert_eq!(metal.surface(member, texel(1.0, 1.0)), Surface::Diffuse);
+        assert_eq!(
+            metal.surface(member, texel(1.0, 1.0), false),
+            Surface::Diffuse
+        );
+        assert_eq!(
+            metal.surface(member, texel(0.0, 1.0), true),
+            Surface::RoughConductor {
+                alpha: MIN_BRUSHED_ALPHA
+            },
+            "a brushed metal is not a mirror"
+        );
         assert_eq!(metal.blend_weight(0.8, texel(0.6, 0.25)), 0.2);
         assert_eq!(metal.blend_weight(0.8, texel(0.6, 1.5)), 0.8, "clamped");
         let coat = map(TexturedLobe::Coated);
@@ -640,7 +655,7 @@ mod tests {
             alpha: 0.04,
         };
         assert_eq!(
-            coat.surface(plastic, texel(0.6, 0.0)),
+            coat.surface(plastic, texel(0.6, 0.0), false),
             Surface::Plastic {
                 ior: 1.5,
                 alpha: 0.09
@@ -648,13 +663,16 @@ mod tests {
             "the texel's own width"
         );
         assert_eq!(
-            coat.surface(plastic, texel(0.01, 0.0)),
+            coat.surface(plastic, texel(0.01, 0.0), false),
             Surface::Plastic {
                 ior: 1.5,
                 alpha: 0.0
             }
         );
-        assert_eq!(coat.surface(plastic, texel(1.0, 0.0)), Surface::Diffuse);
+        assert_eq!(
+            coat.surface(plastic, texel(1.0, 0.0), false),
+            Surface::Diffuse
+        );
         assert_eq!(coat.blend_weight(0.8, texel(0.6, 0.25)), 0.8);
         let glass = map(TexturedLobe::Glass);
         let frosted = Surface::RoughDielectric {
@@ -666,9 +684,9 @@ mod tests {
             ior: 1.4,
             thin_walled: true,
         };
-        assert_eq!(glass.surface(frosted, texel(0.01, 1.0)), smooth);
+        assert_eq!(glass.surface(frosted, texel(0.01, 1.0), false), smooth);
         assert_eq!(
-            glass.surface(smooth, texel(1.0, 0.0)),
+            glass.surface(smooth, texel(1.0, 0.0), false),
             Surface::RoughDielectric {
                 ior: 1.4,
                 thin_walled: true,

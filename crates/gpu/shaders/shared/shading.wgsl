@@ -323,8 +323,11 @@ fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
     }
     let roughness = clamp(material.roughness_factor * texel.y, 0.0, 1.0);
     if material.roughness_lobe == ROUGHNESS_METAL {
-        // scene::metal_surface.
-        if roughness < MIRROR_MAX_ROUGHNESS {
+        // scene::metal_surface (scene::brushed_metal_surface for a brushed metal).
+        if roughness < MIRROR_MAX_ROUGHNESS && ANISOTROPY && any(material.anisotropy != vec2<f32>(0.0)) {
+            mapped.surface = SURFACE_ROUGH_CONDUCTOR;
+            mapped.roughness_alpha = max(roughness * roughness, MIN_BRUSHED_ALPHA);
+        } else if roughness < MIRROR_MAX_ROUGHNESS {
             mapped.surface = SURFACE_MIRROR;
             mapped.roughness_alpha = 0.0;
         } else if roughness < DIFFUSE_MIN_ROUGHNESS {

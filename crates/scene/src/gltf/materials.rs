@@ -752,11 +752,7 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
         coated_surface(specular.coat_ior(ior), roughness)
     };
     Ok(Lobes {
-        metal: if anisotropy(check, m)?.is_some() {
-            brushed_metal_surface(roughness)
-        } else {
-            metal_surface(roughness)
-        },
+        metal: metal_lobe(check, m, roughness)?,
         glass,
         opaque,
     })
@@ -823,7 +819,7 @@ fn mapped_members(
     map: impl Fn(TexturedLobe) -> RoughnessMap,
 ) -> Result<Members, SceneError> {
     let mean = lobes(check, m, texels.mean)?;
-    let metal = metal_surface(texels.metal_mean);
+    let metal = metal_lobe(check, m, texels.metal_mean)?;
     let coat = lobes(check, m, texels.coat.unwrap_or(0.0))?.opaque;
     let coat_map = matches!(coat, Surface::Plastic { .. }).then(|| map(TexturedLobe::Coated));
     let glass_map = matches!(
@@ -970,6 +966,16 @@ fn sheen(check: &Check, m: &json::Material) -> Result<Option<Sheen>, SceneError>
 
 const SHEEN: &str = "KHR_materials_sheen";
 const ANISOTROPY: &str = "KHR_materials_anisotropy";
+
+/// glTF's metal at `roughness`: brushed where `KHR_materials_anisotropy` brushes it (a
+/// mirror then becomes rough metal, which the brushing widens).
+fn metal_lobe(check: &Check, m: &json::Material, roughness: f32) -> Result<Surface, SceneError> {
+    Ok(if anisotropy(check, m)?.is_some() {
+        brushed_metal_surface(roughness)
+    } else {
+        metal_surface(roughness)
+    })
+}
 
 /// `KHR_materials_anisotropy`'s factors as an [`Anisotropy`] (none for a strength of 0
 /// without a texture, which can only lower it).

@@ -40,6 +40,11 @@
 //!   `diffuseTransmissionTexture`, linear data) the share passing to the other side,
 //!   `diffuseTransmissionColorFactor` (× `diffuseTransmissionColorTexture`, sRGB) its tint. The
 //!   surface is thin whatever `KHR_materials_volume` says. A factor of 0 is none.
+//! - `KHR_materials_anisotropy` → [`Anisotropy`] on the metal (brushed metal):
+//!   `anisotropyStrength` (× the blue of `anisotropyTexture`, linear data), the direction
+//!   +u of each triangle's texture frame (or the texture's red and green) turned by
+//!   `anisotropyRotation`; a smooth metal so brushed becomes rough metal of width
+//!   `MIN_BRUSHED_ALPHA`. The dielectric's coat and glass stay isotropic (warned).
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.

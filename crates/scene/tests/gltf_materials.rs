@@ -1320,6 +1320,10 @@ fn layer_textures_with_their_own_transform_are_warned_about() {
                 "transmissionFactor": 0.5,
                 "transmissionTexture": shifted,
             },
+            "KHR_materials_diffuse_transmission": {
+                "diffuseTransmissionFactor": 0.5,
+                "diffuseTransmissionTexture": shifted,
+            },
         });
         let material = doc.material(material);
         let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
@@ -1327,7 +1331,11 @@ fn layer_textures_with_their_own_transform_are_warned_about() {
         doc.load().expect("loads")
     };
     let shifted = load([0.5, 0.0]);
-    for slot in ["sheenColorTexture", "transmissionTexture"] {
+    for slot in [
+        "sheenColorTexture",
+        "transmissionTexture",
+        "diffuseTransmissionTexture",
+    ] {
         assert!(
             (shifted.warnings.iter())
                 .any(|w| w.contains(slot) && w.contains("KHR_texture_transform")),

@@ -566,8 +566,9 @@ fn warn_own_transform(
     }
 }
 
-/// [`warn_own_transform`] for the textures of the clear coat, the sheen and the transmission,
-/// which read the material's one set of coordinates too.
+/// [`warn_own_transform`] for the textures of the clear coat, the sheen, the diffuse
+/// transmission, the anisotropy and the transmission, which read the material's one set of
+/// coordinates too.
 fn warn_layer_transforms(
     m: &json::Material,
     transform: Option<Affine2>,
@@ -597,6 +598,7 @@ fn warn_layer_transforms(
                 "diffuseTransmissionColorTexture",
             ][..],
         ),
+        (ANISOTROPY, &["anisotropyTexture"][..]),
     ];
     for (extension, slots) in layers {
         for &slot in slots {

@@ -270,6 +270,9 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         .ok()
         .map(|w| w.bytes() + memory.triangle_bytes);
     let bounds = scene.bounds();
+    // Materials (blend members) with a feature.
+    let count =
+        |has: fn(&scene::Material) -> bool| scene.materials.iter().filter(|m| has(m)).count();
     Ok(Info {
         scene: args.scene.display().to_string(),
         load_ms,
@@ -277,25 +280,13 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         degenerate_dropped: scene.degenerate_dropped,
         materials: scene.materials.len(),
         material_kinds: material_kinds(&scene.materials),
-        normal_mapped_materials: (scene.materials.iter())
-            .filter(|m| m.normal_texture.is_some())
-            .count(),
-        roughness_mapped_materials: (scene.materials.iter())
-            .filter(|m| m.roughness_map.is_some())
-            .count(),
+        normal_mapped_materials: count(|m| m.normal_texture.is_some()),
+        roughness_mapped_materials: count(|m| m.roughness_map.is_some()),
         blends: blend_count(&scene.materials),
-        clear_coated_materials: (scene.materials.iter())
-            .filter(|m| m.clearcoat.is_some())
-            .count(),
-        sheened_materials: (scene.materials.iter())
-            .filter(|m| m.sheen.is_some())
-            .count(),
-        translucent_materials: (scene.materials.iter())
-            .filter(|m| m.diffuse_transmission.is_some())
-            .count(),
-        brushed_materials: (scene.materials.iter())
-            .filter(|m| m.anisotropy.is_some())
-            .count(),
+        clear_coated_materials: count(|m| m.clearcoat.is_some()),
+        sheened_materials: count(|m| m.sheen.is_some()),
+        translucent_materials: count(|m| m.diffuse_transmission.is_some()),
+        brushed_materials: count(|m| m.anisotropy.is_some()),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),

@@ -12,7 +12,7 @@ use render::buffers::{
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::clearcoat::clearcoat_transmittance;
-use render::direct::{sample_light, shadow_ray, sky_pdf, triangle_pdf};
+use render::direct::{shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
 use render::hash::{
@@ -27,6 +27,7 @@ use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
 use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
 use render::random::StreamRng;
+use render::resampling::resample_light;
 use render::rng::{
     EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_side, pixel_wavelength,
 };
@@ -536,8 +537,8 @@ fn eye_path(
                 lit.lobe = GlossyLobe::default();
             }
             if lit.is_lit() && !scene.lights.is_empty() {
-                let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                direct += direct_light(scene, params, &hit, -direction, &lit, medium, u);
+                let next = || rng.next_f32();
+                direct += direct_light(scene, params, &hit, -direction, &lit, medium, next);
             }
             glossy = GlossyVertex::after(&hit, &lit, -direction, next);
             let coat = through_coat.map_or(1.0, |c| {
@@ -691,8 +692,8 @@ fn eye_path(
         if !scene.lights.is_empty() {
             let mut light_sample = |at: &SurfaceHit, lit: &LitLobes| {
                 if lit.is_lit() {
-                    let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-                    direct += direct_light(scene, params, at, -direction, lit, medium, u);
+                    let next = || rng.next_f32();
+                    direct += direct_light(scene, params, at, -direction, lit, medium, next);
                 }
             };
             match far_side {
@@ -896,10 +897,12 @@ pub fn emission_seen(
     Vec3::ZERO
 }
 
-/// One sample of the light table (from three uniform numbers) at an eye path's hit, seen
-/// along `outgoing` by a path in `medium`: what reaches it unoccluded, through the lobes `lit`
-/// names, divided by the sample's density; a glossy lobe's share weighed against its own
-/// sampling (the power heuristic). Zero where the light lies behind the surface or is blocked.
+/// One sample of the light table at an eye path's hit, seen along `outgoing` by a path in
+/// `medium`: what reaches it unoccluded, through the lobes `lit` names, divided by the
+/// sample's density; a glossy lobe's share weighed against its own sampling (the power
+/// heuristic). Zero where the light lies behind the surface or is blocked. Without a glossy
+/// lobe the sample is kept among [`SppmParams::light_candidates`] (`render::resampling`).
+/// `next` gives its uniform numbers.
 pub fn direct_light(
     scene: &SceneData,
     params: &SppmParams,
@@ -907,10 +910,24 @@ pub fn direct_light(
     outgoing: Vec3,
     lit: &LitLobes,
     medium: u32,
-    u: [f32; 3],
+    next: impl FnMut() -> f32,
 ) -> Vec3 {
     let facing = lit.lobe.facing(hit.shading);
-    let Some(light) = sample_light(&scene.lights, &scene.sky_map, u, hit.position, facing) else {
+    // MIS needs the sample's density, which resampling does not keep.
+    let candidates = if lit.lobe.is_some() {
+        1
+    } else {
+        params.light_candidates
+    };
+    let sample = resample_light(
+        &scene.lights,
+        &scene.sky_map,
+        candidates,
+        hit.position,
+        facing,
+        next,
+    );
+    let Some(light) = sample else {
         return Vec3::ZERO;
     };
     if light.direction.dot(facing) <= 0.0 && !lit.lobe.is_two_sided() {

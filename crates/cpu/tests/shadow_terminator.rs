@@ -113,7 +113,7 @@ fn shadow_rays_from_the_smooth_surface_clear_the_coarse_sphere() {
                 hit.shading,
                 &diffuse,
                 NO_MEDIUM,
-                [0.5; 3],
+                || 0.5,
             );
             dark += usize::from(light.max_element() <= 0.0);
         }

@@ -1,9 +1,10 @@
 //! Wall time of each SPPM kernel on the default adapter (a development aid):
 //! `cargo run --release -p gpu --example sppm_kernel_times -- SCENE [WIDTH] [SLOTS] [WARMUP]
-//! [talk|render]`, timing five passes after WARMUP whole passes (default 1; later passes
+//! [talk|render] [CANDIDATES]`, timing five passes after WARMUP whole passes (default 1; later passes
 //! gather with smaller, more varied radii). `talk` (the default): the stochastic hash and
 //! photon-gathered direct light; `render`: what `kousen render` runs on CPU-type adapters at
 //! glslppm's α (full per-cell lists, sampled direct light, α 0.7 for both photon classes).
+//! CANDIDATES: light candidates per Lambertian light sample (`render::resampling`).
 
 use std::time::Instant;
 
@@ -18,7 +19,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let bvh = bvh::PackedBvh::build(&scene.triangles, &bvh::BuildOptions::default());
     let camera = scene.camera(None).ok_or("no camera")?;
     let backend = gpu::sppm::GpuBackend::new(gpu::GpuContext::new(None)?, &scene, bvh)?;
-    let talk = render::Settings::new(width, width, slots);
+    let mut talk = render::Settings::new(width, width, slots);
+    if let Some(candidates) = args.get(6) {
+        talk.light_candidates = candidates.parse()?;
+    }
     let settings = match args.get(5).map_or("talk", String::as_str) {
         "talk" => talk,
         "render" => render::Settings {

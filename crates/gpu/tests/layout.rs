@@ -538,9 +538,9 @@ fn sppm_types_layout_matches_render_buffers() {
                 "aperture_rotation",
                 offset_of!(SppmParams, aperture_rotation),
             ),
-            ("pad3", offset_of!(SppmParams, pad2)),
-            ("pad4", offset_of!(SppmParams, pad2) + 4),
-            ("pad5", offset_of!(SppmParams, pad2) + 8),
+            ("light_candidates", offset_of!(SppmParams, light_candidates)),
+            ("pad4", offset_of!(SppmParams, pad2)),
+            ("pad5", offset_of!(SppmParams, pad2) + 4),
         ],
     );
 }

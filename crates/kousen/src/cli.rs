@@ -213,6 +213,11 @@ pub struct EstimatorArgs {
     /// metal and rough plastic under small lights, docs/BENCHMARKS.md §3).
     #[arg(long, value_enum, default_value_t = GlossyLightChoice::Sampled)]
     pub glossy_light: GlossyLightChoice,
+    /// Lights drawn by power for each light sample at a Lambertian-only point, the one
+    /// bringing most kept by chance (1–64; 1: the power pick alone; more: far less noise
+    /// where lights face away or hide behind the surface, docs/BENCHMARKS.md §3).
+    #[arg(long, default_value_t = render::resampling::DEFAULT_LIGHT_CANDIDATES)]
+    pub light_candidates: u32,
 }
 
 /// A density-estimation method as `kousen bench density` names it.

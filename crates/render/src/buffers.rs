@@ -253,7 +253,10 @@ pub struct SppmParams {
     /// polygon with a vertex `aperture_rotation` radians from right towards up.
     pub aperture_blades: u32,
     pub aperture_rotation: f32,
-    pub pad2: [u32; 3],
+    /// Light samples drawn per light sample at a visible point whose only lobe is Lambertian,
+    /// one kept ([`crate::resampling`]); 0 or 1: the plain sample.
+    pub light_candidates: u32,
+    pub pad2: [u32; 2],
 }
 
 impl Default for SppmParams {

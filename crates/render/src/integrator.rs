@@ -186,7 +186,8 @@ pub fn params_with(
         scene_half_extent: (0.5 * 1.01 * scene.bounds().extent()).to_array(),
         aperture_blades: camera.lens.blades,
         aperture_rotation: camera.lens.rotation,
-        pad2: [0; 3],
+        light_candidates: settings.light_candidates,
+        pad2: [0; 2],
     }
 }
 

@@ -27,6 +27,7 @@ pub mod optics;
 pub mod packing;
 pub mod plastic;
 pub mod random;
+pub mod resampling;
 pub mod resolve;
 pub mod rng;
 pub mod sampling;

@@ -65,6 +65,9 @@ pub struct Settings {
     /// a glossy reflection of a light is seen only by the paths its sampling sends there.
     /// On by default; benchmarks and tests compare.
     pub glossy_light_sampling: bool,
+    /// Candidates per light sample at a Lambertian-only visible point, one kept by what it
+    /// brings ([`crate::resampling`]); 1: picked by power alone.
+    pub light_candidates: u32,
     pub max_depth: u32,
     pub seed: u32,
     /// Every pixel's starting gather radius; `None`: from the scene's bounding box
@@ -93,6 +96,7 @@ impl Settings {
             precision: Precision::F32,
             direct: DirectLight::Photons,
             glossy_light_sampling: true,
+            light_candidates: crate::resampling::DEFAULT_LIGHT_CANDIDATES,
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
             initial_radius: None,
@@ -124,6 +128,9 @@ impl Settings {
         }
         if self.eye_every == 0 {
             return Err(SettingsError::EyeEvery);
+        }
+        if !(1..=crate::resampling::MAX_LIGHT_CANDIDATES).contains(&self.light_candidates) {
+            return Err(SettingsError::LightCandidates(self.light_candidates));
         }
         if !(self.hash_ratio.is_finite() && self.hash_ratio > 0.0) {
             return Err(SettingsError::HashRatio(self.hash_ratio));
@@ -164,6 +171,8 @@ pub enum SettingsError {
     IndirectAlpha(f32),
     #[error("--eye-every must be at least 1")]
     EyeEvery,
+    #[error("--light-candidates must lie between 1 and 64, got {0}")]
+    LightCandidates(u32),
     #[error("--hash-ratio must be a positive number, got {0}")]
     HashRatio(f32),
     #[error("--max-depth must be at least 1")]

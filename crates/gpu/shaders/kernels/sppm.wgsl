@@ -347,6 +347,59 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
     return sample;
 }
 
+// render::resampling::candidate_weight: what a candidate brings a Lambertian lobe facing
+// `normal`, per its density (Rec. 709 luminance).
+fn candidate_weight(sample: LightSample, normal: vec3<f32>) -> f32 {
+    let luminance = dot(sample.incident, vec3<f32>(0.2126, 0.7152, 0.0722));
+    return luminance * max(dot(sample.direction, normal), 0.0);
+}
+
+// The largest finite f32 (a candidate's weight beyond it is not kept, as on the CPU).
+const F32_MAX: f32 = 3.40282347e38;
+
+// render::resampling::resample_light: one light sample kept among `candidates`, three numbers
+// a candidate and one more for each after the first.
+fn resample_light(candidates: u32, position: vec3<f32>, normal: vec3<f32>, rng: ptr<function, Rng>) -> LightSample {
+    let u0 = next_f32(rng);
+    let u1 = next_f32(rng);
+    let u2 = next_f32(rng);
+    let first = sample_light(u0, u1, u2, position, normal);
+    if candidates <= 1u {
+        return first;
+    }
+    var kept = first;
+    kept.found = false;
+    var kept_weight = 0.0;
+    var total = 0.0;
+    for (var i = 0u; i < candidates; i++) {
+        var sample = first;
+        var u_keep = 0.0;
+        if i > 0u {
+            let v0 = next_f32(rng);
+            let v1 = next_f32(rng);
+            let v2 = next_f32(rng);
+            sample = sample_light(v0, v1, v2, position, normal);
+            u_keep = next_f32(rng);
+        }
+        if !sample.found {
+            continue;
+        }
+        let weight = candidate_weight(sample, normal);
+        if !(weight > 0.0 && weight <= F32_MAX) {
+            continue;
+        }
+        total += weight;
+        if u_keep * total < weight {
+            kept = sample;
+            kept_weight = weight;
+        }
+    }
+    if kept.found {
+        kept.incident *= total / (f32(candidates) * kept_weight);
+    }
+    return kept;
+}
+
 // cpu::surface::unoccluded: nothing but alpha cut-outs' holes on the segment. The CPU tests
 // each hit's alpha inside its any-hit traversal; here the closest hit is found and passed
 // through, hole after hole: the same answer (tested), and through lavapipe texture sampling
@@ -454,10 +507,15 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
 }
 
 // cpu::kernels::direct_light: one light sample at an eye path's hit, through the lobes `lit`
-// names.
-fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32, u0: f32, u1: f32, u2: f32) -> vec3<f32> {
+// names; kept among params.light_candidates where there is no glossy lobe (MIS needs the
+// sample's density).
+fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     let facing = lit_facing(lit, hit);
-    let light = sample_light(u0, u1, u2, hit.position, facing);
+    var candidates = params.light_candidates;
+    if lit.alpha > 0.0 {
+        candidates = 1u;
+    }
+    let light = resample_light(candidates, hit.position, facing, rng);
     if !light.found {
         return vec3<f32>(0.0);
     }
@@ -497,16 +555,13 @@ fn direct_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32
     return light.incident * response * medium_transmittance(shadow_medium, shadow.w);
 }
 
-// cpu::kernels::eye_path: one light sample through the lobes `lit` names, its three numbers
-// drawn only where they light something.
+// cpu::kernels::eye_path: one light sample through the lobes `lit` names, its numbers drawn
+// only where they light something.
 fn sampled_light(hit: SurfaceHit, outgoing: vec3<f32>, lit: LitLobes, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     if !is_lit(lit) || params.light_count == 0u {
         return vec3<f32>(0.0);
     }
-    let u0 = next_f32(rng);
-    let u1 = next_f32(rng);
-    let u2 = next_f32(rng);
-    return direct_light(hit, outgoing, lit, medium, u0, u1, u2);
+    return direct_light(hit, outgoing, lit, medium, rng);
 }
 
 // cpu::kernels::GlossyVertex: where an eye path last left a glossy lobe (pdf 0: it did not).

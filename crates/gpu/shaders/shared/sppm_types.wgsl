@@ -91,7 +91,8 @@ struct SppmParams {
     // render::buffers::SppmParams::aperture_blades and aperture_rotation (render::lens).
     aperture_blades: u32,
     aperture_rotation: f32,
-    pad3: u32,
+    // render::buffers::SppmParams::light_candidates (render::resampling).
+    light_candidates: u32,
     pad4: u32,
     pad5: u32,
 }

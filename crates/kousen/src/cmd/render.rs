@@ -63,6 +63,8 @@ struct Stats {
     direct_light: &'static str,
     /// `sampled` or `lobe` (`--glossy-light`).
     glossy_light: &'static str,
+    /// `--light-candidates`.
+    light_candidates: u32,
     seed: u64,
     /// Passes already done in the checkpoint this render continued (0: a new render).
     resumed_passes: u32,
@@ -200,6 +202,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             precision: args.estimator.precision.precision(),
             direct: args.estimator.direct_light.direct(),
             glossy_light_sampling: args.estimator.glossy_light == GlossyLightChoice::Sampled,
+            light_candidates: args.estimator.light_candidates,
             seed: fold_seed(args.seed),
             ..Settings::new(width, height, photons)
         }
@@ -370,6 +373,7 @@ fn finish<B: Backend>(
             } else {
                 "lobe"
             },
+            light_candidates: settings.light_candidates,
             seed: args.seed,
             resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),

@@ -50,7 +50,7 @@ pub struct RenderControls {
     pub alpha: f32,
     pub eye_every: u32,
     /// Fixed for the window's life (`--indirect-alpha`, `--radius`, `--caustic-radius`,
-    /// `--density`, `--precision`, `--direct-light`, `--glossy-light`).
+    /// `--density`, `--precision`, `--direct-light`, `--glossy-light`, `--light-candidates`).
     pub indirect_alpha: f32,
     pub radius_footprints: f32,
     pub caustic_radius_share: f32,
@@ -58,6 +58,7 @@ pub struct RenderControls {
     pub precision: render::half_storage::Precision,
     pub direct: render::direct::DirectLight,
     pub glossy_light_sampling: bool,
+    pub light_candidates: u32,
     /// The sky map's turn about +Y in degrees (`--sky-rotate`, then the overlay's slider);
     /// `None` when the sky has no map.
     pub sky_rotation: Option<f32>,
@@ -163,6 +164,7 @@ impl Session {
             precision: controls.precision,
             direct: controls.direct,
             glossy_light_sampling: controls.glossy_light_sampling,
+            light_candidates: controls.light_candidates,
             initial_radius: render::integrator::initial_radius_in_footprints(
                 &self.bvh,
                 camera,
@@ -309,6 +311,7 @@ mod tests {
             precision: render::half_storage::Precision::F32,
             direct: render::direct::DirectLight::Sampled,
             glossy_light_sampling: true,
+            light_candidates: render::resampling::DEFAULT_LIGHT_CANDIDATES,
             sky_rotation,
             lens: scene::Lens::PINHOLE,
         }

@@ -18,7 +18,7 @@
 
 use glam::Vec3;
 
-use crate::buffers::Light;
+use crate::buffers::{LIGHT_TRIANGLE, Light};
 use crate::direct::{LightSample, sample_light};
 
 /// Candidates per light sample at a Lambertian-only visible point (`kousen render
@@ -43,7 +43,8 @@ pub fn candidate_weight(sample: &LightSample, normal: Vec3) -> f32 {
 /// [`sample_light`]: the one kept, its `incident` scaled as the module says; `None` where no
 /// candidate brings anything. `next` gives uniform numbers: three per candidate, and one more
 /// for each candidate after the first (whether to keep it), drawn for every candidate so the
-/// count is fixed. With one candidate this is [`sample_light`] itself.
+/// count is fixed. With one candidate, or a table of one light that is not a triangle, this is
+/// [`sample_light`] itself.
 pub fn resample_light(
     lights: &[Light],
     sky_map: &[f32],
@@ -53,7 +54,7 @@ pub fn resample_light(
     mut next: impl FnMut() -> f32,
 ) -> Option<LightSample> {
     let draw = |next: &mut dyn FnMut() -> f32| [next(), next(), next()];
-    if candidates <= 1 {
+    if candidates <= 1 || is_lone_non_triangle(lights) {
         return sample_light(lights, sky_map, draw(&mut next), position, normal);
     }
     let mut kept: Option<(LightSample, f32)> = None;
@@ -79,12 +80,20 @@ pub fn resample_light(
     Some(sample)
 }
 
+/// Whether the table is one point, spot or directional light or the sky alone: its candidates
+/// would be the same light (a sky's directions are drawn by its own importance already), so
+/// resampling would cost and bring nothing (measured: a sky map alone, +34 % time, the same
+/// noise; docs/BENCHMARKS.md §3, session 36).
+fn is_lone_non_triangle(lights: &[Light]) -> bool {
+    matches!(lights, [light] if light.kind != LIGHT_TRIANGLE)
+}
+
 #[cfg(test)]
 mod tests {
     use std::f32::consts::PI;
 
     use super::*;
-    use crate::buffers::{LIGHT_TRIANGLE, vec3};
+    use crate::buffers::{LIGHT_POINT, vec3};
     use crate::rng::stream_key;
     use crate::sky_map::NO_SKY_MAP;
 
@@ -199,6 +208,24 @@ mod tests {
             );
             assert_eq!(draw, 3);
         }
+    }
+
+    #[test]
+    fn a_lone_punctual_light_is_sampled_once() {
+        let point = Light {
+            kind: LIGHT_POINT,
+            v0: [0.0, 1.0, 0.0],
+            flux: [1.0; 3],
+            cdf: 1.0,
+            ..Light::default()
+        };
+        let mut draw = 0;
+        let kept = resample_light(&[point], &NO_SKY_MAP, 8, Vec3::ZERO, Vec3::Y, || {
+            draw += 1;
+            0.5
+        });
+        assert!(kept.is_some());
+        assert_eq!(draw, 3);
     }
 
     #[test]

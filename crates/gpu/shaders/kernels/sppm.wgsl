@@ -364,7 +364,8 @@ fn resample_light(candidates: u32, position: vec3<f32>, normal: vec3<f32>, rng: 
     let u1 = next_f32(rng);
     let u2 = next_f32(rng);
     let first = sample_light(u0, u1, u2, position, normal);
-    if candidates <= 1u {
+    // render::resampling::is_lone_non_triangle.
+    if candidates <= 1u || (params.light_count == 1u && lights[0].kind != LIGHT_TRIANGLE) {
         return first;
     }
     var kept = first;

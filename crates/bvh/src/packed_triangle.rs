@@ -86,7 +86,8 @@ impl PackedTriangle {
         self.vertices[0].signed_material.abs() as u32 - 1
     }
 
-    /// Positions, normals (z rebuilt), texture coordinates and material.
+    /// Positions, normals (z rebuilt), texture coordinates and material (no tangents: they
+    /// are not packed).
     pub fn unpack(&self) -> Triangle {
         Triangle {
             vertices: self.vertices.map(|v| {
@@ -96,6 +97,7 @@ impl PackedTriangle {
                     position: Vec3::from_array(v.position),
                     normal: Vec3::new(x, y, z.copysign(v.signed_material)),
                     uv: Vec2::new(v.u, v.v),
+                    ..Vertex::default()
                 }
             }),
             material: self.material(),

@@ -167,6 +167,7 @@ fn triangle(rng: &mut Rng, positions: [Vec3; 3]) -> Triangle {
         position,
         normal,
         uv: Vec2::new(rng.unit(), rng.unit()),
+        ..Vertex::default()
     };
     Triangle {
         vertices: [vertex(p0), vertex(p1), vertex(p2)],

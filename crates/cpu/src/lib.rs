@@ -44,6 +44,9 @@ pub struct SceneData {
     pub coats: render::coats::Coats,
     /// Every material's sheen table (`render::sheen`; `None` without a sheen).
     pub sheens: Vec<Option<render::sheen::SheenTable>>,
+    /// The mesh's tangents of each of `bvh`'s triangles (`render::normal_map::packed_tangents`;
+    /// empty without any).
+    pub tangents: Vec<[glam::Vec4; 3]>,
 }
 
 impl SceneData {
@@ -53,6 +56,7 @@ impl SceneData {
         let nesting = render::nesting::Nesting::of_with(scene, &locator);
         SceneData {
             wide: bvh::WideMtbvh::new(&bvh).ok(),
+            tangents: render::normal_map::packed_tangents(scene, &bvh.triangle_ids),
             bvh,
             coats: render::coats::Coats::of(&nesting.materials),
             sheens: render::sheen::sheen_tables(&nesting.materials),

@@ -9,7 +9,7 @@ use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat
 use render::dispersion::{disperse, draws_wavelength};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
-use render::normal_map::{brushing, mapped_normal};
+use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
@@ -104,24 +104,27 @@ pub fn lambertian_side(
 }
 
 /// A brushed metal's brushing (`render::normal_map::brushing`) at a hit on `material` (the
-/// root: every member carries its anisotropy) with unit interpolated `normal` on the triangle
-/// of corner `positions` and `uvs`, its texture read by `texel`; zero without anisotropy.
+/// root: every member carries its anisotropy) with unit interpolated `normal`, in the frame
+/// `source` makes, its texture read by `texel`; zero without anisotropy.
 pub fn brush_at(
     material: &Material,
     texel: impl Fn(u32) -> Vec4,
     normal: Vec3,
-    positions: [Vec3; 3],
-    uvs: [Vec2; 3],
+    source: &FrameSource,
 ) -> Vec3 {
     let Some(anisotropy) = material.anisotropy else {
         return Vec3::ZERO;
     };
-    brushing(
-        normal,
-        positions,
-        uvs,
-        anisotropy.at(anisotropy.texture.map(texel)),
-    )
+    brushing(normal, source, anisotropy.at(anisotropy.texture.map(texel)))
+}
+
+/// The mesh's tangent at barycentric coordinates `barycentric` of packed triangle `triangle`
+/// (zero where the scene has none).
+pub fn tangent_of(scene: &SceneData, triangle: u32, barycentric: [f32; 3]) -> Vec4 {
+    scene
+        .tangents
+        .get(triangle as usize)
+        .map_or(Vec4::ZERO, |&corners| tangent_at(corners, barycentric))
 }
 
 /// Closest hit along a ray, or `None` if it leaves the scene.
@@ -166,20 +169,25 @@ pub fn trace_within(
     let uvs = [a.uv, b.uv, c.uv];
     let uv = uv_at(uvs, hit.u, hit.v);
     let material = &scene.materials[triangle.material as usize];
+    // The frame normal maps and brushing are given in: the mesh's tangent, or the texture's.
+    let source = FrameSource {
+        positions,
+        uvs,
+        tangent: tangent_of(scene, hit.triangle, barycentric),
+    };
     if let Some(map) = material.normal_texture {
         let texel = scene.textures.sample(map, uv).truncate();
-        shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
+        shading = mapped_normal(shading, &source, texel, material.normal_scale);
     }
-    // A brushed metal's brushing, in the triangle's texture frame.
     let texel = |t| scene.textures.sample(t, uv);
-    let brush = brush_at(material, texel, unit_interpolated, positions, uvs);
+    let brush = brush_at(material, texel, unit_interpolated, &source);
     // A clear coat with a normal map of its own follows it.
     let mut coat_normal = unit_interpolated;
     if let Some(coat) = material.clearcoat
         && let Some(map) = coat.normal_texture
     {
         let texel = scene.textures.sample(map, uv).truncate();
-        coat_normal = mapped_normal(coat_normal, positions, uvs, texel, coat.normal_scale);
+        coat_normal = mapped_normal(coat_normal, &source, texel, coat.normal_scale);
     }
     let front = direction.dot(geometric) < 0.0;
     let side = if front { 1.0 } else { -1.0 };

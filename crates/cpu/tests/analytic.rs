@@ -713,6 +713,38 @@ fn directional_light_lights_the_plane_by_its_cosine() {
     assert_matches("directional light", &image, |_| radiance, 0.025, 0.05);
 }
 
+/// The punctual plane lit by a directional light of illuminance `illuminance` from
+/// `towards_light`, under a normal map of one texel storing `tangent_space`, its texture
+/// coordinates u = x and v = z; and that normal as the texture array stores it (8 bits),
+/// decoded and unit, in tangent space.
+fn plane_under_one_texel_map(
+    towards_light: Vec3,
+    illuminance: f32,
+    tangent_space: Vec3,
+) -> (Scene, Vec3) {
+    let mut scene = testing::punctual_plane(&[PunctualLight {
+        kind: PunctualKind::Directional,
+        position: Vec3::ZERO,
+        direction: -towards_light,
+        intensity: Vec3::splat(illuminance),
+    }]);
+    let texel = tangent_space * 0.5 + Vec3::splat(0.5);
+    scene.textures.push(scene::Texture {
+        name: "tilt".into(),
+        width: 1,
+        height: 1,
+        texels: scene::Texels::LinearF32(vec![[texel.x, texel.y, texel.z, 1.0]]),
+    });
+    scene.materials[0].normal_texture = Some(scene.textures.len() as u32 - 1);
+    for triangle in &mut scene.triangles {
+        for v in &mut triangle.vertices {
+            v.uv = Vec2::new(v.position.x, v.position.z);
+        }
+    }
+    let stored = render::textures::TextureArray::build(&scene.textures, 1).sample(0, Vec2::ZERO);
+    (scene, (stored.truncate() * 2.0 - Vec3::ONE).normalize())
+}
+
 /// A normal map bends the shading normal of the directional light's plane: with every texel
 /// the same, the plane reflects ρ/π · E·cos θₛ, θₛ the angle between the light and the bent
 /// normal, whether the light arrives as photons (each weighted by cos θₛ / cos θ_g where it
@@ -733,31 +765,10 @@ fn a_normal_map_tilts_the_lit_plane_by_its_shading_cosine() {
         Vec3::new(0.866, 0.5, 0.0),
     ];
     for normal in normals {
-        let mut scene = testing::punctual_plane(&[PunctualLight {
-            kind: PunctualKind::Directional,
-            position: Vec3::ZERO,
-            direction: -towards_light,
-            intensity: Vec3::splat(illuminance),
-        }]);
         // u along +x, v along +z: the map's X is +x, its Y (the image's top) −z, its Z +y.
         let tangent_space = Vec3::new(normal.x, -normal.z, normal.y);
-        let texel = tangent_space * 0.5 + Vec3::splat(0.5);
-        scene.textures.push(scene::Texture {
-            name: "tilt".into(),
-            width: 1,
-            height: 1,
-            texels: scene::Texels::LinearF32(vec![[texel.x, texel.y, texel.z, 1.0]]),
-        });
-        scene.materials[0].normal_texture = Some(scene.textures.len() as u32 - 1);
-        for triangle in &mut scene.triangles {
-            for v in &mut triangle.vertices {
-                v.uv = Vec2::new(v.position.x, v.position.z);
-            }
-        }
-        let stored =
-            render::textures::TextureArray::build(&scene.textures, 1).sample(0, Vec2::ZERO);
-        let bent = (stored.truncate() * 2.0 - Vec3::ONE).normalize();
-        let bent = Vec3::new(bent.x, bent.z, -bent.y);
+        let (scene, local) = plane_under_one_texel_map(towards_light, illuminance, tangent_space);
+        let bent = Vec3::new(local.x, local.z, -local.y);
         let cos_shading = bent.dot(towards_light);
         let view = TopView::new(0.4, 16);
         let what = format!("normal map, cos θs {cos_shading:.3}");
@@ -791,6 +802,39 @@ fn a_normal_map_tilts_the_lit_plane_by_its_shading_cosine() {
             0.01,
             0.005,
         );
+    }
+}
+
+/// The normal map of the test above on a plane whose vertices carry the mesh's own tangent
+/// (glTF TANGENT) along +z instead of the texture frame's +x: the map's X then runs along +z
+/// and its Y along w · (+y × +z) = w·(+x), so the texel that leans the normal 16° towards
+/// the light in the tangents' frame (cos θₛ ≈ 0.93) would lean it away in the texture frame
+/// (cos ≈ 0.77 there). Both handednesses; light sampled at the visible points (256 passes):
+/// measured mean error below 0.1 %, rms below 0.1 %. Tolerances as for the sampled normal map:
+/// mean within 1 %, rms below 0.5 %.
+#[test]
+fn a_normal_map_follows_the_mesh_s_own_tangents() {
+    let illuminance = 1.5;
+    let towards_light = Vec3::new(-0.6, 0.8, 0.0);
+    let normal = Vec3::new(-0.28, 0.96, 0.0);
+    for handedness in [1.0f32, -1.0] {
+        // The tangents' frame: X = +z, Y = handedness · +x, Z = +y.
+        let tangent_space = Vec3::new(normal.z, handedness * normal.x, normal.y);
+        let (mut scene, local) =
+            plane_under_one_texel_map(towards_light, illuminance, tangent_space);
+        for triangle in &mut scene.triangles {
+            for v in &mut triangle.vertices {
+                v.tangent = glam::Vec4::new(0.0, 0.0, 1.0, handedness);
+            }
+        }
+        let bent = Vec3::new(handedness * local.y, local.z, local.x);
+        let cos_shading = bent.dot(towards_light);
+        assert!(cos_shading > 0.9, "{cos_shading}");
+        let radiance = testing::LIT_PLANE_ALBEDO / std::f32::consts::PI * illuminance * cos_shading;
+        let view = TopView::new(0.4, 16);
+        let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
+        let what = format!("tangents of handedness {handedness}, cos θs {cos_shading:.3}");
+        assert_matches(&what, &image, |_| radiance, 0.01, 0.005);
     }
 }
 

@@ -4,7 +4,7 @@
 //! the light, though from the flat facets the neighbouring facets do (the staircase terminator),
 //! and the renderer's light samples (`cpu::kernels::direct_light`) light those points.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::medium::NO_MEDIUM;
 use scene::{Material, PunctualKind, PunctualLight, SceneBuilder, Triangle, Vertex};
@@ -25,7 +25,7 @@ fn coarse_sphere() -> scene::Scene {
         Vertex {
             position: d,
             normal: d,
-            uv: Vec2::ZERO,
+            ..Vertex::default()
         }
     };
     let mut add = |mut vertices: [Vertex; 3]| {

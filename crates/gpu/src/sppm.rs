@@ -72,6 +72,9 @@ pub struct GpuBackend {
     textures_bind_group: wgpu::BindGroup,
     /// The sky's environment map (`render::sky_map`), bound with each render's state.
     sky_map: wgpu::Buffer,
+    /// The mesh's tangents in packed order (`render::normal_map::packed_tangents`), bound
+    /// with each render's state.
+    vertex_tangents: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     pipelines: Vec<wgpu::ComputePipeline>,
     state: Option<State>,
@@ -149,6 +152,9 @@ pub(crate) struct SceneFeatures {
     pub roughness_maps: bool,
     /// The sky has an environment map (`SKY_MAP`).
     pub sky_map: bool,
+    /// Some vertex carries the mesh's own tangent and some material reads a frame (a normal
+    /// map or brushing): hits interpolate the tangents (`TANGENTS`).
+    pub vertex_tangents: bool,
 }
 
 impl SceneFeatures {
@@ -179,10 +185,16 @@ impl SceneFeatures {
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
             sky_map: scene.lights.sky.as_ref().is_some_and(|s| s.map.is_some()),
+            vertex_tangents: scene.has_vertex_tangents()
+                && any(|m| {
+                    m.normal_texture.is_some()
+                        || m.clearcoat.is_some_and(|c| c.normal_texture.is_some())
+                        || m.anisotropy.is_some()
+                }),
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 13] {
+    fn constants(self) -> [(&'static str, f64); 14] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -198,6 +210,7 @@ impl SceneFeatures {
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),
             ("SKY_MAP", flag(self.sky_map)),
+            ("TANGENTS", flag(self.vertex_tangents)),
         ]
     }
 }
@@ -261,6 +274,7 @@ fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let mut entries = vec![uniform_entry(0), storage_entry(1, true)];
     entries.extend((2..8).map(|b| storage_entry(b, false)));
     entries.push(storage_entry(8, true));
+    entries.push(storage_entry(9, true));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sppm state"),
         entries: &entries,
@@ -348,11 +362,28 @@ impl GpuBackend {
             usage: wgpu::BufferUsages::STORAGE,
         });
         let features = SceneFeatures::of(scene);
+        // The mesh's tangents, three a packed triangle (one zero where no kernel reads them).
+        let mut tangents: Vec<[f32; 4]> = Vec::new();
+        if features.vertex_tangents {
+            let packed = render::normal_map::packed_tangents(scene, &bvh.triangle_ids);
+            tangents = packed.iter().flatten().map(|t| t.to_array()).collect();
+        }
+        if tangents.is_empty() {
+            tangents.push([0.0; 4]);
+        }
+        let tangent_bytes = std::mem::size_of_val(tangents.as_slice()) as u64;
+        check_buffer_fits("vertex_tangents", tangent_bytes, &context.limits)?;
+        let vertex_tangents = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("vertex_tangents"),
+            contents: bytemuck::cast_slice(&tangents),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let pipelines = compile_kernels(&context, &layout, features, label, source);
         Ok(GpuBackend {
             sky_map,
+            vertex_tangents,
             features,
-            scene_bytes: gpu_scene.bytes + sky_map_bytes,
+            scene_bytes: gpu_scene.bytes + sky_map_bytes + tangent_bytes,
             context,
             scene: gpu_scene,
             textures,
@@ -490,6 +521,7 @@ impl GpuBackend {
                 &hash,
                 &counters,
                 &self.sky_map,
+                &self.vertex_tangents,
             ],
         );
         let mut memory: Vec<(&'static str, u64)> = vec![

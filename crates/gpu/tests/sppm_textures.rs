@@ -50,6 +50,7 @@ fn quad(builder: &mut SceneBuilder, corners: [(Vec3, Vec2); 4], material: u32, f
         position,
         normal: Vec3::ZERO,
         uv,
+        ..Vertex::default()
     });
     for mut vertices in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
         let mut triangle = Triangle { vertices, material };

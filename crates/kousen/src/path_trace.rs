@@ -26,7 +26,7 @@ use render::emission::{
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
-use render::normal_map::mapped_normal;
+use render::normal_map::{FrameSource, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
@@ -744,10 +744,14 @@ impl<'a> PathTracer<'a> {
         let mut shading = unit_interpolated;
         let uv = w * a.uv + hit.u * b.uv + hit.v * c.uv;
         let material = &self.materials[triangle.material as usize];
-        let uvs = [a.uv, b.uv, c.uv];
+        let source = FrameSource {
+            positions,
+            uvs: [a.uv, b.uv, c.uv],
+            tangent: tangent_at([a.tangent, b.tangent, c.tangent], barycentric),
+        };
         if let Some(map) = material.normal_texture {
             let texel = self.texture(Some(map), uv).truncate();
-            shading = mapped_normal(shading, positions, uvs, texel, material.normal_scale);
+            shading = mapped_normal(shading, &source, texel, material.normal_scale);
         }
         // A clear coat with a normal map of its own follows it.
         let mut coat_normal = unit_interpolated;
@@ -755,10 +759,10 @@ impl<'a> PathTracer<'a> {
             && let Some(map) = coat.normal_texture
         {
             let texel = self.texture(Some(map), uv).truncate();
-            coat_normal = mapped_normal(coat_normal, positions, uvs, texel, coat.normal_scale);
+            coat_normal = mapped_normal(coat_normal, &source, texel, coat.normal_scale);
         }
         let texel = |t| self.texture(Some(t), uv);
-        let brush = cpu::surface::brush_at(material, texel, unit_interpolated, positions, uvs);
+        let brush = cpu::surface::brush_at(material, texel, unit_interpolated, &source);
         Some(SurfacePoint {
             position,
             shadow_origin,
@@ -1702,12 +1706,12 @@ mod tests {
                 material.anisotropy = Some(anisotropy);
             }
             let rho = scene.materials[0].base_color.x as f64;
-            let brush = render::normal_map::brushing(
-                Vec3::Y,
-                [Vec3::ZERO, Vec3::X, Vec3::Z],
-                [Vec2::ZERO; 3],
-                anisotropy.base(),
-            );
+            let no_frame = render::normal_map::FrameSource {
+                positions: [Vec3::ZERO, Vec3::X, Vec3::Z],
+                uvs: [Vec2::ZERO; 3],
+                tangent: glam::Vec4::ZERO,
+            };
+            let brush = render::normal_map::brushing(Vec3::Y, &no_frame, anisotropy.base());
             let (bvh, camera) = tracer_for(&scene);
             let tracer = PathTracer::new(&scene, &bvh, camera);
             let radiance = |cos: f32| {

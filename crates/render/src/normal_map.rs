@@ -4,11 +4,76 @@
 //! A map's texel (r, g, b) is the normal (2r − 1, 2g − 1, 2b − 1) in a frame whose X runs
 //! along increasing u, whose Y points to the image's top (decreasing v: texture rows run top to
 //! bottom) and whose Z is the interpolated normal: glTF's convention (and OpenGL's, as Blender
-//! and most bakers write it). The frame is each triangle's own, from its texture-coordinate
-//! gradients: MikkTSpace's per-vertex tangents, which glTF files may carry, are not read, so a
-//! map baked against them shows faint seams along smoothed edges.
+//! and most bakers write it). Where the mesh carries its own tangents (glTF's TANGENT, which
+//! exporters fill with MikkTSpace's, the frame maps are baked against) the frame is theirs,
+//! interpolated across the triangle as the normal is: X the tangent made perpendicular to the
+//! normal, Y = w · normal × X. Elsewhere it is each triangle's own, from its
+//! texture-coordinate gradients, so a map baked against MikkTSpace shows faint seams along
+//! smoothed edges there (glTF asks for MikkTSpace's tangents where a file has none; they are
+//! not computed here).
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
+
+/// What a hit's tangent frame is made from: the triangle's corner `positions` and texture
+/// coordinates `uvs`, and the mesh's tangent interpolated at the hit ([`tangent_at`]; zero:
+/// none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameSource {
+    pub positions: [Vec3; 3],
+    pub uvs: [Vec2; 3],
+    pub tangent: Vec4,
+}
+
+impl FrameSource {
+    /// The frame about unit `normal`: the mesh's tangent's ([`tangent_frame`]) where it has
+    /// one that is not along the normal, else the texture frame ([`texture_frame`]).
+    pub fn frame(&self, normal: Vec3) -> Option<(Vec3, Vec3)> {
+        tangent_frame(normal, self.tangent)
+            .or_else(|| texture_frame(normal, self.positions, self.uvs))
+    }
+}
+
+/// The mesh's tangents of each triangle in a packed tree's order (`triangle_ids`, as
+/// `bvh::PackedBvh::triangle_ids`), corner by corner; empty where no vertex has one.
+pub fn packed_tangents(scene: &scene::Scene, triangle_ids: &[u32]) -> Vec<[Vec4; 3]> {
+    if !scene.has_vertex_tangents() {
+        return Vec::new();
+    }
+    let corners = |id: &u32| scene.triangles[*id as usize].vertices.map(|v| v.tangent);
+    triangle_ids.iter().map(corners).collect()
+}
+
+/// The mesh's tangent at barycentric coordinates `barycentric` from its corners' `tangents`
+/// (glTF TANGENT: xyz, w = ±1): the directions interpolated, the handedness the weighted
+/// corners' sign; zero (none) where a corner has none.
+pub fn tangent_at(tangents: [Vec4; 3], barycentric: [f32; 3]) -> Vec4 {
+    if tangents.iter().any(|t| t.w == 0.0) {
+        return Vec4::ZERO;
+    }
+    let [a, b, c] = barycentric;
+    let sum = a * tangents[0] + b * tangents[1] + c * tangents[2];
+    if sum.w == 0.0 {
+        return Vec4::ZERO;
+    }
+    sum.truncate().extend(sum.w.signum())
+}
+
+/// The frame of the mesh's `tangent` (w: the handedness, 0: none) about unit `normal`: the
+/// tangent made perpendicular to the normal and unit, and w · normal × it; `None` without a
+/// tangent or where it runs along the normal.
+pub fn tangent_frame(normal: Vec3, tangent: Vec4) -> Option<(Vec3, Vec3)> {
+    if tangent.w == 0.0 {
+        return None;
+    }
+    let along = tangent.truncate();
+    let perpendicular = along - normal * normal.dot(along);
+    let length_squared = perpendicular.length_squared();
+    if !(length_squared > 1e-12 * along.length_squared() && length_squared.is_finite()) {
+        return None;
+    }
+    let tangent_unit = perpendicular / length_squared.sqrt();
+    Some((tangent_unit, normal.cross(tangent_unit) * tangent.w))
+}
 
 /// The texture frame about unit `normal` on the triangle with corner `positions` and texture
 /// coordinates `uvs`: a unit tangent along increasing u (perpendicular to `normal`) and the
@@ -42,26 +107,21 @@ pub fn texture_frame(normal: Vec3, positions: [Vec3; 3], uvs: [Vec2; 3]) -> Opti
 }
 
 /// A brushed metal's brushing at a hit (`render::microfacet::brushed_reflection`): `brush`,
-/// given in the texture frame about unit `normal` ([`texture_frame`]; any frame about it
-/// where the coordinates are degenerate), in the world, its length (the strength) kept.
-pub fn brushing(normal: Vec3, positions: [Vec3; 3], uvs: [Vec2; 3], brush: Vec2) -> Vec3 {
-    let (tangent, bitangent) = texture_frame(normal, positions, uvs)
+/// given in the hit's frame about unit `normal` ([`FrameSource::frame`]; any frame about it
+/// where there is none), in the world, its length (the strength) kept.
+pub fn brushing(normal: Vec3, source: &FrameSource, brush: Vec2) -> Vec3 {
+    let (tangent, bitangent) = source
+        .frame(normal)
         .unwrap_or_else(|| crate::sampling::orthonormal_basis(normal));
     tangent * brush.x + bitangent * brush.y
 }
 
-/// `normal` (unit, interpolated) bent by a map's linear `texel` on the triangle with corner
-/// `positions` and texture coordinates `uvs`; `scale` multiplies the texel's X and Y (glTF's
-/// `normalTexture.scale`). The triangle's normal as it was where its coordinates are
-/// degenerate (no gradient) or the bent normal vanishes.
-pub fn mapped_normal(
-    normal: Vec3,
-    positions: [Vec3; 3],
-    uvs: [Vec2; 3],
-    texel: Vec3,
-    scale: f32,
-) -> Vec3 {
-    let Some((tangent, bitangent)) = texture_frame(normal, positions, uvs) else {
+/// `normal` (unit, interpolated) bent by a map's linear `texel` in the hit's frame
+/// ([`FrameSource::frame`]); `scale` multiplies the texel's X and Y (glTF's
+/// `normalTexture.scale`). The normal as it was where there is no frame (no tangent and
+/// degenerate coordinates) or the bent normal vanishes.
+pub fn mapped_normal(normal: Vec3, source: &FrameSource, texel: Vec3, scale: f32) -> Vec3 {
+    let Some((tangent, bitangent)) = source.frame(normal) else {
         return normal;
     };
     let local = texel * 2.0 - Vec3::ONE;
@@ -104,6 +164,15 @@ fn shading_ratio(direction: Vec3, numerator: Vec3, denominator: Vec3) -> f32 {
 mod tests {
     use super::*;
 
+    /// The frame of the triangle's coordinates alone (no mesh tangent).
+    fn uv_frame(positions: [Vec3; 3], uvs: [Vec2; 3]) -> FrameSource {
+        FrameSource {
+            positions,
+            uvs,
+            tangent: Vec4::ZERO,
+        }
+    }
+
     /// A unit quad's lower triangle in the XY plane, u along +X and v growing towards −Y (the
     /// image upright when seen from +Z).
     fn upright() -> ([Vec3; 3], [Vec2; 3]) {
@@ -120,19 +189,19 @@ mod tests {
     #[test]
     fn a_flat_texel_keeps_the_normal() {
         let (p, uv) = upright();
-        let n = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 0.5, 1.0), 1.0);
+        let n = mapped_normal(Vec3::Z, &uv_frame(p, uv), Vec3::new(0.5, 0.5, 1.0), 1.0);
         assert!((n - Vec3::Z).length() < 1e-6, "{n}");
     }
 
     #[test]
     fn red_tilts_along_u_and_green_towards_the_top() {
         let (p, uv) = upright();
-        let right = mapped_normal(Vec3::Z, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        let right = mapped_normal(Vec3::Z, &uv_frame(p, uv), Vec3::new(1.0, 0.5, 0.5), 1.0);
         assert!((right - Vec3::X).length() < 1e-6, "{right}");
-        let up = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 1.0, 0.5), 1.0);
+        let up = mapped_normal(Vec3::Z, &uv_frame(p, uv), Vec3::new(0.5, 1.0, 0.5), 1.0);
         assert!((up - Vec3::Y).length() < 1e-6, "{up}");
         // 45° towards the top, halved by the scale.
-        let half = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 1.0, 1.0), 0.5);
+        let half = mapped_normal(Vec3::Z, &uv_frame(p, uv), Vec3::new(0.5, 1.0, 1.0), 0.5);
         assert!((half - Vec3::new(0.0, 0.5, 1.0).normalize()).length() < 1e-6);
     }
 
@@ -145,9 +214,9 @@ mod tests {
             Vec2::new(0.0, 1.0),
             Vec2::new(1.0, 0.0),
         ];
-        let right = mapped_normal(Vec3::Z, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        let right = mapped_normal(Vec3::Z, &uv_frame(p, uv), Vec3::new(1.0, 0.5, 0.5), 1.0);
         assert!((right + Vec3::X).length() < 1e-6, "{right}");
-        let up = mapped_normal(Vec3::Z, p, uv, Vec3::new(0.5, 1.0, 0.5), 1.0);
+        let up = mapped_normal(Vec3::Z, &uv_frame(p, uv), Vec3::new(0.5, 1.0, 0.5), 1.0);
         assert!((up - Vec3::Y).length() < 1e-6, "{up}");
     }
 
@@ -160,13 +229,13 @@ mod tests {
             Vec2::new(1.0, 1.0),
             Vec2::new(0.0, 0.0),
         ];
-        let right = mapped_normal(Vec3::X, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        let right = mapped_normal(Vec3::X, &uv_frame(p, uv), Vec3::new(1.0, 0.5, 0.5), 1.0);
         assert!((right - Vec3::Y).length() < 1e-6, "{right}");
         // An interpolated normal tilted from the face: the tangent is made orthogonal to it.
         let n = Vec3::new(1.0, 0.0, 0.3).normalize();
-        let flat = mapped_normal(n, p, uv, Vec3::new(0.5, 0.5, 1.0), 1.0);
+        let flat = mapped_normal(n, &uv_frame(p, uv), Vec3::new(0.5, 0.5, 1.0), 1.0);
         assert!((flat - n).length() < 1e-6);
-        let bent = mapped_normal(n, p, uv, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        let bent = mapped_normal(n, &uv_frame(p, uv), Vec3::new(1.0, 0.5, 0.5), 1.0);
         assert!(
             bent.dot(n).abs() < 1e-6 && (bent - Vec3::Y).length() < 1e-6,
             "{bent}"
@@ -177,8 +246,57 @@ mod tests {
     fn degenerate_coordinates_keep_the_normal() {
         let (p, _) = upright();
         let same = [Vec2::splat(0.25); 3];
-        let n = mapped_normal(Vec3::Z, p, same, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        let n = mapped_normal(Vec3::Z, &uv_frame(p, same), Vec3::new(1.0, 0.5, 0.5), 1.0);
         assert_eq!(n, Vec3::Z);
+    }
+
+    #[test]
+    fn a_mesh_tangent_gives_the_frame() {
+        let (p, uv) = upright();
+        // Along the texture frame's own axes: the same normals.
+        let along_u = FrameSource {
+            tangent: Vec4::new(1.0, 0.0, 0.0, 1.0),
+            ..uv_frame(p, uv)
+        };
+        for texel in [Vec3::new(1.0, 0.5, 0.5), Vec3::new(0.5, 1.0, 0.5)] {
+            let from_uv = mapped_normal(Vec3::Z, &uv_frame(p, uv), texel, 1.0);
+            let from_tangent = mapped_normal(Vec3::Z, &along_u, texel, 1.0);
+            assert!((from_uv - from_tangent).length() < 1e-6, "{from_tangent}");
+        }
+        // Turned a quarter about the normal: red tilts along +Y, green along −X; left-handed
+        // (w = −1), green along +X.
+        let turned = FrameSource {
+            tangent: Vec4::new(0.0, 2.0, 0.0, 1.0),
+            ..uv_frame(p, uv)
+        };
+        let right = mapped_normal(Vec3::Z, &turned, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert!((right - Vec3::Y).length() < 1e-6, "{right}");
+        let up = mapped_normal(Vec3::Z, &turned, Vec3::new(0.5, 1.0, 0.5), 1.0);
+        assert!((up + Vec3::X).length() < 1e-6, "{up}");
+        let left_handed = FrameSource {
+            tangent: Vec4::new(0.0, 2.0, 0.0, -1.0),
+            ..turned
+        };
+        let up = mapped_normal(Vec3::Z, &left_handed, Vec3::new(0.5, 1.0, 0.5), 1.0);
+        assert!((up - Vec3::X).length() < 1e-6, "{up}");
+        // A tangent along the normal gives no frame: the coordinates' serves.
+        let along_normal = FrameSource {
+            tangent: Vec4::new(0.0, 0.0, 1.0, 1.0),
+            ..uv_frame(p, uv)
+        };
+        let right = mapped_normal(Vec3::Z, &along_normal, Vec3::new(1.0, 0.5, 0.5), 1.0);
+        assert!((right - Vec3::X).length() < 1e-6, "{right}");
+    }
+
+    #[test]
+    fn tangents_interpolate_and_need_every_corner() {
+        let x = Vec4::new(1.0, 0.0, 0.0, 1.0);
+        let y = Vec4::new(0.0, 1.0, 0.0, 1.0);
+        let t = tangent_at([x, y, x], [0.25, 0.5, 0.25]);
+        assert_eq!(t, Vec4::new(0.5, 0.5, 0.0, 1.0));
+        assert_eq!(tangent_at([x, Vec4::ZERO, x], [0.4, 0.2, 0.4]), Vec4::ZERO);
+        let flipped = tangent_at([-x, -x, x.truncate().extend(-1.0)], [0.3, 0.3, 0.4]);
+        assert_eq!(flipped.w, -1.0);
     }
 
     #[test]

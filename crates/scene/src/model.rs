@@ -1,16 +1,21 @@
 //! The scene as the renderer sees it: a triangle soup with materials, textures, cameras and lights.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::{Camera, Lights, Material, Texture};
 
-/// One corner of a triangle: position, unit shading normal, texture coordinate.
+/// One corner of a triangle: position, unit shading normal, texture coordinate and the mesh's
+/// own tangent, if it gives one.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Vertex {
     pub position: Vec3,
     /// Unit length. The builder replaces a missing or degenerate normal by the geometric one.
     pub normal: Vec3,
     pub uv: Vec2,
+    /// glTF's TANGENT: xyz along increasing u in the world, w = ±1 the handedness (the
+    /// bitangent is w · normal × tangent), the frame normal maps and brushing are given in.
+    /// Zero where the mesh gives none: the triangle's texture-coordinate frame serves then.
+    pub tangent: Vec4,
 }
 
 /// A triangle in world space. Its front face is the one from which the vertices run
@@ -117,6 +122,13 @@ impl Scene {
         self.triangles
             .iter()
             .fold(Bounds::EMPTY, |b, t| b.union(t.bounds()))
+    }
+
+    /// Whether some vertex carries the mesh's own tangent ([`Vertex::tangent`]).
+    pub fn has_vertex_tangents(&self) -> bool {
+        self.triangles
+            .iter()
+            .any(|t| t.vertices.iter().any(|v| v.tangent.w != 0.0))
     }
 
     /// The camera to render from: the file's camera `index` (default the first), or, when the

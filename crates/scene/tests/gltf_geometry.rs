@@ -2,7 +2,7 @@
 
 mod gltf_support;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use gltf_support::*;
 use scene::{Scene, Triangle};
 use serde_json::json;
@@ -405,4 +405,87 @@ fn gpu_instances_place_copies_of_the_mesh() {
     // Two translations against three rotations and scales.
     let message = error_of(instanced(&[[0.0; 3], [1.0, 0.0, 0.0]], true));
     assert_mentions(&message, &["EXT_mesh_gpu_instancing", "2", "3"]);
+}
+
+/// [`TRIANGLE`] with these TANGENTs (and NORMAL +z where `with_normals`) under `node`.
+fn tangent_triangle(
+    mut node: serde_json::Value,
+    with_normals: bool,
+    tangents: &[[f32; 4]],
+) -> Scene {
+    let mut doc = Doc::default();
+    let position = doc.vec3s(&TRIANGLE);
+    let bytes: Vec<u8> = tangents
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let tangent = doc.accessor(&bytes, FLOAT, tangents.len(), "VEC4");
+    let mut primitive = json!({ "attributes": { "POSITION": position, "TANGENT": tangent } });
+    if with_normals {
+        primitive["attributes"]["NORMAL"] = json!(doc.vec3s(&[[0.0, 0.0, 1.0]; 3]));
+    }
+    node["mesh"] = json!(doc.push("meshes", json!({ "primitives": [primitive] })));
+    doc.node(node);
+    doc.add_root(0);
+    doc.load().expect("loads")
+}
+
+/// The tangent of the vertex at `position`.
+fn tangent_at(scene: &Scene, position: Vec3) -> Vec4 {
+    let vertex = scene.triangles[0]
+        .vertices
+        .into_iter()
+        .find(|v| (v.position - position).length() < 1e-6)
+        .expect("a vertex there");
+    vertex.tangent
+}
+
+fn assert_close4(a: Vec4, b: Vec4) {
+    assert!((a - b).length() < 1e-5, "{a} vs {b}");
+}
+
+#[test]
+fn tangents_follow_the_node_and_a_mirror_turns_their_handedness() {
+    let tangents = [
+        [2.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0, -1.0],
+        [1.0, 1.0, 0.0, 1.0],
+    ];
+    let diagonal = std::f32::consts::FRAC_1_SQRT_2;
+    // A quarter turn about +z: +x to +y, +y to −x; unit, handedness kept.
+    let s = diagonal;
+    let turned = tangent_triangle(json!({ "rotation": [0.0, 0.0, s, s] }), true, &tangents);
+    assert_close4(
+        tangent_at(&turned, Vec3::ZERO),
+        Vec4::new(0.0, 1.0, 0.0, 1.0),
+    );
+    assert_close4(
+        tangent_at(&turned, Vec3::Y),
+        Vec4::new(-1.0, 0.0, 0.0, -1.0),
+    );
+    let third = Vec4::new(-diagonal, diagonal, 0.0, 1.0);
+    assert_close4(tangent_at(&turned, -Vec3::X), third);
+    // Mirrored in x: directions mirrored, handedness turned, so that w · normal × tangent is
+    // still the mirror image of the file's bitangent.
+    let mirrored = tangent_triangle(json!({ "scale": [-1, 1, 1] }), true, &tangents);
+    let first = tangent_at(&mirrored, Vec3::ZERO);
+    assert_close4(first, Vec4::new(-1.0, 0.0, 0.0, -1.0));
+    let normal = mirrored.triangles[0].vertices[0].normal;
+    let bitangent = normal.cross(first.truncate()) * first.w;
+    // The file's bitangent at that vertex: +z × +x = +y, which the mirror keeps.
+    assert!((bitangent - Vec3::Y).length() < 1e-5, "{bitangent}");
+    assert_close4(
+        tangent_at(&mirrored, -Vec3::X),
+        Vec4::new(0.0, 1.0, 0.0, 1.0),
+    );
+    // Without NORMAL glTF says to ignore them.
+    let ignored = tangent_triangle(json!({}), false, &tangents);
+    assert!(
+        ignored.triangles[0]
+            .vertices
+            .iter()
+            .all(|v| v.tangent == Vec4::ZERO)
+    );
+    assert!(!ignored.has_vertex_tangents() && turned.has_vertex_tangents());
 }

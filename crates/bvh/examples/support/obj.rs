@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use scene::{Triangle, Vertex};
 
 /// The file's triangles (geometric normals, material 0), or a message.
@@ -60,7 +60,7 @@ fn triangle(p: [Vec3; 3]) -> Triangle {
         vertices: p.map(|position| Vertex {
             position,
             normal,
-            uv: Vec2::ZERO,
+            ..Vertex::default()
         }),
         material: 0,
     }

@@ -10,6 +10,9 @@
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>, COUNTER_COUNT>;
 // render::sky_map's buffer: the sky's environment map, its texels and CDFs.
 @group(1) @binding(8) var<storage, read> sky_map: array<f32>;
+// render::normal_map::packed_tangents: the mesh's tangents, three a packed triangle (read
+// only where TANGENTS).
+@group(1) @binding(9) var<storage, read> vertex_tangents: array<vec4<f32>>;
 
 // The sky's table entry as a render::sky_map::MapFrame (shared/sky_map.wgsl; width 0: a
 // uniform sky).

@@ -149,9 +149,46 @@ fn texture_frame(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>,
     return frame;
 }
 
-// render::normal_map::brushing: `brush` (in the texture frame) in the world.
-fn brushing(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, brush: vec2<f32>) -> vec3<f32> {
-    var frame = texture_frame(normal, p0, p1, p2, uv0, uv1, uv2);
+// render::normal_map::tangent_at: the mesh's tangent at barycentric `b` of packed triangle
+// `triangle` (zero: none).
+fn tangent_at(triangle: u32, b: vec3<f32>) -> vec4<f32> {
+    if !TANGENTS {
+        return vec4<f32>(0.0);
+    }
+    let t0 = vertex_tangents[3u * triangle];
+    let t1 = vertex_tangents[3u * triangle + 1u];
+    let t2 = vertex_tangents[3u * triangle + 2u];
+    if t0.w == 0.0 || t1.w == 0.0 || t2.w == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let sum = b.x * t0 + b.y * t1 + b.z * t2;
+    if sum.w == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(sum.xyz, sign(sum.w));
+}
+
+// render::normal_map::FrameSource::frame: the mesh's tangent's frame about `normal`
+// (render::normal_map::tangent_frame), else the texture frame.
+fn surface_frame(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, tangent: vec4<f32>) -> TextureFrame {
+    if TANGENTS && tangent.w != 0.0 {
+        let along = tangent.xyz;
+        let perpendicular = along - normal * dot(normal, along);
+        let length_squared = dot(perpendicular, perpendicular);
+        if length_squared > 1e-12 * dot(along, along) && length_squared <= 3.40282347e38 {
+            var frame: TextureFrame;
+            frame.tangent = perpendicular / sqrt(length_squared);
+            frame.bitangent = cross(normal, frame.tangent) * tangent.w;
+            frame.found = true;
+            return frame;
+        }
+    }
+    return texture_frame(normal, p0, p1, p2, uv0, uv1, uv2);
+}
+
+// render::normal_map::brushing: `brush` (in the hit's frame) in the world.
+fn brushing(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, mesh_tangent: vec4<f32>, brush: vec2<f32>) -> vec3<f32> {
+    var frame = surface_frame(normal, p0, p1, p2, uv0, uv1, uv2, mesh_tangent);
     if !frame.found {
         frame.tangent = basis_tangent(normal);
         frame.bitangent = basis_bitangent(normal);
@@ -159,8 +196,8 @@ fn brushing(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0:
     return frame.tangent * brush.x + frame.bitangent * brush.y;
 }
 
-fn mapped_normal(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
-    let frame = texture_frame(normal, p0, p1, p2, uv0, uv1, uv2);
+fn mapped_normal(normal: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>, mesh_tangent: vec4<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
+    let frame = surface_frame(normal, p0, p1, p2, uv0, uv1, uv2, mesh_tangent);
     if !frame.found {
         return normal;
     }
@@ -254,6 +291,9 @@ override TRANSMISSION_MAPS: bool = true;
 override DIFFUSE_TRANSMISSION: bool = true;
 // Whether some material is brushed (scene::Anisotropy): hits carry the brushing.
 override ANISOTROPY: bool = true;
+// Whether hits read the mesh's own tangents (render::normal_map::packed_tangents), for a
+// normal map's or a brushing's frame.
+override TANGENTS: bool = true;
 // Whether the sky has an environment map (render::sky_map, read in sppm.wgsl): compiled out
 // otherwise, as NORMAL_MAPS is (its lookups and searches, inlined, made lavapipe's eye pass
 // ~10 % slower in scenes without one).
@@ -394,11 +434,13 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
     let uv_c = vec2<f32>(c.u, c.v);
     let uv = w * uv_a + hit.u * uv_b + hit.v * uv_c;
     let material_index = u32(abs(a.signed_material)) - 1u;
+    // cpu::surface::trace_within: the frame normal maps and brushing are given in.
+    let tangent = tangent_at(hit.triangle, vec3<f32>(w, hit.u, hit.v));
     if NORMAL_MAPS {
         let map = materials[material_index].normal_texture;
         if map != NO_TEXTURE {
             let texel = sample_texture(map, uv).xyz;
-            shading = mapped_normal(shading, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].normal_scale);
+            shading = mapped_normal(shading, a.position, b.position, c.position, uv_a, uv_b, uv_c, tangent, texel, materials[material_index].normal_scale);
         }
     }
     if ANISOTROPY {
@@ -417,7 +459,7 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
                 }
                 brush = vec2<f32>(d.x * base.x - d.y * base.y, d.x * base.y + d.y * base.x) * texel.z;
             }
-            result.brush = brushing(unit_interpolated, a.position, b.position, c.position, uv_a, uv_b, uv_c, brush);
+            result.brush = brushing(unit_interpolated, a.position, b.position, c.position, uv_a, uv_b, uv_c, tangent, brush);
         }
     }
     let front = dot(direction, geometric) < 0.0;
@@ -435,7 +477,7 @@ fn trace_surface_within(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> 
             let coat_map = materials[material_index].clearcoat_normal_texture;
             if coat_map != NO_TEXTURE {
                 let texel = sample_texture(coat_map, uv).xyz;
-                coat_normal = mapped_normal(coat_normal, a.position, b.position, c.position, uv_a, uv_b, uv_c, texel, materials[material_index].clearcoat_normal_scale);
+                coat_normal = mapped_normal(coat_normal, a.position, b.position, c.position, uv_a, uv_b, uv_c, tangent, texel, materials[material_index].clearcoat_normal_scale);
             }
         }
         result.interpolated = side * coat_normal;

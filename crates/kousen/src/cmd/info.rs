@@ -35,6 +35,9 @@ struct Info {
     /// Materials (blend members) brushed (`scene::Anisotropy`: glTF's
     /// `KHR_materials_anisotropy`).
     brushed_materials: usize,
+    /// Whether the meshes carry their own tangents (glTF TANGENT), the frame of normal maps
+    /// and brushing (else each triangle's texture coordinates give it).
+    vertex_tangents: bool,
     /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
     /// their indices of refraction count against its.
     inside_solids: Vec<InsideSolid>,
@@ -287,6 +290,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         sheened_materials: count(|m| m.sheen.is_some()),
         translucent_materials: count(|m| m.diffuse_transmission.is_some()),
         brushed_materials: count(|m| m.anisotropy.is_some()),
+        vertex_tangents: scene.has_vertex_tangents(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
@@ -396,7 +400,15 @@ fn print_table(info: &Info) {
         ),
         (
             "normal maps",
-            format!("{} materials", info.normal_mapped_materials),
+            format!(
+                "{} materials (frame: {})",
+                info.normal_mapped_materials,
+                if info.vertex_tangents {
+                    "the meshes' tangents"
+                } else {
+                    "texture coordinates"
+                }
+            ),
         ),
         (
             "roughness maps",

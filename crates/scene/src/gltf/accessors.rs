@@ -36,6 +36,8 @@ pub(super) enum Semantic {
     InstanceVector,
     /// Its ROTATION: VEC4 of FLOAT, or of normalized BYTE / SHORT (a quaternion).
     InstanceRotation,
+    /// TANGENT: VEC4 of FLOAT (quantized: also of normalized BYTE or SHORT).
+    Tangent,
 }
 
 impl Semantic {
@@ -67,6 +69,11 @@ impl Semantic {
                 ty == Type::Vec4
                     && (component == F32 || (normalized && matches!(component, I8 | I16)))
             }
+            Semantic::Tangent => {
+                ty == Type::Vec4
+                    && (component == F32
+                        || (quantized && normalized && matches!(component, I8 | I16)))
+            }
         }
     }
 
@@ -85,7 +92,10 @@ impl Semantic {
             }
             (Semantic::Indices, _) => "SCALAR of UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT",
             (Semantic::InstanceVector, _) => "VEC3 of FLOAT",
-            (Semantic::InstanceRotation, _) => "VEC4 of FLOAT or of normalized BYTE/SHORT",
+            (Semantic::InstanceRotation, _) | (Semantic::Tangent, true) => {
+                "VEC4 of FLOAT or of normalized BYTE/SHORT"
+            }
+            (Semantic::Tangent, false) => "VEC4 of FLOAT",
         }
     }
 }
@@ -176,11 +186,24 @@ pub(super) fn read_vec3(
     )
 }
 
-/// Reads an `EXT_mesh_gpu_instancing` ROTATION accessor as quaternions (x, y, z, w); every
-/// component must be finite.
-pub(super) fn read_vec4(input: &Input, index: usize, role: &str) -> Result<Vec<Vec4>, SceneError> {
-    let semantic = Semantic::InstanceRotation;
-    read_finite(input, index, semantic, role, true, "a non-finite rotation")
+/// Reads an `EXT_mesh_gpu_instancing` ROTATION accessor as quaternions (x, y, z, w), every
+/// component finite, or a TANGENT accessor, whose non-finite tangents the mesh drops (its
+/// vertex then takes the triangle's texture frame).
+pub(super) fn read_vec4(
+    input: &Input,
+    index: usize,
+    semantic: Semantic,
+    role: &str,
+) -> Result<Vec<Vec4>, SceneError> {
+    let must_be_finite = semantic == Semantic::InstanceRotation;
+    read_finite(
+        input,
+        index,
+        semantic,
+        role,
+        must_be_finite,
+        "a non-finite rotation",
+    )
 }
 
 /// Reads a TEXCOORD accessor; every coordinate must be finite.

@@ -89,7 +89,7 @@ pub(super) fn instances(input: &Input, index: usize) -> Result<Option<Vec<Affine
     let translations = vectors(translation, "TRANSLATION", Vec3::ZERO)?;
     let scales = vectors(scale, "SCALE", Vec3::ONE)?;
     let rotations = match rotation {
-        Some(a) => accessors::read_vec4(input, a, &role("ROTATION"))?,
+        Some(a) => accessors::read_vec4(input, a, Semantic::InstanceRotation, &role("ROTATION"))?,
         None => vec![Quat::IDENTITY.into(); count],
     };
     let mut transforms = Vec::with_capacity(count);

@@ -4,7 +4,7 @@
 
 use std::borrow::Cow;
 
-use glam::{Affine2, Affine3A, Mat3, Vec2, Vec3};
+use glam::{Affine2, Affine3A, Mat3, Vec2, Vec3, Vec4};
 
 use ::gltf::json;
 use json::mesh::{Mode, Semantic as Attribute};
@@ -31,6 +31,8 @@ pub(super) struct Primitive {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    /// TANGENT, read only where NORMAL is given (glTF: without normals, tangents are ignored).
+    tangents: Option<Vec<Vec4>>,
     triangles: Vec<[u32; 3]>,
     /// The glTF material (checked to exist); `None` asks for the default material.
     pub material: Option<usize>,
@@ -137,7 +139,12 @@ fn decode_primitive(
     index: usize,
     label: &str,
 ) -> Result<Decoded, SceneError> {
-    let (positions, normals, uvs) = read_attributes(input, primitive, label)?;
+    let Attributes {
+        positions,
+        normals,
+        uvs,
+        tangents,
+    } = read_attributes(input, primitive, label)?;
     let corners = match primitive.indices {
         Some(i) => {
             let role = format!("indices of {label}");
@@ -157,15 +164,23 @@ fn decode_primitive(
         positions,
         normals,
         uvs,
+        tangents,
         triangles: Vec::new(),
         material,
     };
     Ok(Decoded { primitive, corners })
 }
 
-type Attributes = (Vec<Vec3>, Option<Vec<Vec3>>, Option<Vec<Vec2>>);
+/// A primitive's vertex attributes, all of one length.
+struct Attributes {
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    tangents: Option<Vec<Vec4>>,
+}
 
-/// POSITION, NORMAL and TEXCOORD_0, all of the same length, below 2^32 vertices.
+/// POSITION, NORMAL, TEXCOORD_0 and TANGENT (where NORMAL is given), all of the same length,
+/// below 2^32 vertices.
 fn read_attributes(
     input: &Input,
     primitive: &json::mesh::Primitive,
@@ -206,7 +221,19 @@ fn read_attributes(
     if let Some(uv) = &uvs {
         check_count("TEXCOORD_0", uv.len())?;
     }
-    Ok((positions, normals, uvs))
+    let tangents = attribute(Attribute::Tangents)
+        .filter(|_| normals.is_some())
+        .map(|a| accessors::read_vec4(input, a, Semantic::Tangent, &role("TANGENT")))
+        .transpose()?;
+    if let Some(t) = &tangents {
+        check_count("TANGENT", t.len())?;
+    }
+    Ok(Attributes {
+        positions,
+        normals,
+        uvs,
+        tangents,
+    })
 }
 
 /// Triangles from a list, strip or fan (glTF 2.0 §3.7.2.1 orders), and the count of corners
@@ -282,6 +309,10 @@ impl Primitive {
                 position: positions[i],
                 normal: normals[i],
                 uv: uv_transform.map_or(uv, |t| t.transform_point2(uv)),
+                tangent: self
+                    .tangents
+                    .as_ref()
+                    .map_or(Vec4::ZERO, |t| placed_tangent(t[i], linear, mirrored)),
             }
         };
         for &[a, b, c] in triangles.iter() {
@@ -292,6 +323,22 @@ impl Primitive {
         }
         Ok(())
     }
+}
+
+/// A TANGENT placed by the linear part `m` of a node's transform: its direction through `m`,
+/// its handedness turned where `m` mirrors (the bitangent, w · normal × tangent, must stay
+/// the image of the file's). Zero (none) where it is not finite or vanishes.
+fn placed_tangent(tangent: Vec4, m: Mat3, mirrored: bool) -> Vec4 {
+    let direction = (m * tangent.truncate()).normalize_or_zero();
+    if !tangent.is_finite() || direction == Vec3::ZERO {
+        return Vec4::ZERO;
+    }
+    let handedness = if (tangent.w < 0.0) != mirrored {
+        -1.0
+    } else {
+        1.0
+    };
+    direction.extend(handedness)
 }
 
 /// The inverse transpose of `m` up to a positive factor, defined even when `m` is singular:

@@ -63,6 +63,7 @@ pub(super) fn add_model(
                 position: positions[i],
                 normal: normals[i],
                 uv: uvs[i],
+                ..Vertex::default()
             };
         }
         builder.add_triangle(Triangle { vertices, material })?;

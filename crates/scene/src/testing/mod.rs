@@ -532,7 +532,7 @@ fn flooded_room(f: &mut Fixture) {
         Vertex {
             position: glam::DVec3::new(x, height, z).as_vec3(),
             normal: glam::DVec3::new(-dx, 1.0, -dz).normalize().as_vec3(),
-            uv: Vec2::ZERO,
+            ..Vertex::default()
         }
     };
     // The floor's corners: its footprint, x from the right wall (0) to the left one.
@@ -1364,7 +1364,7 @@ impl Fixture {
             Vertex {
                 position: centre + radius * direction,
                 normal: sign * direction,
-                uv: Vec2::ZERO,
+                ..Vertex::default()
             }
         };
         for ring in 0..SPHERE_RINGS {

@@ -263,24 +263,29 @@ impl Document {
         json!({ "name": texture.name, "bufferView": view, "mimeType": "image/png" })
     }
 
-    /// One primitive: the triangles' distinct (position, normal, uv) corners and their indices.
+    /// One primitive: the triangles' distinct (position, normal, uv, tangent) corners and their
+    /// indices.
     fn primitive(&mut self, triangles: &[&Triangle], material: usize) -> Value {
-        let textured = (triangles.iter().flat_map(|t| t.vertices)).any(|v| v.uv != Vec2::ZERO);
-        let mut slots: HashMap<[u32; 8], u32> = HashMap::new();
-        let (mut positions, mut normals, mut uvs, mut indices) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for v in triangles.iter().flat_map(|t| t.vertices) {
+        let corners = || triangles.iter().flat_map(|t| t.vertices);
+        let textured = corners().any(|v| v.uv != Vec2::ZERO);
+        let tangential = corners().all(|v| v.tangent.w != 0.0);
+        let mut slots: HashMap<[u32; 12], u32> = HashMap::new();
+        let (mut positions, mut normals, mut uvs, mut tangents, mut indices) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for v in corners() {
             let key = [
                 &v.position.to_array()[..],
                 &v.normal.to_array(),
                 &v.uv.to_array(),
+                &v.tangent.to_array(),
             ]
             .concat();
-            let key: [u32; 8] = std::array::from_fn(|i| key[i].to_bits());
+            let key: [u32; 12] = std::array::from_fn(|i| key[i].to_bits());
             let index = *slots.entry(key).or_insert_with(|| {
                 positions.push(v.position);
                 normals.push(v.normal);
                 uvs.push(v.uv);
+                tangents.push(v.tangent);
                 positions.len() as u32 - 1
             });
             indices.push(index);
@@ -294,6 +299,14 @@ impl Document {
                 .collect();
             let accessor = json!({ "componentType": FLOAT, "count": uvs.len(), "type": "VEC2" });
             attributes["TEXCOORD_0"] = json!(self.accessor(accessor, &bytes, ARRAY_BUFFER));
+        }
+        if tangential {
+            let bytes: Vec<u8> = (tangents.iter().flat_map(|t| t.to_array()))
+                .flat_map(f32::to_le_bytes)
+                .collect();
+            let accessor =
+                json!({ "componentType": FLOAT, "count": tangents.len(), "type": "VEC4" });
+            attributes["TANGENT"] = json!(self.accessor(accessor, &bytes, ARRAY_BUFFER));
         }
         let (component, bytes): (u32, Vec<u8>) = if positions.len() <= u16::MAX as usize {
             (

@@ -584,7 +584,9 @@ fn flooded_room(f: &mut Fixture) {
 /// and back wall laid with bevelled tiles ([`tile_normal_map`], a tile 139.75 mm wide), a
 /// white diffuse sphere front right and a mirror sphere back left, both hammered
 /// ([`dimple_normal_map`] at scale 0.6 and 0.5). Texture coordinates: planar on the
-/// walls, longitude and latitude on the spheres.
+/// walls, longitude and latitude on the spheres, which carry their own tangents too (along
+/// the longitude, [`spherical_tangents`]: the frame their maps follow, smooth across
+/// triangles).
 pub fn cornell_bumpy() -> Scene {
     let mut f = Fixture::new("testing::cornell_bumpy");
     let white = cornell_room(&mut f);
@@ -633,9 +635,33 @@ pub fn cornell_bumpy() -> Scene {
                 back
             };
             spherical_uvs(triangle, centre);
+            spherical_tangents(triangle, centre);
         }
     }
     scene
+}
+
+/// The tangents of a sphere about `centre` whose u runs with the longitude
+/// ([`spherical_uvs`]): along increasing longitude at each corner (at a pole, the triangle's
+/// centre's), of the handedness that puts w · normal × tangent towards +y, the image's top.
+fn spherical_tangents(triangle: &mut Triangle, centre: Vec3) {
+    let along_longitude = |d: Vec3| Vec3::new(-d.z, 0.0, d.x).normalize_or_zero();
+    let middle = (triangle.vertices.iter().map(|v| v.position).sum::<Vec3>() / 3.0 - centre)
+        .normalize_or_zero();
+    for v in &mut triangle.vertices {
+        let d = (v.position - centre).normalize_or_zero();
+        let mut tangent = along_longitude(d);
+        if tangent.length_squared() < 1e-6 {
+            tangent = along_longitude(middle);
+        }
+        let top = Vec3::Y - middle * middle.y;
+        let handedness = if v.normal.cross(tangent).dot(top) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        v.tangent = tangent.extend(handedness);
+    }
 }
 
 /// Longitude and latitude of a sphere's triangle about `centre`, twelve times around (u) and

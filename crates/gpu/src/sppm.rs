@@ -28,9 +28,9 @@ use crate::{GpuContext, GpuError, GpuScene, check_buffer_fits};
 
 /// Passes submitted but not known finished before the host waits.
 const MAX_PASSES_IN_FLIGHT: usize = 2;
-/// Storage buffers the SPPM kernels bind per stage: the scene's five, the state's seven and
-/// the sky map.
-pub const SPPM_STORAGE_BUFFERS: u32 = 13;
+/// Storage buffers the SPPM kernels bind per stage: the scene's five, the state's seven, the
+/// sky map and the mesh's tangents.
+pub const SPPM_STORAGE_BUFFERS: u32 = 14;
 
 /// The kernels' entry points; indices into `GpuBackend::pipelines`.
 const KERNELS: [&str; 6] = [

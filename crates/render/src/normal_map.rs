@@ -7,10 +7,11 @@
 //! and most bakers write it). Where the mesh carries its own tangents (glTF's TANGENT, which
 //! exporters fill with MikkTSpace's, the frame maps are baked against) the frame is theirs,
 //! interpolated across the triangle as the normal is: X the tangent made perpendicular to the
-//! normal, Y = w · normal × X. Elsewhere it is each triangle's own, from its
-//! texture-coordinate gradients, so a map baked against MikkTSpace shows faint seams along
-//! smoothed edges there (glTF asks for MikkTSpace's tangents where a file has none; they are
-//! not computed here).
+//! normal, Y = w · normal × X. The glTF loader makes tangents where a file has none for a
+//! material that reads a frame (from the texture coordinates, angle-weighted at each vertex;
+//! glTF asks for MikkTSpace's, which also split vertices at mirror seams). Elsewhere (OBJ
+//! meshes, scenes built in code, a vertex whose tangent vanished) the frame is each
+//! triangle's own, from its texture-coordinate gradients.
 
 use glam::{Vec2, Vec3, Vec4};
 

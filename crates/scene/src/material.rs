@@ -575,6 +575,14 @@ impl Surface {
 }
 
 impl Material {
+    /// Whether hits on it read a tangent frame: a normal map (its own or its clear coat's) or
+    /// a brushing.
+    pub fn reads_tangent_frame(&self) -> bool {
+        self.normal_texture.is_some()
+            || self.clearcoat.is_some_and(|c| c.normal_texture.is_some())
+            || self.anisotropy.is_some()
+    }
+
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
     }

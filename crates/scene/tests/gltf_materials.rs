@@ -1346,3 +1346,78 @@ fn layer_textures_with_their_own_transform_are_warned_about() {
     let identity = load([0.0, 0.0]);
     assert!(identity.warnings.is_empty(), "{:?}", identity.warnings);
 }
+
+/// A strip folded along x = 1: a flat quad (x 0–1) and one rising at 45° (x 1–2), smooth
+/// normals, u running along the strip and v along +y, under `material`, without TANGENT.
+fn folded_strip(doc: &mut Doc, material: usize) {
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let positions = [
+        [0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0 + s, 0.0, s],
+        [1.0 + s, 1.0, s],
+    ];
+    // At the fold, the normal halfway between the two faces'.
+    let fold = (Vec3::Z + Vec3::new(-s, 0.0, s)).normalize().to_array();
+    let up_slope = [-s, 0.0, s];
+    let normals = [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+        fold,
+        fold,
+        up_slope,
+        up_slope,
+    ];
+    let uvs = [
+        [0.0, 0.0],
+        [0.0, 1.0],
+        [1.0, 0.0],
+        [1.0, 1.0],
+        [2.0, 0.0],
+        [2.0, 1.0],
+    ];
+    let (position, normal, uv) = (doc.vec3s(&positions), doc.vec3s(&normals), doc.vec2s(&uvs));
+    let indices = doc.indices(&[0, 2, 3, 0, 3, 1, 2, 4, 5, 2, 5, 3], UNSIGNED_SHORT);
+    let primitive = json!({
+        "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
+        "indices": indices,
+        "material": material,
+    });
+    let mesh = doc.push("meshes", json!({ "primitives": [primitive] }));
+    doc.instance(mesh);
+}
+
+/// Where a file gives no TANGENT, a normal-mapped primitive's tangents are made from its
+/// texture coordinates: unit, perpendicular to each vertex normal, along increasing u (the
+/// fold's between its two faces' directions), the bitangent w · n × t towards the image's top
+/// (decreasing v, −y here); a material that reads no frame gets none.
+#[test]
+fn tangents_are_made_for_normal_maps_where_the_file_has_none() {
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let mapped = doc.material(json!({ "normalTexture": { "index": 0 } }));
+    folded_strip(&mut doc, mapped);
+    let scene = doc.load().expect("loads");
+    assert!(scene.has_vertex_tangents());
+    let slope = Vec3::new(1.0, 0.0, 1.0).normalize();
+    for v in scene.triangles.iter().flat_map(|t| t.vertices) {
+        let t = v.tangent.truncate();
+        assert!((t.length() - 1.0).abs() < 1e-5, "{t}");
+        assert!(t.dot(v.normal).abs() < 1e-5, "{t} against {}", v.normal);
+        let bitangent = v.normal.cross(t) * v.tangent.w;
+        assert!(bitangent.dot(-Vec3::Y) > 0.99, "{bitangent}");
+        if v.position.x == 0.0 {
+            assert!((t - Vec3::X).length() < 1e-5, "{t}");
+        } else if v.position.x == 1.0 {
+            assert!(t.dot(Vec3::X) > 0.8 && t.dot(slope) > 0.8, "{t}");
+        } else {
+            assert!((t - slope).length() < 1e-5, "{t}");
+        }
+    }
+    let mut plain = Doc::default();
+    let material = plain.material(json!({}));
+    folded_strip(&mut plain, material);
+    assert!(!plain.load().expect("loads").has_vertex_tangents());
+}

@@ -42,7 +42,8 @@
 //!   surface is thin whatever `KHR_materials_volume` says. A factor of 0 is none.
 //! - `KHR_materials_anisotropy` → [`Anisotropy`] on the metal (brushed metal):
 //!   `anisotropyStrength` (× the blue of `anisotropyTexture`, linear data), the direction
-//!   +u of each triangle's texture frame (or the texture's red and green) turned by
+//!   +u of the mesh's TANGENT frame, else of each triangle's texture frame (or the
+//!   texture's red and green), turned by
 //!   `anisotropyRotation`; a smooth metal so brushed becomes rough metal of width
 //!   `MIN_BRUSHED_ALPHA`. The dielectric's coat and glass stay isotropic (warned).
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).

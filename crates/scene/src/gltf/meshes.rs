@@ -272,12 +272,15 @@ impl Primitive {
     /// `world`, normals through its inverse transpose (then renormalised); a mirroring
     /// `world` swaps two vertices of each triangle so its front face stays the front face.
     /// Missing normals are smoothed over the placed triangles. `uv_transform` is the
-    /// material's `KHR_texture_transform`, applied to the texture coordinates here.
+    /// material's `KHR_texture_transform`, applied to the texture coordinates here. Where the
+    /// material `reads_frame` (a normal map or brushing) and the file gives no tangents, they
+    /// are made from the texture coordinates ([`generated_tangents`]).
     pub fn instantiate(
         &self,
         world: &Affine3A,
         material: u32,
         uv_transform: Option<Affine2>,
+        reads_frame: bool,
         builder: &mut SceneBuilder,
     ) -> Result<(), SceneError> {
         let linear = Mat3::from(world.matrix3);
@@ -302,17 +305,26 @@ impl Primitive {
             }
             None => smooth_normals(&positions, &triangles),
         };
+        let uvs: Vec<Vec2> = match &self.uvs {
+            Some(uvs) => (uvs.iter())
+                .map(|&uv| uv_transform.map_or(uv, |t| t.transform_point2(uv)))
+                .collect(),
+            None => vec![Vec2::ZERO; positions.len()],
+        };
+        let generated = (reads_frame && self.tangents.is_none() && self.uvs.is_some())
+            .then(|| generated_tangents(&positions, &normals, &uvs, &triangles));
         let vertex = |i: u32| {
             let i = i as usize;
-            let uv = self.uvs.as_ref().map_or(Vec2::ZERO, |uvs| uvs[i]);
+            let tangent = match (&self.tangents, &generated) {
+                (Some(file), _) => placed_tangent(file[i], linear, mirrored),
+                (None, Some(made)) => made[i],
+                (None, None) => Vec4::ZERO,
+            };
             Vertex {
                 position: positions[i],
                 normal: normals[i],
-                uv: uv_transform.map_or(uv, |t| t.transform_point2(uv)),
-                tangent: self
-                    .tangents
-                    .as_ref()
-                    .map_or(Vec4::ZERO, |t| placed_tangent(t[i], linear, mirrored)),
+                uv: uvs[i],
+                tangent,
             }
         };
         for &[a, b, c] in triangles.iter() {
@@ -323,6 +335,59 @@ impl Primitive {
         }
         Ok(())
     }
+}
+
+/// Tangents where a file gives none (glTF asks for MikkTSpace's): at each vertex the
+/// triangles' texture frames around it (their directions of increasing u and of the image's
+/// top, `render::normal_map::texture_frame`'s), weighted by the corner's angle, summed; the
+/// tangent is the u-direction made perpendicular to the vertex normal, its handedness the
+/// one that puts w · normal × tangent towards the summed top. Smooth across triangles where
+/// the coordinates are; MikkTSpace also splits vertices where the frames disagree (mirror
+/// seams), which this does not, so there its frames may differ from a baker's. Zero (the
+/// texture frame serves) where a vertex's sum vanishes.
+pub(super) fn generated_tangents(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    uvs: &[Vec2],
+    triangles: &[[u32; 3]],
+) -> Vec<Vec4> {
+    let mut along = vec![Vec3::ZERO; positions.len()];
+    let mut top = vec![Vec3::ZERO; positions.len()];
+    for &corners in triangles {
+        let [a, b, c] = corners.map(|i| i as usize);
+        let (e1, e2) = (positions[b] - positions[a], positions[c] - positions[a]);
+        let (d1, d2) = (uvs[b] - uvs[a], uvs[c] - uvs[a]);
+        let determinant = d1.x * d2.y - d2.x * d1.y;
+        if determinant == 0.0 || !determinant.is_finite() {
+            continue;
+        }
+        let sign = determinant.signum();
+        let along_u = (sign * (e1 * d2.y - e2 * d1.y)).normalize_or_zero();
+        let towards_top = (-sign * (e2 * d1.x - e1 * d2.x)).normalize_or_zero();
+        for (k, &i) in [a, b, c].iter().enumerate() {
+            let p = |j: usize| positions[[a, b, c][(k + j) % 3]];
+            let angle = (p(1) - p(0)).angle_between(p(2) - p(0));
+            if angle.is_finite() {
+                along[i] += angle * along_u;
+                top[i] += angle * towards_top;
+            }
+        }
+    }
+    (0..positions.len())
+        .map(|i| {
+            let n = normals[i];
+            let tangent = (along[i] - n * n.dot(along[i])).normalize_or_zero();
+            if tangent == Vec3::ZERO {
+                return Vec4::ZERO;
+            }
+            let handedness = if n.cross(tangent).dot(top[i]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            tangent.extend(handedness)
+        })
+        .collect()
 }
 
 /// A TANGENT placed by the linear part `m` of a node's transform: its direction through `m`,

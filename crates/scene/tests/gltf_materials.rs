@@ -1421,3 +1421,54 @@ fn tangents_are_made_for_normal_maps_where_the_file_has_none() {
     folded_strip(&mut plain, material);
     assert!(!plain.load().expect("loads").has_vertex_tangents());
 }
+
+/// A mirror seam through shared vertices: the strip's second quad takes its texture mirrored
+/// (u running back), so the vertices on the fold serve triangles of both handednesses: they
+/// get no tangent (the triangles there keep their own texture frames), the others do.
+#[test]
+fn no_tangent_is_made_across_a_mirror_seam() {
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let mapped = doc.material(json!({ "normalTexture": { "index": 0 } }));
+    let positions = [
+        [0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 1.0, 0.0],
+    ];
+    let uvs = [
+        [0.0, 0.0],
+        [0.0, 1.0],
+        [1.0, 0.0],
+        [1.0, 1.0],
+        [0.0, 0.0],
+        [0.0, 1.0],
+    ];
+    let (position, uv) = (doc.vec3s(&positions), doc.vec2s(&uvs));
+    let normal = doc.vec3s(&[[0.0, 0.0, 1.0]; 6]);
+    let indices = doc.indices(&[0, 2, 3, 0, 3, 1, 2, 4, 5, 2, 5, 3], UNSIGNED_SHORT);
+    let primitive = json!({
+        "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
+        "indices": indices,
+        "material": mapped,
+    });
+    let mesh = doc.push("meshes", json!({ "primitives": [primitive] }));
+    doc.instance(mesh);
+    let scene = doc.load().expect("loads");
+    for v in scene.triangles.iter().flat_map(|t| t.vertices) {
+        let expected = match v.position.x {
+            // v grows along +y, so the image's top is −y: w · (+z × +x) = −y.
+            0.0 => glam::Vec4::new(1.0, 0.0, 0.0, -1.0),
+            2.0 => glam::Vec4::new(-1.0, 0.0, 0.0, 1.0),
+            _ => glam::Vec4::ZERO,
+        };
+        assert!(
+            (v.tangent - expected).length() < 1e-5,
+            "{} at {}",
+            v.tangent,
+            v.position
+        );
+    }
+}

@@ -342,9 +342,9 @@ impl Primitive {
 /// top, `render::normal_map::texture_frame`'s), weighted by the corner's angle, summed; the
 /// tangent is the u-direction made perpendicular to the vertex normal, its handedness the
 /// one that puts w · normal × tangent towards the summed top. Smooth across triangles where
-/// the coordinates are; MikkTSpace also splits vertices where the frames disagree (mirror
-/// seams), which this does not, so there its frames may differ from a baker's. Zero (the
-/// texture frame serves) where a vertex's sum vanishes.
+/// the coordinates are. Where a vertex's triangles disagree on the handedness (a mirror seam
+/// through shared vertices, which MikkTSpace splits) or its sum vanishes, it gets none, and
+/// the triangles there take their own texture frames.
 pub(super) fn generated_tangents(
     positions: &[Vec3],
     normals: &[Vec3],
@@ -353,6 +353,9 @@ pub(super) fn generated_tangents(
 ) -> Vec<Vec4> {
     let mut along = vec![Vec3::ZERO; positions.len()];
     let mut top = vec![Vec3::ZERO; positions.len()];
+    // Bit 0: a triangle with coordinates turning counter-clockwise meets the vertex; bit 1:
+    // one turning clockwise (mirrored).
+    let mut turns = vec![0u8; positions.len()];
     for &corners in triangles {
         let [a, b, c] = corners.map(|i| i as usize);
         let (e1, e2) = (positions[b] - positions[a], positions[c] - positions[a]);
@@ -370,6 +373,7 @@ pub(super) fn generated_tangents(
             if angle.is_finite() {
                 along[i] += angle * along_u;
                 top[i] += angle * towards_top;
+                turns[i] |= if sign > 0.0 { 1 } else { 2 };
             }
         }
     }
@@ -377,7 +381,7 @@ pub(super) fn generated_tangents(
         .map(|i| {
             let n = normals[i];
             let tangent = (along[i] - n * n.dot(along[i])).normalize_or_zero();
-            if tangent == Vec3::ZERO {
+            if tangent == Vec3::ZERO || turns[i] == 3 {
                 return Vec4::ZERO;
             }
             let handedness = if n.cross(tangent).dot(top[i]) < 0.0 {

@@ -188,6 +188,8 @@ fn render_refuses_bad_sppm_settings_and_leaves_no_file() {
         ("--eye-every", "0", "--eye-every"),
         ("--hash-ratio", "0", "--hash-ratio"),
         ("--max-depth", "0", "--max-depth"),
+        ("--light-candidates", "0", "--light-candidates"),
+        ("--light-candidates", "65", "--light-candidates"),
     ] {
         let output = kousen(&[
             "render",

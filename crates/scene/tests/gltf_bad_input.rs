@@ -213,6 +213,24 @@ fn wrong_accessor_types_are_refused() {
             "values": { "bufferView": 0 } });
     });
     assert_mentions(&sparse, &["sparse"]);
+    // TANGENT must be VEC4 of FLOAT, one per vertex (read where NORMAL is given).
+    let with_tangent = |d: &mut Doc, ty: &str, count: usize| {
+        let normal = d.vec3s(&[[0.0, 0.0, 1.0]; 4]);
+        let tangent = d.accessor(&[0u8; 64], FLOAT, count, ty);
+        let attributes = &mut d.json["meshes"][0]["primitives"][0]["attributes"];
+        attributes["NORMAL"] = json!(normal);
+        attributes["TANGENT"] = json!(tangent);
+    };
+    let vec3_tangents = error_after(|d| with_tangent(d, "VEC3", 4));
+    assert_mentions(
+        &vec3_tangents,
+        &["TANGENT", "expected VEC4 of FLOAT, found VEC3"],
+    );
+    let few_tangents = error_after(|d| with_tangent(d, "VEC4", 3));
+    assert_mentions(
+        &few_tangents,
+        &["TANGENT has 3 elements but POSITION has 4"],
+    );
 }
 
 #[test]

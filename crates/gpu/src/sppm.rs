@@ -361,18 +361,23 @@ impl GpuBackend {
             contents: bytemuck::cast_slice(&sky_map),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let features = SceneFeatures::of(scene);
+        let mut features = SceneFeatures::of(scene);
         // The mesh's tangents, three a packed triangle (one zero where no kernel reads them).
         let mut tangents: Vec<[f32; 4]> = Vec::new();
         if features.vertex_tangents {
             let packed = render::normal_map::packed_tangents(scene, &bvh.triangle_ids);
             tangents = packed.iter().flatten().map(|t| t.to_array()).collect();
+            let bytes = std::mem::size_of_val(tangents.as_slice()) as u64;
+            if let Err(e) = check_buffer_fits("vertex_tangents", bytes, &context.limits) {
+                log::warn!("gpu: {e}; normal maps and brushing take each triangle's texture frame");
+                features.vertex_tangents = false;
+                tangents.clear();
+            }
         }
         if tangents.is_empty() {
             tangents.push([0.0; 4]);
         }
         let tangent_bytes = std::mem::size_of_val(tangents.as_slice()) as u64;
-        check_buffer_fits("vertex_tangents", tangent_bytes, &context.limits)?;
         let vertex_tangents = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("vertex_tangents"),
             contents: bytemuck::cast_slice(&tangents),

@@ -634,6 +634,41 @@ fn a_scene_past_the_binding_limit_renders_from_texels() {
     assert_eq!(a.pixels, b.pixels);
 }
 
+/// Tangents past the adapter's binding limit are dropped (warned about), not refused: the
+/// kernels then take the triangles' texture frames, as for the same scene without tangents.
+#[test]
+fn tangents_past_the_binding_limit_fall_back_to_texture_frames() {
+    let with_tangents = Fixture::new(scene::testing::cornell_bumpy());
+    let mut stripped = scene::testing::cornell_bumpy();
+    for v in stripped.triangles.iter_mut().flat_map(|t| &mut t.vertices) {
+        v.tangent = glam::Vec4::ZERO;
+    }
+    let without = Fixture::new(stripped);
+    let settings = Settings {
+        seed: 3,
+        ..Settings::new(8, 8, 256)
+    };
+    let tangent_bytes = with_tangents.bvh.triangles.len() as u64 * 3 * 16;
+    let cramped = || {
+        let mut context = context();
+        context.scene_storage = gpu::SceneStorage::Texels;
+        context.limits.max_storage_buffer_binding_size = tangent_bytes - 1;
+        context
+    };
+    let mut dropped = with_tangents.gpu(cramped(), &settings);
+    let mut plain = without.gpu(cramped(), &settings);
+    for _ in 0..3 {
+        dropped.pass();
+        plain.pass();
+    }
+    let a = dropped.image().expect("image");
+    assert!(
+        a.pixels.iter().any(|p| p.max_element() > 0.0),
+        "a lit image"
+    );
+    assert_eq!(a.pixels, plain.image().expect("image").pixels);
+}
+
 /// The same through rough metal: eye and photon paths draw GGX micro-normals
 /// (`render::microfacet` and its WGSL twin) and carry their shadowing weights.
 #[test]

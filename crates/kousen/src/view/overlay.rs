@@ -161,12 +161,21 @@ impl Overlay {
             ui.add(egui::Slider::new(&mut self.controls.alpha, 0.05..=0.95).text("α (caustics)"));
         let eye_every =
             ui.add(egui::Slider::new(&mut self.controls.eye_every, 1..=64).text("eye pass every"));
+        let most = render::resampling::MAX_LIGHT_CANDIDATES;
+        let candidates = ui.add(
+            egui::Slider::new(&mut self.controls.light_candidates, 1..=most)
+                .logarithmic(true)
+                .text("light candidates"),
+        );
         if photons.changed() {
             self.controls.photons = 1 << log2;
         }
         // Restart once the slider is let go, not at every step of a drag.
         let settled = |r: &egui::Response| r.changed() && !r.dragged() || r.drag_stopped();
-        if settled(&photons) || settled(&alpha) || settled(&eye_every) {
+        if [&photons, &alpha, &eye_every, &candidates]
+            .into_iter()
+            .any(settled)
+        {
             actions.push(Action::ControlsChanged);
         }
         let lens = &mut self.controls.lens;

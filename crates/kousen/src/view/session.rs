@@ -50,7 +50,7 @@ pub struct RenderControls {
     pub alpha: f32,
     pub eye_every: u32,
     /// Fixed for the window's life (`--indirect-alpha`, `--radius`, `--caustic-radius`,
-    /// `--density`, `--precision`, `--direct-light`, `--glossy-light`, `--light-candidates`).
+    /// `--density`, `--precision`, `--direct-light`, `--glossy-light`).
     pub indirect_alpha: f32,
     pub radius_footprints: f32,
     pub caustic_radius_share: f32,
@@ -58,6 +58,8 @@ pub struct RenderControls {
     pub precision: render::half_storage::Precision,
     pub direct: render::direct::DirectLight,
     pub glossy_light_sampling: bool,
+    /// Light candidates per Lambertian light sample (`--light-candidates`, then the
+    /// overlay's slider).
     pub light_candidates: u32,
     /// The sky map's turn about +Y in degrees (`--sky-rotate`, then the overlay's slider);
     /// `None` when the sky has no map.

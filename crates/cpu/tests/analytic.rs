@@ -525,7 +525,7 @@ fn render_top_view_sampling(
             DirectLight::Photons => defaults.eye_every,
             DirectLight::Sampled => 1,
         },
-        light_candidates: candidates,
+        light_candidates: Some(candidates),
         ..defaults
     };
     let mut sppm = Sppm::new(backend(scene), scene, &camera, settings.clone()).unwrap();
@@ -975,9 +975,9 @@ fn light_leaving_a_marble_in_water_is_in_the_water_again() {
 /// bounces light back to the plane, so the photons, which start at their second hit, add
 /// nothing: the image is the light samples alone. 256 passes, a light sample per pixel each;
 /// each pixel is compared with the value at its centre. Measured over seeds 1–3, mean /
-/// per-pixel rms: lit plane +0.04…+0.12% / 1.7–2.0% with one light candidate, −0.10% / 0.65%
-/// (seed 1) with the default eight (`render::resampling`: the points on the light nearer
-/// overhead kept more often); point −0.04% / 0.05%; spot +0.6…+0.7% /
+/// per-pixel rms: lit plane +0.04…+0.12% / 1.7–2.0% with one light candidate (what `auto`
+/// takes for this lone flat light), −0.10% / 0.65% (seed 1) with the eight these renders ask
+/// for (`render::resampling`: the points on the light nearer overhead kept more often); point −0.04% / 0.05%; spot +0.6…+0.7% /
 /// 2.7–2.8% (no noise: the falloff's curvature across pixels 0.1 wide, against their centre
 /// values); directional and sky 0.00% / 0.00% (the sky sampled by the receiver's cosine gives
 /// an open plane the same value from every sample). Tolerances: means within 1% (spot 1.5%),

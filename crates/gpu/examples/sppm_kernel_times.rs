@@ -21,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let backend = gpu::sppm::GpuBackend::new(gpu::GpuContext::new(None)?, &scene, bvh)?;
     let mut talk = render::Settings::new(width, width, slots);
     if let Some(candidates) = args.get(6) {
-        talk.light_candidates = candidates.parse()?;
+        talk.light_candidates = Some(candidates.parse()?);
     }
     let settings = match args.get(5).map_or("talk", String::as_str) {
         "talk" => talk,

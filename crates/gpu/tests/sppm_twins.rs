@@ -1171,6 +1171,9 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
     let settings = Settings {
         eye_every: 2,
         direct,
+        // Resampled light samples even where `auto` would take one candidate (one ceiling
+        // quad), so that every twin covers them.
+        light_candidates: Some(render::resampling::DEFAULT_LIGHT_CANDIDATES),
         ..caustics_settings()
     };
     every_kernel_matches_its_twin_with(context, scene, settings);

@@ -60,6 +60,21 @@ pub struct DiffArgs {
     pub window: Option<[u32; 4]>,
 }
 
+/// `--light-candidates`: `auto` or a count (checked against its range with the other
+/// settings, `render::Settings::validate`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightCandidates(pub Option<u32>);
+
+fn parse_light_candidates(text: &str) -> Result<LightCandidates, String> {
+    match text.trim() {
+        "auto" => Ok(LightCandidates(None)),
+        count => count
+            .parse::<u32>()
+            .map(|n| LightCandidates(Some(n)))
+            .map_err(|_| format!("expected auto or a whole number, got {text:?}")),
+    }
+}
+
 fn parse_window(text: &str) -> Result<[u32; 4], String> {
     let values: Result<Vec<u32>, _> = text.split(',').map(|p| p.trim().parse::<u32>()).collect();
     match values {
@@ -213,11 +228,12 @@ pub struct EstimatorArgs {
     /// metal and rough plastic under small lights, docs/BENCHMARKS.md §3).
     #[arg(long, value_enum, default_value_t = GlossyLightChoice::Sampled)]
     pub glossy_light: GlossyLightChoice,
-    /// Lights drawn by power for each light sample at a Lambertian-only point, the one
-    /// bringing most kept by chance (1–64; 1: the power pick alone; more: far less noise
-    /// where lights face away or hide behind the surface, docs/BENCHMARKS.md §3).
-    #[arg(long, default_value_t = render::resampling::DEFAULT_LIGHT_CANDIDATES)]
-    pub light_candidates: u32,
+    /// Lights drawn by power for each light sample at a Lambertian-only point, one kept by
+    /// what it would bring (1–64; 1: the power pick alone; more: far less noise where lights
+    /// face away or hide behind the surface, docs/BENCHMARKS.md §3; auto: 8, or 1 where the
+    /// only light is one flat emitter).
+    #[arg(long, value_name = "auto|N", default_value = "auto", value_parser = parse_light_candidates)]
+    pub light_candidates: LightCandidates,
 }
 
 /// A density-estimation method as `kousen bench density` names it.

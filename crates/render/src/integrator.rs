@@ -186,7 +186,7 @@ pub fn params_with(
         scene_half_extent: (0.5 * 1.01 * scene.bounds().extent()).to_array(),
         aperture_blades: camera.lens.blades,
         aperture_rotation: camera.lens.rotation,
-        light_candidates: settings.light_candidates,
+        light_candidates: settings.light_candidates_for(scene),
         pad2: [0; 2],
     }
 }

@@ -21,9 +21,39 @@ use glam::Vec3;
 use crate::buffers::{LIGHT_TRIANGLE, Light};
 use crate::direct::{LightSample, sample_light};
 
-/// Candidates per light sample at a Lambertian-only visible point (`kousen render
-/// --light-candidates`); docs/BENCHMARKS.md §3 (session 36) measures the choice.
+/// Candidates per light sample at a Lambertian-only visible point where the scene's lights
+/// differ in place or facing (`kousen render --light-candidates auto`, [`auto_candidates`]);
+/// docs/BENCHMARKS.md §3 (session 36) measures the choice.
 pub const DEFAULT_LIGHT_CANDIDATES: u32 = 8;
+
+/// The candidates `auto` takes for `scene`: one where its only light is one flat one-sided
+/// emitter (a Cornell box's ceiling quad: every candidate faces every receiver alike, and
+/// weighing points on it by distance and cosine gained nothing measurable in whole images
+/// while the eye pass cost 8–15 % more; a lone punctual light or sky takes one anyway, see
+/// [`resample_light`]), else [`DEFAULT_LIGHT_CANDIDATES`].
+pub fn auto_candidates(scene: &scene::Scene) -> u32 {
+    let lights = &scene.lights;
+    if !lights.punctual.is_empty() || lights.sky.is_some() || lights.triangles.is_empty() {
+        return DEFAULT_LIGHT_CANDIDATES;
+    }
+    let triangle = |index: u32| &scene.triangles[index as usize];
+    let first = triangle(lights.triangles[0].triangle);
+    let normal = first.geometric_normal_unnormalized().normalize_or_zero();
+    let origin = first.vertices[0].position;
+    let size = scene.bounds().extent().length().max(f32::MIN_POSITIVE);
+    let flat_and_alike = lights.triangles.iter().all(|l| {
+        let t = triangle(l.triangle);
+        let facing = t.geometric_normal_unnormalized().normalize_or_zero();
+        !scene.materials[t.material as usize].double_sided
+            && facing.dot(normal) > 1.0 - 1e-5
+            && (t.positions().iter()).all(|p| (*p - origin).dot(normal).abs() <= 1e-5 * size)
+    });
+    if flat_and_alike {
+        1
+    } else {
+        DEFAULT_LIGHT_CANDIDATES
+    }
+}
 
 /// Most candidates a light sample may draw.
 pub const MAX_LIGHT_CANDIDATES: u32 = 64;
@@ -208,6 +238,23 @@ mod tests {
             );
             assert_eq!(draw, 3);
         }
+    }
+
+    #[test]
+    fn auto_takes_one_candidate_for_a_lone_flat_emitter_only() {
+        use scene::testing;
+        assert_eq!(auto_candidates(&testing::cornell_box()), 1);
+        assert_eq!(auto_candidates(&testing::cornell_caustics()), 1);
+        // A bulb besides the ceiling quad; a spot light besides it.
+        let several = DEFAULT_LIGHT_CANDIDATES;
+        assert_eq!(auto_candidates(&testing::cornell_translucent()), several);
+        assert_eq!(auto_candidates(&testing::cornell_spot()), several);
+        // The quad emitting from both faces: receivers above it see it too.
+        let mut both_faces = testing::cornell_box();
+        for material in &mut both_faces.materials {
+            material.double_sided |= material.is_emissive();
+        }
+        assert_eq!(auto_candidates(&both_faces), several);
     }
 
     #[test]

@@ -66,8 +66,9 @@ pub struct Settings {
     /// On by default; benchmarks and tests compare.
     pub glossy_light_sampling: bool,
     /// Candidates per light sample at a Lambertian-only visible point, one kept by what it
-    /// brings ([`crate::resampling`]); 1: picked by power alone.
-    pub light_candidates: u32,
+    /// brings ([`crate::resampling`]); 1: picked by power alone; `None` (the default): as the
+    /// scene's lights call for ([`crate::resampling::auto_candidates`]).
+    pub light_candidates: Option<u32>,
     pub max_depth: u32,
     pub seed: u32,
     /// Every pixel's starting gather radius; `None`: from the scene's bounding box
@@ -96,12 +97,18 @@ impl Settings {
             precision: Precision::F32,
             direct: DirectLight::Photons,
             glossy_light_sampling: true,
-            light_candidates: crate::resampling::DEFAULT_LIGHT_CANDIDATES,
+            light_candidates: None,
             max_depth: DEFAULT_MAX_DEPTH,
             seed: 0,
             initial_radius: None,
             caustic_radius_share: 1.0,
         }
+    }
+
+    /// [`Settings::light_candidates`] for `scene`, `auto` resolved
+    /// ([`crate::resampling::auto_candidates`]).
+    pub fn light_candidates_for(&self, scene: &scene::Scene) -> u32 {
+        (self.light_candidates).unwrap_or_else(|| crate::resampling::auto_candidates(scene))
     }
 
     /// Hash table entries: `hash_ratio × photons`, at least 1.
@@ -129,8 +136,10 @@ impl Settings {
         if self.eye_every == 0 {
             return Err(SettingsError::EyeEvery);
         }
-        if !(1..=crate::resampling::MAX_LIGHT_CANDIDATES).contains(&self.light_candidates) {
-            return Err(SettingsError::LightCandidates(self.light_candidates));
+        if let Some(n) = self.light_candidates
+            && !(1..=crate::resampling::MAX_LIGHT_CANDIDATES).contains(&n)
+        {
+            return Err(SettingsError::LightCandidates(n));
         }
         if !(self.hash_ratio.is_finite() && self.hash_ratio > 0.0) {
             return Err(SettingsError::HashRatio(self.hash_ratio));
@@ -171,7 +180,7 @@ pub enum SettingsError {
     IndirectAlpha(f32),
     #[error("--eye-every must be at least 1")]
     EyeEvery,
-    #[error("--light-candidates must lie between 1 and 64, got {0}")]
+    #[error("--light-candidates must be auto or lie between 1 and 64, got {0}")]
     LightCandidates(u32),
     #[error("--hash-ratio must be a positive number, got {0}")]
     HashRatio(f32),

@@ -63,7 +63,7 @@ struct Stats {
     direct_light: &'static str,
     /// `sampled` or `lobe` (`--glossy-light`).
     glossy_light: &'static str,
-    /// `--light-candidates`.
+    /// `--light-candidates`, `auto` resolved for the scene.
     light_candidates: u32,
     seed: u64,
     /// Passes already done in the checkpoint this render continued (0: a new render).
@@ -202,7 +202,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             precision: args.estimator.precision.precision(),
             direct: args.estimator.direct_light.direct(),
             glossy_light_sampling: args.estimator.glossy_light == GlossyLightChoice::Sampled,
-            light_candidates: args.estimator.light_candidates,
+            light_candidates: args.estimator.light_candidates.0,
             seed: fold_seed(args.seed),
             ..Settings::new(width, height, photons)
         }
@@ -373,7 +373,7 @@ fn finish<B: Backend>(
             } else {
                 "lobe"
             },
-            light_candidates: settings.light_candidates,
+            light_candidates: settings.light_candidates_for(scene),
             seed: args.seed,
             resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),

@@ -910,7 +910,7 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         direct: args.estimator.direct_light.direct(),
         glossy_light_sampling: args.estimator.glossy_light
             == crate::cli::GlossyLightChoice::Sampled,
-        light_candidates: args.estimator.light_candidates,
+        light_candidates: args.estimator.light_candidates.0.unwrap_or(0),
         sky_rotation: args
             .added_lights
             .sky_map
@@ -924,7 +924,7 @@ pub fn check_arguments(args: &ViewArgs) -> anyhow::Result<(Schedule, RenderContr
         indirect_alpha: controls.indirect_alpha,
         caustic_radius_share: controls.caustic_radius_share,
         eye_every: controls.eye_every,
-        light_candidates: controls.light_candidates,
+        light_candidates: args.estimator.light_candidates.0,
         ..render::Settings::new(1, 1, controls.photons)
     }
     .validate()?;

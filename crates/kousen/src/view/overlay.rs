@@ -163,9 +163,12 @@ impl Overlay {
             ui.add(egui::Slider::new(&mut self.controls.eye_every, 1..=64).text("eye pass every"));
         let most = render::resampling::MAX_LIGHT_CANDIDATES;
         let candidates = ui.add(
-            egui::Slider::new(&mut self.controls.light_candidates, 1..=most)
-                .logarithmic(true)
-                .text("light candidates"),
+            egui::Slider::new(&mut self.controls.light_candidates, 0..=most)
+                .text("light candidates")
+                .custom_formatter(|v, _| match v as u32 {
+                    0 => "auto".to_owned(),
+                    n => n.to_string(),
+                }),
         );
         if photons.changed() {
             self.controls.photons = 1 << log2;

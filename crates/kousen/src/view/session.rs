@@ -59,7 +59,7 @@ pub struct RenderControls {
     pub direct: render::direct::DirectLight,
     pub glossy_light_sampling: bool,
     /// Light candidates per Lambertian light sample (`--light-candidates`, then the
-    /// overlay's slider).
+    /// overlay's slider); 0: auto ([`RenderControls::light_candidates`]).
     pub light_candidates: u32,
     /// The sky map's turn about +Y in degrees (`--sky-rotate`, then the overlay's slider);
     /// `None` when the sky has no map.
@@ -67,6 +67,13 @@ pub struct RenderControls {
     /// The thin lens every view is rendered through (`--aperture-radius`, `--focus-distance`,
     /// then the overlay's sliders and Ctrl+click); a pinhole by default.
     pub lens: scene::Lens,
+}
+
+impl RenderControls {
+    /// The settings' light candidates: `None` (auto) for the slider's 0.
+    pub fn light_candidates(&self) -> Option<u32> {
+        (self.light_candidates > 0).then_some(self.light_candidates)
+    }
 }
 
 /// Figures for the overlay.
@@ -166,7 +173,7 @@ impl Session {
             precision: controls.precision,
             direct: controls.direct,
             glossy_light_sampling: controls.glossy_light_sampling,
-            light_candidates: controls.light_candidates,
+            light_candidates: controls.light_candidates(),
             initial_radius: render::integrator::initial_radius_in_footprints(
                 &self.bvh,
                 camera,
@@ -313,7 +320,7 @@ mod tests {
             precision: render::half_storage::Precision::F32,
             direct: render::direct::DirectLight::Sampled,
             glossy_light_sampling: true,
-            light_candidates: render::resampling::DEFAULT_LIGHT_CANDIDATES,
+            light_candidates: 0,
             sky_rotation,
             lens: scene::Lens::PINHOLE,
         }

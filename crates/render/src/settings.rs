@@ -108,7 +108,8 @@ impl Settings {
     /// [`Settings::light_candidates`] for `scene`, `auto` resolved
     /// ([`crate::resampling::auto_candidates`]).
     pub fn light_candidates_for(&self, scene: &scene::Scene) -> u32 {
-        (self.light_candidates).unwrap_or_else(|| crate::resampling::auto_candidates(scene))
+        self.light_candidates
+            .unwrap_or_else(|| crate::resampling::auto_candidates(scene))
     }
 
     /// Hash table entries: `hash_ratio × photons`, at least 1.

@@ -185,12 +185,7 @@ impl SceneFeatures {
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
             sky_map: scene.lights.sky.as_ref().is_some_and(|s| s.map.is_some()),
-            vertex_tangents: scene.has_vertex_tangents()
-                && any(|m| {
-                    m.normal_texture.is_some()
-                        || m.clearcoat.is_some_and(|c| c.normal_texture.is_some())
-                        || m.anisotropy.is_some()
-                }),
+            vertex_tangents: scene.has_vertex_tangents() && any(|m| m.reads_tangent_frame()),
         }
     }
 

@@ -11,7 +11,7 @@
 //! sampled surfaces lie in. Touching solids (water filling a glass exactly) have no interface
 //! of their own: the surface that a path meets first is the one it crosses.
 
-use scene::{MAX_BLEND_MEMBERS, Material, Scene, Surface};
+use scene::{Material, Scene, Surface, blend_members};
 
 use crate::medium::{MediumLocator, NO_MEDIUM};
 
@@ -96,17 +96,6 @@ impl Nesting {
     pub fn any(&self) -> bool {
         self.exterior.iter().any(|&e| e != NO_MEDIUM)
     }
-}
-
-/// The materials of the blend starting at `id` (itself alone for none), in chain order.
-fn blend_members(materials: &[Material], id: u32) -> impl Iterator<Item = u32> + '_ {
-    let mut next = Some(id);
-    std::iter::from_fn(move || {
-        let id = next?;
-        next = materials[id as usize].blend.map(|b| b.other);
-        Some(id)
-    })
-    .take(MAX_BLEND_MEMBERS)
 }
 
 /// Whether material `id` bounds a medium: a solid dielectric, or a blend with one among its

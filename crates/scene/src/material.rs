@@ -495,6 +495,17 @@ pub struct Blend {
 /// The most materials one blend chains (metal, glass and dielectric for glTF).
 pub const MAX_BLEND_MEMBERS: usize = 3;
 
+/// The materials of the blend starting at `id` (itself alone for none), in chain order.
+pub fn blend_members(materials: &[Material], id: u32) -> impl Iterator<Item = u32> + '_ {
+    let mut next = Some(id);
+    std::iter::from_fn(move || {
+        let id = next?;
+        next = materials[id as usize].blend.map(|b| b.other);
+        Some(id)
+    })
+    .take(MAX_BLEND_MEMBERS)
+}
+
 /// glTF's `KHR_materials_volume` attenuation as an absorption coefficient: white light turns
 /// `color` after `distance` (> 0; infinite: no absorption), so `−ln(color) / distance`. A
 /// channel of 0 absorbs all but a trace (e⁻²⁰ over the distance) rather than being infinite.

@@ -1378,7 +1378,19 @@ fn folded_strip(doc: &mut Doc, material: usize) {
         [2.0, 0.0],
         [2.0, 1.0],
     ];
-    let (position, normal, uv) = (doc.vec3s(&positions), doc.vec3s(&normals), doc.vec2s(&uvs));
+    two_quad_strip(doc, &positions, &normals, &uvs, material);
+}
+
+/// Two quads sharing the edge of vertices 2 and 3 (0–1–3–2 and 2–3–5–4), with these
+/// attributes and no TANGENT, shown under `material`.
+fn two_quad_strip(
+    doc: &mut Doc,
+    positions: &[[f32; 3]; 6],
+    normals: &[[f32; 3]; 6],
+    uvs: &[[f32; 2]; 6],
+    material: usize,
+) {
+    let (position, normal, uv) = (doc.vec3s(positions), doc.vec3s(normals), doc.vec2s(uvs));
     let indices = doc.indices(&[0, 2, 3, 0, 3, 1, 2, 4, 5, 2, 5, 3], UNSIGNED_SHORT);
     let primitive = json!({
         "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
@@ -1446,16 +1458,7 @@ fn no_tangent_is_made_across_a_mirror_seam() {
         [0.0, 0.0],
         [0.0, 1.0],
     ];
-    let (position, uv) = (doc.vec3s(&positions), doc.vec2s(&uvs));
-    let normal = doc.vec3s(&[[0.0, 0.0, 1.0]; 6]);
-    let indices = doc.indices(&[0, 2, 3, 0, 3, 1, 2, 4, 5, 2, 5, 3], UNSIGNED_SHORT);
-    let primitive = json!({
-        "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
-        "indices": indices,
-        "material": mapped,
-    });
-    let mesh = doc.push("meshes", json!({ "primitives": [primitive] }));
-    doc.instance(mesh);
+    two_quad_strip(&mut doc, &positions, &[[0.0, 0.0, 1.0]; 6], &uvs, mapped);
     let scene = doc.load().expect("loads");
     for v in scene.triangles.iter().flat_map(|t| t.vertices) {
         let expected = match v.position.x {

@@ -344,7 +344,7 @@ impl Loader<'_> {
             let material = materials.id(input, builder, primitive.material)?;
             let uv_transform = materials.uv_transform(primitive.material);
             *triangles_placed += primitive.triangle_count();
-            let reads_frame = blend_chain(builder.materials(), material)
+            let reads_frame = crate::blend_members(builder.materials(), material)
                 .any(|m| builder.materials()[m as usize].reads_tangent_frame());
             primitive
                 .instantiate(world, material, uv_transform, reads_frame, builder)
@@ -367,15 +367,4 @@ impl Loader<'_> {
         }
         self.builder.finish()
     }
-}
-
-/// Material `id` and the members its blend chains, in order.
-fn blend_chain(materials: &[crate::Material], id: u32) -> impl Iterator<Item = u32> + '_ {
-    let mut next = Some(id);
-    std::iter::from_fn(move || {
-        let id = next?;
-        next = materials[id as usize].blend.map(|b| b.other);
-        Some(id)
-    })
-    .take(crate::MAX_BLEND_MEMBERS)
 }

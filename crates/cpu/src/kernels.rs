@@ -690,15 +690,18 @@ fn eye_path(
             lit.lobe = GlossyLobe::default();
         }
         if !scene.lights.is_empty() {
-            let mut light_sample = |at: &SurfaceHit, lit: &LitLobes| {
+            let mut light_sample = |at: &SurfaceHit, lit: &LitLobes, medium: u32| {
                 if lit.is_lit() {
                     let next = || rng.next_f32();
                     direct += direct_light(scene, params, at, -direction, lit, medium, next);
                 }
             };
             match far_side {
-                None => light_sample(&hit, &lit),
+                None => light_sample(&hit, &lit, medium),
                 Some(far) => {
+                    // Inside a translucent solid where the surface bounds one.
+                    let far_medium =
+                        medium_after_bounce(scene, material, root, medium, &hit, -hit.geometric);
                     let far_lit = LitLobes {
                         diffuse: lit.diffuse,
                         coat: lit.coat,
@@ -707,8 +710,8 @@ fn eye_path(
                         ..LitLobes::default()
                     };
                     lit.diffuse = Vec3::ZERO;
-                    light_sample(&hit, &lit);
-                    light_sample(&far, &far_lit);
+                    light_sample(&hit, &lit, medium);
+                    light_sample(&far, &far_lit, far_medium);
                 }
             }
         }

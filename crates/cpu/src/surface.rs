@@ -371,7 +371,7 @@ pub fn medium_after_bounce(
         medium,
         root,
         scene.exterior[root as usize],
-        material.surface.is_solid_dielectric(),
+        material.bounds_volume(),
         hit.front,
         crosses,
     )

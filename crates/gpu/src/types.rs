@@ -134,6 +134,9 @@ pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub const MATERIAL_THIN_WALLED: u32 = 2;
 /// A blend's first material (`scene::Blend`), whose hits draw a member.
 pub const MATERIAL_BLEND: u32 = 4;
+/// Paths crossing the surface go inside a volume (`scene::Material::bounds_volume`: solid
+/// glass, or a translucent solid).
+pub const MATERIAL_BOUNDS_VOLUME: u32 = 8;
 /// `GpuMaterial::roughness_lobe` values (`scene::TexturedLobe`, or none).
 pub const ROUGHNESS_METAL: u32 = 0;
 pub const ROUGHNESS_COATED: u32 = 1;
@@ -268,7 +271,8 @@ impl GpuMaterial {
         let flag = |on: bool, bit: u32| if on { bit } else { 0 };
         let flags = flag(material.double_sided, MATERIAL_DOUBLE_SIDED)
             | flag(thin_walled, MATERIAL_THIN_WALLED)
-            | flag(material.blend.is_some(), MATERIAL_BLEND);
+            | flag(material.blend.is_some(), MATERIAL_BLEND)
+            | flag(material.bounds_volume(), MATERIAL_BOUNDS_VOLUME);
         let map = material.roughness_map;
         GpuMaterial {
             base_color: material.base_color.to_array(),
@@ -478,5 +482,27 @@ mod tests {
         assert_eq!(gpu.alpha_cutoff, 0.5);
         assert_eq!(gpu.base_color_texture, 3);
         assert_eq!(gpu.surface, SURFACE_DIFFUSE);
+
+        // Solid glass and a translucent solid bound volumes; a translucent sheet does not.
+        let solid_glass = Material {
+            surface: Surface::Dielectric {
+                ior: 1.5,
+                thin_walled: false,
+            },
+            ..Material::default()
+        };
+        let translucent = |volume| Material {
+            diffuse_transmission: scene::DiffuseTransmission::new(0.5, glam::Vec3::ONE)
+                .map(|t| scene::DiffuseTransmission { volume, ..t }),
+            ..Material::default()
+        };
+        for (material, bounds) in [
+            (solid_glass, true),
+            (translucent(true), true),
+            (translucent(false), false),
+        ] {
+            let flags = GpuMaterial::new(&material, &Default::default()).flags;
+            assert_eq!(flags & MATERIAL_BOUNDS_VOLUME != 0, bounds, "{material:?}");
+        }
     }
 }

@@ -993,6 +993,17 @@ fn every_kernel_matches_its_twin_through_diffuse_transmission() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same in translucent solids (`scene::testing::cornell_translucent_solids`: diffuse
+/// transmission bounding absorbing volumes, `scene::DiffuseTransmission::volume`): photons and
+/// eye paths passing a surface go inside and absorb there until they pass out, the lamp's
+/// photons start inside the wax (its medium found by `render::medium::MediumLocator`), and
+/// light samples from a surface's inside run through the solid.
+#[test]
+fn every_kernel_matches_its_twin_in_translucent_solids() {
+    let scene = scene::testing::cornell_translucent_solids();
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same with glTF's anisotropy (`scene::Anisotropy`, `render::microfacet::
 /// brushed_reflection` and its WGSL twin) on `cornell_rough`'s metal spheres: the gold brushed
 /// at strength 0.8 turned 0.5 rad from +u, the silver along a checker of directions (red and

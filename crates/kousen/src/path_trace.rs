@@ -498,8 +498,12 @@ impl<'a> PathTracer<'a> {
                         shadow_origin: point.position,
                         ..point
                     };
-                    let light =
-                        self.direct_light(&far_point, !front, -direction, &far_lit, medium, rng);
+                    // Inside a translucent solid where the surface bounds one.
+                    let exterior = self.exterior[root as usize];
+                    let solid = material.bounds_volume();
+                    let far_medium = medium_after(medium, root, exterior, solid, front, true);
+                    let light = self
+                        .direct_light(&far_point, !front, -direction, &far_lit, far_medium, rng);
                     radiance += throughput * light;
                     lit.lambertian = Vec3::ZERO;
                 }
@@ -537,7 +541,7 @@ impl<'a> PathTracer<'a> {
             };
             throughput *= weight;
             let crosses = (next.dot(point.geometric) < 0.0) == front;
-            let solid = material.surface.is_solid_dielectric();
+            let solid = material.bounds_volume();
             let exterior = self.exterior[root as usize];
             medium = medium_after(medium, root, exterior, solid, front, crosses);
             depth += 1;

@@ -200,11 +200,16 @@ fn info_counts_brushed_materials() {
 }
 
 /// `kousen info` counts the materials with diffuse transmission (the shipped translucent
-/// room's lantern paper and leaf; none in the Cornell box).
+/// room's lantern paper and leaf, sheets both; none in the Cornell box) and those of them
+/// bounding solids (the wax and jade of `cornell-translucent-solids`).
 #[test]
 fn info_counts_translucent_materials() {
-    let scene = shipped("cornell-translucent.gltf");
-    assert_eq!(info_json(&scene)["translucent_materials"], 2);
+    let sheets = info_json(&shipped("cornell-translucent.gltf"));
+    assert_eq!(sheets["translucent_materials"], 2);
+    assert_eq!(sheets["translucent_solids"], 0);
+    let solids = info_json(&shipped("cornell-translucent-solids.gltf"));
+    assert_eq!(solids["translucent_materials"], 2);
+    assert_eq!(solids["translucent_solids"], 2);
     assert_eq!(
         info_json(&shipped("cornell-box.gltf"))["translucent_materials"],
         0

@@ -1,14 +1,16 @@
-//! The medium a path travels through, for Beer–Lambert absorption inside solid dielectrics
-//! (glTF's `KHR_materials_volume` attenuation, `scene::Material::absorption`).
+//! The medium a path travels through, for Beer–Lambert absorption inside solid dielectrics and
+//! translucent solids (glTF's `KHR_materials_volume` attenuation,
+//! `scene::Material::absorption`).
 //!
-//! A path is in the medium around the scene's surfaces until it refracts into a solid through
-//! its front face, and inside it until it refracts out through a back face, into the solid
-//! around it (`crate::nesting`: a marble in water, whose back face leads back into the water)
-//! or outside every solid: the solid's material id is the path's medium, and every segment it
-//! then travels absorbs, whatever surface ends it. A floor under coloured water, a sphere
-//! inside a glass block: their segments inside end at front faces of other materials, which
-//! the side of the hit alone cannot tell. Reflections, diffuse bounces, thin sheets and
-//! cut-outs leave the medium as it is.
+//! A path is in the medium around the scene's surfaces until it refracts (or, through a
+//! translucent solid's surface, is diffusely transmitted: `scene::DiffuseTransmission::volume`)
+//! into a solid through its front face, and inside it until it passes out through a back
+//! face, into the solid around it (`crate::nesting`: a marble in water, whose back face leads
+//! back into the water) or outside every solid: the solid's material id is the path's medium,
+//! and every segment it then travels absorbs, whatever surface ends it. A floor under
+//! coloured water, a sphere inside a glass block: their segments inside end at front faces of
+//! other materials, which the side of the hit alone cannot tell. Reflections, diffuse
+//! reflections, thin sheets and cut-outs leave the medium as it is.
 //!
 //! Paths start in the medium where they start: a camera under water, a lamp inside a glass
 //! block ([`MediumLocator`], once a render for the camera and each light). A segment that
@@ -26,8 +28,9 @@ pub const NO_MEDIUM: u32 = u32::MAX;
 
 /// The medium after a path leaves a surface of material `root` (a blend's root: it carries
 /// the solid's absorption) along a way that `crosses` the surface or not, the surface being a
-/// `solid` dielectric (its member, for blends) met from its `front` or from inside, and
-/// `exterior` the solid around `root` (`crate::nesting::Nesting::exterior`, or [`NO_MEDIUM`]).
+/// `solid` (`scene::Material::bounds_volume`; its member, for blends) met from its `front` or
+/// from inside, and `exterior` the solid around `root` (`crate::nesting::Nesting::exterior`,
+/// or [`NO_MEDIUM`]).
 pub fn medium_after(
     medium: u32,
     root: u32,
@@ -110,11 +113,11 @@ fn locator_build_options() -> bvh::BuildOptions {
     }
 }
 
-/// Which solid dielectric a point lies in, for the places paths start and for how solids
-/// nest (`crate::nesting`): a tree over the solids' triangles (no other surface bounds a
-/// medium), and rays from the point. A ray walks through the solids it enters (front faces)
-/// until it leaves one it had not entered (a back face): the point lies in that solid, the
-/// innermost one around it; a ray that meets surfaces and leaves the scene finds the point
+/// Which solid (`crate::nesting::is_solid`) a point lies in, for the places paths start and
+/// for how solids nest (`crate::nesting`): a tree over the solids' triangles (no other surface
+/// bounds a medium), and rays from the point. A ray walks through the solids it enters (front
+/// faces) until it leaves one it had not entered (a back face): the point lies in that solid,
+/// the innermost one around it; a ray that meets surfaces and leaves the scene finds the point
 /// outside every solid. The rays look up first, tilted four ways, then down: open water (a
 /// pool's surface, closed by the floor and walls) is left through its surface, and a point
 /// near the edge of an open sheet finds it on another side. Empty where no solid is.

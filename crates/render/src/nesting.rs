@@ -98,14 +98,16 @@ impl Nesting {
     }
 }
 
-/// Whether material `id` bounds a medium: a solid dielectric, or a blend with one among its
-/// members (whose root the path's medium then names, `crate::medium`).
+/// Whether material `id` bounds a medium: a solid dielectric or translucent solid
+/// (`Material::bounds_volume`), or a blend with one among its members (whose root the path's
+/// medium then names, `crate::medium`).
 pub fn is_solid(materials: &[Material], id: u32) -> bool {
-    blend_members(materials, id).any(|m| materials[m as usize].surface.is_solid_dielectric())
+    blend_members(materials, id).any(|m| materials[m as usize].bounds_volume())
 }
 
 /// The index of refraction inside material `id`'s solid ([`NO_MEDIUM`] and other surfaces:
-/// 1, vacuum): its first solid dielectric member's.
+/// 1, vacuum): its first solid dielectric member's (a translucent solid's is 1: light enters
+/// it diffusely, bending nowhere).
 pub fn interior_ior(materials: &[Material], id: u32) -> f32 {
     if id == NO_MEDIUM {
         return 1.0;

@@ -136,8 +136,9 @@ impl Anisotropy {
 /// glTF's diffuse transmission: of what reaches the Lambertian lobe (a diffuse surface, or
 /// plastic's base under its coat), the share `factor` leaves from the other side of the
 /// surface, cosine-distributed and tinted by `color`, and the rest is reflected with the base
-/// colour as before. The surface is thin: what passes it is on the other side at once
-/// (`render::diffuse_transmission`).
+/// colour as before. What passes it is on the other side at once; where `volume` says so, that
+/// side is the inside of a translucent solid, whose absorption ([`Material::absorption`]) acts
+/// on light until it passes the surface again (`render::medium`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DiffuseTransmission {
     /// glTF's `diffuseTransmissionFactor`, in (0, 1].
@@ -149,6 +150,9 @@ pub struct DiffuseTransmission {
     pub texture: Option<TextureId>,
     /// glTF's `diffuseTransmissionColorTexture` (sRGB): multiplies `color`.
     pub color_texture: Option<TextureId>,
+    /// The surface bounds a volume (glTF's `KHR_materials_volume` with a thickness above 0):
+    /// a closed translucent solid, wax or jade, rather than a sheet of paper.
+    pub volume: bool,
 }
 
 impl DiffuseTransmission {
@@ -160,6 +164,7 @@ impl DiffuseTransmission {
             color,
             texture: None,
             color_texture: None,
+            volume: false,
         })
     }
 }
@@ -598,12 +603,20 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
-    /// The absorption a path inside this material suffers: [`Material::absorption`] for a
-    /// solid dielectric and for a blend's first material (which carries its glass member's, as
-    /// the ray that ran inside may leave through any member), zero for every other surface
-    /// (none of them has an inside).
+    /// Whether a path crossing its surface goes inside a volume: a solid dielectric, or a
+    /// Lambertian lobe whose diffuse transmission bounds one ([`DiffuseTransmission::volume`]).
+    pub fn bounds_volume(&self) -> bool {
+        self.surface.is_solid_dielectric()
+            || (self.surface.has_diffuse_lobe()
+                && self.diffuse_transmission.is_some_and(|t| t.volume))
+    }
+
+    /// The absorption a path inside this material suffers: [`Material::absorption`] where it
+    /// bounds a volume ([`Material::bounds_volume`]) and for a blend's first material (which
+    /// carries its glass member's, as the ray that ran inside may leave through any member),
+    /// zero for every other surface (none of them has an inside).
     pub fn interior_absorption(&self) -> Vec3 {
-        if self.surface.is_solid_dielectric() || self.blend.is_some() {
+        if self.bounds_volume() || self.blend.is_some() {
             self.absorption
         } else {
             Vec3::ZERO
@@ -737,9 +750,9 @@ mod tests {
         assert!((black.x - 10.0).abs() < 1e-4 && black.y == 0.0 && black.z == 0.0);
     }
 
-    /// Only solid glass has an inside to absorb in.
+    /// Only solid glass and translucent solids have an inside to absorb in.
     #[test]
-    fn only_solid_dielectrics_absorb() {
+    fn only_solid_dielectrics_and_translucent_volumes_absorb() {
         let absorbing = |surface| Material {
             surface,
             absorption: Vec3::splat(0.5),
@@ -770,6 +783,28 @@ mod tests {
                 Vec3::ZERO,
                 "{other:?}"
             );
+        }
+        // Diffuse transmission bounds a volume only where it says so, and only on a surface
+        // with a Lambertian lobe.
+        let translucent = |surface, volume| Material {
+            diffuse_transmission: DiffuseTransmission::new(0.5, Vec3::ONE)
+                .map(|t| DiffuseTransmission { volume, ..t }),
+            ..absorbing(surface)
+        };
+        let plastic = Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.0,
+        };
+        for (surface, volume, inside) in [
+            (Surface::Diffuse, true, true),
+            (plastic, true, true),
+            (Surface::Diffuse, false, false),
+            (Surface::Mirror, true, false),
+        ] {
+            let material = translucent(surface, volume);
+            assert_eq!(material.bounds_volume(), inside, "{surface:?} {volume}");
+            let expected = if inside { Vec3::splat(0.5) } else { Vec3::ZERO };
+            assert_eq!(material.interior_absorption(), expected, "{surface:?}");
         }
     }
 }

@@ -1236,18 +1236,31 @@ fn diffuse_transmission_is_read() {
             "{bad}: {error}"
         );
     }
-    let mut material = pbr(0.0, 0.3);
-    material["extensions"] = json!({
-        DIFFUSE: { "diffuseTransmissionFactor": 0.5 },
-        "KHR_materials_volume": { "thicknessFactor": 1.0 },
-    });
-    let thick = quad_doc(Some(material)).load().expect("loads");
-    assert!(thick.materials[0].diffuse_transmission.is_some());
-    assert!(
-        thick.warnings.iter().any(|w| w.contains("taken as thin")),
-        "{:?}",
-        thick.warnings
-    );
+    // With a volume's thickness the surface bounds a translucent solid, which absorbs inside
+    // by the volume's attenuation; without one it is a sheet, whatever the attenuation.
+    let with_volume = |volume: Value| {
+        let mut material = pbr(0.0, 0.3);
+        material["extensions"] = json!({
+            DIFFUSE: { "diffuseTransmissionFactor": 0.5 },
+            "KHR_materials_volume": volume,
+        });
+        quad_doc(Some(material)).load()
+    };
+    let attenuation = json!({ "attenuationColor": [0.5, 0.25, 1.0], "attenuationDistance": 2.0 });
+    let mut thick_volume = attenuation.clone();
+    thick_volume["thicknessFactor"] = json!(1.0);
+    let thick = with_volume(thick_volume).expect("loads");
+    let solid = &thick.materials[0];
+    assert!(solid.diffuse_transmission.is_some_and(|t| t.volume));
+    assert!(solid.bounds_volume());
+    let expected = scene::absorption_from_attenuation(Vec3::new(0.5, 0.25, 1.0), 2.0);
+    assert_eq!(solid.interior_absorption(), expected);
+    assert!(thick.warnings.is_empty(), "{:?}", thick.warnings);
+    let thin = with_volume(attenuation).expect("loads");
+    assert!(!thin.materials[0].bounds_volume());
+    assert_eq!(thin.materials[0].interior_absorption(), Vec3::ZERO);
+    let error = with_volume(json!({ "thicknessFactor": -1.0 })).expect_err("refused");
+    assert!(error.to_string().contains("thicknessFactor"), "{error}");
     let mut doc = quad_doc(None);
     doc.json["extensionsRequired"] = json!([DIFFUSE]);
     doc.json["extensionsUsed"] = json!([DIFFUSE]);

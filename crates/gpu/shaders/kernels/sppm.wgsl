@@ -1167,7 +1167,9 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 lit.alpha = 0.0;
             }
             direct += sampled_light(hit, -direction, lit, medium, rng);
-            direct += sampled_light(side.hit, -direction, far_lit, medium, rng);
+            // Inside a translucent solid where the surface bounds one.
+            let far_medium = medium_after_bounce(material, root_id, medium, hit, -hit.geometric);
+            direct += sampled_light(side.hit, -direction, far_lit, far_medium, rng);
             break;
         }
         if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {

@@ -604,8 +604,7 @@ fn transmittance_to(medium: u32, hit: SurfaceHit) -> vec3<f32> {
 
 // cpu::surface::medium_after_bounce.
 fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: SurfaceHit, next: vec3<f32>) -> u32 {
-    let dielectric = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
-    let solid = dielectric && (material.flags & MATERIAL_THIN_WALLED) == 0u;
+    let solid = (material.flags & MATERIAL_BOUNDS_VOLUME) != 0u;
     let crosses = dot(next, hit.geometric) < 0.0;
     // The solid around, read only where the path leaves one.
     var exterior = NO_MEDIUM;

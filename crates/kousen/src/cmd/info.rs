@@ -32,6 +32,9 @@ struct Info {
     /// Materials (blend members) with diffuse transmission (`scene::DiffuseTransmission`:
     /// glTF's `KHR_materials_diffuse_transmission`).
     translucent_materials: usize,
+    /// Of those, the ones bounding a translucent solid (`scene::DiffuseTransmission::volume`:
+    /// with glTF's `KHR_materials_volume`), which absorbs inside.
+    translucent_solids: usize,
     /// Materials (blend members) brushed (`scene::Anisotropy`: glTF's
     /// `KHR_materials_anisotropy`).
     brushed_materials: usize,
@@ -289,6 +292,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         clear_coated_materials: count(|m| m.clearcoat.is_some()),
         sheened_materials: count(|m| m.sheen.is_some()),
         translucent_materials: count(|m| m.diffuse_transmission.is_some()),
+        translucent_solids: count(|m| m.diffuse_transmission.is_some_and(|t| t.volume)),
         brushed_materials: count(|m| m.anisotropy.is_some()),
         vertex_tangents: scene.has_vertex_tangents(),
         inside_solids: inside_solids(&scene),
@@ -431,7 +435,10 @@ fn print_table(info: &Info) {
         ("sheens", format!("{} materials", info.sheened_materials)),
         (
             "diffuse transmission",
-            format!("{} materials", info.translucent_materials),
+            format!(
+                "{} materials ({} bounding solids)",
+                info.translucent_materials, info.translucent_solids
+            ),
         ),
         (
             "anisotropy",

@@ -13,7 +13,8 @@
 //!   `KHR_materials_dispersion` where it disperses;
 //! - a clear coat → `KHR_materials_clearcoat` (roughness √α);
 //! - a sheen → `KHR_materials_sheen`;
-//! - diffuse transmission → `KHR_materials_diffuse_transmission`;
+//! - diffuse transmission → `KHR_materials_diffuse_transmission`, with `KHR_materials_volume`
+//!   where it bounds a translucent solid;
 //! - anisotropy → `KHR_materials_anisotropy` (strength and rotation);
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
@@ -41,7 +42,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 19] = [
+pub const SHIPPED: [(&str, Fixture); 20] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -62,6 +63,10 @@ pub const SHIPPED: [(&str, Fixture); 19] = [
     ("cornell-clearcoat", scene::testing::cornell_clearcoat),
     ("cornell-sheen", scene::testing::cornell_sheen),
     ("cornell-translucent", scene::testing::cornell_translucent),
+    (
+        "cornell-translucent-solids",
+        scene::testing::cornell_translucent_solids,
+    ),
     ("cornell-brushed", scene::testing::cornell_brushed),
     ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
@@ -397,17 +402,7 @@ impl Document {
             );
             extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
             if !thin_walled {
-                let mut volume = json!({ "thicknessFactor": number(thickness) });
-                let strongest = m.absorption.max_element();
-                if strongest > 0.0 {
-                    // The distance over which the most absorbed channel falls to 1/e, and the
-                    // colours there: numbers of a size that read back close.
-                    let distance = 1.0 / strongest;
-                    let color = (-m.absorption * distance).exp();
-                    volume["attenuationDistance"] = number(distance);
-                    volume["attenuationColor"] = numbers(&color.to_array());
-                }
-                extensions.insert("KHR_materials_volume".into(), volume);
+                extensions.insert("KHR_materials_volume".into(), volume(m, thickness));
                 if m.dispersion > 0.0 {
                     // The extension's 20 / V, V the Abbe number (ior − 1) / dispersion.
                     let strength = 20.0 * m.dispersion / (ior - 1.0);
@@ -454,6 +449,9 @@ impl Document {
                     "diffuseTransmissionColorFactor": numbers(&transmission.color.to_array()),
                 }),
             );
+            if transmission.volume {
+                extensions.insert("KHR_materials_volume".into(), volume(m, thickness));
+            }
         }
         if let Some(sheen) = m.sheen {
             extensions.insert(
@@ -556,7 +554,22 @@ fn known_extension(name: &str) -> &'static str {
     .expect("only these extensions are written")
 }
 
-/// A solid dielectric's volume thickness: the smallest side of its triangles' bounding box.
+/// `KHR_materials_volume` of a solid `m` (glass, or a translucent solid) of `thickness`.
+fn volume(m: &Material, thickness: f32) -> Value {
+    let mut volume = json!({ "thicknessFactor": number(thickness) });
+    let strongest = m.absorption.max_element();
+    if strongest > 0.0 {
+        // The distance over which the most absorbed channel falls to 1/e, and the colours
+        // there: numbers of a size that read back close.
+        let distance = 1.0 / strongest;
+        let color = (-m.absorption * distance).exp();
+        volume["attenuationDistance"] = number(distance);
+        volume["attenuationColor"] = numbers(&color.to_array());
+    }
+    volume
+}
+
+/// A solid's volume thickness: the smallest side of its triangles' bounding box.
 fn thickness(scene: &Scene, material: u32) -> f32 {
     let bounds = scene
         .triangles

@@ -38,8 +38,10 @@
 //! - `KHR_materials_diffuse_transmission` → [`DiffuseTransmission`] of the Lambertian lobe
 //!   (diffuse, or plastic's base): `diffuseTransmissionFactor` (× the alpha channel of
 //!   `diffuseTransmissionTexture`, linear data) the share passing to the other side,
-//!   `diffuseTransmissionColorFactor` (× `diffuseTransmissionColorTexture`, sRGB) its tint. The
-//!   surface is thin whatever `KHR_materials_volume` says. A factor of 0 is none.
+//!   `diffuseTransmissionColorFactor` (× `diffuseTransmissionColorTexture`, sRGB) its tint.
+//!   With `KHR_materials_volume`'s `thicknessFactor` above 0 the surface bounds a translucent
+//!   solid (wax, jade: [`DiffuseTransmission::volume`]) whose attenuation absorbs inside it,
+//!   else it is a sheet. A factor of 0 is none.
 //! - `KHR_materials_anisotropy` → [`Anisotropy`] on the metal (brushed metal):
 //!   `anisotropyStrength` (× the blue of `anisotropyTexture`, linear data), the direction
 //!   +u of the mesh's TANGENT frame, else of each triangle's texture frame (or the
@@ -52,7 +54,8 @@
 //! - `alphaMode` MASK → cut-out at `alphaCutoff` (default 0.5); BLEND → cut-out at 0.5, with a
 //!   warning (kousen has no partial transparency).
 //!
-//! - a solid dielectric's `KHR_materials_volume` attenuation (colour after distance) →
+//! - a solid dielectric's or translucent solid's `KHR_materials_volume` attenuation (colour
+//!   after distance) →
 //!   Beer–Lambert absorption inside it, along every segment of a path that entered it
 //!   (`render::medium`): what lies inside (a floor under water) is seen through it. Solids
 //!   nest (`render::nesting` finds which lies in which), but touching solids (a liquid filling
@@ -252,7 +255,9 @@ impl Materials {
             ));
         }
         let dispersion = dispersion(&check, m, &surfaces, builder)?;
-        let absorption = absorption(&check, m, &surfaces)?;
+        let diffuse_transmission = self.diffuse_transmission(input, builder, &check, m)?;
+        let translucent_volume = diffuse_transmission.is_some_and(|t| t.volume);
+        let absorption = absorption(&check, m, &surfaces, translucent_volume)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
         let mut texture = |info: &Option<json::texture::Info>, slot: &'static str| {
@@ -315,7 +320,7 @@ impl Materials {
             clearcoat: self.clearcoat(input, builder, &check, m)?,
             sheen: self.sheen(input, builder, &check, m)?,
             transmission_texture,
-            diffuse_transmission: self.diffuse_transmission(input, builder, &check, m)?,
+            diffuse_transmission,
             anisotropy: self.anisotropy(input, builder, &check, m)?,
         };
         if is_unlit(m) {
@@ -403,14 +408,11 @@ impl Materials {
         let Some(mut transmission) = diffuse_transmission(check, m)? else {
             return Ok(None);
         };
+        // A thickness makes the surface bound a translucent solid (KHR_materials_volume);
+        // without one it is a sheet.
         let volume = (m.extensions.as_ref()).and_then(|e| e.volume.as_ref());
-        if volume.is_some_and(|v| v.thickness_factor.0 > 0.0) {
-            builder.warn(format!(
-                "{}: {DIFFUSE} is taken as thin (light passing it is at once on the other \
-                 side); KHR_materials_volume does not apply to it",
-                check.label
-            ));
-        }
+        let thickness = volume.map_or(0.0, |v| v.thickness_factor.0);
+        transmission.volume = check.non_negative(thickness, "thicknessFactor")? > 0.0;
         let info = |name| layer_slot::<json::texture::Info>(check, m, DIFFUSE, name, "texture");
         if let Some(info) = info("diffuseTransmissionTexture")? {
             let slot = TextureSlot::data(&info, "diffuseTransmissionTexture");
@@ -1119,15 +1121,17 @@ fn dispersion(
     }
 }
 
-/// A solid dielectric's absorption from `KHR_materials_volume`'s attenuation colour (each in
-/// [0, 1]) and distance (> 0, infinite by default); zero for every other surface (the
-/// extension describes a volume, which thin-walled and opaque surfaces do not have).
+/// A solid dielectric's or a `translucent_volume`'s absorption from `KHR_materials_volume`'s
+/// attenuation colour (each in [0, 1]) and distance (> 0, infinite by default); zero for every
+/// other surface (the extension describes a volume, which thin-walled and opaque surfaces do
+/// not have).
 fn absorption(
     check: &Check,
     m: &json::Material,
     members: &[(f32, Surface)],
+    translucent_volume: bool,
 ) -> Result<Vec3, SceneError> {
-    let solid = members.iter().any(|(_, s)| s.is_solid_dielectric());
+    let solid = translucent_volume || members.iter().any(|(_, s)| s.is_solid_dielectric());
     let Some(volume) = m.extensions.as_ref().and_then(|e| e.volume.as_ref()) else {
         return Ok(Vec3::ZERO);
     };

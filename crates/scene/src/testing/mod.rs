@@ -17,6 +17,10 @@
 //! - [`cornell_blended`]: [`cornell_caustics`]'s room with blended floor and spheres.
 //! - [`cornell_pool`]: [`cornell_caustics`]'s room flooded to a wavy water surface, a diffuse
 //!   sphere half under it: caustics on the floor below the water.
+//! - [`translucent_slab_over_plane`], [`lamp_in_translucent_cube`]: translucent solids
+//!   absorbing inside, seen from above; radiance [`translucent_slab_radiance`] and the lamp's
+//!   through the cube; [`cornell_translucent_solids`]: a wax sphere with a lamp inside and a
+//!   jade block in [`cornell_caustics`]'s room.
 //! - [`furnace_sphere_blended`]: [`furnace_sphere`] in a blend of mirror and diffuse; radiance
 //!   [`FURNACE_RADIANCE`] again.
 //! - [`glass_pane`]: a thin glass sheet between two emitters, seen head-on; an eye path's
@@ -30,9 +34,11 @@
 
 mod metallic_roughness;
 mod prism;
+mod translucent;
 
 pub use metallic_roughness::*;
 pub use prism::*;
+pub use translucent::*;
 
 use std::path::{Path, PathBuf};
 
@@ -1134,19 +1140,12 @@ pub const UNDERWATER_LAMP_INTENSITY: f32 = 2.0;
 /// sky of radiance `sky`, seen from above the layer at `cos_view` from the vertical: sky light
 /// reaching the plane at cosine μ crossed depth/μ of water, so its irradiance is
 /// 2π·sky·∫₀¹ μ·exp(−τ/μ) dμ = 2π·sky·E₃(τ) with τ = absorption·depth, and the plane's
-/// radiance ρ/π of that loses exp(−τ/cos_view) on its way up. E₃ by the midpoint rule.
+/// radiance ρ/π of that loses exp(−τ/cos_view) on its way up ([`diffuse_slab_transmittance`]
+/// is 2·E₃).
 pub fn plane_under_water_radiance(depth: f32, absorption: f32, sky: f32, cos_view: f32) -> f32 {
     let tau = absorption as f64 * depth as f64;
-    let steps = 100_000;
-    let e3 = (0..steps)
-        .map(|i| {
-            let mu = (i as f64 + 0.5) / steps as f64;
-            mu * (-tau / mu).exp()
-        })
-        .sum::<f64>()
-        / steps as f64;
     let kept = (-tau / cos_view as f64).exp();
-    (LIT_PLANE_ALBEDO as f64 * sky as f64 * 2.0 * e3 * kept) as f32
+    (LIT_PLANE_ALBEDO as f64 * sky as f64 * diffuse_slab_transmittance(tau) * kept) as f32
 }
 
 /// [`cornell_box`] with four more lights: a point light in the middle of the room, a spot
@@ -1365,6 +1364,27 @@ impl Fixture {
             let outward = (Vec2::from(a) + Vec2::from(b)) / 2.0 - centre;
             let side = [at(a, 0.0), at(a, height), at(b, height), at(b, 0.0)];
             self.quad(side, material, Vec3::new(outward.x, 0.0, outward.y));
+        }
+    }
+
+    /// A closed axis-aligned box from `min` to `max`, its six faces facing out.
+    fn closed_box(&mut self, min: Vec3, max: Vec3, material: u32) {
+        let centre = (min + max) / 2.0;
+        for axis in 0..3 {
+            for sign in [-1.0f32, 1.0] {
+                let mut facing = Vec3::ZERO;
+                facing[axis] = sign;
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let corner = |a: f32, b: f32| {
+                    let mut p = centre;
+                    p[axis] = if sign > 0.0 { max[axis] } else { min[axis] };
+                    p[u] = if a > 0.0 { max[u] } else { min[u] };
+                    p[v] = if b > 0.0 { max[v] } else { min[v] };
+                    p
+                };
+                let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+                self.quad(corners.map(|(a, b)| corner(a, b)), material, facing);
+            }
         }
     }
 

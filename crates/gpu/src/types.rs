@@ -161,8 +161,8 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
     /// `MATERIAL_*` bits.
     pub flags: u32,
-    /// Beer–Lambert absorption inside a solid dielectric, per unit length
-    /// (`Material::interior_absorption`; 0 otherwise).
+    /// Beer–Lambert absorption inside a solid (solid glass or a translucent solid), per unit
+    /// length (`Material::interior_absorption`; 0 otherwise).
     pub absorption: [f32; 3],
     /// GGX width α (rough conductors, dielectrics and plastic coats; 0 otherwise).
     pub roughness_alpha: f32,

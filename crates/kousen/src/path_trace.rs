@@ -1249,6 +1249,29 @@ mod tests {
         );
     }
 
+    /// A lamp inside a translucent solid (`testing::lamp_in_translucent_cube`: its surface
+    /// passes all light diffusely, σ absorbed inside): a path looking down at the top's centre
+    /// passes it, and the far side's light sample, from inside, runs through the cube: the
+    /// top shows I·h·exp(−σh)/(π·h³). The path then goes on inside, and every face it meets
+    /// sends it out to nothing: the light sample is all, exact but for the shadow ray's
+    /// absorption (tolerance 5e-4). Without the far side's medium it came out e^σh too bright.
+    #[test]
+    fn a_lamp_inside_a_translucent_solid_is_seen_through_it() {
+        let absorption = Vec3::new(2.0, 1.0, 0.5);
+        let scene = testing::lamp_in_translucent_cube(absorption);
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let mut rng = Rng::new(9, 0);
+        let measured = tracer.radiance(Vec3::new(0.0, 0.5, 0.0), Vec3::NEG_Y, 8, &mut rng);
+        let h = testing::TRANSLUCENT_CUBE_HALF_SIDE;
+        let expected = testing::TRANSLUCENT_CUBE_LAMP_INTENSITY * (-absorption * h).exp()
+            / (std::f32::consts::PI * h * h);
+        assert!(
+            ((measured - expected) / expected).abs().max_element() < 5e-4,
+            "{measured} against {expected}"
+        );
+    }
+
     /// A point light and a directional one over the diffuse plane: ρ/π · I·h/r³ and
     /// ρ/π · E·cos θ. The one light sample per hit is the only way light arrives (the plane
     /// is open, bounces leave it), and it is exact: tolerance 1e-4 (f32 arithmetic).

@@ -58,10 +58,11 @@ pub struct Material {
     /// Emits from both faces when true; from the front face only otherwise. (Rays hit both
     /// faces of every triangle whatever this says.)
     pub double_sided: bool,
-    /// Beer–Lambert absorption inside a solid dielectric, per unit of length and colour
-    /// channel ([`absorption_from_attenuation`]): a path that crosses the solid over a length
-    /// `d` keeps `exp(−absorption·d)` of its light. Zero: clear. Read where a ray meets the
-    /// solid's back face (the segment ran inside), so volumes are closed and not nested.
+    /// Beer–Lambert absorption inside a solid (a solid dielectric or a translucent solid:
+    /// [`Material::bounds_volume`]), per unit of length and colour channel
+    /// ([`absorption_from_attenuation`]): a path that crosses the solid over a length `d` keeps
+    /// `exp(−absorption·d)` of its light. Zero: clear. Volumes are closed; the path knows the
+    /// solid it is in (`render::medium`), and solids nest (`render::nesting`).
     pub absorption: Vec3,
     /// A tangent-space normal map (glTF's `normalTexture`, linear RGB: +X along increasing u,
     /// +Y towards the image's top, +Z out of the surface), bending the shading normal.

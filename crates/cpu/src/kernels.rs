@@ -21,7 +21,7 @@ use render::hash::{
 };
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
-use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
+use render::medium::{NO_MEDIUM, pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
@@ -31,6 +31,7 @@ use render::resampling::resample_light;
 use render::rng::{
     EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_side, pixel_wavelength,
 };
+use render::scattering::{MAX_SCATTERING_EVENTS, Walk, henyey_greenstein};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -96,8 +97,10 @@ pub fn photon_pass_with<R: StreamRng>(
         emitted = true;
     }
     let mut photon = Photon::default();
-    let direction = vec3(slot.direction);
-    let Some(mut hit) = trace(scene, vec3(slot.origin), direction) else {
+    // The medium the path is in (`render::medium`) absorbs along the segment, up to a
+    // cut-out too; a scattering one walks it to a surface (`render::scattering`).
+    let medium = slot_medium(slot.state);
+    let Some(segment) = photon_segment(scene, &slot, medium, || rng.next_f32()) else {
         slot.depth = SLOT_IDLE;
         return PhotonStep {
             slot,
@@ -105,15 +108,18 @@ pub fn photon_pass_with<R: StreamRng>(
             emitted,
         };
     };
-    // The medium the path is in (`render::medium`) absorbs along the segment, up to a
-    // cut-out too.
-    let medium = slot_medium(slot.state);
-    let flux = vec3(slot.flux) * transmittance_to(scene, medium, &hit);
+    let PhotonSegment {
+        mut hit,
+        direction,
+        flux,
+        scattered,
+    } = segment;
     let material = &scene.materials[hit.material as usize];
     if is_cut_out(scene, material, hit.uv) {
         slot.flux = flux.to_array();
         slot.pass_throughs += 1;
         slot.origin = (hit.position + params.epsilon * direction).to_array();
+        slot.direction = direction.to_array();
         if slot.pass_throughs > MAX_PASS_THROUGHS {
             slot.depth = SLOT_IDLE;
         }
@@ -210,7 +216,7 @@ pub fn photon_pass_with<R: StreamRng>(
     // A Lambertian surface, or plastic's base under the coat (which lets T(θ) through),
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
-    let mut bounced = slot_bounced(slot.state);
+    let mut bounced = slot_bounced(slot.state) || scattered;
     let base_share = match mapped_surface(&scene.materials[keeper as usize], texel) {
         Surface::Diffuse => Some(1.0),
         surface @ Surface::Plastic { .. } => Some(
@@ -222,7 +228,7 @@ pub fn photon_pass_with<R: StreamRng>(
         _ => None,
     };
     if let Some(share) = base_share
-        && (slot.depth > 0 || params.sample_lights & SAMPLE_AT_VISIBLE_POINTS == 0)
+        && (slot.depth > 0 || scattered || params.sample_lights & SAMPLE_AT_VISIBLE_POINTS == 0)
     {
         photon = Photon {
             position: hit.position.to_array(),
@@ -301,6 +307,67 @@ pub fn photon_pass_with<R: StreamRng>(
         slot,
         photon,
         emitted,
+    }
+}
+
+/// Where a photon slot's segment leads ([`photon_segment`]).
+struct PhotonSegment {
+    /// The surface it reaches.
+    hit: SurfaceHit,
+    /// The way it arrives there (turned where it scattered).
+    direction: Vec3,
+    /// The flux arriving.
+    flux: Vec3,
+    /// Whether it scattered in a medium on the way (its light is no longer direct).
+    scattered: bool,
+}
+
+/// The segment of `slot` (in `medium`) to its next surface: through a clear or absorbing
+/// medium straight, the flux absorbed by the way (`transmittance_to`); inside a scattering
+/// solid a walk (`render::scattering::Walk`): its hero channel drawn by one number `next`
+/// gives, each flight by one, and at each scattering its Russian roulette by one and its new
+/// direction by two. `None` where the path leaves the scene or ends in the walk (the
+/// roulette, or past `MAX_SCATTERING_EVENTS`).
+fn photon_segment(
+    scene: &SceneData,
+    slot: &PathSlot,
+    medium: u32,
+    mut next: impl FnMut() -> f32,
+) -> Option<PhotonSegment> {
+    let (mut origin, mut direction) = (vec3(slot.origin), vec3(slot.direction));
+    let flux = vec3(slot.flux);
+    let scattering_solid = (medium != NO_MEDIUM)
+        .then(|| &scene.materials[medium as usize])
+        .filter(|m| m.interior_scattering().max_element() > 0.0);
+    let Some(solid) = scattering_solid else {
+        let hit = trace(scene, origin, direction)?;
+        let flux = flux * transmittance_to(scene, medium, &hit);
+        return Some(PhotonSegment {
+            hit,
+            direction,
+            flux,
+            scattered: false,
+        });
+    };
+    let (extinction, scattering) = (solid.interior_extinction(), solid.interior_scattering());
+    let mut walk = Walk::start(next());
+    let mut events = 0;
+    loop {
+        let hit = trace(scene, origin, direction)?;
+        let Some(t) = walk.flight(extinction, scattering, hit.distance, next()) else {
+            return Some(PhotonSegment {
+                hit,
+                direction,
+                flux: flux * walk.weight(),
+                scattered: events > 0,
+            });
+        };
+        events += 1;
+        if events > MAX_SCATTERING_EVENTS || !walk.survives(next()) {
+            return None;
+        }
+        origin += t * direction;
+        direction = henyey_greenstein(direction, solid.scatter_anisotropy, [next(), next()]);
     }
 }
 

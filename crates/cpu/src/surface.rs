@@ -333,16 +333,17 @@ pub fn emitted(scene: &SceneData, material: &Material, hit: &SurfaceHit) -> Vec3
 
 /// What a path in `medium` (`render::medium`) keeps of its light over the segment that ended
 /// at `hit`, whose material is still the root one (a blend's root carries the absorption):
-/// Beer–Lambert in the medium the segment ran through, all of it outside every solid.
+/// Beer–Lambert in the medium the segment ran through, all of it outside every solid. In a
+/// scattering solid it is what is not scattered away (`render::scattering`: the extinction).
 pub fn transmittance_to(scene: &SceneData, medium: u32, hit: &SurfaceHit) -> Vec3 {
     let root = &scene.materials[hit.material as usize];
-    let absorbs_inside = root.interior_absorption().max_element() > 0.0;
+    let absorbs_inside = root.interior_extinction().max_element() > 0.0;
     let medium = segment_medium(medium, hit.material, absorbs_inside, hit.front);
     if medium == NO_MEDIUM {
         return Vec3::ONE;
     }
-    let absorption = scene.materials[medium as usize].interior_absorption();
-    transmittance(absorption, hit.distance)
+    let extinction = scene.materials[medium as usize].interior_extinction();
+    transmittance(extinction, hit.distance)
 }
 
 /// What a path in `medium` keeps of its light over `distance` (infinite: it left the scene).
@@ -351,7 +352,7 @@ pub fn medium_transmittance(scene: &SceneData, medium: u32, distance: f32) -> Ve
         return Vec3::ONE;
     }
     transmittance(
-        scene.materials[medium as usize].interior_absorption(),
+        scene.materials[medium as usize].interior_extinction(),
         distance,
     )
 }

@@ -181,7 +181,7 @@ impl SceneFeatures {
             transmission_maps: any(|m| m.transmission_texture.is_some()),
             diffuse_transmission: any(|m| m.diffuse_transmission.is_some()),
             anisotropy: any(|m| m.anisotropy.is_some()),
-            media: any(|m| m.interior_absorption().max_element() > 0.0),
+            media: any(|m| m.interior_extinction().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
             sky_map: scene.lights.sky.as_ref().is_some_and(|s| s.map.is_some()),

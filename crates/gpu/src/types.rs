@@ -161,8 +161,9 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
     /// `MATERIAL_*` bits.
     pub flags: u32,
-    /// Beer–Lambert absorption inside a solid (solid glass or a translucent solid), per unit
-    /// length (`Material::interior_absorption`; 0 otherwise).
+    /// Beer–Lambert extinction inside a solid (solid glass or a translucent solid), per unit
+    /// length: its absorption and scattering together (`Material::interior_extinction`; 0
+    /// otherwise).
     pub absorption: [f32; 3],
     /// GGX width α (rough conductors, dielectrics and plastic coats; 0 otherwise).
     pub roughness_alpha: f32,
@@ -283,7 +284,7 @@ impl GpuMaterial {
             emission_texture: material.emission_texture.unwrap_or(NO_TEXTURE),
             alpha_cutoff,
             flags,
-            absorption: material.interior_absorption().to_array(),
+            absorption: material.interior_extinction().to_array(),
             roughness_alpha,
             normal_texture: material.normal_texture.unwrap_or(NO_TEXTURE),
             normal_scale: material.normal_scale,

@@ -357,7 +357,7 @@ impl<'a> PathTracer<'a> {
             let material = &self.materials[point.material as usize];
             let front = direction.dot(point.geometric) < 0.0;
             // Beer–Lambert over the segment in the medium it ran through.
-            let absorbs_inside = material.interior_absorption().max_element() > 0.0;
+            let absorbs_inside = material.interior_extinction().max_element() > 0.0;
             let segment = segment_medium(medium, point.material, absorbs_inside, front);
             throughput *= self.transmittance(segment, (point.position - origin).length());
             if self.cut_out(material, point.uv) && passes < MAX_PASS_THROUGH {
@@ -574,7 +574,7 @@ impl<'a> PathTracer<'a> {
         if medium == NO_MEDIUM {
             return Vec3::ONE;
         }
-        let absorption = self.materials[medium as usize].interior_absorption();
+        let absorption = self.materials[medium as usize].interior_extinction();
         transmittance(absorption, distance)
     }
 

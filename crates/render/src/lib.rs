@@ -31,6 +31,7 @@ pub mod resampling;
 pub mod resolve;
 pub mod rng;
 pub mod sampling;
+pub mod scattering;
 pub mod settings;
 pub mod shadow_terminator;
 pub mod sheen;

@@ -31,6 +31,7 @@ pub use material::{
     MAX_BLEND_MEMBERS, MIN_BRUSHED_ALPHA, MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, Sheen,
     Surface, TextureRoughness, TexturedLobe, absorption_from_attenuation, blend_members,
     brushed_metal_surface, coated_surface, dispersion_from_abbe, glass_surface, metal_surface,
+    single_scatter_albedo,
 };
 pub use model::{Bounds, Scene, Triangle, Vertex};
 pub use sky_map::SkyMap;

@@ -64,6 +64,13 @@ pub struct Material {
     /// `exp(−absorption·d)` of its light. Zero: clear. Volumes are closed; the path knows the
     /// solid it is in (`render::medium`), and solids nest (`render::nesting`).
     pub absorption: Vec3,
+    /// Scattering inside a translucent solid (a diffusely transmitting surface bounding a
+    /// volume, [`DiffuseTransmission::volume`]), per unit of length and colour channel: light
+    /// inside is turned aside at this rate, by the Henyey–Greenstein phase function of
+    /// asymmetry `scatter_anisotropy` (0 isotropic, towards 1 forward), and absorbed at
+    /// `absorption`'s (`render::scattering`). Zero: none. Only translucent solids scatter.
+    pub scattering: Vec3,
+    pub scatter_anisotropy: f32,
     /// A tangent-space normal map (glTF's `normalTexture`, linear RGB: +X along increasing u,
     /// +Y towards the image's top, +Z out of the surface), bending the shading normal.
     pub normal_texture: Option<TextureId>,
@@ -512,6 +519,21 @@ pub fn blend_members(materials: &[Material], id: u32) -> impl Iterator<Item = u3
     .take(MAX_BLEND_MEMBERS)
 }
 
+/// The single-scattering albedo (σs / σt) of a medium whose multiple scattering, seen from
+/// outside, reflects `multiscatter` (glTF `KHR_materials_volume_scatter`'s
+/// `multiscatterColor`, each channel in [0, 1]): the fit of Chiang, Kutz and Burley 2016
+/// ("Practical and controllable subsurface scattering for production path tracing"),
+/// 1 − (4.09712 + 4.20863·a − √(9.59217 + 41.6808·a + 17.7126·a²))², which maps 0 to 0 and 1 to
+/// 1 and rises steeply near 1 (a white look needs nearly lossless scattering).
+pub fn single_scatter_albedo(multiscatter: Vec3) -> Vec3 {
+    multiscatter.map(|a| {
+        let a = a.clamp(0.0, 1.0);
+        let root = (9.59217 + 41.6808 * a + 17.7126 * a * a).sqrt();
+        let k = (4.09712 + 4.20863 * a - root).clamp(0.0, 1.0);
+        1.0 - k * k
+    })
+}
+
 /// glTF's `KHR_materials_volume` attenuation as an absorption coefficient: white light turns
 /// `color` after `distance` (> 0; infinite: no absorption), so `−ln(color) / distance`. A
 /// channel of 0 absorbs all but a trace (e⁻²⁰ over the distance) rather than being infinite.
@@ -539,6 +561,8 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             absorption: Vec3::ZERO,
+            scattering: Vec3::ZERO,
+            scatter_anisotropy: 0.0,
             normal_texture: None,
             normal_scale: 1.0,
             blend: None,
@@ -607,9 +631,7 @@ impl Material {
     /// Whether a path crossing its surface goes inside a volume: a solid dielectric, or a
     /// Lambertian lobe whose diffuse transmission bounds one ([`DiffuseTransmission::volume`]).
     pub fn bounds_volume(&self) -> bool {
-        self.surface.is_solid_dielectric()
-            || (self.surface.has_diffuse_lobe()
-                && self.diffuse_transmission.is_some_and(|t| t.volume))
+        self.surface.is_solid_dielectric() || self.is_translucent_solid()
     }
 
     /// The absorption a path inside this material suffers: [`Material::absorption`] where it
@@ -622,6 +644,29 @@ impl Material {
         } else {
             Vec3::ZERO
         }
+    }
+
+    /// Whether it is a translucent solid: a Lambertian lobe whose diffuse transmission bounds
+    /// a volume.
+    pub fn is_translucent_solid(&self) -> bool {
+        self.surface.has_diffuse_lobe() && self.diffuse_transmission.is_some_and(|t| t.volume)
+    }
+
+    /// The scattering a path inside this material meets: [`Material::scattering`] for a
+    /// translucent solid, zero for every other surface.
+    pub fn interior_scattering(&self) -> Vec3 {
+        if self.is_translucent_solid() {
+            self.scattering
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// What takes light out of a ray inside this material, absorption and scattering
+    /// together (σt = σa + σs): the transmittance of what is not scattered, which light
+    /// samples and eye paths see.
+    pub fn interior_extinction(&self) -> Vec3 {
+        self.interior_absorption() + self.interior_scattering()
     }
 }
 

@@ -451,6 +451,9 @@ impl Document {
             );
             if transmission.volume {
                 extensions.insert("KHR_materials_volume".into(), volume(m, thickness));
+                if m.scattering.max_element() > 0.0 {
+                    extensions.insert("KHR_materials_volume_scatter".into(), volume_scatter(m));
+                }
             }
         }
         if let Some(sheen) = m.sheen {
@@ -548,25 +551,51 @@ fn known_extension(name: &str) -> &'static str {
         "KHR_materials_sheen",
         "KHR_materials_transmission",
         "KHR_materials_volume",
+        "KHR_materials_volume_scatter",
     ]
     .into_iter()
     .find(|&k| k == name)
     .expect("only these extensions are written")
 }
 
-/// `KHR_materials_volume` of a solid `m` (glass, or a translucent solid) of `thickness`.
+/// `KHR_materials_volume` of a solid `m` (glass, or a translucent solid) of `thickness`:
+/// its attenuation the extinction, absorption and scattering together.
 fn volume(m: &Material, thickness: f32) -> Value {
     let mut volume = json!({ "thicknessFactor": number(thickness) });
-    let strongest = m.absorption.max_element();
+    let extinction = m.absorption + m.scattering;
+    let strongest = extinction.max_element();
     if strongest > 0.0 {
-        // The distance over which the most absorbed channel falls to 1/e, and the colours
+        // The distance over which the most attenuated channel falls to 1/e, and the colours
         // there: numbers of a size that read back close.
         let distance = 1.0 / strongest;
-        let color = (-m.absorption * distance).exp();
+        let color = (-extinction * distance).exp();
         volume["attenuationDistance"] = number(distance);
         volume["attenuationColor"] = numbers(&color.to_array());
     }
     volume
+}
+
+/// `KHR_materials_volume_scatter` of a scattering translucent solid `m`: the multiple-scatter
+/// colour whose single-scattering albedo (`scene::single_scatter_albedo`, rising in it) is
+/// σs / σt, found by bisection.
+fn volume_scatter(m: &Material) -> Value {
+    let albedo = m.scattering / (m.absorption + m.scattering);
+    let multiscatter = albedo.to_array().map(|target| {
+        let (mut low, mut high) = (0.0f32, 1.0f32);
+        for _ in 0..40 {
+            let middle = 0.5 * (low + high);
+            if scene::single_scatter_albedo(Vec3::splat(middle)).x < target {
+                low = middle;
+            } else {
+                high = middle;
+            }
+        }
+        0.5 * (low + high)
+    });
+    json!({
+        "multiscatterColor": numbers(&multiscatter),
+        "scatterAnisotropy": number(m.scatter_anisotropy),
+    })
 }
 
 /// A solid's volume thickness: the smallest side of its triangles' bounding box.

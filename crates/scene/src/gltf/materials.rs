@@ -42,6 +42,10 @@
 //!   With `KHR_materials_volume`'s `thicknessFactor` above 0 the surface bounds a translucent
 //!   solid (wax, jade: [`DiffuseTransmission::volume`]) whose attenuation absorbs inside it,
 //!   else it is a sheet. A factor of 0 is none.
+//! - `KHR_materials_volume_scatter` (a Khronos draft) on a translucent solid: the attenuation
+//!   is the extinction, of which the single-scattering albedo of `multiscatterColor` scatters
+//!   (`Material::scattering`, Henyey–Greenstein of `scatterAnisotropy`) and the rest absorbs;
+//!   ignored with a warning elsewhere.
 //! - `KHR_materials_anisotropy` → [`Anisotropy`] on the metal (brushed metal):
 //!   `anisotropyStrength` (× the blue of `anisotropyTexture`, linear data), the direction
 //!   +u of the mesh's TANGENT frame, else of each triangle's texture frame (or the
@@ -257,7 +261,8 @@ impl Materials {
         let dispersion = dispersion(&check, m, &surfaces, builder)?;
         let diffuse_transmission = self.diffuse_transmission(input, builder, &check, m)?;
         let translucent_volume = diffuse_transmission.is_some_and(|t| t.volume);
-        let absorption = absorption(&check, m, &surfaces, translucent_volume)?;
+        let extinction = absorption(&check, m, &surfaces, translucent_volume)?;
+        let scatter = volume_scatter(&check, m, translucent_volume, extinction, builder)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
         let mut texture = |info: &Option<json::texture::Info>, slot: &'static str| {
@@ -311,7 +316,9 @@ impl Materials {
             alpha: base[3],
             alpha_mode,
             double_sided: m.double_sided,
-            absorption,
+            absorption: scatter.absorption,
+            scattering: scatter.scattering,
+            scatter_anisotropy: scatter.anisotropy,
             normal_texture,
             normal_scale: m.normal_texture.as_ref().map_or(1.0, |n| n.scale),
             blend: None,
@@ -1031,6 +1038,72 @@ fn diffuse_transmission(
         Vec3::ONE,
     )?;
     Ok(DiffuseTransmission::new(factor, color))
+}
+
+const VOLUME_SCATTER: &str = "KHR_materials_volume_scatter";
+
+/// A volume's absorption and scattering (`Material::absorption`, `scattering`,
+/// `scatter_anisotropy`).
+struct VolumeScatter {
+    absorption: Vec3,
+    scattering: Vec3,
+    anisotropy: f32,
+}
+
+/// `KHR_materials_volume_scatter` (a Khronos draft) on a translucent solid: the volume's
+/// attenuation is then its `extinction` (absorption and scattering together), of which the
+/// single-scattering albedo of `multiscatterColor` (default black:
+/// [`crate::single_scatter_albedo`]) scatters and the rest absorbs; `scatterAnisotropy` in
+/// (−1, 1) the phase function's asymmetry. Elsewhere warned about and ignored (only
+/// translucent solids scatter); without it everything is absorption.
+fn volume_scatter(
+    check: &Check,
+    m: &json::Material,
+    translucent_volume: bool,
+    extinction: Vec3,
+    builder: &mut SceneBuilder,
+) -> Result<VolumeScatter, SceneError> {
+    let absorbing = VolumeScatter {
+        absorption: extinction,
+        scattering: Vec3::ZERO,
+        anisotropy: 0.0,
+    };
+    let Some(value) = extension(m, VOLUME_SCATTER) else {
+        return Ok(absorbing);
+    };
+    if !translucent_volume {
+        builder.warn(format!(
+            "{}: {VOLUME_SCATTER} ignored: only translucent solids (diffuse transmission with \
+             a volume) scatter",
+            check.label
+        ));
+        return Ok(absorbing);
+    }
+    let multiscatter = unit_color(
+        check,
+        value,
+        VOLUME_SCATTER,
+        "multiscatterColor",
+        Vec3::ZERO,
+    )?;
+    let anisotropy = match value.get("scatterAnisotropy") {
+        None => 0.0,
+        Some(v) => v
+            .as_f64()
+            .map(|g| g as f32)
+            .filter(|g| g.abs() < 1.0)
+            .ok_or_else(|| {
+                check.error(format!(
+                    "{VOLUME_SCATTER}'s scatterAnisotropy {v} is not a number in (-1, 1)"
+                ))
+            })?,
+    };
+    let scattering = extinction * crate::single_scatter_albedo(multiscatter);
+    Ok(VolumeScatter {
+        absorption: extinction - scattering,
+        scattering,
+        anisotropy,
+    })
 }
 
 /// `m`'s extension `name`, if it has it.

@@ -57,6 +57,10 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),
         ("MATERIAL_BLEND", U32(types::MATERIAL_BLEND)),
         ("MATERIAL_BOUNDS_VOLUME", U32(types::MATERIAL_BOUNDS_VOLUME)),
+        (
+            "MAX_SCATTERING_EVENTS",
+            U32(render::scattering::MAX_SCATTERING_EVENTS),
+        ),
         ("ROUGHNESS_METAL", U32(types::ROUGHNESS_METAL)),
         ("ROUGHNESS_UNMAPPED", U32(types::ROUGHNESS_UNMAPPED)),
         ("ROUGHNESS_GLASS", U32(types::ROUGHNESS_GLASS)),

@@ -146,6 +146,8 @@ pub(crate) struct SceneFeatures {
     pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
     pub media: bool,
+    /// Some translucent solid scatters inside (`SCATTERING`).
+    pub scattering: bool,
     /// Some glass disperses (`DISPERSION`).
     pub dispersion: bool,
     /// Some member's surface follows a metallic-roughness texture (`ROUGHNESS_MAPS`).
@@ -182,6 +184,7 @@ impl SceneFeatures {
             diffuse_transmission: any(|m| m.diffuse_transmission.is_some()),
             anisotropy: any(|m| m.anisotropy.is_some()),
             media: any(|m| m.interior_extinction().max_element() > 0.0),
+            scattering: any(|m| m.interior_scattering().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
             sky_map: scene.lights.sky.as_ref().is_some_and(|s| s.map.is_some()),
@@ -189,7 +192,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 14] {
+    fn constants(self) -> [(&'static str, f64); 15] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -202,6 +205,7 @@ impl SceneFeatures {
             ("DIFFUSE_TRANSMISSION", flag(self.diffuse_transmission)),
             ("ANISOTROPY", flag(self.anisotropy)),
             ("MEDIA", flag(self.media)),
+            ("SCATTERING", flag(self.scattering)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),
             ("SKY_MAP", flag(self.sky_map)),

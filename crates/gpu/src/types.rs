@@ -143,7 +143,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (352 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (368 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -244,6 +244,10 @@ pub struct GpuMaterial {
     /// brushing without a texture in the texture frame (`Anisotropy::base`; zero: none).
     pub anisotropy_texture: u32,
     pub anisotropy: [f32; 2],
+    /// A translucent solid's scattering inside (`Material::interior_scattering`; zero:
+    /// none) and its phase function's asymmetry (`render::scattering`).
+    pub scattering: [f32; 3],
+    pub scatter_anisotropy: f32,
 }
 
 impl GpuMaterial {
@@ -349,6 +353,8 @@ impl GpuMaterial {
             anisotropy_texture: (material.anisotropy)
                 .and_then(|a| a.texture)
                 .unwrap_or(NO_TEXTURE),
+            scattering: material.interior_scattering().to_array(),
+            scatter_anisotropy: material.scatter_anisotropy,
         }
     }
 

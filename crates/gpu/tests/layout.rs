@@ -402,6 +402,11 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, anisotropy_texture),
             ),
             ("anisotropy", offset_of!(GpuMaterial, anisotropy)),
+            ("scattering", offset_of!(GpuMaterial, scattering)),
+            (
+                "scatter_anisotropy",
+                offset_of!(GpuMaterial, scatter_anisotropy),
+            ),
         ],
     );
     assert_layout(

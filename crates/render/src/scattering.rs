@@ -96,6 +96,14 @@ impl Walk {
     }
 }
 
+/// The Henyey–Greenstein phase function of asymmetry `g` at the cosine `cos` between the
+/// way light travelled and the way it is scattered: (1 − g²) / (4π·(1 + g² − 2g·cos)^{3/2}),
+/// per steradian.
+pub fn henyey_greenstein_phase(g: f32, cos: f32) -> f32 {
+    let denominator = (1.0 + g * g - 2.0 * g * cos).max(1e-12);
+    (1.0 - g * g) / (4.0 * std::f32::consts::PI * denominator * denominator.sqrt())
+}
+
 /// A direction scattered from `direction` (unit) by the Henyey–Greenstein phase function of
 /// asymmetry `g` (0: isotropic, towards 1: forward), drawn exactly by `u`; the phase
 /// function's value over its density is 1.
@@ -209,6 +217,24 @@ mod tests {
             if g == 0.0 {
                 assert!((square / count - 1.0 / 3.0).abs() < 2e-3);
             }
+        }
+    }
+
+    /// The phase function integrates to 1 over the sphere, and its mean cosine is g.
+    #[test]
+    fn henyey_greenstein_phase_is_normalised_with_mean_cosine_g() {
+        for g in [0.0f32, 0.5, -0.3, 0.8] {
+            let n = 200_000;
+            let (mut total, mut mean) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                let cos = -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+                let p = henyey_greenstein_phase(g, cos as f32) as f64;
+                // dω = 2π d(cos) over the sphere.
+                total += p * 2.0 * std::f64::consts::PI * 2.0 / n as f64;
+                mean += cos * p * 2.0 * std::f64::consts::PI * 2.0 / n as f64;
+            }
+            assert!((total - 1.0).abs() < 1e-3, "g {g}: {total}");
+            assert!((mean - g as f64).abs() < 1e-3, "g {g}: {mean}");
         }
     }
 }

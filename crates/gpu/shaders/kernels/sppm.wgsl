@@ -617,6 +617,68 @@ fn shadow_ray(light: LightSample, origin: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(offset / distance, distance * (1.0 - SHADOW_SHORTENING));
 }
 
+// Where a photon slot's segment leads (cpu::kernels::PhotonSegment); found false where it
+// leaves the scene or ends in a walk.
+struct PhotonSegment {
+    found: bool,
+    hit: SurfaceHit,
+    direction: vec3<f32>,
+    flux: vec3<f32>,
+    scattered: bool,
+}
+
+// cpu::kernels::photon_segment: straight through a clear or absorbing medium, a walk from
+// scattering to scattering inside a scattering solid, drawing the same numbers.
+fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> PhotonSegment {
+    var segment: PhotonSegment;
+    segment.scattered = false;
+    var origin = slot.origin;
+    var direction = slot.direction;
+    var scatters = false;
+    if SCATTERING && medium != NO_MEDIUM {
+        scatters = max3(materials[medium].scattering) > 0.0;
+    }
+    if !scatters {
+        segment.hit = trace_surface(origin, direction);
+        segment.found = segment.hit.found;
+        segment.direction = direction;
+        segment.flux = slot.flux * transmittance_to(medium, segment.hit);
+        return segment;
+    }
+    let extinction = materials[medium].absorption;
+    let scattering = materials[medium].scattering;
+    let anisotropy = materials[medium].scatter_anisotropy;
+    var walk = walk_start(next_f32(rng));
+    var events = 0u;
+    loop {
+        let hit = trace_surface(origin, direction);
+        if !hit.found {
+            segment.found = false;
+            return segment;
+        }
+        let t = walk_flight(&walk, extinction, scattering, hit.distance, next_f32(rng));
+        if t < 0.0 {
+            segment.found = true;
+            segment.hit = hit;
+            segment.direction = direction;
+            segment.flux = slot.flux * walk.weight;
+            segment.scattered = events > 0u;
+            return segment;
+        }
+        events += 1u;
+        if events > MAX_SCATTERING_EVENTS || !walk_survives(&walk, next_f32(rng)) {
+            segment.found = false;
+            return segment;
+        }
+        origin += t * direction;
+        let u0 = next_f32(rng);
+        let u1 = next_f32(rng);
+        direction = henyey_greenstein(direction, anisotropy, u0, u1);
+    }
+    // Not reached (the loop returns); naga asks for a return all the same.
+    return segment;
+}
+
 // What one photon-pass step leaves (cpu::kernels::PhotonStep).
 struct PhotonStep {
     slot: PathSlot,
@@ -638,21 +700,25 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         emitted = true;
     }
     var photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
-    let direction = slot.direction;
-    var hit = trace_surface(slot.origin, direction);
-    if !hit.found {
+    // cpu::kernels: the medium the path is in absorbs along the segment, up to a cut-out too;
+    // a scattering one walks it to a surface.
+    let medium = slot_medium(slot.state);
+    let segment = photon_segment(slot, medium, &rng);
+    if !segment.found {
         slot.depth = SLOT_IDLE;
         return PhotonStep(slot, photon, emitted);
     }
-    // cpu::kernels: the medium the path is in absorbs along the segment, up to a cut-out too.
-    let medium = slot_medium(slot.state);
-    let flux = slot.flux * transmittance_to(medium, hit);
+    var hit = segment.hit;
+    let direction = segment.direction;
+    let flux = segment.flux;
+    let scattered = segment.scattered;
     let root_id = hit.material;
     let root = materials[root_id];
     if is_cut_out(root, hit.uv) {
         slot.flux = flux;
         slot.pass_throughs += 1u;
         slot.origin = hit.position + params.epsilon * direction;
+        slot.direction = direction;
         if slot.pass_throughs > MAX_PASS_THROUGHS {
             slot.depth = SLOT_IDLE;
         }
@@ -751,9 +817,9 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         keeper_material = mapped_material(materials[keeper], map_texel);
     }
     let keeper_surface = keeper_material.surface;
-    var bounced = slot_bounced(slot.state);
+    var bounced = slot_bounced(slot.state) || scattered;
     if keeper_surface == SURFACE_DIFFUSE || keeper_surface == SURFACE_PLASTIC {
-        if slot.depth > 0u || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
+        if slot.depth > 0u || scattered || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
             var share = 1.0;
             if keeper_surface == SURFACE_PLASTIC {
                 share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, dot(direction, hit.shading));

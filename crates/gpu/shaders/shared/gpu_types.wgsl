@@ -30,7 +30,7 @@ struct SceneInfo {
     spectrum: array<vec4<f32>, WAVELENGTH_LEVELS>,
 }
 
-// One material (176 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// One material (368 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED |
 // MATERIAL_BLEND | MATERIAL_BOUNDS_VOLUME;
 // ior: of dielectrics and plastic coats; roughness_alpha: GGX width of rough surfaces; normal_texture: a tangent-space normal map
@@ -100,4 +100,8 @@ struct GpuMaterial {
     // scene::Anisotropy's texture (NO_TEXTURE: none) and Anisotropy::base (zero: none).
     anisotropy_texture: u32,
     anisotropy: vec2<f32>,
+    // A translucent solid's scattering inside (zero: none) and its phase function's
+    // asymmetry (render::scattering).
+    scattering: vec3<f32>,
+    scatter_anisotropy: f32,
 }

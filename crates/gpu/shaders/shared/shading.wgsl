@@ -614,6 +614,74 @@ fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: Surfa
     return medium_after(medium, root, exterior, solid, hit.front, crosses);
 }
 
+// ---- render::scattering ----
+// Whether some translucent solid scatters inside; compiled out as MEDIA is.
+override SCATTERING: bool = true;
+
+// render::scattering::Walk: its hero channel, its weight, and each channel's density of it
+// over their mean.
+struct Walk {
+    hero: u32,
+    weight: vec3<f32>,
+    densities: vec3<f32>,
+}
+
+// render::scattering::Walk::start.
+fn walk_start(u: f32) -> Walk {
+    return Walk(min(u32(u * 3.0), 2u), vec3<f32>(1.0), vec3<f32>(1.0));
+}
+
+// render::scattering::Walk::flight: the distance to the scattering event, or -1 where the
+// walk reaches the segment's end.
+fn walk_flight(walk: ptr<function, Walk>, extinction: vec3<f32>, scattering: vec3<f32>, distance: f32, u: f32) -> f32 {
+    let rate = extinction[(*walk).hero];
+    let t = -log(1.0 - u) / max(rate, 1e-30);
+    var value: vec3<f32>;
+    var density: vec3<f32>;
+    var scattered = -1.0;
+    if rate > 0.0 && t < distance {
+        let kept = exp(-extinction * t);
+        value = scattering * kept;
+        density = extinction * kept;
+        scattered = t;
+    } else {
+        let kept = exp(-extinction * distance);
+        value = kept;
+        density = kept;
+    }
+    let densities = (*walk).densities * density;
+    let mean = (densities.x + densities.y + densities.z) / 3.0;
+    if mean > 0.0 {
+        (*walk).weight *= value / mean;
+        (*walk).densities = densities / mean;
+    } else {
+        (*walk).weight = vec3<f32>(0.0);
+    }
+    return scattered;
+}
+
+// render::scattering::Walk::survives.
+fn walk_survives(walk: ptr<function, Walk>, u: f32) -> bool {
+    let survival = min(max3((*walk).weight), 1.0);
+    if u >= survival {
+        return false;
+    }
+    (*walk).weight /= survival;
+    return true;
+}
+
+// render::scattering::henyey_greenstein.
+fn henyey_greenstein(direction: vec3<f32>, g: f32, u0: f32, u1: f32) -> vec3<f32> {
+    var cos_theta = 1.0 - 2.0 * u0;
+    if abs(g) >= 1e-3 {
+        let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u0);
+        cos_theta = clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
+    }
+    let sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
+    let phi = 2.0 * PI * u1;
+    return to_world(frame_about(direction), vec3<f32>(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta));
+}
+
 // render::medium::pack_slot_state, slot_bounced, slot_medium and slot_wavelength.
 fn pack_slot_state(bounced: bool, medium: u32, wavelength: u32) -> u32 {
     return ((wavelength + 1u) << WAVELENGTH_SHIFT) | (((medium + 1u) & MEDIUM_MASK) << 1u) | select(0u, 1u, bounced);

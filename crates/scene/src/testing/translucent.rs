@@ -148,23 +148,27 @@ pub fn furnace_with_scattering_solid(scattering: Vec3, anisotropy: f32) -> Scene
 }
 
 /// [`crate::testing::cornell_caustics`]'s room with translucent solids: a wax sphere front
-/// right (warm white, 80 % of its Lambertian lobe passing the surface, absorbing blue most)
-/// with a small lamp inside it, low, and a jade block back left (pale green, 60 % through,
-/// absorbing red most), lit by the ceiling light.
+/// right (warm white, 80 % of its Lambertian lobe passing the surface; inside, scattering
+/// about 4 times over its radius, forward-leaning, and absorbing blue most) with a small lamp
+/// inside it, low, and a jade block back left (pale green, 60 % through; scattering
+/// isotropically, absorbing red most), lit by the ceiling light.
 pub fn cornell_translucent_solids() -> Scene {
     let mut f = Fixture::new("testing::cornell_translucent_solids");
     cornell_room(&mut f);
     let wax = f.builder.add_material(Material {
         name: "wax".into(),
         base_color: Vec3::new(0.9, 0.85, 0.75),
-        absorption: Vec3::new(0.003, 0.008, 0.02),
+        absorption: Vec3::new(0.001, 0.003, 0.008),
+        scattering: Vec3::new(0.04, 0.04, 0.035),
+        scatter_anisotropy: 0.3,
         diffuse_transmission: translucent_volume(0.8, Vec3::new(1.0, 0.95, 0.85)),
         ..Material::default()
     });
     let jade = f.builder.add_material(Material {
         name: "jade".into(),
         base_color: Vec3::new(0.45, 0.7, 0.5),
-        absorption: Vec3::new(0.012, 0.003, 0.008),
+        absorption: Vec3::new(0.01, 0.002, 0.006),
+        scattering: Vec3::new(0.02, 0.03, 0.025),
         diffuse_transmission: translucent_volume(0.6, Vec3::new(0.6, 0.95, 0.7)),
         ..Material::default()
     });

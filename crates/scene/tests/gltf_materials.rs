@@ -1261,10 +1261,67 @@ fn diffuse_transmission_is_read() {
     assert_eq!(thin.materials[0].interior_absorption(), Vec3::ZERO);
     let error = with_volume(json!({ "thicknessFactor": -1.0 })).expect_err("refused");
     assert!(error.to_string().contains("thicknessFactor"), "{error}");
+
     let mut doc = quad_doc(None);
     doc.json["extensionsRequired"] = json!([DIFFUSE]);
     doc.json["extensionsUsed"] = json!([DIFFUSE]);
     assert!(doc.load().is_ok(), "{DIFFUSE} may be required");
+}
+
+/// `KHR_materials_volume_scatter` (a draft) on a translucent solid splits the volume's
+/// attenuation (the extinction) by the single-scattering albedo of `multiscatterColor`
+/// (`scene::single_scatter_albedo`: 0 → 0 (6e-6 in f32), 1 → 1, rising between) and reads
+/// `scatterAnisotropy`; on a sheet or glass it is warned about and ignored; an anisotropy
+/// outside (−1, 1) is refused in words.
+#[test]
+fn volume_scatter_splits_a_translucent_solid_s_extinction() {
+    const TRANSLUCENT: &str = "KHR_materials_diffuse_transmission";
+    let scattering = |volume: Value, scatter: Value, transmission: &str| {
+        let mut material = pbr(0.0, 0.3);
+        let mut extensions = json!({
+            "KHR_materials_volume": volume,
+            "KHR_materials_volume_scatter": scatter,
+        });
+        extensions[transmission] = match transmission {
+            TRANSLUCENT => json!({ "diffuseTransmissionFactor": 1.0 }),
+            _ => json!({ "transmissionFactor": 1.0 }),
+        };
+        material["extensions"] = extensions;
+        quad_doc(Some(material)).load()
+    };
+    let volume = json!({
+        "thicknessFactor": 1.0, "attenuationColor": [0.5, 0.25, 0.8], "attenuationDistance": 2.0
+    });
+    let scatter = json!({ "multiscatterColor": [0.0, 0.5, 1.0], "scatterAnisotropy": 0.4 });
+    let scene = scattering(volume.clone(), scatter.clone(), TRANSLUCENT).expect("loads");
+    let m = &scene.materials[0];
+    let extinction = scene::absorption_from_attenuation(Vec3::new(0.5, 0.25, 0.8), 2.0);
+    let albedo = scene::single_scatter_albedo(Vec3::new(0.0, 0.5, 1.0));
+    assert!(albedo.x < 1e-4 && albedo.z == 1.0, "{albedo}");
+    assert!(albedo.y > 0.5 && albedo.y < 1.0, "{albedo}");
+    assert!((m.interior_extinction() - extinction).abs().max_element() < 1e-6);
+    assert!(
+        (m.interior_scattering() - extinction * albedo)
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    assert_eq!(m.scatter_anisotropy, 0.4);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let glass = scattering(volume.clone(), scatter, "KHR_materials_transmission").expect("loads");
+    assert_eq!(glass.materials[0].interior_scattering(), Vec3::ZERO);
+    assert_eq!(glass.materials[0].interior_absorption(), extinction);
+    assert!(
+        glass
+            .warnings
+            .iter()
+            .any(|w| w.contains("only translucent solids")),
+        "{:?}",
+        glass.warnings
+    );
+    let error =
+        scattering(volume, json!({ "scatterAnisotropy": 1.0 }), TRANSLUCENT).expect_err("refused");
+    assert!(error.to_string().contains("scatterAnisotropy"), "{error}");
 }
 
 /// `KHR_materials_transmission`'s texture (`Material::transmission_texture`, linear data) on

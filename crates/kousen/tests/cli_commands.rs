@@ -200,8 +200,9 @@ fn info_counts_brushed_materials() {
 }
 
 /// `kousen info` counts the materials with diffuse transmission (the shipped translucent
-/// room's lantern paper and leaf, sheets both; none in the Cornell box) and those of them
-/// bounding solids (the wax and jade of `cornell-translucent-solids`).
+/// room's lantern paper and leaf, sheets both; none in the Cornell box), those of them
+/// bounding solids and those scattering inside (the wax and jade of
+/// `cornell-translucent-solids`, both).
 #[test]
 fn info_counts_translucent_materials() {
     let sheets = info_json(&shipped("cornell-translucent.gltf"));
@@ -210,6 +211,8 @@ fn info_counts_translucent_materials() {
     let solids = info_json(&shipped("cornell-translucent-solids.gltf"));
     assert_eq!(solids["translucent_materials"], 2);
     assert_eq!(solids["translucent_solids"], 2);
+    assert_eq!(solids["scattering_solids"], 2);
+    assert_eq!(sheets["scattering_solids"], 0);
     assert_eq!(
         info_json(&shipped("cornell-box.gltf"))["translucent_materials"],
         0

@@ -35,6 +35,9 @@ struct Info {
     /// Of those, the ones bounding a translucent solid (`scene::DiffuseTransmission::volume`:
     /// with glTF's `KHR_materials_volume`), which absorbs inside.
     translucent_solids: usize,
+    /// Of those, the ones scattering inside (`scene::Material::scattering`: glTF's
+    /// `KHR_materials_volume_scatter`).
+    scattering_solids: usize,
     /// Materials (blend members) brushed (`scene::Anisotropy`: glTF's
     /// `KHR_materials_anisotropy`).
     brushed_materials: usize,
@@ -293,6 +296,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         sheened_materials: count(|m| m.sheen.is_some()),
         translucent_materials: count(|m| m.diffuse_transmission.is_some()),
         translucent_solids: count(|m| m.diffuse_transmission.is_some_and(|t| t.volume)),
+        scattering_solids: count(|m| m.interior_scattering().max_element() > 0.0),
         brushed_materials: count(|m| m.anisotropy.is_some()),
         vertex_tangents: scene.has_vertex_tangents(),
         inside_solids: inside_solids(&scene),
@@ -436,8 +440,8 @@ fn print_table(info: &Info) {
         (
             "diffuse transmission",
             format!(
-                "{} materials ({} bounding solids)",
-                info.translucent_materials, info.translucent_solids
+                "{} materials ({} bounding solids, {} scattering inside)",
+                info.translucent_materials, info.translucent_solids, info.scattering_solids
             ),
         ),
         (

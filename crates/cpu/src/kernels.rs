@@ -31,7 +31,7 @@ use render::resampling::resample_light;
 use render::rng::{
     EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_side, pixel_wavelength,
 };
-use render::scattering::{MAX_SCATTERING_EVENTS, Walk, henyey_greenstein};
+use render::scattering::{SCATTERINGS_PER_STEP, Walk, henyey_greenstein};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -109,11 +109,30 @@ pub fn photon_pass_with<R: StreamRng>(
         };
     };
     let PhotonSegment {
-        mut hit,
+        hit,
+        origin,
         direction,
         flux,
         scattered,
     } = segment;
+    let Some(mut hit) = hit else {
+        // Still walking inside a scattering solid: it goes on from there next pass, the step
+        // counted as a bounce.
+        slot.depth += 1;
+        if slot.depth >= params.max_depth {
+            slot.depth = SLOT_IDLE;
+        } else {
+            slot.origin = origin.to_array();
+            slot.direction = direction.to_array();
+            slot.flux = flux.to_array();
+            slot.state = pack_slot_state(true, medium, slot_wavelength(slot.state));
+        }
+        return PhotonStep {
+            slot,
+            photon,
+            emitted,
+        };
+    };
     let material = &scene.materials[hit.material as usize];
     if is_cut_out(scene, material, hit.uv) {
         slot.flux = flux.to_array();
@@ -312,8 +331,10 @@ pub fn photon_pass_with<R: StreamRng>(
 
 /// Where a photon slot's segment leads ([`photon_segment`]).
 struct PhotonSegment {
-    /// The surface it reaches.
-    hit: SurfaceHit,
+    /// The surface it reaches; `None` where it is still walking inside a scattering solid
+    /// after `SCATTERINGS_PER_STEP` scatterings, at `origin`.
+    hit: Option<SurfaceHit>,
+    origin: Vec3,
     /// The way it arrives there (turned where it scattered).
     direction: Vec3,
     /// The flux arriving.
@@ -326,8 +347,8 @@ struct PhotonSegment {
 /// medium straight, the flux absorbed by the way (`transmittance_to`); inside a scattering
 /// solid a walk (`render::scattering::Walk`): its hero channel drawn by one number `next`
 /// gives, each flight by one, and at each scattering its Russian roulette by one and its new
-/// direction by two. `None` where the path leaves the scene or ends in the walk (the
-/// roulette, or past `MAX_SCATTERING_EVENTS`).
+/// direction by two; after `SCATTERINGS_PER_STEP` scatterings it stops where it is, to go on
+/// next pass. `None` where the path leaves the scene or ends in the walk's roulette.
 fn photon_segment(
     scene: &SceneData,
     slot: &PathSlot,
@@ -343,7 +364,8 @@ fn photon_segment(
         let hit = trace(scene, origin, direction)?;
         let flux = flux * transmittance_to(scene, medium, &hit);
         return Some(PhotonSegment {
-            hit,
+            hit: Some(hit),
+            origin,
             direction,
             flux,
             scattered: false,
@@ -356,18 +378,28 @@ fn photon_segment(
         let hit = trace(scene, origin, direction)?;
         let Some(t) = walk.flight(extinction, scattering, hit.distance, next()) else {
             return Some(PhotonSegment {
-                hit,
+                hit: Some(hit),
+                origin,
                 direction,
                 flux: flux * walk.weight(),
                 scattered: events > 0,
             });
         };
         events += 1;
-        if events > MAX_SCATTERING_EVENTS || !walk.survives(next()) {
+        if !walk.survives(next()) {
             return None;
         }
         origin += t * direction;
         direction = henyey_greenstein(direction, solid.scatter_anisotropy, [next(), next()]);
+        if events == SCATTERINGS_PER_STEP {
+            return Some(PhotonSegment {
+                hit: None,
+                origin,
+                direction,
+                flux: flux * walk.weight(),
+                scattered: true,
+            });
+        }
     }
 }
 

@@ -58,8 +58,8 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MATERIAL_BLEND", U32(types::MATERIAL_BLEND)),
         ("MATERIAL_BOUNDS_VOLUME", U32(types::MATERIAL_BOUNDS_VOLUME)),
         (
-            "MAX_SCATTERING_EVENTS",
-            U32(render::scattering::MAX_SCATTERING_EVENTS),
+            "SCATTERINGS_PER_STEP",
+            U32(render::scattering::SCATTERINGS_PER_STEP),
         ),
         ("ROUGHNESS_METAL", U32(types::ROUGHNESS_METAL)),
         ("ROUGHNESS_UNMAPPED", U32(types::ROUGHNESS_UNMAPPED)),

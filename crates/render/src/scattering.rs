@@ -12,10 +12,12 @@ use glam::Vec3;
 
 use crate::sampling::about_axis;
 
-/// Scattering events one walk may take before it is ended (dense, nearly white media would
-/// walk for ever; a photon lost here is light lost, so the cap lies far beyond what the
-/// shipped scenes reach).
-pub const MAX_SCATTERING_EVENTS: u32 = 256;
+/// Scatterings a walk takes in one step of a photon path (one kernel invocation) before it
+/// stops where it is, to go on next pass as a new walk (the step counts as a bounce towards
+/// the path's length); the path tracer's walks restart so too. A photon pass's invocations
+/// wait for their longest walk (a SIMD group runs together): this bounds the wait, and light
+/// is not lost to a cap.
+pub const SCATTERINGS_PER_STEP: u32 = 16;
 
 /// A random walk through a scattering medium: the distances to its scattering events drawn by
 /// one colour channel's extinction (its hero, chosen once for the walk), and its weight the

@@ -618,10 +618,13 @@ fn shadow_ray(light: LightSample, origin: vec3<f32>) -> vec4<f32> {
 }
 
 // Where a photon slot's segment leads (cpu::kernels::PhotonSegment); found false where it
-// leaves the scene or ends in a walk.
+// leaves the scene or ends in a walk; walking where it is still inside a scattering solid
+// after SCATTERINGS_PER_STEP scatterings, at origin (hit not set).
 struct PhotonSegment {
     found: bool,
+    walking: bool,
     hit: SurfaceHit,
+    origin: vec3<f32>,
     direction: vec3<f32>,
     flux: vec3<f32>,
     scattered: bool,
@@ -632,6 +635,7 @@ struct PhotonSegment {
 fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> PhotonSegment {
     var segment: PhotonSegment;
     segment.scattered = false;
+    segment.walking = false;
     var origin = slot.origin;
     var direction = slot.direction;
     var scatters = false;
@@ -666,7 +670,7 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
             return segment;
         }
         events += 1u;
-        if events > MAX_SCATTERING_EVENTS || !walk_survives(&walk, next_f32(rng)) {
+        if !walk_survives(&walk, next_f32(rng)) {
             segment.found = false;
             return segment;
         }
@@ -674,6 +678,15 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
         let u0 = next_f32(rng);
         let u1 = next_f32(rng);
         direction = henyey_greenstein(direction, anisotropy, u0, u1);
+        if events == SCATTERINGS_PER_STEP {
+            segment.found = true;
+            segment.walking = true;
+            segment.origin = origin;
+            segment.direction = direction;
+            segment.flux = slot.flux * walk.weight;
+            segment.scattered = true;
+            return segment;
+        }
     }
     // Not reached (the loop returns); naga asks for a return all the same.
     return segment;
@@ -706,6 +719,20 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     let segment = photon_segment(slot, medium, &rng);
     if !segment.found {
         slot.depth = SLOT_IDLE;
+        return PhotonStep(slot, photon, emitted);
+    }
+    if SCATTERING && segment.walking {
+        // cpu::kernels: still walking inside a scattering solid; it goes on from there next
+        // pass, the step counted as a bounce.
+        slot.depth += 1u;
+        if slot.depth >= params.max_depth {
+            slot.depth = SLOT_IDLE;
+        } else {
+            slot.origin = segment.origin;
+            slot.direction = segment.direction;
+            slot.flux = segment.flux;
+            slot.state = pack_slot_state(true, medium, slot_wavelength(slot.state));
+        }
         return PhotonStep(slot, photon, emitted);
     }
     var hit = segment.hit;

@@ -645,8 +645,10 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
     if !scatters {
         segment.hit = trace_surface(origin, direction);
         segment.found = segment.hit.found;
-        segment.direction = direction;
-        segment.flux = slot.flux * transmittance_to(medium, segment.hit);
+        if segment.found {
+            segment.direction = direction;
+            segment.flux = slot.flux * transmittance_to(medium, segment.hit);
+        }
         return segment;
     }
     let extinction = materials[medium].absorption;

@@ -618,7 +618,9 @@ impl<'a> PathTracer<'a> {
     /// emitters and the sky, which it can meet, count when it does, unweighed), through the
     /// phase function and the transmittance of what is not scattered away. A lamp inside wax
     /// lights the wax around it this way; light sampled at its surface alone misses all it
-    /// scatters.
+    /// scatters. Near the lamp the sample's 1/d² has no bound, and its variance is infinite
+    /// (equiangular sampling along the segment would tame it): estimates of a lamp in a
+    /// scattering medium converge slowly and are mostly low, with rare large ones.
     fn scattered_light(
         &self,
         position: Vec3,

@@ -106,7 +106,34 @@ pub fn diffuse_slab_transmittance(tau: f64) -> f64 {
 pub fn lamp_in_translucent_cube(absorption: Vec3) -> Scene {
     let mut f = Fixture::new("testing::lamp_in_translucent_cube");
     let cube = clear_translucent(&mut f, "translucent cube", absorption);
-    let h = TRANSLUCENT_CUBE_HALF_SIDE;
+    lamp_in_cube(f, cube, TRANSLUCENT_CUBE_HALF_SIDE)
+}
+
+/// [`lamp_in_translucent_cube`] of half side [`SCATTERING_CUBE_HALF_SIDE`] (large against a
+/// gather radius, which loses light at the face's edges) whose solid scatters `scattering`
+/// inside (Henyey–Greenstein of `anisotropy`) and absorbs nothing: all the lamp's light
+/// leaves through the six faces, a sixth through each by symmetry, so the top face's radiance
+/// averages I / (6·h²) (its exitance 4πI / (6·(2h)²), passed on as a Lambertian surface
+/// emits it).
+pub fn lamp_in_scattering_cube(scattering: Vec3, anisotropy: f32) -> Scene {
+    let mut f = Fixture::new("testing::lamp_in_scattering_cube");
+    let cube = f.builder.add_material(Material {
+        name: "scattering cube".into(),
+        base_color: Vec3::ONE,
+        scattering,
+        scatter_anisotropy: anisotropy,
+        diffuse_transmission: translucent_volume(1.0, Vec3::ONE),
+        ..Material::default()
+    });
+    lamp_in_cube(f, cube, SCATTERING_CUBE_HALF_SIDE)
+}
+
+/// [`lamp_in_scattering_cube`]'s half side.
+pub const SCATTERING_CUBE_HALF_SIDE: f32 = 2.0;
+
+/// A cube of material `cube`, half side `h`, its top face at y = 0, and the lamp at its
+/// centre ([`lamp_in_translucent_cube`]).
+fn lamp_in_cube(mut f: Fixture, cube: u32, h: f32) -> Scene {
     f.closed_box(Vec3::new(-h, -2.0 * h, -h), Vec3::new(h, 0.0, h), cube);
     f.builder
         .add_punctual_light(PunctualLight {

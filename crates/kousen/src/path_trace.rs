@@ -14,7 +14,7 @@ use render::lens::camera_lens_ray;
 use scene::{AlphaMode, Camera, Material, Scene, Surface};
 
 use render::blend::{blend_member, mapped_material};
-use render::buffers::{LIGHT_SKY, LIGHT_TRIANGLE, Light, RAY_T_MAX};
+use render::buffers::{LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, Light, RAY_T_MAX};
 use render::clearcoat::{
     ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers, clearcoat_transmittance,
 };
@@ -362,11 +362,14 @@ impl<'a> PathTracer<'a> {
             let front = direction.dot(point.geometric) < 0.0;
             let distance = (point.position - origin).length();
             if let Some(solid) = self.scattering_solid(medium) {
-                // Inside a scattering solid the path walks: scattered on the way, it goes on
-                // from there in a direction the phase function draws, with a light sample of
-                // the punctual lights there. Every `SCATTERINGS_PER_STEP` scatterings the walk
+                // Inside a scattering solid the path walks: the punctual lights' light
+                // scattered once along the segment is sampled (`segment_light`); scattered on
+                // the way, the path goes on from there in a direction the phase function draws. Every `SCATTERINGS_PER_STEP` scatterings the walk
                 // restarts, the step counted as a bounce, as the photon pass's do.
                 let inside = walk.get_or_insert_with(|| Walk::start(rng.next_f32()));
+                let segment = (origin, direction, distance);
+                let light = self.segment_light(segment, solid, medium, rng);
+                radiance += throughput * inside.weight() * light;
                 let (extinction, scattering) =
                     (solid.interior_extinction(), solid.interior_scattering());
                 if let Some(t) = inside.flight(extinction, scattering, distance, rng.next_f32()) {
@@ -375,8 +378,6 @@ impl<'a> PathTracer<'a> {
                         break;
                     }
                     origin += t * direction;
-                    let light = self.scattered_light(origin, direction, solid, medium, rng);
-                    radiance += throughput * inside.weight() * light;
                     let u = [rng.next_f32(), rng.next_f32()];
                     direction = henyey_greenstein(direction, solid.scatter_anisotropy, u);
                     arrival = Arrival::Unsampled;
@@ -613,35 +614,53 @@ impl<'a> PathTracer<'a> {
         transmittance(absorption, distance)
     }
 
-    /// A light sample at a scattering event at `position` inside `solid` (its `medium`), the
-    /// path arriving along `direction`: punctual lights only (a path can never meet them;
-    /// emitters and the sky, which it can meet, count when it does, unweighed), through the
-    /// phase function and the transmittance of what is not scattered away. A lamp inside wax
-    /// lights the wax around it this way; light sampled at its surface alone misses all it
-    /// scatters. Near the lamp the sample's 1/d² has no bound, and its variance is infinite
-    /// (equiangular sampling along the segment would tame it): estimates of a lamp in a
-    /// scattering medium converge slowly and are mostly low, with rare large ones.
-    fn scattered_light(
+    /// The light of a point or spot light scattered once towards the path along its segment
+    /// from `origin` along `direction`, `length` long, inside `solid` (its `medium`):
+    /// ∫ T(t)·σs·phase·L(t) dt, one point drawn by equiangular sampling about the light (Kulla
+    /// and Fajardo 2012: density ∝ 1/r², so the light's own 1/r² cancels and the estimate is
+    /// bounded however near the segment passes the lamp), one shadow ray. A lamp inside wax
+    /// lights the wax around it this way; the path's walk, which never meets a punctual
+    /// light, brings the light scattered more than once. Other lights give nothing here:
+    /// emitters and the sky, which a walk can meet, count when it does, and a directional
+    /// light cannot shine into a closed solid (its surface stops light samples).
+    fn segment_light(
         &self,
-        position: Vec3,
-        direction: Vec3,
+        (origin, direction, length): (Vec3, Vec3, f32),
         solid: &Material,
         medium: u32,
         rng: &mut Rng,
     ) -> Vec3 {
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+        let u_along = rng.next_f32();
+        let index = render::emission::pick_light(&self.lights, u[0]);
+        if !matches!(self.lights[index].kind, LIGHT_POINT | LIGHT_SPOT) {
+            return Vec3::ZERO;
+        }
+        let lamp = Vec3::from_array(self.lights[index].v0);
+        // The segment's nearest point to the lamp, `along` from the origin, `apart` from it.
+        let along = (lamp - origin).dot(direction);
+        let apart = (origin + along * direction - lamp)
+            .length()
+            .max(1e-6 * length);
+        let first = (-along / apart).atan();
+        let last = ((length - along) / apart).atan();
+        let angle = first + (last - first) * u_along;
+        let t = along + apart * angle.tan();
+        let density = apart / ((last - first) * (apart * apart + (t - along) * (t - along)));
+        if !(t > 0.0 && t < length && density > 0.0) {
+            return Vec3::ZERO;
+        }
+        let position = origin + t * direction;
         let Some(light) = sample_light(&self.lights, &self.sky_map, u, position, direction) else {
             return Vec3::ZERO;
         };
-        if matches!(self.lights[light.index].kind, LIGHT_TRIANGLE | LIGHT_SKY) {
-            return Vec3::ZERO;
-        }
         let (towards, distance) = shadow_ray(&light, position);
         if !self.visible(position, towards, distance) {
             return Vec3::ZERO;
         }
         let phase = henyey_greenstein_phase(solid.scatter_anisotropy, direction.dot(towards));
-        light.incident * phase * self.transmittance(medium, distance)
+        let kept = self.transmittance(medium, t) * self.transmittance(medium, distance);
+        light.incident * kept * solid.interior_scattering() * (phase / density)
     }
 
     /// The material of `medium` where it is a solid that scatters inside.
@@ -1159,6 +1178,39 @@ mod tests {
         assert!(
             (mean - Vec3::splat(expected)).abs().max_element() < 0.03 * expected,
             "{mean}"
+        );
+    }
+
+    /// A lamp inside a lossless scattering solid (`testing::lamp_in_scattering_cube`): a
+    /// sixth of its light leaves through the top face, whose radiance averages I / (6h²).
+    /// Paths looking straight down at points spread evenly over the face (a 512 × 512 grid)
+    /// pass its surface and walk inside, each segment sampling the lamp's light scattered
+    /// once along it (`PathTracer::segment_light`, equiangular) and the face's inside the
+    /// light reaching it unscattered. Seeds 1–3, each channel: −4.4 % to +1.1 % (red, the
+    /// most scattering, the widest: a segment passing at D from the lamp still weighs ~1/D,
+    /// whose variance diverges slowly; light samples at the scatterings instead, 1/d²:
+    /// −21 % to +9 % at 16,384 paths). Tolerance: 6 %.
+    #[test]
+    fn a_lamp_inside_a_scattering_solid_sends_a_sixth_through_each_face() {
+        let scene = testing::lamp_in_scattering_cube(Vec3::new(2.0, 1.0, 0.5), 0.3);
+        let (bvh, camera) = tracer_for(&scene);
+        let tracer = PathTracer::new(&scene, &bvh, camera);
+        let h = testing::SCATTERING_CUBE_HALF_SIDE;
+        let expected = testing::TRANSLUCENT_CUBE_LAMP_INTENSITY / (6.0 * h * h);
+        let mut rng = Rng::new(1, 0);
+        let side = 512;
+        let sum: Vec3 = (0..side * side)
+            .map(|i| {
+                let at = |k: u32| ((k as f32 + 0.5) / side as f32 * 2.0 - 1.0) * h;
+                let origin = Vec3::new(at(i % side), 0.5, at(i / side));
+                tracer.radiance(origin, Vec3::NEG_Y, 32, &mut rng)
+            })
+            .sum();
+        let mean = sum / (side * side) as f32;
+        println!("lamp in a scattering cube: {mean} against {expected}");
+        assert!(
+            (mean / expected - Vec3::ONE).abs().max_element() < 0.06,
+            "{mean} against {expected}"
         );
     }
 

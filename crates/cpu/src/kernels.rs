@@ -21,7 +21,7 @@ use render::hash::{
 };
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
-use render::medium::{NO_MEDIUM, pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
+use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
@@ -31,7 +31,7 @@ use render::resampling::resample_light;
 use render::rng::{
     EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_side, pixel_wavelength,
 };
-use render::scattering::{SCATTERINGS_PER_STEP, Walk, henyey_greenstein};
+use render::scattering::{SCATTERINGS_PER_STEP, Walk, henyey_greenstein, scattering_solid};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -357,10 +357,7 @@ fn photon_segment(
 ) -> Option<PhotonSegment> {
     let (mut origin, mut direction) = (vec3(slot.origin), vec3(slot.direction));
     let flux = vec3(slot.flux);
-    let scattering_solid = (medium != NO_MEDIUM)
-        .then(|| &scene.materials[medium as usize])
-        .filter(|m| m.interior_scattering().max_element() > 0.0);
-    let Some(solid) = scattering_solid else {
+    let Some(solid) = scattering_solid(&scene.materials, medium) else {
         let hit = trace(scene, origin, direction)?;
         let flux = flux * transmittance_to(scene, medium, &hit);
         return Some(PhotonSegment {

@@ -30,7 +30,9 @@ use render::normal_map::{FrameSource, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
 use render::plastic::{Coat, CoatEvent, coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
-use render::scattering::{SCATTERINGS_PER_STEP, Walk, henyey_greenstein, henyey_greenstein_phase};
+use render::scattering::{
+    SCATTERINGS_PER_STEP, Walk, henyey_greenstein, henyey_greenstein_phase, scattering_solid,
+};
 use render::shadow_terminator::{is_lifted, shadow_origin};
 use render::sheen::{SheenAt, SheenEvent, SheenTable};
 use render::sky_map::{sky_map_buffer, sky_radiance};
@@ -361,7 +363,7 @@ impl<'a> PathTracer<'a> {
             let material = &self.materials[point.material as usize];
             let front = direction.dot(point.geometric) < 0.0;
             let distance = (point.position - origin).length();
-            if let Some(solid) = self.scattering_solid(medium) {
+            if let Some(solid) = scattering_solid(&self.materials, medium) {
                 // Inside a scattering solid the path walks: the punctual lights' light
                 // scattered once along the segment is sampled (`segment_light`); scattered on
                 // the way, the path goes on from there in a direction the phase function draws. Every `SCATTERINGS_PER_STEP` scatterings the walk
@@ -661,13 +663,6 @@ impl<'a> PathTracer<'a> {
         let phase = henyey_greenstein_phase(solid.scatter_anisotropy, direction.dot(towards));
         let kept = self.transmittance(medium, t) * self.transmittance(medium, distance);
         light.incident * kept * solid.interior_scattering() * (phase / density)
-    }
-
-    /// The material of `medium` where it is a solid that scatters inside.
-    fn scattering_solid(&self, medium: u32) -> Option<&Material> {
-        (medium != NO_MEDIUM)
-            .then(|| &self.materials[medium as usize])
-            .filter(|m| m.interior_scattering().max_element() > 0.0)
     }
 
     /// One light sample from the table at `point` (reached from its `front` or back), seen
@@ -1132,18 +1127,7 @@ mod tests {
     /// three channels at 16,384 paths: 1.022, 0.987, 0.977), so each channel is held within 4 % and their average within 2 %.
     #[test]
     fn dispersive_glass_in_the_furnace_is_invisible() {
-        let scene = testing::furnace_with_dispersive_glass();
-        let (bvh, camera) = tracer_for(&scene);
-        let settings = RenderSettings {
-            width: 8,
-            height: 8,
-            samples_per_pixel: 1024,
-            max_depth: 64,
-            seed: 1,
-        };
-        let mean = PathTracer::new(&scene, &bvh, camera)
-            .render(&settings)
-            .mean();
+        let mean = furnace_mean(&testing::furnace_with_dispersive_glass(), 1024);
         let expected = testing::FURNACE_RADIANCE;
         let average = mean.element_sum() / 3.0;
         println!("dispersive furnace: {mean}");
@@ -1162,17 +1146,7 @@ mod tests {
     #[test]
     fn a_scattering_solid_in_the_furnace_is_invisible() {
         let scene = testing::furnace_with_scattering_solid(Vec3::new(20.0, 8.0, 3.0), 0.5);
-        let (bvh, camera) = tracer_for(&scene);
-        let settings = RenderSettings {
-            width: 8,
-            height: 8,
-            samples_per_pixel: 1024,
-            max_depth: 64,
-            seed: 1,
-        };
-        let mean = PathTracer::new(&scene, &bvh, camera)
-            .render(&settings)
-            .mean();
+        let mean = furnace_mean(&scene, 1024);
         println!("scattering furnace: {mean}");
         let expected = testing::FURNACE_RADIANCE;
         assert!(
@@ -1214,19 +1188,26 @@ mod tests {
         );
     }
 
-    /// The image of a furnace `scene` has mean radiance `testing::FURNACE_RADIANCE`: 16,384
-    /// paths, each with a standard deviation below 1, so 2 % is > 5 sigma.
-    fn assert_furnace_radiance(scene: &Scene) {
+    /// The mean of an 8 × 8 image of furnace `scene` from seed 1, `samples_per_pixel` paths a
+    /// pixel, up to 64 bounces.
+    fn furnace_mean(scene: &Scene, samples_per_pixel: u32) -> Vec3 {
         let (bvh, camera) = tracer_for(scene);
         let settings = RenderSettings {
             width: 8,
             height: 8,
-            samples_per_pixel: 256,
+            samples_per_pixel,
             max_depth: 64,
             seed: 1,
         };
-        let image = PathTracer::new(scene, &bvh, camera).render(&settings);
-        let mean = image.mean();
+        PathTracer::new(scene, &bvh, camera)
+            .render(&settings)
+            .mean()
+    }
+
+    /// The image of a furnace `scene` has mean radiance `testing::FURNACE_RADIANCE`: 16,384
+    /// paths, each with a standard deviation below 1, so 2 % is > 5 sigma.
+    fn assert_furnace_radiance(scene: &Scene) {
+        let mean = furnace_mean(scene, 256);
         let expected = testing::FURNACE_RADIANCE;
         assert!(
             (mean - Vec3::splat(expected)).abs().max_element() < 0.02 * expected,

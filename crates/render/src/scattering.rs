@@ -9,7 +9,9 @@
 //! with equal probability, and the walk weighed against all three's densities ([`Walk`]).
 
 use glam::Vec3;
+use scene::Material;
 
+use crate::medium::NO_MEDIUM;
 use crate::sampling::about_axis;
 
 /// Scatterings a walk takes in one step of a photon path (one kernel invocation) before it
@@ -18,6 +20,14 @@ use crate::sampling::about_axis;
 /// wait for their longest walk (a SIMD group runs together): this bounds the wait, and light
 /// is not lost to a cap.
 pub const SCATTERINGS_PER_STEP: u32 = 16;
+
+/// The solid of `medium` (a material id, or [`NO_MEDIUM`]) where it scatters inside: where a
+/// path in that medium walks.
+pub fn scattering_solid(materials: &[Material], medium: u32) -> Option<&Material> {
+    (medium != NO_MEDIUM)
+        .then(|| &materials[medium as usize])
+        .filter(|m| m.interior_scattering().max_element() > 0.0)
+}
 
 /// A random walk through a scattering medium: the distances to its scattering events drawn by
 /// one colour channel's extinction (its hero, chosen once for the walk), and its weight the

@@ -887,22 +887,31 @@ pub fn furnace_with_frosted_dispersive_glass() -> Scene {
 }
 
 fn furnace_with_dispersive_glass_of(glass: Surface) -> Scene {
-    let mut f = Fixture::new("testing::furnace_with_dispersive_glass");
+    furnace_around(
+        "testing::furnace_with_dispersive_glass",
+        Material {
+            name: "flint glass".into(),
+            surface: glass,
+            base_color: Vec3::ONE,
+            dispersion: crate::dispersion_from_abbe(FLINT_IOR, FLINT_ABBE),
+            ..Material::default()
+        },
+    )
+}
+
+/// [`furnace_sphere`] with a ball of `ball` in view, radius 0.3 and half a unit ahead of the
+/// camera (at the furnace's centre).
+fn furnace_around(name: &str, ball: Material) -> Scene {
+    let mut f = Fixture::new(name);
     let inside = f.builder.add_material(Material {
         name: "furnace".into(),
         base_color: Vec3::splat(FURNACE_ALBEDO),
         emission: Vec3::splat(FURNACE_EMISSION),
         ..Material::default()
     });
-    let flint = f.builder.add_material(Material {
-        name: "flint glass".into(),
-        surface: glass,
-        base_color: Vec3::ONE,
-        dispersion: crate::dispersion_from_abbe(FLINT_IOR, FLINT_ABBE),
-        ..Material::default()
-    });
+    let ball = f.builder.add_material(ball);
     f.sphere(Vec3::ZERO, 1.0, inside, true);
-    f.sphere(Vec3::new(0.0, 0.0, -0.5), 0.3, flint, false);
+    f.sphere(Vec3::new(0.0, 0.0, -0.5), 0.3, ball, false);
     f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
     f.finish()
 }

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::{FURNACE_ALBEDO, FURNACE_EMISSION, Fixture, LIT_PLANE_ALBEDO, cornell_room};
+use super::{Fixture, LIT_PLANE_ALBEDO, cornell_room, furnace_around};
 use crate::{DiffuseTransmission, Material, PunctualKind, PunctualLight, Scene, Surface};
 
 /// [`translucent_slab_over_plane`]'s slab: its gap above the plane, its thickness and half
@@ -153,25 +153,17 @@ fn lamp_in_cube(mut f: Fixture, cube: u32, h: f32) -> Scene {
 /// inside, `scattering` σs, no absorption, Henyey–Greenstein of `anisotropy`): light walks
 /// through it and out, none lost, so in the furnace it is invisible.
 pub fn furnace_with_scattering_solid(scattering: Vec3, anisotropy: f32) -> Scene {
-    let mut f = Fixture::new("testing::furnace_with_scattering_solid");
-    let inside = f.builder.add_material(Material {
-        name: "furnace".into(),
-        base_color: Vec3::splat(FURNACE_ALBEDO),
-        emission: Vec3::splat(FURNACE_EMISSION),
-        ..Material::default()
-    });
-    let solid = f.builder.add_material(Material {
-        name: "scattering solid".into(),
-        base_color: Vec3::ONE,
-        scattering,
-        scatter_anisotropy: anisotropy,
-        diffuse_transmission: translucent_volume(1.0, Vec3::ONE),
-        ..Material::default()
-    });
-    f.sphere(Vec3::ZERO, 1.0, inside, true);
-    f.sphere(Vec3::new(0.0, 0.0, -0.5), 0.3, solid, false);
-    f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
-    f.finish()
+    furnace_around(
+        "testing::furnace_with_scattering_solid",
+        Material {
+            name: "scattering solid".into(),
+            base_color: Vec3::ONE,
+            scattering,
+            scatter_anisotropy: anisotropy,
+            diffuse_transmission: translucent_volume(1.0, Vec3::ONE),
+            ..Material::default()
+        },
+    )
 }
 
 /// [`crate::testing::cornell_caustics`]'s room with translucent solids: a wax sphere front

@@ -19,6 +19,7 @@ use render::hash::{
     cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, largest_radius,
     photon_class, priority, query_entries,
 };
+use render::iridescence::{Film, metal_tint};
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
@@ -37,11 +38,11 @@ use scene::{Material, Surface};
 
 use crate::SceneData;
 use crate::surface::{
-    HitTexel, PlasticBounce, SurfaceHit, base_color, clearcoat_bounce, dielectric_branches,
-    diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted, eye_crossing_scale,
-    hit_clearcoat, hit_sheen, is_cut_out, lambertian_side, medium_after_bounce,
-    medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin, sheen_bounce,
-    specular_direction, trace, transmittance_to, unoccluded,
+    HitTexel, PlasticBounce, SurfaceHit, base_color, bounce_tint, clearcoat_bounce,
+    dielectric_branches, diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted,
+    eye_crossing_scale, hit_clearcoat, hit_film, hit_sheen, is_cut_out, lambertian_side,
+    medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
+    sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -295,6 +296,10 @@ pub fn photon_pass_with<R: StreamRng>(
         _ => {
             let [u0, u1] = u_direction;
             let next = specular_direction(dispersed, &hit, direction, [u0, u1, u_choice]);
+            let film = hit_film(scene, material, hit.uv);
+            let tint = next.map_or(tint, |(next, _)| {
+                bounce_tint(dispersed, tint, film, direction, next)
+            });
             (next, tint * spectral_weight)
         }
     };
@@ -711,9 +716,16 @@ fn eye_path(
                     wavelength_number.take().unwrap_or_else(|| rng.next_f32())
                 });
                 throughput *= weight;
+                // A thin film colours the metal by the angle to each micro-normal: the light
+                // sample's tint is the film's at the light's direction.
+                let film = hit_film(scene, material, hit.uv);
                 if let Surface::RoughConductor { alpha } = surface {
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::metal(alpha, hit.brush);
+                    if film.is_some() {
+                        lit.glossy = throughput;
+                        lit.metal_film = Some((tint, film));
+                    }
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
                 // visible micro-normal, reflection about it with its Fresnel probability,
@@ -749,6 +761,9 @@ fn eye_path(
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
                 specular_first |= depth == 0;
+                let tint = next.map_or(tint, |(next, _)| {
+                    bounce_tint(surface, tint, film, direction, next)
+                });
                 Some((next, tint))
             }
         };
@@ -887,6 +902,9 @@ pub struct LitLobes {
     pub clearcoat: Option<scene::Clearcoat>,
     /// glTF's sheen over both lobes (beneath the clear coat), which the light passes too.
     pub sheen: Option<render::sheen::SheenAt>,
+    /// A metal's colour and the thin film on it, where it has one (`glossy` then leaves the
+    /// colour out: the film's depends on the light's direction).
+    pub metal_film: Option<(Vec3, Film)>,
 }
 
 impl LitLobes {
@@ -906,7 +924,11 @@ impl LitLobes {
         if self.lobe.is_some() {
             let lobe = self.lobe.response(hit.shading, outgoing, incident);
             if lobe.value > 0.0 {
-                response += self.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
+                let tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
+                    metal_tint(base, film, outgoing, incident)
+                });
+                response +=
+                    self.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
             }
         }
         // In through the clear coat, if any (about the normal before the map).

@@ -7,6 +7,7 @@ use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
 use render::dispersion::{disperse, draws_wavelength};
+use render::iridescence::{Film, metal_tint};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
@@ -321,6 +322,36 @@ pub fn is_cut_out(scene: &SceneData, material: &Material, uv: Vec2) -> bool {
 /// Base colour × texture: a diffuse surface's albedo, a specular one's tint.
 pub fn base_color(scene: &SceneData, material: &Material, uv: Vec2) -> Vec3 {
     material.base_color * texture(&scene.textures, material.base_color_texture, uv).truncate()
+}
+
+/// The thin film on `material` at texture coordinates `uv` (glTF's iridescence:
+/// `render::iridescence::Film`, factor 0 for none).
+pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
+    let Some(iridescence) = material.iridescence else {
+        return Film::default();
+    };
+    let texel = |id: Option<u32>| id.map(|id| texture(&scene.textures, Some(id), uv));
+    let (factor, thickness) = iridescence.at(
+        texel(iridescence.texture),
+        texel(iridescence.thickness_texture),
+    );
+    Film {
+        factor,
+        ior: iridescence.ior,
+        thickness,
+    }
+}
+
+/// What a bounce of `incoming` into `next` at a `surface` of colour `tint` keeps: a metal's
+/// reflection (mirror or rough) under a thin `film` its colour at the angle to the bounce's
+/// micro-normal (`render::iridescence::metal_tint`); every other bounce `tint`.
+pub fn bounce_tint(surface: Surface, tint: Vec3, film: Film, incoming: Vec3, next: Vec3) -> Vec3 {
+    let metal = matches!(surface, Surface::Mirror | Surface::RoughConductor { .. });
+    if metal && film.is_some() {
+        metal_tint(tint, film, -incoming, next)
+    } else {
+        tint
+    }
 }
 
 /// Radiance the surface emits towards the ray (front face only unless double-sided).

@@ -103,6 +103,10 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MEDIUM_MASK", U32(render::medium::MEDIUM_MASK)),
         ("WAVELENGTH_LEVELS", U32(dispersion::WAVELENGTH_LEVELS)),
         ("WHOLE_SPECTRUM", U32(dispersion::WHOLE_SPECTRUM)),
+        (
+            "FILM_WAVELENGTHS",
+            U32(render::iridescence::FILM_WAVELENGTHS as u32),
+        ),
         ("HASH_STREAM", U32(rng::HASH_STREAM)),
         ("CELL_SLACK", F32(render::hash::CELL_SLACK)),
         ("HASH_ENTRY_WORDS", U32(buffers::HASH_ENTRY_WORDS as u32)),

@@ -142,6 +142,8 @@ pub(crate) struct SceneFeatures {
     pub diffuse_transmission: bool,
     /// Some material is brushed (`ANISOTROPY`).
     pub anisotropy: bool,
+    /// Some material wears a thin film (`IRIDESCENCE`).
+    pub iridescence: bool,
     /// Some blend's glass member is weighed by a transmission texture (`TRANSMISSION_MAPS`).
     pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
@@ -183,6 +185,7 @@ impl SceneFeatures {
             transmission_maps: any(|m| m.transmission_texture.is_some()),
             diffuse_transmission: any(|m| m.diffuse_transmission.is_some()),
             anisotropy: any(|m| m.anisotropy.is_some()),
+            iridescence: any(|m| m.iridescence.is_some()),
             media: any(|m| m.interior_extinction().max_element() > 0.0),
             scattering: any(|m| m.interior_scattering().max_element() > 0.0),
             dispersion: any(|m| m.dispersion > 0.0),
@@ -192,7 +195,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 15] {
+    fn constants(self) -> [(&'static str, f64); 16] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -204,6 +207,7 @@ impl SceneFeatures {
             ("TRANSMISSION_MAPS", flag(self.transmission_maps)),
             ("DIFFUSE_TRANSMISSION", flag(self.diffuse_transmission)),
             ("ANISOTROPY", flag(self.anisotropy)),
+            ("IRIDESCENCE", flag(self.iridescence)),
             ("MEDIA", flag(self.media)),
             ("SCATTERING", flag(self.scattering)),
             ("DISPERSION", flag(self.dispersion)),

@@ -8,6 +8,7 @@ use glam::Vec3;
 use bvh::bench_rays::BenchCamera;
 use bvh::{Hit, PackedBvh, Ray};
 use render::dispersion::WAVELENGTH_LEVELS;
+use render::iridescence::FILM_WAVELENGTHS;
 use scene::{AlphaMode, Material, Surface, TexturedLobe};
 
 /// `GpuHit::triangle` of a ray that hit nothing.
@@ -101,6 +102,9 @@ pub struct SceneInfo {
     /// buffer: a WGSL `const` table indexed at run time is copied per invocation, which made
     /// lavapipe's eye and photon kernels 40–70 % slower in dispersive scenes.
     pub spectrum: [[f32; 4]; WAVELENGTH_LEVELS as usize],
+    /// The wavelengths a thin film's reflectance is summed over
+    /// (`render::iridescence::film_spectrum`): each one's wavelength, then its weight.
+    pub film_spectrum: [[f32; 4]; FILM_WAVELENGTHS],
 }
 
 impl SceneInfo {
@@ -115,6 +119,11 @@ impl SceneInfo {
                 let level = render::dispersion::levels()[level];
                 let [r, g, b] = level.weight.to_array();
                 [level.wavelength, r, g, b]
+            }),
+            film_spectrum: std::array::from_fn(|i| {
+                let (lambda, weight) = render::iridescence::film_spectrum()[i];
+                let [r, g, b] = weight.to_array();
+                [lambda, r, g, b]
             }),
         }
     }
@@ -143,7 +152,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (368 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (400 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -248,6 +257,13 @@ pub struct GpuMaterial {
     /// none) and its phase function's asymmetry (`render::scattering`).
     pub scattering: [f32; 3],
     pub scatter_anisotropy: f32,
+    /// glTF's iridescence (`scene::Iridescence`): its factor (0: none), the film's index and
+    /// its least and greatest thickness (nm), then its factor and thickness textures
+    /// (`NO_TEXTURE` for none).
+    pub iridescence: [f32; 4],
+    pub iridescence_texture: u32,
+    pub iridescence_thickness_texture: u32,
+    pub pad: [u32; 2],
 }
 
 impl GpuMaterial {
@@ -355,6 +371,16 @@ impl GpuMaterial {
                 .unwrap_or(NO_TEXTURE),
             scattering: material.interior_scattering().to_array(),
             scatter_anisotropy: material.scatter_anisotropy,
+            iridescence: material.iridescence.map_or([0.0; 4], |i| {
+                [i.factor, i.ior, i.thickness_min, i.thickness_max]
+            }),
+            iridescence_texture: (material.iridescence)
+                .and_then(|i| i.texture)
+                .unwrap_or(NO_TEXTURE),
+            iridescence_thickness_texture: (material.iridescence)
+                .and_then(|i| i.thickness_texture)
+                .unwrap_or(NO_TEXTURE),
+            pad: [0; 2],
         }
     }
 
@@ -403,6 +429,8 @@ impl GpuMaterial {
             diffuse_transmission_texture: NO_TEXTURE,
             diffuse_transmission_color_texture: NO_TEXTURE,
             anisotropy_texture: NO_TEXTURE,
+            iridescence_texture: NO_TEXTURE,
+            iridescence_thickness_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

@@ -282,6 +282,7 @@ fn gpu_types_layout_matches_rust() {
             ("tbvh_record_base", offset_of!(SceneInfo, tbvh_record_base)),
             ("pad", offset_of!(SceneInfo, pad)),
             ("spectrum", offset_of!(SceneInfo, spectrum)),
+            ("film_spectrum", offset_of!(SceneInfo, film_spectrum)),
         ],
     );
     assert_layout(
@@ -407,6 +408,16 @@ fn gpu_types_layout_matches_rust() {
                 "scatter_anisotropy",
                 offset_of!(GpuMaterial, scatter_anisotropy),
             ),
+            ("iridescence", offset_of!(GpuMaterial, iridescence)),
+            (
+                "iridescence_texture",
+                offset_of!(GpuMaterial, iridescence_texture),
+            ),
+            (
+                "iridescence_thickness_texture",
+                offset_of!(GpuMaterial, iridescence_thickness_texture),
+            ),
+            ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );
     assert_layout(

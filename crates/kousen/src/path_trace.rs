@@ -23,6 +23,7 @@ use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pd
 use render::emission::{
     light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
 };
+use render::iridescence::{Film, metal_tint};
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
@@ -155,6 +156,9 @@ struct LitLobes<'a> {
     /// glTF's sheen over both lobes (beneath the clear coat), which the light passes too, and
     /// the normal it follows (the shading one, facing the path).
     sheen: Option<(SheenAt, Vec3)>,
+    /// A metal's colour and its thin film (glTF's iridescence), whose colour depends on the
+    /// light's direction: `glossy` then leaves the colour out.
+    metal_film: Option<(Vec3, Film)>,
 }
 
 impl<'a> LitLobes<'a> {
@@ -184,6 +188,7 @@ impl<'a> LitLobes<'a> {
                     lobe: GlossyLobe::reflection(alpha, ior),
                     clearcoat: None,
                     sheen: None,
+                    metal_film: None,
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
@@ -254,7 +259,10 @@ impl<'a> LitLobes<'a> {
             let lobe = self.lobe.response(normal, outgoing, incident);
             if lobe.value > 0.0 {
                 let weight = power_heuristic(light_pdf, reach * lobe.pdf);
-                response += self.glossy * (lobe.value * weight);
+                let tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
+                    metal_tint(base, film, outgoing, incident)
+                });
+                response += self.glossy * tint * (lobe.value * weight);
             }
         }
         // In through the clear coat, if any.
@@ -520,6 +528,11 @@ impl<'a> PathTracer<'a> {
                     front,
                 )
             };
+            let film = self.film(lobes_of, point.uv);
+            if matches!(lobes_of.surface, Surface::RoughConductor { .. }) && film.is_some() {
+                lit.metal_film = Some((lit.glossy, film));
+                lit.glossy = Vec3::ONE;
+            }
             if !self.lights.is_empty() {
                 if transmitted.is_some() {
                     // The far side's light sample for the Lambertian lobe, through that
@@ -893,6 +906,37 @@ impl<'a> PathTracer<'a> {
         material.base_color * self.texture(material.base_color_texture, uv).truncate()
     }
 
+    /// The thin film on `material` at `uv` (glTF's iridescence; factor 0 for none).
+    fn film(&self, material: &Material, uv: Vec2) -> Film {
+        let Some(film) = material.iridescence else {
+            return Film::default();
+        };
+        let texel = |id: Option<u32>| id.map(|_| self.texture(id, uv));
+        let (factor, thickness) = film.at(texel(film.texture), texel(film.thickness_texture));
+        Film {
+            factor,
+            ior: film.ior,
+            thickness,
+        }
+    }
+
+    /// A metal's colour `tint` for a reflection from `incoming` into `next`: under a thin film
+    /// its colour at the angle to the reflection's micro-normal.
+    fn metal_reflection_tint(
+        &self,
+        material: &Material,
+        uv: Vec2,
+        tint: Vec3,
+        (incoming, next): (Vec3, Vec3),
+    ) -> Vec3 {
+        let film = self.film(material, uv);
+        if film.is_some() {
+            metal_tint(tint, film, -incoming, next)
+        } else {
+            tint
+        }
+    }
+
     /// glTF's diffuse transmission at `uv` (`cpu::surface::diffuse_transmission_of`): the
     /// share through and its tint, `None` for none.
     fn diffuse_transmission(&self, material: &Material, uv: Vec2) -> Option<(f32, Vec3)> {
@@ -947,6 +991,7 @@ impl<'a> PathTracer<'a> {
                 let pdf = GlossyLobe::metal(alpha, brush)
                     .response(shading, -incoming, next)
                     .pdf;
+                let tint = self.metal_reflection_tint(material, point.uv, tint, (incoming, next));
                 return (next.dot(geometric) > 0.0).then_some((
                     next,
                     tint * weight,
@@ -1029,7 +1074,11 @@ impl<'a> PathTracer<'a> {
                 let (next, pdf) = lambertian(rng)?;
                 return Some((next, lobe_tint, Lobe::LightSampled { pdf }));
             }
-            Surface::Mirror => reflect(incoming, shading),
+            Surface::Mirror => {
+                let next = reflect(incoming, shading);
+                let tint = self.metal_reflection_tint(material, point.uv, tint, (incoming, next));
+                return Some((next, tint, Lobe::Specular));
+            }
             Surface::Dielectric { ior, thin_walled } => {
                 let eta = render::optics::relative_eta(ior, front, thin_walled);
                 let cos_i = -incoming.dot(shading);

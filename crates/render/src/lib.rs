@@ -16,6 +16,7 @@ pub mod half_storage;
 pub mod hash;
 pub mod image;
 pub mod integrator;
+pub mod iridescence;
 pub mod kdtree;
 pub mod lens;
 pub mod light_sampling;

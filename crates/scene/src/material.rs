@@ -102,6 +102,48 @@ pub struct Material {
     /// Brushing of the metal's GGX lobe (glTF's `KHR_materials_anisotropy`); `None` for an
     /// isotropic lobe. Every member of a blend carries it; only rough metal reads it.
     pub anisotropy: Option<Anisotropy>,
+    /// A thin film on the metal (glTF's `KHR_materials_iridescence`: soap-bubble colours on
+    /// oiled or heat-tinted metal); `None` for none. Every member of a blend carries it; only
+    /// the metal's reflection (mirror or rough) reads it.
+    pub iridescence: Option<Iridescence>,
+}
+
+/// glTF's iridescence: a thin film of index `ior` and a thickness in nanometres on the surface,
+/// whose reflections interfere (`render::iridescence`). The surface's reflectance becomes a mix
+/// of its own and the film's by the factor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iridescence {
+    /// glTF's `iridescenceFactor`, in (0, 1].
+    pub factor: f32,
+    /// glTF's `iridescenceTexture` (linear data): its red channel multiplies `factor`.
+    pub texture: Option<TextureId>,
+    /// glTF's `iridescenceIor`, the film's index (default 1.3).
+    pub ior: f32,
+    /// glTF's `iridescenceThicknessMinimum` in nm (default 100).
+    pub thickness_min: f32,
+    /// glTF's `iridescenceThicknessMaximum` in nm (default 400): the thickness where there is
+    /// no thickness texture.
+    pub thickness_max: f32,
+    /// glTF's `iridescenceThicknessTexture` (linear data): its green channel places the
+    /// thickness between the minimum (0) and the maximum (1).
+    pub thickness_texture: Option<TextureId>,
+}
+
+impl Iridescence {
+    /// The film's factor and thickness (nm) where the factor texture reads `factor_texel`
+    /// and the thickness texture `thickness_texel` (`None`: no texture).
+    pub fn at(
+        &self,
+        factor_texel: Option<glam::Vec4>,
+        thickness_texel: Option<glam::Vec4>,
+    ) -> (f32, f32) {
+        let factor = self.factor * factor_texel.map_or(1.0, |t| t.x);
+        let thickness = match thickness_texel {
+            Some(t) => self.thickness_min + (self.thickness_max - self.thickness_min) * t.y,
+            None => self.thickness_max,
+        };
+        (factor, thickness)
+    }
 }
 
 /// glTF's anisotropy of a metal's lobe (brushed metal): along a direction in the surface the
@@ -573,6 +615,7 @@ impl Default for Material {
             transmission_texture: None,
             diffuse_transmission: None,
             anisotropy: None,
+            iridescence: None,
         }
     }
 }

@@ -1,10 +1,14 @@
 //! glTF materials: the mapping onto kousen's surfaces, emission, alpha, textures, lights.
 
 mod gltf_support;
+// The writer of `make_scenes`, for round trips of what the loader reads.
+#[allow(dead_code)]
+#[path = "../examples/make_scenes/gltf_writer.rs"]
+mod gltf_writer;
 
 use glam::{Vec2, Vec3};
 use gltf_support::*;
-use scene::{AlphaMode, Material, Scene, Surface, Texels};
+use scene::{AlphaMode, Iridescence, Material, Scene, Surface, Texels};
 use serde_json::{Value, json};
 
 /// The material of the only quad of a document made with `material`.
@@ -600,7 +604,7 @@ fn an_emissive_quad_is_collected_as_a_light_with_its_area_and_power() {
 fn ignored_extensions_are_named_in_one_warning() {
     let mut doc = quad_doc(None);
     doc.json["extensionsUsed"] = json!([
-        "KHR_materials_iridescence",
+        "KHR_materials_variants",
         "KHR_materials_ior",
         "KHR_materials_specular"
     ]);
@@ -611,7 +615,7 @@ fn ignored_extensions_are_named_in_one_warning() {
         .filter(|w| w.contains("extension"))
         .collect();
     assert_eq!(warnings.len(), 2, "{warnings:?}");
-    assert_mentions(warnings[0], &["ignoring", "KHR_materials_iridescence"]);
+    assert_mentions(warnings[0], &["ignoring", "KHR_materials_variants"]);
     assert!(!warnings[0].contains("KHR_materials_specular"));
     // Read in part: named on its own, with what is read.
     assert_mentions(
@@ -1146,6 +1150,285 @@ fn anisotropy_is_read() {
     doc.json["extensionsRequired"] = json!([ANISOTROPY]);
     doc.json["extensionsUsed"] = json!([ANISOTROPY]);
     assert!(doc.load().is_ok(), "{ANISOTROPY} may be required");
+}
+
+const IRIDESCENCE: &str = "KHR_materials_iridescence";
+
+/// A quad of metalness `metallic` and roughness 0.3 under `KHR_materials_iridescence`
+/// `iridescence`.
+fn iridescent(metallic: f32, iridescence: Value) -> Result<Scene, scene::SceneError> {
+    let mut material = pbr(metallic, 0.3);
+    material["extensions"] = json!({ IRIDESCENCE: iridescence });
+    quad_doc(Some(material)).load()
+}
+
+/// `KHR_materials_iridescence` with its factor alone takes the spec's defaults: index 1.3,
+/// thickness from 100 to 400 nm, no textures; a metal keeps it without a warning, and the
+/// extension may be required.
+#[test]
+fn iridescence_defaults_are_read() {
+    let scene = iridescent(1.0, json!({ "iridescenceFactor": 0.6 })).expect("loads");
+    assert_eq!(
+        scene.materials[0].iridescence,
+        Some(Iridescence {
+            factor: 0.6,
+            texture: None,
+            ior: 1.3,
+            thickness_min: 100.0,
+            thickness_max: 400.0,
+            thickness_texture: None,
+        })
+    );
+    assert_eq!(
+        scene.materials[0].surface,
+        Surface::RoughConductor { alpha: 0.3 * 0.3 },
+        "the film leaves the metal's lobe as it is"
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let mut doc = quad_doc(None);
+    doc.json["extensionsRequired"] = json!([IRIDESCENCE]);
+    doc.json["extensionsUsed"] = json!([IRIDESCENCE]);
+    let required = doc.load().expect("loads");
+    assert!(required.warnings.is_empty(), "{:?}", required.warnings);
+}
+
+/// Every field of `KHR_materials_iridescence` is read as given (a maximum thickness below the
+/// minimum too, which the spec allows); its factor and thickness textures are decoded as
+/// linear data, each to a texture of the scene; a texture transform of their own that
+/// differs from the base colour's is warned about, naming the slot.
+#[test]
+fn iridescence_fields_and_textures_are_read() {
+    let load = |offset: [f32; 2]| {
+        let mut doc = doc_with_embedded_png();
+        // A second image, so that the two slots decode to two textures.
+        let view = doc.view(&tiny_png());
+        doc.push(
+            "images",
+            json!({ "bufferView": view, "mimeType": "image/png" }),
+        );
+        doc.push("textures", json!({ "source": 0 }));
+        doc.push("textures", json!({ "source": 1 }));
+        let mut material = pbr(1.0, 0.0);
+        material["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
+        material["extensions"] = json!({ IRIDESCENCE: {
+            "iridescenceFactor": 0.8,
+            "iridescenceTexture": { "index": 0 },
+            "iridescenceIor": 1.8,
+            "iridescenceThicknessMinimum": 600,
+            "iridescenceThicknessMaximum": 250.5,
+            "iridescenceThicknessTexture": {
+                "index": 1,
+                "extensions": { "KHR_texture_transform": { "offset": offset } },
+            },
+        } });
+        let material = doc.material(material);
+        let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+        doc.instance(mesh);
+        doc.load().expect("loads")
+    };
+    let scene = load([0.0, 0.0]);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let film = scene.materials[0].iridescence.expect("a film");
+    assert_eq!(
+        (
+            film.factor,
+            film.ior,
+            film.thickness_min,
+            film.thickness_max
+        ),
+        (0.8, 1.8, 600.0, 250.5)
+    );
+    assert_eq!(
+        scene.materials[0].surface,
+        Surface::Mirror,
+        "a smooth metal stays a mirror"
+    );
+    let (Some(factor), Some(thickness)) = (film.texture, film.thickness_texture) else {
+        panic!("both textures are read: {film:?}");
+    };
+    assert_ne!(factor, thickness, "two images, two textures");
+    for id in [factor, thickness] {
+        let texture = scene.textures.get(id as usize).expect("the id resolves");
+        assert_eq!((texture.width, texture.height), (2, 1));
+        assert!(
+            matches!(texture.texels, Texels::LinearF32(_)),
+            "texture {id} is data"
+        );
+    }
+    assert_ne!(
+        scene.materials[0].base_color_texture,
+        Some(factor),
+        "the base colour is decoded apart, as sRGB"
+    );
+    let shifted = load([0.5, 0.0]);
+    assert!(
+        (shifted.warnings.iter())
+            .any(|w| w.contains("iridescenceThicknessTexture")
+                && w.contains("KHR_texture_transform")),
+        "{:?}",
+        shifted.warnings
+    );
+    assert!(
+        !shifted
+            .warnings
+            .iter()
+            .any(|w| w.contains("iridescenceTexture'")),
+        "{:?}",
+        shifted.warnings
+    );
+}
+
+/// A factor of 0 (the default) is no film, whatever else the extension says (its texture can
+/// only lower the factor), and its textures are not read.
+#[test]
+fn iridescence_of_factor_0_is_none() {
+    for film in [
+        json!({}),
+        json!({ "iridescenceFactor": 0.0, "iridescenceIor": 2.0 }),
+        json!({ "iridescenceFactor": 0, "iridescenceTexture": { "index": 0 } }),
+    ] {
+        let mut doc = doc_with_embedded_png();
+        doc.push("textures", json!({ "source": 0 }));
+        let mut material = pbr(1.0, 0.3);
+        material["extensions"] = json!({ IRIDESCENCE: film.clone() });
+        let material = doc.material(material);
+        let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+        doc.instance(mesh);
+        let scene = doc.load().expect("loads");
+        assert_eq!(scene.materials[0].iridescence, None, "{film}");
+        assert!(scene.textures.is_empty(), "{film}: no texture read");
+        assert!(scene.warnings.is_empty(), "{film}: {:?}", scene.warnings);
+    }
+}
+
+/// Values outside the spec's ranges are refused in one line naming the field: a factor
+/// outside [0, 1], an index below 1 or beyond f32, a negative or infinite thickness, a
+/// number that is not one, a texture that does not exist.
+#[test]
+fn bad_iridescence_values_are_refused() {
+    for (film, field) in [
+        (json!({ "iridescenceFactor": 1.5 }), "iridescenceFactor"),
+        (json!({ "iridescenceFactor": -0.25 }), "iridescenceFactor"),
+        (json!({ "iridescenceFactor": "full" }), "iridescenceFactor"),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceIor": 0.9 }),
+            "iridescenceIor",
+        ),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceIor": 1e39 }),
+            "iridescenceIor",
+        ),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceThicknessMinimum": -1 }),
+            "iridescenceThicknessMinimum",
+        ),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceThicknessMaximum": -400 }),
+            "iridescenceThicknessMaximum",
+        ),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceThicknessMaximum": 1e39 }),
+            "iridescenceThicknessMaximum",
+        ),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceTexture": { "index": 7 } }),
+            "iridescenceTexture",
+        ),
+        (
+            json!({ "iridescenceFactor": 1, "iridescenceThicknessTexture": { "index": 7 } }),
+            "iridescenceThicknessTexture",
+        ),
+    ] {
+        let error = iridescent(1.0, film.clone())
+            .expect_err("refused")
+            .to_string();
+        assert_mentions(&error, &["material 0", field]);
+        assert!(!error.contains('\n'), "one line: {error}");
+    }
+    // Refused on a dielectric too, where the film is then ignored.
+    let error = iridescent(
+        0.0,
+        json!({ "iridescenceFactor": 1, "iridescenceIor": 0.5 }),
+    )
+    .expect_err("refused");
+    assert_mentions(&error.to_string(), &["iridescenceIor"]);
+}
+
+/// The film is rendered on the metal's reflection only: on a material without metal
+/// (metallicFactor 0, with or without a metallic-roughness texture, which only multiplies
+/// it) it is warned about once and dropped; a partly metal material keeps it on every member
+/// of its blend, and so does a metal whose metalness a texture maps.
+#[test]
+fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
+    let scene = iridescent(0.0, json!({ "iridescenceFactor": 1.0 })).expect("loads");
+    assert_eq!(scene.materials[0].iridescence, None);
+    assert_eq!(
+        scene.warnings,
+        vec![
+            "material 0: KHR_materials_iridescence on a dielectric (metallicFactor 0) is not \
+             modelled: its film is ignored"
+                .to_string()
+        ]
+    );
+    let film = json!({ IRIDESCENCE: { "iridescenceFactor": 1.0 } });
+    let mut material = pbr(0.0, 0.3);
+    material["extensions"] = film.clone();
+    let mapped = metallic_roughness_quad(material);
+    assert!(mapped.materials.iter().all(|m| m.iridescence.is_none()));
+    assert_eq!(mapped.warnings.len(), 1, "{:?}", mapped.warnings);
+    assert_mentions(&mapped.warnings[0], &[IRIDESCENCE, "dielectric", "ignored"]);
+
+    let half = iridescent(0.5, json!({ "iridescenceFactor": 1.0 })).expect("loads");
+    let id = half.triangles[0].material as usize;
+    let other = half.materials[id].blend.expect("a blend").other as usize;
+    for member in [id, other] {
+        assert!(
+            half.materials[member].iridescence.is_some(),
+            "member {member}"
+        );
+    }
+    assert!(half.warnings.is_empty(), "{:?}", half.warnings);
+    let mut material = pbr(1.0, 0.3);
+    material["extensions"] = film;
+    let mapped = metallic_roughness_quad(material);
+    let metal = &mapped.materials[mapped.triangles[0].material as usize];
+    assert!(metal.roughness_map.is_some() && metal.iridescence.is_some());
+    assert!(mapped.warnings.is_empty(), "{:?}", mapped.warnings);
+}
+
+/// `make_scenes`' writer writes a film as `KHR_materials_iridescence` (listed in
+/// `extensionsUsed`), which loads back as it was.
+#[test]
+fn iridescence_round_trips_through_the_writer() {
+    let mut fixture = scene::testing::cornell_brushed();
+    let film = Iridescence {
+        factor: 0.7,
+        texture: None,
+        ior: 1.45,
+        thickness_min: 210.5,
+        thickness_max: 180.0,
+        thickness_texture: None,
+    };
+    let mut filmed = 0;
+    for m in &mut fixture.materials {
+        if matches!(m.surface, Surface::Mirror | Surface::RoughConductor { .. }) {
+            m.iridescence = Some(film);
+            filmed += 1;
+        }
+    }
+    assert!(filmed > 0, "the fixture has metal");
+    let dir = tempfile::tempdir().expect("tempdir");
+    gltf_writer::write(&fixture, "iridescent", dir.path()).expect("written");
+    let path = dir.path().join("iridescent.gltf");
+    let json: Value = serde_json::from_slice(&std::fs::read(&path).expect("read")).expect("JSON");
+    let used = json["extensionsUsed"].as_array().expect("extensionsUsed");
+    assert!(used.contains(&json!(IRIDESCENCE)), "{used:?}");
+    let loaded = scene::load(&path).expect("loads");
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    assert_eq!(loaded.materials.len(), fixture.materials.len());
+    for (x, y) in loaded.materials.iter().zip(&fixture.materials) {
+        assert_eq!(x.iridescence, y.iridescence, "{}", y.name);
+    }
 }
 
 /// `KHR_materials_diffuse_transmission`'s factors as `Material::diffuse_transmission` (the

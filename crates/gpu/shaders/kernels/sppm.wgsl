@@ -453,6 +453,10 @@ struct LitLobes {
     coat_alpha: f32,
     // render::microfacet::GlossyLobe::brush: a brushed metal's brushing (zero: isotropic).
     brush: vec3<f32>,
+    // cpu::kernels::LitLobes::metal_film: a metal's colour and its thin film (factor 0: none;
+    // `glossy` then leaves the colour out).
+    film_base: vec3<f32>,
+    film: Film,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -501,7 +505,11 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     if lit.alpha > 0.0 {
         let lobe = lit_glossy_lobe(lit, hit, outgoing, incident);
         if lobe.value > 0.0 {
-            response += lit.glossy * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
+            var tint = vec3<f32>(1.0);
+            if IRIDESCENCE && lit.film.factor > 0.0 {
+                tint = metal_tint(lit.film_base, lit.film, outgoing, incident);
+            }
+            response += lit.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
     }
     // In through the clear coat and the sheen, if any (the coat about the normal before the
@@ -888,7 +896,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         let bounce = specular_direction(dispersed.material, hit, direction, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
         weight = bounce.weight;
-        tint = surface_tint * dispersed.weight;
+        let film = hit_film(material, hit.uv);
+        tint = metal_bounce_tint(dispersed.material, surface_tint, film, direction, next) * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
     // Out through the sheen and the clear coat, if any (the far side's where it passed
@@ -1124,7 +1133,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0));
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film());
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -1157,7 +1166,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0));
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film());
         if plastic {
             lit.coat_ior = material.ior;
             lit.coat_alpha = material.roughness_alpha;
@@ -1227,10 +1236,17 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             material = dispersed.material;
             wavelength = dispersed.wavelength;
             throughput *= dispersed.weight;
+            // cpu::kernels: a thin film colours the metal by the angle to each micro-normal.
+            let film = hit_film(material, hit.uv);
             if material.surface == SURFACE_ROUGH_CONDUCTOR {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
                 lit.brush = hit.brush;
+                if IRIDESCENCE && film.factor > 0.0 {
+                    lit.glossy = throughput;
+                    lit.film = film;
+                    lit.film_base = tint;
+                }
             }
             // cpu::kernels: solid frosted glass met from outside reflects as a coat does; met
             // from inside, its refraction out is the lobe.
@@ -1250,6 +1266,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
+            bounce_tint = metal_bounce_tint(material, tint, film, direction, bounce.direction);
         }
         if DIFFUSE_TRANSMISSION && far_side {
             // The glossy lobes keep the hit's light sample, the Lambertian one takes the far

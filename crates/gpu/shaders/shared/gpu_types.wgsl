@@ -28,9 +28,11 @@ struct SceneInfo {
     pad: u32,
     // gpu::types::SceneInfo::spectrum: per level, its wavelength and weight.
     spectrum: array<vec4<f32>, WAVELENGTH_LEVELS>,
+    // gpu::types::SceneInfo::film_spectrum: per wavelength, itself and its weight.
+    film_spectrum: array<vec4<f32>, FILM_WAVELENGTHS>,
 }
 
-// One material (368 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
+// One material (400 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED |
 // MATERIAL_BLEND | MATERIAL_BOUNDS_VOLUME;
 // ior: of dielectrics and plastic coats; roughness_alpha: GGX width of rough surfaces; normal_texture: a tangent-space normal map
@@ -104,4 +106,10 @@ struct GpuMaterial {
     // asymmetry (render::scattering).
     scattering: vec3<f32>,
     scatter_anisotropy: f32,
+    // scene::Iridescence: factor (0: none), film index, least and greatest thickness (nm),
+    // then its factor and thickness textures (NO_TEXTURE: none).
+    iridescence: vec4<f32>,
+    iridescence_texture: u32,
+    iridescence_thickness_texture: u32,
+    pad: vec2<u32>,
 }

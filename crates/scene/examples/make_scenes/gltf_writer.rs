@@ -16,6 +16,8 @@
 //! - diffuse transmission → `KHR_materials_diffuse_transmission`, with `KHR_materials_volume`
 //!   where it bounds a translucent solid;
 //! - anisotropy → `KHR_materials_anisotropy` (strength and rotation);
+//! - iridescence → `KHR_materials_iridescence` (factor, index and thickness range; its
+//!   textures are not written);
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -441,6 +443,17 @@ impl Document {
                 }),
             );
         }
+        if let Some(film) = m.iridescence {
+            extensions.insert(
+                "KHR_materials_iridescence".into(),
+                json!({
+                    "iridescenceFactor": number(film.factor),
+                    "iridescenceIor": number(film.ior),
+                    "iridescenceThicknessMinimum": number(film.thickness_min),
+                    "iridescenceThicknessMaximum": number(film.thickness_max),
+                }),
+            );
+        }
         if let Some(transmission) = m.diffuse_transmission {
             extensions.insert(
                 "KHR_materials_diffuse_transmission".into(),
@@ -548,6 +561,7 @@ fn known_extension(name: &str) -> &'static str {
         "KHR_materials_dispersion",
         "KHR_materials_emissive_strength",
         "KHR_materials_ior",
+        "KHR_materials_iridescence",
         "KHR_materials_sheen",
         "KHR_materials_transmission",
         "KHR_materials_volume",

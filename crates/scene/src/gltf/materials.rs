@@ -52,6 +52,14 @@
 //!   texture's red and green), turned by
 //!   `anisotropyRotation`; a smooth metal so brushed becomes rough metal of width
 //!   `MIN_BRUSHED_ALPHA`. The dielectric's coat and glass stay isotropic (warned).
+//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on the metal's reflection:
+//!   `iridescenceFactor` (× the red of `iridescenceTexture`, linear data) its weight,
+//!   `iridescenceIor` (default 1.3) its index, its thickness `iridescenceThicknessMaximum`
+//!   (default 400 nm), or where `iridescenceThicknessTexture` (linear data) is given, from
+//!   `iridescenceThicknessMinimum` (default 100 nm) to the maximum by its green. A factor of
+//!   0 is no film; on a material without metal (`metallicFactor` 0) the film is not modelled
+//!   and is ignored (warned); a blend's dielectric members carry it, but only the metal shows
+//!   it.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -90,9 +98,9 @@
 //! - `transmissionTexture` (linear data: its red channel) multiplies the glass member's weight
 //!   at each hit, the opaque dielectric taking the rest (`Material::transmission_texture`).
 //!
-//! Ignored: occlusion (a path tracer's light needs none), thickness textures,
-//! samplers (the renderer filters bilinearly and wraps with repeat). Colour textures are decoded
-//! as sRGB, each image once however many materials use it.
+//! Ignored: occlusion (a path tracer's light needs none), `KHR_materials_volume`'s thickness
+//! texture, samplers (the renderer filters bilinearly and wraps with repeat). Colour textures
+//! are decoded as sRGB, each image once however many materials use it.
 
 use std::borrow::Cow;
 
@@ -106,10 +114,10 @@ use super::buffers::{read_regular, resolve_uri};
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
-    AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Material,
-    RoughnessMap, SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId, TextureRoughness,
-    TexturedLobe, absorption_from_attenuation as scene_absorption, brushed_metal_surface,
-    coated_surface, glass_surface, metal_surface,
+    AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Iridescence,
+    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId,
+    TextureRoughness, TexturedLobe, absorption_from_attenuation as scene_absorption,
+    brushed_metal_surface, coated_surface, glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -329,6 +337,7 @@ impl Materials {
             transmission_texture,
             diffuse_transmission,
             anisotropy: self.anisotropy(input, builder, &check, m)?,
+            iridescence: self.iridescence(input, builder, &check, m)?,
         };
         if is_unlit(m) {
             return Ok((
@@ -465,6 +474,40 @@ impl Materials {
         Ok(Some(anisotropy))
     }
 
+    /// `KHR_materials_iridescence` as an [`Iridescence`] ([`iridescence`]'s factors) with its
+    /// factor and thickness textures, decoded as linear data. The film is rendered on the
+    /// metal's reflection only: a material without metal (`metallicFactor` 0, which a
+    /// metallic-roughness texture only multiplies) gets none, with a warning.
+    fn iridescence(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        m: &json::Material,
+    ) -> Result<Option<Iridescence>, SceneError> {
+        let Some(mut film) = iridescence(check, m)? else {
+            return Ok(None);
+        };
+        if m.pbr_metallic_roughness.metallic_factor.0 <= 0.0 {
+            builder.warn(format!(
+                "{}: {IRIDESCENCE} on a dielectric (metallicFactor 0) is not modelled: its \
+                 film is ignored",
+                check.label
+            ));
+            return Ok(None);
+        }
+        let info = |name| layer_slot::<json::texture::Info>(check, m, IRIDESCENCE, name, "texture");
+        if let Some(info) = info("iridescenceTexture")? {
+            let slot = TextureSlot::data(&info, "iridescenceTexture");
+            film.texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        if let Some(info) = info("iridescenceThicknessTexture")? {
+            let slot = TextureSlot::data(&info, "iridescenceThicknessTexture");
+            film.thickness_texture = Some(self.texture(input, builder, slot, check.label)?);
+        }
+        Ok(Some(film))
+    }
+
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
     /// as sRGB, a normal map as linear data: one image read both ways is decoded twice).
     fn texture(
@@ -577,8 +620,8 @@ fn warn_own_transform(
 }
 
 /// [`warn_own_transform`] for the textures of the clear coat, the sheen, the diffuse
-/// transmission, the anisotropy and the transmission, which read the material's one set of
-/// coordinates too.
+/// transmission, the anisotropy, the iridescence and the transmission, which read the
+/// material's one set of coordinates too.
 fn warn_layer_transforms(
     m: &json::Material,
     transform: Option<Affine2>,
@@ -609,6 +652,10 @@ fn warn_layer_transforms(
             ][..],
         ),
         (ANISOTROPY, &["anisotropyTexture"][..]),
+        (
+            IRIDESCENCE,
+            &["iridescenceTexture", "iridescenceThicknessTexture"][..],
+        ),
     ];
     for (extension, slots) in layers {
         for &slot in slots {
@@ -932,6 +979,7 @@ fn unlit(material: Material) -> Material {
         transmission_texture: None,
         diffuse_transmission: None,
         anisotropy: None,
+        iridescence: None,
         roughness_map: None,
         normal_texture: None,
         absorption: Vec3::ZERO,
@@ -1018,6 +1066,46 @@ fn anisotropy(check: &Check, m: &json::Material) -> Result<Option<Anisotropy>, S
         texture: None,
     }))
 }
+
+const IRIDESCENCE: &str = "KHR_materials_iridescence";
+
+/// `KHR_materials_iridescence`'s defaults: the film's index and its thickness range (nm).
+const DEFAULT_IRIDESCENCE_IOR: f32 = 1.3;
+const DEFAULT_THICKNESS_MIN: f32 = 100.0;
+const DEFAULT_THICKNESS_MAX: f32 = 400.0;
+
+/// `KHR_materials_iridescence`'s factors as an [`Iridescence`] (none for a factor of 0,
+/// which its texture can only lower): the factor in [0, 1], the index finite and ≥ 1, the
+/// thicknesses finite and ≥ 0. A maximum below the minimum is kept as given (the thickness
+/// texture then runs from the minimum down to the maximum, as the spec allows).
+fn iridescence(check: &Check, m: &json::Material) -> Result<Option<Iridescence>, SceneError> {
+    let Some(value) = extension(m, IRIDESCENCE) else {
+        return Ok(None);
+    };
+    let factor = unit_factor(check, value, IRIDESCENCE, "iridescenceFactor", 0.0)?;
+    let name = "iridescenceIor";
+    let ior = extension_number(check, value, IRIDESCENCE, name, DEFAULT_IRIDESCENCE_IOR)?;
+    if !(ior.is_finite() && ior >= 1.0) {
+        return Err(check.error(format!(
+            "{IRIDESCENCE}'s {name} {ior} is not a finite number ≥ 1"
+        )));
+    }
+    let thickness = |name: &str, default| {
+        let nm = extension_number(check, value, IRIDESCENCE, name, default)?;
+        check.non_negative(nm, &format!("{IRIDESCENCE}'s {name}"))
+    };
+    let thickness_min = thickness("iridescenceThicknessMinimum", DEFAULT_THICKNESS_MIN)?;
+    let thickness_max = thickness("iridescenceThicknessMaximum", DEFAULT_THICKNESS_MAX)?;
+    Ok((factor > 0.0).then_some(Iridescence {
+        factor,
+        texture: None,
+        ior,
+        thickness_min,
+        thickness_max,
+        thickness_texture: None,
+    }))
+}
+
 const DIFFUSE: &str = "KHR_materials_diffuse_transmission";
 
 /// `KHR_materials_diffuse_transmission`'s factors as a [`DiffuseTransmission`] (none for a
@@ -1119,13 +1207,24 @@ fn unit_factor(
     name: &str,
     default: f32,
 ) -> Result<f32, SceneError> {
+    let x = extension_number(check, value, extension, name, default)?;
+    check.unit(x, &format!("{extension}'s {name}"))
+}
+
+/// The number `name` of extension `extension` (`value`) as an `f32` (unchecked: one too
+/// large for it becomes infinite); `default` where missing.
+fn extension_number(
+    check: &Check,
+    value: &serde_json::Value,
+    extension: &str,
+    name: &str,
+    default: f32,
+) -> Result<f32, SceneError> {
     match value.get(name) {
         None => Ok(default),
-        Some(v) => {
-            let x = (v.as_f64())
-                .ok_or_else(|| check.error(format!("{extension}'s {name} is not a number")))?;
-            check.unit(x as f32, &format!("{extension}'s {name}"))
-        }
+        Some(v) => (v.as_f64())
+            .map(|x| x as f32)
+            .ok_or_else(|| check.error(format!("{extension}'s {name} is not a number"))),
     }
 }
 

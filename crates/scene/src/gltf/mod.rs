@@ -47,7 +47,7 @@ use materials::Materials;
 use meshes::Mesh;
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 15] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 16] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_anisotropy",
@@ -57,6 +57,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 15] = [
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_iridescence",
     "KHR_materials_sheen",
     "KHR_materials_unlit",
     "KHR_materials_volume",

@@ -44,7 +44,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 20] = [
+pub const SHIPPED: [(&str, Fixture); 21] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -70,6 +70,7 @@ pub const SHIPPED: [(&str, Fixture); 20] = [
         scene::testing::cornell_translucent_solids,
     ),
     ("cornell-brushed", scene::testing::cornell_brushed),
+    ("cornell-iridescent", scene::testing::cornell_iridescent),
     ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
 

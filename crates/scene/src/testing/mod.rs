@@ -32,10 +32,12 @@
 //! The shipped `scenes/cornell-box.gltf` and `scenes/cornell-caustics.gltf` are written from
 //! these by `cargo run -p scene --example make_scenes -- scenes/`.
 
+mod iridescent;
 mod metallic_roughness;
 mod prism;
 mod translucent;
 
+pub use iridescent::*;
 pub use metallic_roughness::*;
 pub use prism::*;
 pub use translucent::*;

@@ -1753,3 +1753,98 @@ fn a_sky_map_lights_an_open_plane_to_its_cosine_weighted_integral() {
         assert_matches(&format!("{what}, blue"), &blue, |_| expected.z, mean, rms);
     }
 }
+
+/// The punctual plane as metal of colour ρ = (0.9, 0.6, 0.3) under a thin film (glTF's
+/// iridescence: index 1.8, 420 nm, factor 0.8: `render::iridescence`) under the sky L, seen
+/// from above at angle θ to the normal: polished, each pixel returns L·F(θ), the film's mix
+/// `iridescent_metal(ρ, film, cos θ)`; rough (GGX α 0.09), L·∫F(h·v)·f(v, l)·cos dω, the lobe's
+/// albedo with the film's colour at each micro-normal, by a midpoint quadrature over the
+/// hemisphere at nine cosines (linear between them). Every channel: the film's colour differs
+/// per channel (a metal without it returns ρ). The mirror in both direct-light modes, the rough
+/// metal with light samples weighed against its lobe (the film read at the light's direction).
+/// Measured, seed 1, each channel: mirror mean within 0.05 %, rms ≤ 1 % (only the pixel's
+/// jitter varies θ); rough −0.1 to 0.0 %, rms 1.4–1.5 % (with the light samples' tint left
+/// at ρ: green +6 %). Tolerances: mean 1 % and rms 2 % (mirror), 2 % and 5 % (rough).
+#[test]
+fn sky_lights_an_iridescent_metal_plane() {
+    use render::iridescence::{Film, iridescent_metal, metal_tint};
+    let sky = 2.0f32;
+    let base = Vec3::new(0.9, 0.6, 0.3);
+    let film = scene::Iridescence {
+        factor: 0.8,
+        ..testing::film(1.8, 420.0)
+    };
+    let at = Film {
+        factor: film.factor,
+        ior: film.ior,
+        thickness: film.thickness_max,
+    };
+    let view = TopView::new(0.4, 16);
+    let plane = |surface| {
+        let mut scene = sky_lit_plane(sky);
+        for material in &mut scene.materials {
+            material.surface = surface;
+            material.base_color = base;
+            material.iridescence = Some(film);
+        }
+        scene
+    };
+    let assert_channels = |what: &str, image: &[Vec3], expected: &dyn Fn(usize) -> Vec3, tol| {
+        let (mean, rms) = tol;
+        for (c, name) in ["red", "green", "blue"].into_iter().enumerate() {
+            let channel: Vec<Vec3> = image.iter().map(|p| Vec3::splat(p[c])).collect();
+            let what = format!("{what}, {name}");
+            assert_matches(&what, &channel, |i| expected(i)[c], mean, rms);
+        }
+    };
+
+    let mirror = |i: usize| sky * iridescent_metal(base, at, view.cosine(i));
+    assert!(
+        (mirror(0) - base * sky).abs().max_element() > 0.05,
+        "the film colours the metal"
+    );
+    let scene = plane(scene::Surface::Mirror);
+    for direct in [DirectLight::Photons, DirectLight::Sampled] {
+        let (image, _, _) = render_top_view_with(&scene, &view, 1, 16, direct);
+        let what = format!("iridescent mirror, {}", direct.name());
+        assert_channels(&what, &image, &mirror, (0.01, 0.02));
+    }
+
+    let alpha = 0.09f32;
+    let albedo = |cos: f32| {
+        let v = Vec3::new((1.0 - cos * cos).sqrt(), cos, 0.0);
+        let n = 160;
+        let mut sum = Vec3::ZERO;
+        for i in 0..n {
+            let x = (i as f32 + 0.5) / n as f32;
+            let cos_l = 1.0 - x * x;
+            let sin_l = (1.0 - cos_l * cos_l).max(0.0).sqrt();
+            let d_omega = 2.0 * x / n as f32 * std::f32::consts::TAU / n as f32;
+            for j in 0..n {
+                let phi = (j as f32 + 0.5) / n as f32 * std::f32::consts::TAU;
+                let l = Vec3::new(sin_l * phi.cos(), cos_l, sin_l * phi.sin());
+                let lobe = render::microfacet::glossy_response(v, l, Vec3::Y, alpha, 0.0);
+                if lobe.value > 0.0 {
+                    sum += metal_tint(base, at, v, l) * (lobe.value * d_omega);
+                }
+            }
+        }
+        sum
+    };
+    let lowest = (0..256).map(|i| view.cosine(i)).fold(1.0f32, f32::min) - 0.01;
+    let nodes: Vec<(f32, Vec3)> = (0..9)
+        .map(|k| {
+            let cos = lowest + (1.0 - lowest) * k as f32 / 8.0;
+            (cos, sky * albedo(cos))
+        })
+        .collect();
+    let rough = |i: usize| {
+        let cos = view.cosine(i);
+        let k = (((cos - lowest) / (1.0 - lowest) * 8.0) as usize).min(7);
+        let ((c0, r0), (c1, r1)) = (nodes[k], nodes[k + 1]);
+        r0.lerp(r1, (cos - c0) / (c1 - c0))
+    };
+    let scene = plane(scene::Surface::RoughConductor { alpha });
+    let (image, _, _) = render_top_view_with(&scene, &view, 1, 256, DirectLight::Sampled);
+    assert_channels("iridescent rough metal", &image, &rough, (0.02, 0.05));
+}

@@ -1038,6 +1038,38 @@ fn every_kernel_matches_its_twin_on_brushed_metal() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same on `cornell_iridescent` (glTF's iridescence: `render::iridescence` and its WGSL
+/// twin): the titanium mirror's film thickness from a checker's green (between 100 and
+/// 300 nm) and the rough steel's factor from its red: photon and eye bounces off both take the
+/// film's colour at their micro-normal, and the steel's light samples its colour at the
+/// light's direction.
+#[test]
+fn every_kernel_matches_its_twin_on_iridescent_metal() {
+    let mut scene = scene::testing::cornell_iridescent();
+    let texture = push_checker(&mut scene, "film checker", |x, y| match (x + y) % 2 {
+        0 => [0.3, 0.1, 0.0, 1.0],
+        _ => [1.0, 0.8, 0.0, 1.0],
+    });
+    let named = |name: &str| (scene.materials.iter()).position(|m| m.name.contains(name));
+    let (titanium, steel) = (named("titanium").unwrap(), named("steel").unwrap());
+    for (id, thickness) in [(titanium, true), (steel, false)] {
+        let film = scene.materials[id].iridescence.as_mut().unwrap();
+        if thickness {
+            film.thickness_texture = Some(texture);
+        } else {
+            film.texture = Some(texture);
+        }
+    }
+    for triangle in
+        (scene.triangles.iter_mut()).filter(|t| [titanium, steel].contains(&(t.material as usize)))
+    {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same with the mesh's own tangents (glTF TANGENT, `render::normal_map::tangent_frame`
 /// and its WGSL twin) on `cornell_bumpy`'s normal-mapped surfaces, its hammered mirror made
 /// brushed rough metal: every vertex's tangent turned from its normal's basis by an angle of

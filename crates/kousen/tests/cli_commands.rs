@@ -186,6 +186,20 @@ fn info_counts_sheened_materials() {
     );
 }
 
+/// `kousen info` counts the materials under a thin film (the shipped iridescent room's two
+/// spheres).
+#[test]
+fn info_counts_iridescent_materials() {
+    assert_eq!(
+        info_json(&shipped("cornell-iridescent.gltf"))["iridescent_materials"],
+        2
+    );
+    assert_eq!(
+        info_json(&shipped("cornell-box.gltf"))["iridescent_materials"],
+        0
+    );
+}
+
 /// `kousen info` counts the brushed materials (the shipped brushed room's two spheres).
 #[test]
 fn info_counts_brushed_materials() {

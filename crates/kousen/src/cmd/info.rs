@@ -41,6 +41,9 @@ struct Info {
     /// Materials (blend members) brushed (`scene::Anisotropy`: glTF's
     /// `KHR_materials_anisotropy`).
     brushed_materials: usize,
+    /// Materials (blend members) under a thin film (`scene::Iridescence`: glTF's
+    /// `KHR_materials_iridescence`, which colours their metal).
+    iridescent_materials: usize,
     /// Whether the meshes carry their own tangents (glTF TANGENT), the frame of normal maps
     /// and brushing (else each triangle's texture coordinates give it).
     vertex_tangents: bool,
@@ -298,6 +301,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         translucent_solids: count(|m| m.diffuse_transmission.is_some_and(|t| t.volume)),
         scattering_solids: count(|m| m.interior_scattering().max_element() > 0.0),
         brushed_materials: count(|m| m.anisotropy.is_some()),
+        iridescent_materials: count(|m| m.iridescence.is_some()),
         vertex_tangents: scene.has_vertex_tangents(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
@@ -447,6 +451,10 @@ fn print_table(info: &Info) {
         (
             "anisotropy",
             format!("{} materials", info.brushed_materials),
+        ),
+        (
+            "iridescence",
+            format!("{} materials", info.iridescent_materials),
         ),
         (
             "inside solids",

@@ -18,9 +18,9 @@ pub fn film(ior: f32, thickness: f32) -> Iridescence {
 }
 
 /// The room of [`super::cornell_caustics`] with two metal spheres under oxide films (index
-/// 2.4), the colours of anodised and heat-tinted metal: front left polished titanium under
-/// 300 nm (blue at normal incidence, purple towards the rim), back right rough steel
-/// (roughness 0.2, GGX α 0.04) under 150 nm (straw gold).
+/// 2.4), the colours of anodised and heat-tinted metal: in front (on the camera's right)
+/// polished titanium under 300 nm (blue at normal incidence, purple towards the rim), behind
+/// it on the left rough steel (roughness 0.2, GGX α 0.04) under 150 nm (straw gold).
 pub fn cornell_iridescent() -> Scene {
     let mut f = Fixture::new("testing::cornell_iridescent");
     cornell_room(&mut f);

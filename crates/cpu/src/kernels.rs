@@ -41,8 +41,8 @@ use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, bounce_tint, clearcoat_bounce,
     dielectric_branches, diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted,
     eye_crossing_scale, hit_clearcoat, hit_film, hit_sheen, is_cut_out, lambertian_side,
-    medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
-    sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
+    medium_after_bounce, medium_transmittance, metal_bounce_tint, offset_origin, plastic_bounce,
+    shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -298,7 +298,7 @@ pub fn photon_pass_with<R: StreamRng>(
             let next = specular_direction(dispersed, &hit, direction, [u0, u1, u_choice]);
             let film = hit_film(scene, material, hit.uv);
             let tint = next.map_or(tint, |(next, _)| {
-                bounce_tint(dispersed, tint, film, direction, next)
+                bounce_tint(dispersed, tint, film, &hit, (direction, next))
             });
             (next, tint * spectral_weight)
         }
@@ -761,8 +761,9 @@ fn eye_path(
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
                 specular_first |= depth == 0;
+                // Glass's film takes its share below, after the way not taken is counted.
                 let tint = next.map_or(tint, |(next, _)| {
-                    bounce_tint(surface, tint, film, direction, next)
+                    metal_bounce_tint(surface, tint, film, (direction, next))
                 });
                 Some((next, tint))
             }
@@ -850,28 +851,43 @@ fn eye_path(
         // otherwise seen by a few eye paths in twenty. Only at the first glass surface of the
         // path: deeper ones (inside a glass sphere) add little and cost most (lavapipe's eye
         // pass on cornell-caustics: +7 % probing at the first, +23 % at every one).
+        // Under a thin film (glTF's iridescence) each channel of either way takes the film's
+        // share of it (the way not taken counted with it, the way taken weighed by it over
+        // its probability).
+        let film = hit_film(scene, material, hit.uv);
+        let probe = !met_glass && depth < params.max_depth;
         if let Surface::Dielectric { ior, thin_walled } = surface
-            && !met_glass
-            && depth < params.max_depth
+            && (probe || film.is_some())
         {
-            met_glass = true;
-            let branches = dielectric_branches(&hit, direction, ior, thin_walled);
-            let (other, other_share) = if u < branches.reflectance {
-                (branches.transmitted, 1.0 - branches.reflectance)
+            let branches = dielectric_branches(&hit, direction, ior, thin_walled, film);
+            let (other, other_share, other_weight) = if u < branches.reflectance {
+                let share = 1.0 - branches.reflectance;
+                (
+                    branches.transmitted,
+                    share,
+                    Vec3::ONE - branches.film_reflectance,
+                )
             } else {
-                (branches.reflected, branches.reflectance)
+                let share = branches.reflectance;
+                (branches.reflected, share, branches.film_reflectance)
             };
-            if other != next && other_share > 0.0 {
-                let seen = emission_seen(
-                    scene,
-                    params,
-                    offset_origin(&hit, other, params.epsilon),
-                    other,
-                    medium_after_bounce(scene, material, root, medium, &hit, other),
-                );
-                let crossing = eye_crossing_scale(surface, &hit, other);
-                direct += throughput * (other_share * crossing) * seen;
-                emission_share = 1.0 - other_share;
+            if probe {
+                met_glass = true;
+                if other != next && other_share > 0.0 {
+                    let seen = emission_seen(
+                        scene,
+                        params,
+                        offset_origin(&hit, other, params.epsilon),
+                        other,
+                        medium_after_bounce(scene, material, root, medium, &hit, other),
+                    );
+                    let crossing = eye_crossing_scale(surface, &hit, other);
+                    direct += throughput * (other_weight * crossing) * seen;
+                    emission_share = 1.0 - other_share;
+                }
+            }
+            if film.is_some() {
+                throughput *= branches.weight(next == branches.reflected);
             }
         }
         throughput *= eye_crossing_scale(surface, &hit, next);

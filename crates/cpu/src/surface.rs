@@ -7,7 +7,7 @@ use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
 use render::dispersion::{disperse, draws_wavelength};
-use render::iridescence::{Film, metal_tint};
+use render::iridescence::{Film, iridescent_dielectric, metal_tint};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
@@ -342,10 +342,37 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
     }
 }
 
-/// What a bounce of `incoming` into `next` at a `surface` of colour `tint` keeps: a metal's
-/// reflection (mirror or rough) under a thin `film` its colour at the angle to the bounce's
-/// micro-normal (`render::iridescence::metal_tint`); every other bounce `tint`.
-pub fn bounce_tint(surface: Surface, tint: Vec3, film: Film, incoming: Vec3, next: Vec3) -> Vec3 {
+/// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
+/// under a thin `film` (glTF's iridescence): a metal's reflection its colour at the bounce's
+/// angle ([`metal_bounce_tint`]); smooth glass's reflection or transmission, chosen by the bare
+/// surface's Fresnel reflectance, the film's share of that way over the choice's probability
+/// ([`DielectricBranches::weight`]); every other bounce, and every bounce without a film,
+/// `tint`.
+pub fn bounce_tint(
+    surface: Surface,
+    tint: Vec3,
+    film: Film,
+    hit: &SurfaceHit,
+    (incoming, next): (Vec3, Vec3),
+) -> Vec3 {
+    match surface {
+        Surface::Dielectric { ior, thin_walled } if film.is_some() => {
+            let branches = dielectric_branches(hit, incoming, ior, thin_walled, film);
+            tint * branches.weight(next == branches.reflected)
+        }
+        _ => metal_bounce_tint(surface, tint, film, (incoming, next)),
+    }
+}
+
+/// A metal's reflection (mirror or rough) of `incoming` into `next` under a thin `film`: its
+/// colour `tint` at the angle to the bounce's micro-normal (`render::iridescence::
+/// metal_tint`); every other bounce, and every bounce without a film, `tint`.
+pub fn metal_bounce_tint(
+    surface: Surface,
+    tint: Vec3,
+    film: Film,
+    (incoming, next): (Vec3, Vec3),
+) -> Vec3 {
     let metal = matches!(surface, Surface::Mirror | Surface::RoughConductor { .. });
     if metal && film.is_some() {
         metal_tint(tint, film, -incoming, next)
@@ -447,7 +474,7 @@ pub fn specular_direction(
         }
         Surface::Mirror => reflect(incoming, normal),
         Surface::Dielectric { ior, thin_walled } => {
-            let branches = dielectric_branches(hit, incoming, ior, thin_walled);
+            let branches = dielectric_branches(hit, incoming, ior, thin_walled, Film::default());
             if u[0] < branches.reflectance {
                 branches.reflected
             } else {
@@ -617,27 +644,56 @@ pub fn plastic_bounce(
 
 /// A smooth dielectric's two ways on: reflected with probability `reflectance` (Fresnel),
 /// else transmitted (refracted; straight on through a thin-walled sheet; reflected where
-/// total internal reflection leaves no refracted ray).
+/// total internal reflection leaves no refracted ray). Under a thin film (glTF's
+/// iridescence) the share reflected is `film_reflectance` in each channel, the choice's
+/// probability staying the bare surface's.
 #[derive(Clone, Copy, Debug)]
 pub struct DielectricBranches {
     pub reflectance: f32,
+    pub film_reflectance: Vec3,
     pub reflected: Vec3,
     pub transmitted: Vec3,
 }
 
+impl DielectricBranches {
+    /// The weight of the way chosen (`reflected` or not) under the film: its share over its
+    /// probability (1 without a film).
+    pub fn weight(&self, reflected: bool) -> Vec3 {
+        if reflected {
+            if self.reflectance > 0.0 {
+                self.film_reflectance / self.reflectance
+            } else {
+                Vec3::ZERO
+            }
+        } else if self.reflectance < 1.0 {
+            (Vec3::ONE - self.film_reflectance) / (1.0 - self.reflectance)
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
+
+/// The two ways on from a smooth dielectric of `ior` at `hit`, under `film` (none: factor 0).
 pub fn dielectric_branches(
     hit: &SurfaceHit,
     incoming: Vec3,
     ior: f32,
     thin_walled: bool,
+    film: Film,
 ) -> DielectricBranches {
     let normal = hit.shading;
     let eta = relative_eta(ior, hit.front, thin_walled);
-    let mut reflectance = fresnel_dielectric(-incoming.dot(normal), eta);
-    if thin_walled {
-        // A sheet: light bounces between its two faces; the total reflectance.
-        reflectance = 2.0 * reflectance / (1.0 + reflectance);
-    }
+    let cos_incident = -incoming.dot(normal);
+    let single = fresnel_dielectric(cos_incident, eta);
+    let film_single =
+        iridescent_dielectric(single, film, cos_incident, ior, hit.front || thin_walled);
+    // A sheet: light bounces between its two faces; the total reflectance.
+    let sheet = |r| 2.0 * r / (1.0 + r);
+    let (reflectance, film_reflectance) = if thin_walled {
+        (sheet(single), film_single.map(sheet))
+    } else {
+        (single, film_single)
+    };
     let reflected = reflect(incoming, normal);
     let transmitted = if thin_walled {
         incoming
@@ -646,6 +702,7 @@ pub fn dielectric_branches(
     };
     DielectricBranches {
         reflectance,
+        film_reflectance,
         reflected,
         transmitted,
     }

@@ -23,7 +23,7 @@ use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pd
 use render::emission::{
     light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
 };
-use render::iridescence::{Film, metal_tint};
+use render::iridescence::{Film, iridescent_dielectric, metal_tint};
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
@@ -972,7 +972,7 @@ impl<'a> PathTracer<'a> {
             let next = t * local.x + b * local.y + shading * local.z;
             (next.dot(geometric) > 0.0).then_some((next, local.z * std::f32::consts::FRAC_1_PI))
         };
-        let direction = match surface {
+        match surface {
             Surface::RoughConductor { alpha } => {
                 let (u1, u2) = (rng.next_f32(), rng.next_f32());
                 let brush = point.brush;
@@ -1082,25 +1082,32 @@ impl<'a> PathTracer<'a> {
             Surface::Dielectric { ior, thin_walled } => {
                 let eta = render::optics::relative_eta(ior, front, thin_walled);
                 let cos_i = -incoming.dot(shading);
-                let reflectance = fresnel_dielectric(cos_i, eta);
-                let reflectance = if thin_walled {
-                    // A sheet: light bounces between its two faces; the total reflectance.
-                    2.0 * reflectance / (1.0 + reflectance)
+                let single = fresnel_dielectric(cos_i, eta);
+                // Under a thin film (glTF's iridescence) each channel reflects the film's
+                // share; the way is still chosen by the bare surface's.
+                let film = self.film(material, point.uv);
+                let film_single =
+                    iridescent_dielectric(single, film, cos_i, ior, front || thin_walled);
+                // A sheet: light bounces between its two faces; the total reflectance.
+                let sheet = |r: f32| 2.0 * r / (1.0 + r);
+                let (reflectance, film_reflectance) = if thin_walled {
+                    (sheet(single), film_single.map(sheet))
                 } else {
-                    reflectance
+                    (single, film_single)
                 };
                 if rng.next_f32() < reflectance {
-                    reflect(incoming, shading)
-                } else if thin_walled {
-                    incoming
-                } else {
-                    // Radiance through a solid's surface (`eye_refraction_scale`).
-                    let next = refract(incoming, shading, eta)?;
-                    return Some((next, tint * eye_refraction_scale(eta), Lobe::Specular));
+                    let tint = tint * film_reflectance / reflectance;
+                    return Some((reflect(incoming, shading), tint, Lobe::Specular));
                 }
+                let tint = tint * (Vec3::ONE - film_reflectance) / (1.0 - reflectance);
+                if thin_walled {
+                    return Some((incoming, tint, Lobe::Specular));
+                }
+                // Radiance through a solid's surface (`eye_refraction_scale`).
+                let next = refract(incoming, shading, eta)?;
+                return Some((next, tint * eye_refraction_scale(eta), Lobe::Specular));
             }
-        };
-        Some((direction, tint, Lobe::Specular))
+        }
     }
 }
 

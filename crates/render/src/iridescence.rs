@@ -199,6 +199,35 @@ pub fn metal_tint(base_color: Vec3, film: Film, outgoing: Vec3, incident: Vec3) 
     iridescent_metal(base_color, film, cos_incident)
 }
 
+/// glTF's iridescent dielectric at a smooth surface of index `ior` (relative to outside): its
+/// own Fresnel reflectance `fresnel` for light meeting it at `cos_incident`, mixed by the
+/// film's factor with the film's reflectance. The film lies on the outside: light from inside
+/// meets it at the angle Snell's law gives outside (reflectance is the same from both sides of
+/// a lossless layer), and where none is (total internal reflection) everything reflects.
+pub fn iridescent_dielectric(
+    fresnel: f32,
+    film: Film,
+    cos_incident: f32,
+    ior: f32,
+    from_outside: bool,
+) -> Vec3 {
+    if !film.is_some() {
+        return Vec3::splat(fresnel);
+    }
+    let cos_incident = cos_incident.clamp(0.0, 1.0);
+    let cos_outside = if from_outside {
+        cos_incident
+    } else {
+        let sin2_outside = ior * ior * (1.0 - cos_incident * cos_incident);
+        if sin2_outside >= 1.0 {
+            return Vec3::ONE;
+        }
+        (1.0 - sin2_outside).sqrt()
+    };
+    let film_colour = film_reflectance(cos_outside, film.ior, film.thickness, Vec3::splat(ior));
+    Vec3::splat(fresnel).lerp(film_colour, film.factor.min(1.0))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

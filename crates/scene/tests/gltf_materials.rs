@@ -1354,10 +1354,11 @@ fn bad_iridescence_values_are_refused() {
     assert_mentions(&error.to_string(), &["iridescenceIor"]);
 }
 
-/// The film is rendered on the metal's reflection only: on a material without metal
-/// (metallicFactor 0, with or without a metallic-roughness texture, which only multiplies
-/// it) it is warned about once and dropped; a partly metal material keeps it on every member
-/// of its blend, and so does a metal whose metalness a texture maps.
+/// The film is rendered on metal and smooth glass: on an opaque dielectric (metallicFactor 0,
+/// with or without a metallic-roughness texture, which only multiplies it, and no
+/// transmission) it is warned about once and dropped, and so on frosted glass; smooth glass
+/// keeps it; a partly metal material keeps it on every member of its blend, and so does a
+/// metal whose metalness a texture maps.
 #[test]
 fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
     let scene = iridescent(0.0, json!({ "iridescenceFactor": 1.0 })).expect("loads");
@@ -1365,8 +1366,8 @@ fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
     assert_eq!(
         scene.warnings,
         vec![
-            "material 0: KHR_materials_iridescence on a dielectric (metallicFactor 0) is not \
-             modelled: its film is ignored"
+            "material 0: KHR_materials_iridescence on an opaque dielectric (metallicFactor 0, \
+             no transmission) is not modelled: its film is ignored"
                 .to_string()
         ]
     );
@@ -1377,6 +1378,30 @@ fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
     assert!(mapped.materials.iter().all(|m| m.iridescence.is_none()));
     assert_eq!(mapped.warnings.len(), 1, "{:?}", mapped.warnings);
     assert_mentions(&mapped.warnings[0], &[IRIDESCENCE, "dielectric", "ignored"]);
+
+    for (roughness, kept) in [(0.0, true), (0.3, false)] {
+        let mut glass = pbr(0.0, roughness);
+        glass["extensions"] = json!({
+            IRIDESCENCE: { "iridescenceFactor": 1.0 },
+            "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+        });
+        let scene = quad_doc(Some(glass)).load().expect("loads");
+        let material = &scene.materials[scene.triangles[0].material as usize];
+        assert_eq!(
+            material.iridescence.is_some(),
+            kept,
+            "roughness {roughness}"
+        );
+        if kept {
+            assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        } else {
+            assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+            assert_mentions(
+                &scene.warnings[0],
+                &[IRIDESCENCE, "frosted glass", "ignored"],
+            );
+        }
+    }
 
     let half = iridescent(0.5, json!({ "iridescenceFactor": 1.0 })).expect("loads");
     let id = half.triangles[0].material as usize;

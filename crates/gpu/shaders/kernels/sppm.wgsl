@@ -897,7 +897,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         next = bounce.direction;
         weight = bounce.weight;
         let film = hit_film(material, hit.uv);
-        tint = metal_bounce_tint(dispersed.material, surface_tint, film, direction, next) * dispersed.weight;
+        tint = bounce_tint_of(dispersed.material, surface_tint, film, hit, direction, next) * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
     // Out through the sheen and the clear coat, if any (the far side's where it passed
@@ -1266,6 +1266,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
             bounce = specular_direction(material, hit, direction, u, u_second, u_third);
+            // Glass's film takes its share below, after the way not taken is counted.
             bounce_tint = metal_bounce_tint(material, tint, film, direction, bounce.direction);
         }
         if DIFFUSE_TRANSMISSION && far_side {
@@ -1302,23 +1303,34 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         depth += 1u;
         // cpu::kernels::eye_pass: at the first glass surface, the branch not taken is probed
         // next.
-        if material.surface == SURFACE_DIELECTRIC && !met_glass && depth < params.max_depth {
-            met_glass = true;
-            let branches = dielectric_branches(material, hit, direction);
+        // cpu::kernels::eye_path: under a thin film each channel of either way takes the
+        // film's share of it.
+        let glass_film = hit_film(material, hit.uv);
+        let probe = !met_glass && depth < params.max_depth;
+        if material.surface == SURFACE_DIELECTRIC && (probe || glass_film.factor > 0.0) {
+            let branches = dielectric_branches(material, hit, direction, glass_film);
             var other = branches.reflected;
             var other_share = branches.reflectance;
+            var other_weight = branches.film_reflectance;
             if u < branches.reflectance {
                 other = branches.transmitted;
                 other_share = 1.0 - branches.reflectance;
+                other_weight = vec3<f32>(1.0) - branches.film_reflectance;
             }
-            if any(other != bounce.direction) && other_share > 0.0 {
-                probing = true;
-                probe_origin = offset_origin(hit, other, params.epsilon);
-                probe_direction = other;
-                probe_weight = throughput * (other_share * eye_crossing_scale(material, hit, other));
-                probe_medium = medium_after_bounce(material, root_id, medium, hit, other);
-                probe_kept = vec3<f32>(1.0);
-                emission_share = 1.0 - other_share;
+            if probe {
+                met_glass = true;
+                if any(other != bounce.direction) && other_share > 0.0 {
+                    probing = true;
+                    probe_origin = offset_origin(hit, other, params.epsilon);
+                    probe_direction = other;
+                    probe_weight = throughput * (other_weight * eye_crossing_scale(material, hit, other));
+                    probe_medium = medium_after_bounce(material, root_id, medium, hit, other);
+                    probe_kept = vec3<f32>(1.0);
+                    emission_share = 1.0 - other_share;
+                }
+            }
+            if IRIDESCENCE && glass_film.factor > 0.0 {
+                throughput *= branch_weight(branches, all(bounce.direction == branches.reflected));
             }
         }
         throughput *= eye_crossing_scale(material, hit, bounce.direction);

@@ -832,6 +832,24 @@ fn iridescent_metal(base_color: vec3<f32>, film: Film, cos_incident: f32) -> vec
     return mix(base_color, film_colour, min(film.factor, 1.0));
 }
 
+// render::iridescence::iridescent_dielectric.
+fn iridescent_dielectric(fresnel: f32, film: Film, cos_incident_in: f32, ior: f32, from_outside: bool) -> vec3<f32> {
+    if film.factor <= 0.0 {
+        return vec3<f32>(fresnel);
+    }
+    let cos_incident = clamp(cos_incident_in, 0.0, 1.0);
+    var cos_outside = cos_incident;
+    if !from_outside {
+        let sin2_outside = ior * ior * (1.0 - cos_incident * cos_incident);
+        if sin2_outside >= 1.0 {
+            return vec3<f32>(1.0);
+        }
+        cos_outside = sqrt(1.0 - sin2_outside);
+    }
+    let film_colour = film_reflectance(cos_outside, film.ior, film.thickness, vec3<f32>(ior));
+    return mix(vec3<f32>(fresnel), film_colour, min(film.factor, 1.0));
+}
+
 // render::iridescence::metal_tint.
 fn metal_tint(base_color: vec3<f32>, film: Film, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
     let half_sum = outgoing + incident;
@@ -843,7 +861,7 @@ fn metal_tint(base_color: vec3<f32>, film: Film, outgoing: vec3<f32>, incident: 
     return iridescent_metal(base_color, film, cos_i);
 }
 
-// cpu::surface::bounce_tint.
+// cpu::surface::metal_bounce_tint.
 fn metal_bounce_tint(material: GpuMaterial, tint: vec3<f32>, film: Film, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
     let metal = material.surface == SURFACE_MIRROR || material.surface == SURFACE_ROUGH_CONDUCTOR;
     if IRIDESCENCE && metal && film.factor > 0.0 {
@@ -1494,7 +1512,7 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
     if material.surface == SURFACE_MIRROR {
         return Scattered(reflect_about(incoming, normal), 1.0);
     }
-    let branches = dielectric_branches(material, hit, incoming);
+    let branches = dielectric_branches(material, hit, incoming, no_film());
     if u < branches.reflectance {
         return Scattered(branches.reflected, 1.0);
     }
@@ -1503,28 +1521,59 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
 
 // cpu::surface::DielectricBranches: reflected with probability `reflectance`, else
 // transmitted (refracted; straight on through a thin-walled sheet; reflected at total
-// internal reflection).
+// internal reflection); under a thin film each channel's share reflected is
+// `film_reflectance`.
 struct DielectricBranches {
     reflectance: f32,
+    film_reflectance: vec3<f32>,
     reflected: vec3<f32>,
     transmitted: vec3<f32>,
 }
 
 // cpu::surface::dielectric_branches.
-fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>) -> DielectricBranches {
+fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film) -> DielectricBranches {
     let normal = hit.shading;
     let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
     let eta = relative_eta(material.ior, hit.front, thin_walled);
-    var reflectance = fresnel_dielectric(-dot(incoming, normal), eta);
+    let cos_incident = -dot(incoming, normal);
+    var reflectance = fresnel_dielectric(cos_incident, eta);
+    var film_reflectance = vec3<f32>(reflectance);
+    if IRIDESCENCE && film.factor > 0.0 {
+        film_reflectance = iridescent_dielectric(reflectance, film, cos_incident, material.ior, hit.front || thin_walled);
+    }
     if thin_walled {
         reflectance = 2.0 * reflectance / (1.0 + reflectance);
+        film_reflectance = 2.0 * film_reflectance / (vec3<f32>(1.0) + film_reflectance);
     }
     let reflected = reflect_about(incoming, normal);
     var transmitted = incoming;
     if !thin_walled {
         transmitted = refract_or_reflect(incoming, normal, eta);
     }
-    return DielectricBranches(reflectance, reflected, transmitted);
+    return DielectricBranches(reflectance, film_reflectance, reflected, transmitted);
+}
+
+// cpu::surface::DielectricBranches::weight.
+fn branch_weight(branches: DielectricBranches, reflected: bool) -> vec3<f32> {
+    if reflected {
+        if branches.reflectance > 0.0 {
+            return branches.film_reflectance / branches.reflectance;
+        }
+        return vec3<f32>(0.0);
+    }
+    if branches.reflectance < 1.0 {
+        return (vec3<f32>(1.0) - branches.film_reflectance) / (1.0 - branches.reflectance);
+    }
+    return vec3<f32>(0.0);
+}
+
+// cpu::surface::bounce_tint (the photon pass's).
+fn bounce_tint_of(material: GpuMaterial, tint: vec3<f32>, film: Film, hit: SurfaceHit, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
+    if IRIDESCENCE && material.surface == SURFACE_DIELECTRIC && film.factor > 0.0 {
+        let branches = dielectric_branches(material, hit, incoming, film);
+        return tint * branch_weight(branches, all(next == branches.reflected));
+    }
+    return metal_bounce_tint(material, tint, film, incoming, next);
 }
 
 // cpu::surface::eye_crossing_scale: an eye path's render::optics::eye_refraction_scale where

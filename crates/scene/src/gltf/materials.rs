@@ -52,14 +52,14 @@
 //!   texture's red and green), turned by
 //!   `anisotropyRotation`; a smooth metal so brushed becomes rough metal of width
 //!   `MIN_BRUSHED_ALPHA`. The dielectric's coat and glass stay isotropic (warned).
-//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on the metal's reflection:
+//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on metal and smooth glass:
 //!   `iridescenceFactor` (× the red of `iridescenceTexture`, linear data) its weight,
 //!   `iridescenceIor` (default 1.3) its index, its thickness `iridescenceThicknessMaximum`
 //!   (default 400 nm), or where `iridescenceThicknessTexture` (linear data) is given, from
 //!   `iridescenceThicknessMinimum` (default 100 nm) to the maximum by its green. A factor of
-//!   0 is no film; on a material without metal (`metallicFactor` 0) the film is not modelled
-//!   and is ignored (warned); a blend's dielectric members carry it, but only the metal shows
-//!   it.
+//!   0 is no film; on an opaque dielectric (no metal, no transmission) and on frosted glass
+//!   (no metal, roughness ≥ 0.01) the film is not modelled and is ignored (warned); a blend's
+//!   members all carry it, but only its metal and smooth glass show it.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -115,9 +115,10 @@ use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Iridescence,
-    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId,
-    TextureRoughness, TexturedLobe, absorption_from_attenuation as scene_absorption,
-    brushed_metal_surface, coated_surface, glass_surface, metal_surface,
+    MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError, Sheen, Surface,
+    Texture, TextureId, TextureRoughness, TexturedLobe,
+    absorption_from_attenuation as scene_absorption, brushed_metal_surface, coated_surface,
+    glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -488,10 +489,23 @@ impl Materials {
         let Some(mut film) = iridescence(check, m)? else {
             return Ok(None);
         };
-        if m.pbr_metallic_roughness.metallic_factor.0 <= 0.0 {
+        // The film colours metal and smooth glass; on an opaque dielectric (plastic or
+        // Lambertian) and on frosted glass it is not modelled.
+        let metal = m.pbr_metallic_roughness.metallic_factor.0 > 0.0;
+        let glass = transmission(check, m)? > 0.0;
+        let smooth = m.pbr_metallic_roughness.roughness_factor.0 < MIRROR_MAX_ROUGHNESS;
+        if !metal && !glass {
             builder.warn(format!(
-                "{}: {IRIDESCENCE} on a dielectric (metallicFactor 0) is not modelled: its \
-                 film is ignored",
+                "{}: {IRIDESCENCE} on an opaque dielectric (metallicFactor 0, no transmission) \
+                 is not modelled: its film is ignored",
+                check.label
+            ));
+            return Ok(None);
+        }
+        if !metal && !smooth {
+            builder.warn(format!(
+                "{}: {IRIDESCENCE} on frosted glass (roughness ≥ {MIRROR_MAX_ROUGHNESS}) is not \
+                 modelled: its film is ignored",
                 check.label
             ));
             return Ok(None);

@@ -1070,6 +1070,36 @@ fn every_kernel_matches_its_twin_on_iridescent_metal() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same on `cornell_caustics` with its glass sphere under a thin film (index 1.33,
+/// 500 nm, its thickness from a checker's green): photons and eye paths meeting the glass
+/// from outside and inside (where the film is seen at the angle outside, or reflects all)
+/// take the film's share of the way they go.
+#[test]
+fn every_kernel_matches_its_twin_on_iridescent_glass() {
+    let mut scene = scene::testing::cornell_caustics();
+    let texture = push_checker(&mut scene, "film checker", |x, y| match (x + y) % 2 {
+        0 => [0.0, 0.2, 0.0, 1.0],
+        _ => [0.0, 0.9, 0.0, 1.0],
+    });
+    let glass: Vec<usize> = (0..scene.materials.len())
+        .filter(|&i| scene.materials[i].surface.is_glass())
+        .collect();
+    assert!(!glass.is_empty(), "the fixture has glass");
+    for &id in &glass {
+        scene.materials[id].iridescence = Some(scene::Iridescence {
+            thickness_texture: Some(texture),
+            ..scene::testing::film(1.33, 500.0)
+        });
+    }
+    for triangle in (scene.triangles.iter_mut()).filter(|t| glass.contains(&(t.material as usize)))
+    {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same with the mesh's own tangents (glTF TANGENT, `render::normal_map::tangent_frame`
 /// and its WGSL twin) on `cornell_bumpy`'s normal-mapped surfaces, its hammered mirror made
 /// brushed rough metal: every vertex's tangent turned from its normal's basis by an angle of
@@ -1393,21 +1423,29 @@ fn resolved_images_match_after_eight_passes() {
     }
 }
 
-/// The check: GPU and CPU renders of the Cornell box at the same budget differ by no
-/// more than their own noise, estimated from two seeds of the CPU backend.
 /// The eye pass at glass on both backends: through the glass pane each pixel's emission after
 /// one pass is what both of the sheet's ways see, weighted by Fresnel (the analytic value of
 /// cpu's `glass_pane_shows_both_ways_in_every_eye_pass`), on the GPU as on the CPU; behind
 /// three sheets, where only the first splits the path and the others choose, the GPU's
-/// emission equals the CPU's pixel for pixel.
+/// emission equals the CPU's pixel for pixel; and so under a thin film (glTF's iridescence:
+/// each way weighed by the film's share in each channel, cpu's
+/// `an_iridescent_glass_pane_shows_both_ways_in_every_channel`), one sheet and three.
 #[test]
 fn eye_paths_at_glass_count_both_ways_like_the_cpu_twin() {
     let settings = Settings {
         eye_every: 1,
         ..Settings::new(8, 8, 256)
     };
-    let direct = |sheets: u32| {
-        let fixture = Fixture::new(scene::testing::glass_panes(sheets));
+    let direct_with = |sheets: u32, film: bool| {
+        let mut scene = scene::testing::glass_panes(sheets);
+        if film {
+            for material in &mut scene.materials {
+                if material.surface.is_glass() {
+                    material.iridescence = Some(scene::testing::film(1.33, 500.0));
+                }
+            }
+        }
+        let fixture = Fixture::new(scene);
         let mut g = fixture.gpu(context(), &settings);
         let mut c = fixture.cpu(&settings);
         g.pass();
@@ -1425,6 +1463,10 @@ fn eye_paths_at_glass_count_both_ways_like_the_cpu_twin() {
         }
         gpu.iter().map(|s| s.direct[0]).collect::<Vec<f32>>()
     };
+    for sheets in [1, 3] {
+        direct_with(sheets, true);
+    }
+    let direct = |sheets: u32| direct_with(sheets, false);
     let expected = scene::testing::glass_pane_radiance(1.0, render::optics::fresnel_dielectric);
     for (i, g) in direct(1).iter().enumerate() {
         assert!(
@@ -1438,6 +1480,8 @@ fn eye_paths_at_glass_count_both_ways_like_the_cpu_twin() {
     );
 }
 
+/// The check: GPU and CPU renders of the Cornell box at the same budget differ by no
+/// more than their own noise, estimated from two seeds of the CPU backend.
 #[test]
 fn gpu_and_cpu_renders_differ_by_no_more_than_their_noise() {
     let fixture = Fixture::new(scene::testing::cornell_box());

@@ -295,8 +295,8 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         _ => {
             let [u0, u1] = u_direction;
-            let next = specular_direction(dispersed, &hit, direction, [u0, u1, u_choice]);
             let film = hit_film(scene, material, hit.uv);
+            let next = specular_direction(dispersed, &hit, (direction, film), [u0, u1, u_choice]);
             let tint = next.map_or(tint, |(next, _)| {
                 bounce_tint(dispersed, tint, film, &hit, (direction, next))
             });
@@ -757,7 +757,8 @@ fn eye_path(
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
-                let next = specular_direction(surface, &hit, direction, [u, u_second, u_third]);
+                let next =
+                    specular_direction(surface, &hit, (direction, film), [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
                 specular_first |= depth == 0;

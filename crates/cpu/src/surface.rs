@@ -344,9 +344,8 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
 
 /// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
 /// under a thin `film` (glTF's iridescence): a metal's reflection its colour at the bounce's
-/// angle ([`metal_bounce_tint`]); smooth glass's reflection or transmission, chosen by the bare
-/// surface's Fresnel reflectance, the film's share of that way over the choice's probability
-/// ([`DielectricBranches::weight`]); every other bounce, and every bounce without a film,
+/// angle ([`metal_bounce_tint`]); smooth glass's reflection or transmission the film's share
+/// of that way over the choice's probability ([`DielectricBranches::weight`]); every other bounce, and every bounce without a film,
 /// `tint`.
 pub fn bounce_tint(
     surface: Surface,
@@ -445,7 +444,7 @@ pub fn medium_after_bounce(
 pub fn specular_direction(
     surface: Surface,
     hit: &SurfaceHit,
-    incoming: Vec3,
+    (incoming, film): (Vec3, Film),
     u: [f32; 3],
 ) -> Option<(Vec3, f32)> {
     let normal = hit.shading;
@@ -474,7 +473,7 @@ pub fn specular_direction(
         }
         Surface::Mirror => reflect(incoming, normal),
         Surface::Dielectric { ior, thin_walled } => {
-            let branches = dielectric_branches(hit, incoming, ior, thin_walled, Film::default());
+            let branches = dielectric_branches(hit, incoming, ior, thin_walled, film);
             if u[0] < branches.reflectance {
                 branches.reflected
             } else {
@@ -645,8 +644,9 @@ pub fn plastic_bounce(
 /// A smooth dielectric's two ways on: reflected with probability `reflectance` (Fresnel),
 /// else transmitted (refracted; straight on through a thin-walled sheet; reflected where
 /// total internal reflection leaves no refracted ray). Under a thin film (glTF's
-/// iridescence) the share reflected is `film_reflectance` in each channel, the choice's
-/// probability staying the bare surface's.
+/// iridescence) the share reflected is `film_reflectance` in each channel, and the way is
+/// chosen by their mean (a film reflects even where the bare surface would not: a soap
+/// film of index 1.33 on a sheet of index 1).
 #[derive(Clone, Copy, Debug)]
 pub struct DielectricBranches {
     pub reflectance: f32,
@@ -689,11 +689,14 @@ pub fn dielectric_branches(
         iridescent_dielectric(single, film, cos_incident, ior, hit.front || thin_walled);
     // A sheet: light bounces between its two faces; the total reflectance.
     let sheet = |r| 2.0 * r / (1.0 + r);
-    let (reflectance, film_reflectance) = if thin_walled {
+    let (mut reflectance, film_reflectance) = if thin_walled {
         (sheet(single), film_single.map(sheet))
     } else {
         (single, film_single)
     };
+    if film.is_some() {
+        reflectance = film_reflectance.element_sum() / 3.0;
+    }
     let reflected = reflect(incoming, normal);
     let transmitted = if thin_walled {
         incoming

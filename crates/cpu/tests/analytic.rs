@@ -1199,55 +1199,61 @@ fn glass_pane_shows_both_ways_in_every_eye_pass() {
 }
 
 /// The glass pane under a thin film (glTF's iridescence on smooth glass: index 1.33, 500 nm,
-/// factor 0.9, `render::iridescence::iridescent_dielectric`): each channel reflects the film's
-/// share R'_c = 2F'_c / (1 + F'_c) of the back emitter and lets 1 − R'_c of the front one
-/// through, F'_c the film's mix at normal incidence; the way not taken counted with its
-/// film share and the way taken weighed by its share over the bare glass's probability, so
-/// every pixel is again exact after one eye pass, in every channel (tolerance 1e-4), and
-/// coloured: the channels differ.
+/// factor 0.9, `render::iridescence::iridescent_dielectric`), and a soap film (the same film
+/// on a sheet of index 1, bare reflecting nothing): each channel reflects the film's share
+/// R'_c = 2F'_c / (1 + F'_c) of the back emitter and lets 1 − R'_c of the front one through,
+/// F'_c the film's mix at normal incidence; the way not taken counted with its film share and
+/// the way taken weighed by its share over its probability, so every pixel is again exact
+/// after one eye pass, in every channel (tolerance 1e-4), and coloured: the channels differ.
 #[test]
 fn an_iridescent_glass_pane_shows_both_ways_in_every_channel() {
     use render::iridescence::{Film, iridescent_dielectric};
-    let mut scene = testing::glass_pane();
     let iridescence = scene::Iridescence {
         factor: 0.9,
         ..testing::film(1.33, 500.0)
     };
-    for material in &mut scene.materials {
-        if material.surface.is_glass() {
-            material.iridescence = Some(iridescence);
-        }
-    }
     let film = Film {
         factor: 0.9,
         ior: 1.33,
         thickness: 500.0,
     };
-    let fresnel = render::optics::fresnel_dielectric(1.0, 1.0 / testing::GLASS_PANE_IOR);
-    let single = iridescent_dielectric(fresnel, film, 1.0, testing::GLASS_PANE_IOR, true);
-    let sheet = single.map(|r| 2.0 * r / (1.0 + r));
-    let expected = sheet * testing::GLASS_PANE_BACK_EMISSION
-        + (Vec3::ONE - sheet) * testing::GLASS_PANE_FRONT_EMISSION;
-    assert!(
-        expected.max_element() - expected.min_element() > 0.02,
-        "the film colours the pane: {expected}"
-    );
-    let camera = scene.camera(None).unwrap();
-    for seed in 1..=3 {
-        let settings = Settings {
-            seed,
-            eye_every: 1,
-            ..Settings::new(8, 8, 256)
-        };
-        let mut sppm = Sppm::new(backend(&scene), &scene, &camera, settings).unwrap();
-        sppm.pass();
-        let Statistics { pixels, .. } = sppm.backend().read_statistics().unwrap();
-        for (i, p) in pixels.iter().enumerate() {
-            let value = Vec3::from_array(p.direct);
-            assert!(
-                (value / expected - Vec3::ONE).abs().max_element() < 1e-4,
-                "seed {seed}, pixel {i}: {value} against {expected}"
-            );
+    for ior in [testing::GLASS_PANE_IOR, 1.0] {
+        let mut scene = testing::glass_pane();
+        for material in &mut scene.materials {
+            if material.surface.is_glass() {
+                material.surface = scene::Surface::Dielectric {
+                    ior,
+                    thin_walled: true,
+                };
+                material.iridescence = Some(iridescence);
+            }
+        }
+        let fresnel = render::optics::fresnel_dielectric(1.0, 1.0 / ior);
+        let single = iridescent_dielectric(fresnel, film, 1.0, ior, true);
+        let sheet = single.map(|r| 2.0 * r / (1.0 + r));
+        let expected = sheet * testing::GLASS_PANE_BACK_EMISSION
+            + (Vec3::ONE - sheet) * testing::GLASS_PANE_FRONT_EMISSION;
+        assert!(
+            expected.max_element() - expected.min_element() > 0.02,
+            "ior {ior}: the film colours the pane: {expected}"
+        );
+        let camera = scene.camera(None).unwrap();
+        for seed in 1..=3 {
+            let settings = Settings {
+                seed,
+                eye_every: 1,
+                ..Settings::new(8, 8, 256)
+            };
+            let mut sppm = Sppm::new(backend(&scene), &scene, &camera, settings).unwrap();
+            sppm.pass();
+            let Statistics { pixels, .. } = sppm.backend().read_statistics().unwrap();
+            for (i, p) in pixels.iter().enumerate() {
+                let value = Vec3::from_array(p.direct);
+                assert!(
+                    (value / expected - Vec3::ONE).abs().max_element() < 1e-4,
+                    "ior {ior}, seed {seed}, pixel {i}: {value} against {expected}"
+                );
+            }
         }
     }
 }

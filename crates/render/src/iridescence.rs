@@ -434,4 +434,40 @@ mod tests {
             );
         }
     }
+
+    /// On glass a film of zero thickness is the bare glass from either side: from inside at
+    /// cosine μ it is seen outside at Snell's angle, and the reflectance there is the
+    /// inside's Fresnel (reciprocity); past the critical angle everything reflects; without a
+    /// film the glass's own Fresnel comes back exactly.
+    #[test]
+    fn a_film_on_glass_of_zero_thickness_is_the_bare_glass_from_either_side() {
+        let ior = 1.5;
+        let bare = Film {
+            factor: 1.0,
+            ior: 1.3,
+            thickness: 0.0,
+        };
+        for cos in [1.0f32, 0.9, 0.8, 0.77] {
+            let inside = fresnel_dielectric(cos, ior);
+            let seen = iridescent_dielectric(inside, bare, cos, ior, false);
+            assert!(
+                (seen - Vec3::splat(inside)).abs().max_element() < 2e-5,
+                "inside at cos {cos}: {seen} vs {inside}"
+            );
+            let outside = fresnel_dielectric(cos, 1.0 / ior);
+            let seen = iridescent_dielectric(outside, bare, cos, ior, true);
+            assert!(
+                (seen - Vec3::splat(outside)).abs().max_element() < 2e-5,
+                "outside at cos {cos}: {seen} vs {outside}"
+            );
+        }
+        // The critical angle from inside is at cos √(1 − 1/1.5²) ≈ 0.745.
+        let seen = iridescent_dielectric(1.0, bare, 0.7, ior, false);
+        assert_eq!(seen, Vec3::ONE);
+        let none = Film::default();
+        assert_eq!(
+            iridescent_dielectric(0.123, none, 0.5, ior, true),
+            Vec3::splat(0.123)
+        );
+    }
 }

@@ -893,10 +893,10 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         }
     } else {
         let dispersed = dispersed_material(material, wavelength, u_wavelength);
-        let bounce = specular_direction(dispersed.material, hit, direction, u_direction0, u_direction1, u_choice);
+        let film = hit_film(material, hit.uv);
+        let bounce = specular_direction(dispersed.material, hit, direction, film, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
         weight = bounce.weight;
-        let film = hit_film(material, hit.uv);
         tint = bounce_tint_of(dispersed.material, surface_tint, film, hit, direction, next) * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
@@ -1265,7 +1265,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 lit.alpha = material.roughness_alpha;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
-            bounce = specular_direction(material, hit, direction, u, u_second, u_third);
+            bounce = specular_direction(material, hit, direction, film, u, u_second, u_third);
             // Glass's film takes its share below, after the way not taken is counted.
             bounce_tint = metal_bounce_tint(material, tint, film, direction, bounce.direction);
         }

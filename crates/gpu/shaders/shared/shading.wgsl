@@ -1498,7 +1498,7 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u
 }
 
 // cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.
-fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u: f32, u_second: f32, u_third: f32) -> Scattered {
+fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film, u: f32, u_second: f32, u_third: f32) -> Scattered {
     let normal = hit.shading;
     if material.surface == SURFACE_ROUGH_CONDUCTOR {
         if ANISOTROPY && any(hit.brush != vec3<f32>(0.0)) {
@@ -1512,7 +1512,7 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
     if material.surface == SURFACE_MIRROR {
         return Scattered(reflect_about(incoming, normal), 1.0);
     }
-    let branches = dielectric_branches(material, hit, incoming, no_film());
+    let branches = dielectric_branches(material, hit, incoming, film);
     if u < branches.reflectance {
         return Scattered(branches.reflected, 1.0);
     }
@@ -1544,6 +1544,9 @@ fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f3
     if thin_walled {
         reflectance = 2.0 * reflectance / (1.0 + reflectance);
         film_reflectance = 2.0 * film_reflectance / (vec3<f32>(1.0) + film_reflectance);
+    }
+    if IRIDESCENCE && film.factor > 0.0 {
+        reflectance = (film_reflectance.x + film_reflectance.y + film_reflectance.z) / 3.0;
     }
     let reflected = reflect_about(incoming, normal);
     var transmitted = incoming;

@@ -1204,7 +1204,9 @@ fn glass_pane_shows_both_ways_in_every_eye_pass() {
 /// R'_c = 2F'_c / (1 + F'_c) of the back emitter and lets 1 − R'_c of the front one through,
 /// F'_c the film's mix at normal incidence; the way not taken counted with its film share and
 /// the way taken weighed by its share over its probability, so every pixel is again exact
-/// after one eye pass, in every channel (tolerance 1e-4), and coloured: the channels differ.
+/// after one eye pass, in every channel, and coloured: the channels differ. Tolerance 1e-3:
+/// over the view's 1.5° the film's phase moves by ~3e-3 rad, its reflectance by up to 2.5e-4
+/// of the pixel's value (measured: 2.2e-4 on the soap film).
 #[test]
 fn an_iridescent_glass_pane_shows_both_ways_in_every_channel() {
     use render::iridescence::{Film, iridescent_dielectric};
@@ -1250,7 +1252,7 @@ fn an_iridescent_glass_pane_shows_both_ways_in_every_channel() {
             for (i, p) in pixels.iter().enumerate() {
                 let value = Vec3::from_array(p.direct);
                 assert!(
-                    (value / expected - Vec3::ONE).abs().max_element() < 1e-4,
+                    (value / expected - Vec3::ONE).abs().max_element() < 1e-3,
                     "ior {ior}, seed {seed}, pixel {i}: {value} against {expected}"
                 );
             }

@@ -187,12 +187,12 @@ fn info_counts_sheened_materials() {
 }
 
 /// `kousen info` counts the materials under a thin film (the shipped iridescent room's two
-/// spheres).
+/// metal spheres and its soap bubble).
 #[test]
 fn info_counts_iridescent_materials() {
     assert_eq!(
         info_json(&shipped("cornell-iridescent.gltf"))["iridescent_materials"],
-        2
+        3
     );
     assert_eq!(
         info_json(&shipped("cornell-box.gltf"))["iridescent_materials"],

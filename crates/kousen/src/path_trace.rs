@@ -992,11 +992,11 @@ impl<'a> PathTracer<'a> {
                     .response(shading, -incoming, next)
                     .pdf;
                 let tint = self.metal_reflection_tint(material, point.uv, tint, (incoming, next));
-                return (next.dot(geometric) > 0.0).then_some((
+                (next.dot(geometric) > 0.0).then_some((
                     next,
                     tint * weight,
                     Lobe::LightSampled { pdf },
-                ));
+                ))
             }
             Surface::RoughDielectric {
                 ior,
@@ -1036,12 +1036,12 @@ impl<'a> PathTracer<'a> {
                 } else {
                     1.0
                 };
-                return same_side.then_some((next, tint * (weight * crossing), lobe));
+                same_side.then_some((next, tint * (weight * crossing), lobe))
             }
             Surface::Plastic { ior, alpha } => {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
                 let coat = self.coats.at(point.material, surface);
-                return match coat_event(incoming, shading, &coat, u) {
+                match coat_event(incoming, shading, &coat, u) {
                     CoatEvent::Base { weight } => {
                         // The base: ρ · scale · T(θo) T(θi) / π over the choice and the cosine
                         // density. MIS takes the coat's T(θo) as the base's probability (any
@@ -1068,16 +1068,16 @@ impl<'a> PathTracer<'a> {
                             lobe,
                         ))
                     }
-                };
+                }
             }
             Surface::Diffuse => {
                 let (next, pdf) = lambertian(rng)?;
-                return Some((next, lobe_tint, Lobe::LightSampled { pdf }));
+                Some((next, lobe_tint, Lobe::LightSampled { pdf }))
             }
             Surface::Mirror => {
                 let next = reflect(incoming, shading);
                 let tint = self.metal_reflection_tint(material, point.uv, tint, (incoming, next));
-                return Some((next, tint, Lobe::Specular));
+                Some((next, tint, Lobe::Specular))
             }
             Surface::Dielectric { ior, thin_walled } => {
                 let eta = render::optics::relative_eta(ior, front, thin_walled);
@@ -1108,7 +1108,7 @@ impl<'a> PathTracer<'a> {
                 }
                 // Radiance through a solid's surface (`eye_refraction_scale`).
                 let next = refract(incoming, shading, eta)?;
-                return Some((next, tint * eye_refraction_scale(eta), Lobe::Specular));
+                Some((next, tint * eye_refraction_scale(eta), Lobe::Specular))
             }
         }
     }

@@ -9,10 +9,19 @@
 //! ([`film_spectrum`]).
 //!
 //! glTF's model is Belcour & Barla 2017 ("A practical extension to microfacet theory for the
-//! modeling of varying iridescence"): a metal's base index is the real index whose
-//! normal-incidence reflectance is the metal's colour ([`ior_from_f0`]). The base is treated
+//! modeling of varying iridescence"): the surface's reflectance becomes a mix, by the film's
+//! factor, of its own and the film's. A metal's base index is the real index whose
+//! normal-incidence reflectance is the metal's colour ([`ior_from_f0`], [`metal_tint`]);
+//! glass's is its own, the film on its outside ([`iridescent_dielectric`]). The base is treated
 //! as a real index throughout: a metal's phase change on reflection (its complex index) is not
-//! modelled, as glTF's reference model does not model it either.
+//! modelled, as glTF's reference model does not model it either. The outside is taken as air
+//! (index 1) wherever the surface lies.
+//!
+//! Where it is used: `cpu::surface::bounce_tint` (a bounce off metal takes the film's colour
+//! at its micro-normal; smooth glass chooses reflection by the film's mean reflectance and
+//! weighs each channel by its share), the eye paths' light samples at rough metal
+//! (`cpu::kernels::LitLobes::metal_film`), their WGSL twins and the path tracer. Plastic coats,
+//! Lambertian surfaces and frosted glass do not read a film.
 
 use std::f32::consts::PI;
 use std::sync::LazyLock;

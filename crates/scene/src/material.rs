@@ -102,9 +102,9 @@ pub struct Material {
     /// Brushing of the metal's GGX lobe (glTF's `KHR_materials_anisotropy`); `None` for an
     /// isotropic lobe. Every member of a blend carries it; only rough metal reads it.
     pub anisotropy: Option<Anisotropy>,
-    /// A thin film on the metal (glTF's `KHR_materials_iridescence`: soap-bubble colours on
-    /// oiled or heat-tinted metal); `None` for none. Every member of a blend carries it; only
-    /// the metal's reflection (mirror or rough) reads it.
+    /// A thin film on the surface (glTF's `KHR_materials_iridescence`: anodised or
+    /// heat-tinted metal, a soap bubble); `None` for none. Every member of a blend carries it;
+    /// metal (mirror or rough) and smooth glass read it, the other surfaces not.
     pub iridescence: Option<Iridescence>,
 }
 

@@ -1356,8 +1356,8 @@ fn bad_iridescence_values_are_refused() {
 
 /// The film is rendered on metal and smooth glass: on an opaque dielectric (metallicFactor 0,
 /// with or without a metallic-roughness texture, which only multiplies it, and no
-/// transmission) it is warned about once and dropped, and so on frosted glass; smooth glass
-/// keeps it; a partly metal material keeps it on every member of its blend, and so does a
+/// transmission) it is warned about once and dropped, and so on frosted glass and on metal
+/// rough enough to be rendered Lambertian; smooth glass keeps it; a partly metal material keeps it on every member of its blend, and so does a
 /// metal whose metalness a texture maps.
 #[test]
 fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
@@ -1402,6 +1402,14 @@ fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
             );
         }
     }
+
+    // Metal so rough that it is rendered Lambertian.
+    let mut matte = pbr(1.0, 0.7);
+    matte["extensions"] = film.clone();
+    let matte = quad_doc(Some(matte)).load().expect("loads");
+    assert!(matte.materials.iter().all(|m| m.iridescence.is_none()));
+    assert_eq!(matte.warnings.len(), 1, "{:?}", matte.warnings);
+    assert_mentions(&matte.warnings[0], &[IRIDESCENCE, "Lambertian", "ignored"]);
 
     let half = iridescent(0.5, json!({ "iridescenceFactor": 1.0 })).expect("loads");
     let id = half.triangles[0].material as usize;

@@ -57,8 +57,9 @@
 //!   `iridescenceIor` (default 1.3) its index, its thickness `iridescenceThicknessMaximum`
 //!   (default 400 nm), or where `iridescenceThicknessTexture` (linear data) is given, from
 //!   `iridescenceThicknessMinimum` (default 100 nm) to the maximum by its green. A factor of
-//!   0 is no film; on an opaque dielectric (no metal, no transmission) and on frosted glass
-//!   (no metal, roughness ≥ 0.01) the film is not modelled and is ignored (warned); a blend's
+//!   0 is no film; on an opaque dielectric (no metal, no transmission), on frosted glass (no
+//!   metal, roughness ≥ 0.01) and on metal rendered Lambertian (roughness ≥ 0.5, no
+//!   transmission or texture) the film is not modelled and is ignored (warned); a blend's
 //!   members all carry it, but only its metal and smooth glass show it.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
@@ -506,6 +507,19 @@ impl Materials {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on frosted glass (roughness ≥ {MIRROR_MAX_ROUGHNESS}) is not \
                  modelled: its film is ignored",
+                check.label
+            ));
+            return Ok(None);
+        }
+        let roughness = m.pbr_metallic_roughness.roughness_factor.0;
+        let mapped = m
+            .pbr_metallic_roughness
+            .metallic_roughness_texture
+            .is_some();
+        if metal && !glass && !mapped && roughness >= DIFFUSE_MIN_ROUGHNESS {
+            builder.warn(format!(
+                "{}: {IRIDESCENCE} on metal of roughness ≥ {DIFFUSE_MIN_ROUGHNESS} (rendered \
+                 Lambertian) is not modelled: its film is ignored",
                 check.label
             ));
             return Ok(None);

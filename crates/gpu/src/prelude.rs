@@ -107,6 +107,14 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             "FILM_WAVELENGTHS",
             U32(render::iridescence::FILM_WAVELENGTHS as u32),
         ),
+        (
+            "FILM_WAVENUMBER_FIRST",
+            F32(render::iridescence::FILM_WAVENUMBER_FIRST),
+        ),
+        (
+            "FILM_WAVENUMBER_STEP",
+            F32(render::iridescence::FILM_WAVENUMBER_STEP),
+        ),
         ("HASH_STREAM", U32(rng::HASH_STREAM)),
         ("CELL_SLACK", F32(render::hash::CELL_SLACK)),
         ("HASH_ENTRY_WORDS", U32(buffers::HASH_ENTRY_WORDS as u32)),

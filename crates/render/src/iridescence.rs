@@ -5,8 +5,8 @@
 //! of Optics*, §7.6.1) with each interface's amplitude coefficients from Fresnel's equations,
 //! taken for the s and p polarisations and averaged. For a single lossless film this is exact,
 //! unlike approximations built on Schlick's Fresnel. The reflectance is summed over
-//! [`FILM_WAVELENGTHS`] wavelengths weighted by the CIE observer in linear sRGB
-//! ([`film_spectrum`]).
+//! [`FILM_WAVELENGTHS`] wavelengths, even in wavenumber, weighted by the CIE observer in linear
+//! sRGB ([`film_spectrum`]).
 //!
 //! glTF's model is Belcour & Barla 2017 ("A practical extension to microfacet theory for the
 //! modeling of varying iridescence"): the surface's reflectance becomes a mix, by the film's
@@ -45,25 +45,33 @@ impl Film {
 /// How many wavelengths the film's reflectance is summed over.
 pub const FILM_WAVELENGTHS: usize = 32;
 
-/// The spectrum's ends (nm); the wavelengths lie at the centres of equal bins between them.
+/// The spectrum's ends (nm).
 const SHORTEST: f64 = 380.0;
 const LONGEST: f64 = 780.0;
+/// The wavelengths lie at the centres of equal bins in wavenumber (1/λ, per nm) between the
+/// ends: the film's phase is linear in the wavenumber, so the cosines of the phases at all of
+/// them follow from three by Chebyshev's recurrence ([`film_reflectance`]). The first
+/// (longest wavelength) and the step.
+pub const FILM_WAVENUMBER_FIRST: f32 = (1.0 / LONGEST + 0.5 * FILM_WAVENUMBER_STEP_F64) as f32;
+pub const FILM_WAVENUMBER_STEP: f32 = FILM_WAVENUMBER_STEP_F64 as f32;
+const FILM_WAVENUMBER_STEP_F64: f64 = (1.0 / SHORTEST - 1.0 / LONGEST) / FILM_WAVELENGTHS as f64;
 
-/// The wavelengths (nm) and their linear-sRGB weights, each channel's weights summing to 1,
-/// so that a reflectance constant over the spectrum gives that constant in every channel.
+/// The wavelengths (nm, longest first) and their linear-sRGB weights, each channel's weights
+/// summing to 1, so that a reflectance constant over the spectrum gives that constant in every
+/// channel. Even in wavenumber k, a wavelength's weight is its colour times λ² (dλ = λ² dk).
 pub fn film_spectrum() -> &'static [(f32, Vec3); FILM_WAVELENGTHS] {
     static SPECTRUM: LazyLock<[(f32, Vec3); FILM_WAVELENGTHS]> = LazyLock::new(build_spectrum);
     &SPECTRUM
 }
 
 fn build_spectrum() -> [(f32, Vec3); FILM_WAVELENGTHS] {
-    let width = (LONGEST - SHORTEST) / FILM_WAVELENGTHS as f64;
     let mut lambdas = [0.0f64; FILM_WAVELENGTHS];
     let mut colours = [DVec3::ZERO; FILM_WAVELENGTHS];
     let mut total = DVec3::ZERO;
     for i in 0..FILM_WAVELENGTHS {
-        lambdas[i] = SHORTEST + (i as f64 + 0.5) * width;
-        colours[i] = crate::dispersion::spectral_rgb(lambdas[i]);
+        let wavenumber = 1.0 / LONGEST + (i as f64 + 0.5) * FILM_WAVENUMBER_STEP_F64;
+        lambdas[i] = 1.0 / wavenumber;
+        colours[i] = crate::dispersion::spectral_rgb(lambdas[i]) * lambdas[i] * lambdas[i];
         total += colours[i];
     }
     let mut spectrum = [(0.0f32, Vec3::ZERO); FILM_WAVELENGTHS];
@@ -167,11 +175,18 @@ pub fn film_reflectance(cos_outside: f32, film_ior: f32, thickness: f32, base_io
     let through_s = t12_s * (Vec3::ONE - r23_s * r23_s);
     let through_p = t12_p * (Vec3::ONE - r23_p * r23_p);
 
+    // The phase at wavenumber k is phase·k; along the even steps of k its cosines follow
+    // Chebyshev's recurrence cos(x + s) = 2 cos s · cos x − cos(x − s): three cosines, not 32.
     let phase = 4.0 * PI * n2 * thickness * cos2;
-    let spectrum = film_spectrum();
+    let first = phase * FILM_WAVENUMBER_FIRST;
+    let step = phase * FILM_WAVENUMBER_STEP;
+    let twice_cos_step = 2.0 * step.cos();
+    let mut before = (first - step).cos();
+    let mut cos_delta = first.cos();
     let mut total = Vec3::ZERO;
-    for &(lambda, weight) in spectrum {
-        let one_minus_cos = 1.0 - (phase / lambda).cos();
+    for &(_, weight) in film_spectrum() {
+        let one_minus_cos = 1.0 - cos_delta;
+        (before, cos_delta) = (cos_delta, twice_cos_step * cos_delta - before);
         let reflected_s = (bare_s - cross_s * one_minus_cos).max(Vec3::ZERO);
         let reflected_p = (bare_p - cross_p * one_minus_cos).max(Vec3::ZERO);
         let r_s = reflected_s / (reflected_s + through_s);
@@ -334,16 +349,28 @@ mod tests {
     fn spectrum_weights_are_normalised() {
         let spectrum = film_spectrum();
         let mut total = Vec3::ZERO;
-        let mut previous = 0.0;
+        let mut previous = f32::INFINITY;
         for &(lambda, weight) in spectrum {
             assert!(weight.cmpge(Vec3::ZERO).all(), "{lambda}: {weight}");
-            assert!((380.0..=780.0).contains(&lambda) && lambda > previous);
+            assert!((380.0..=780.0).contains(&lambda) && lambda < previous);
             previous = lambda;
             total += weight;
         }
         assert!((total - Vec3::ONE).abs().max_element() < 1e-6, "{total}");
-        assert!((spectrum[0].0 - 386.25).abs() < 1e-4);
-        assert!((spectrum[FILM_WAVELENGTHS - 1].0 - 773.75).abs() < 1e-4);
+        // Even in wavenumber, longest first: the first and last bins' centres.
+        let step = (1.0 / 380.0 - 1.0 / 780.0) / FILM_WAVELENGTHS as f64;
+        let first = 1.0 / (1.0 / 780.0 + step / 2.0);
+        let last = 1.0 / (1.0 / 380.0 - step / 2.0);
+        assert!(
+            (spectrum[0].0 as f64 - first).abs() < 1e-3,
+            "{}",
+            spectrum[0].0
+        );
+        assert!((spectrum[FILM_WAVELENGTHS - 1].0 as f64 - last).abs() < 1e-3);
+        for (i, &(lambda, _)) in spectrum.iter().enumerate() {
+            let wavenumber = FILM_WAVENUMBER_FIRST + i as f32 * FILM_WAVENUMBER_STEP;
+            assert!((lambda * wavenumber - 1.0).abs() < 1e-5, "{i}: {lambda}");
+        }
     }
 
     #[test]

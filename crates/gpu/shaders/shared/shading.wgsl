@@ -808,11 +808,20 @@ fn film_reflectance(cos_outside: f32, film_ior: f32, thickness: f32, base_ior: v
     let cross_p = 2.0 * r12_p * r23_p;
     let through_s = t12_s * (vec3<f32>(1.0) - r23_s * r23_s);
     let through_p = t12_p * (vec3<f32>(1.0) - r23_p * r23_p);
+    // The phases' cosines along the even steps in wavenumber by Chebyshev's recurrence.
     let phase = 4.0 * PI * n2 * thickness * cos2;
+    let first = phase * FILM_WAVENUMBER_FIRST;
+    let step = phase * FILM_WAVENUMBER_STEP;
+    let twice_cos_step = 2.0 * cos(step);
+    var before = cos(first - step);
+    var cos_delta = cos(first);
     var total = vec3<f32>(0.0);
     for (var i = 0u; i < FILM_WAVELENGTHS; i += 1u) {
         let entry = scene_info.film_spectrum[i];
-        let one_minus_cos = 1.0 - cos(phase / entry.x);
+        let one_minus_cos = 1.0 - cos_delta;
+        let after = twice_cos_step * cos_delta - before;
+        before = cos_delta;
+        cos_delta = after;
         let reflected_s = max(bare_s - cross_s * one_minus_cos, vec3<f32>(0.0));
         let reflected_p = max(bare_p - cross_p * one_minus_cos, vec3<f32>(0.0));
         let r_s = reflected_s / (reflected_s + through_s);

@@ -855,8 +855,11 @@ fn eye_path(
         // Under a thin film (glTF's iridescence) each channel of either way takes the film's
         // share of it (the way not taken counted with it, the way taken weighed by it over
         // its probability).
-        let film = hit_film(scene, material, hit.uv);
         let probe = !met_glass && depth < params.max_depth;
+        let film = match surface {
+            Surface::Dielectric { .. } => hit_film(scene, material, hit.uv),
+            _ => Film::default(),
+        };
         if let Surface::Dielectric { ior, thin_walled } = surface
             && (probe || film.is_some())
         {

@@ -1305,8 +1305,11 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         // next.
         // cpu::kernels::eye_path: under a thin film each channel of either way takes the
         // film's share of it.
-        let glass_film = hit_film(material, hit.uv);
         let probe = !met_glass && depth < params.max_depth;
+        var glass_film = no_film();
+        if material.surface == SURFACE_DIELECTRIC {
+            glass_film = hit_film(material, hit.uv);
+        }
         if material.surface == SURFACE_DIELECTRIC && (probe || glass_film.factor > 0.0) {
             let branches = dielectric_branches(material, hit, direction, glass_film);
             var other = branches.reflected;

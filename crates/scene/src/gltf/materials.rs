@@ -477,9 +477,10 @@ impl Materials {
     }
 
     /// `KHR_materials_iridescence` as an [`Iridescence`] ([`iridescence`]'s factors) with its
-    /// factor and thickness textures, decoded as linear data. The film is rendered on the
-    /// metal's reflection only: a material without metal (`metallicFactor` 0, which a
-    /// metallic-roughness texture only multiplies) gets none, with a warning.
+    /// factor and thickness textures, decoded as linear data. The film is rendered on metal
+    /// and smooth glass: an opaque dielectric (`metallicFactor` 0, which a metallic-roughness
+    /// texture only multiplies, and no transmission), frosted glass without metal and metal
+    /// rough enough to be rendered Lambertian get none, with a warning.
     fn iridescence(
         &mut self,
         input: &Input,
@@ -492,9 +493,11 @@ impl Materials {
         };
         // The film colours metal and smooth glass; on an opaque dielectric (plastic or
         // Lambertian) and on frosted glass it is not modelled.
-        let metal = m.pbr_metallic_roughness.metallic_factor.0 > 0.0;
+        let pbr = &m.pbr_metallic_roughness;
+        let metal = pbr.metallic_factor.0 > 0.0;
         let glass = transmission(check, m)? > 0.0;
-        let smooth = m.pbr_metallic_roughness.roughness_factor.0 < MIRROR_MAX_ROUGHNESS;
+        let roughness = pbr.roughness_factor.0;
+        let smooth = roughness < MIRROR_MAX_ROUGHNESS;
         if !metal && !glass {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on an opaque dielectric (metallicFactor 0, no transmission) \
@@ -511,11 +514,7 @@ impl Materials {
             ));
             return Ok(None);
         }
-        let roughness = m.pbr_metallic_roughness.roughness_factor.0;
-        let mapped = m
-            .pbr_metallic_roughness
-            .metallic_roughness_texture
-            .is_some();
+        let mapped = pbr.metallic_roughness_texture.is_some();
         if metal && !glass && !mapped && roughness >= DIFFUSE_MIN_ROUGHNESS {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on metal of roughness ≥ {DIFFUSE_MIN_ROUGHNESS} (rendered \

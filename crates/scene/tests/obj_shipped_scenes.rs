@@ -213,6 +213,12 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             "{stem}: {}'s normal map",
             x.name
         );
+        assert_eq!(
+            film_texels(loaded, x),
+            film_texels(fixture, y),
+            "{stem}: {}'s film",
+            x.name
+        );
     }
     assert_eq!(loaded.cameras.len(), fixture.cameras.len());
     for (x, y) in loaded.cameras.iter().zip(&fixture.cameras) {
@@ -260,7 +266,27 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
 
 /// A material's normal map as (width, height, linear texels), if it has one.
 fn normal_map_texels(scene: &Scene, material: &Material) -> Option<(u32, u32, Vec<Vec4>)> {
-    let texture = &scene.textures[material.normal_texture? as usize];
+    texels(scene, material.normal_texture)
+}
+
+/// A material's thin film with its textures' ids left out, and those textures' texels.
+type FilmTexels = Option<(f32, f32, f32, f32, [Option<TexelGrid>; 2])>;
+type TexelGrid = (u32, u32, Vec<Vec4>);
+
+fn film_texels(scene: &Scene, material: &Material) -> FilmTexels {
+    let film = material.iridescence?;
+    Some((
+        film.factor,
+        film.ior,
+        film.thickness_min,
+        film.thickness_max,
+        [film.texture, film.thickness_texture].map(|id| texels(scene, id)),
+    ))
+}
+
+/// Texture `id` as (width, height, linear texels), `None` for none.
+fn texels(scene: &Scene, id: Option<u32>) -> Option<TexelGrid> {
+    let texture = &scene.textures[id? as usize];
     let texels = (0..texture.height)
         .flat_map(|y| (0..texture.width).map(move |x| texture.texel_linear(x, y)))
         .collect();

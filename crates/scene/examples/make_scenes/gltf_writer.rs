@@ -16,8 +16,8 @@
 //! - diffuse transmission → `KHR_materials_diffuse_transmission`, with `KHR_materials_volume`
 //!   where it bounds a translucent solid;
 //! - anisotropy → `KHR_materials_anisotropy` (strength and rotation);
-//! - iridescence → `KHR_materials_iridescence` (factor, index and thickness range; its
-//!   textures are not written);
+//! - iridescence → `KHR_materials_iridescence` (factor, index, thickness range and its
+//!   factor and thickness textures);
 //! - emission → `emissiveFactor` scaled to a maximum of 1, times
 //!   `KHR_materials_emissive_strength`.
 //!
@@ -445,15 +445,19 @@ impl Document {
             );
         }
         if let Some(film) = m.iridescence {
-            extensions.insert(
-                "KHR_materials_iridescence".into(),
-                json!({
-                    "iridescenceFactor": number(film.factor),
-                    "iridescenceIor": number(film.ior),
-                    "iridescenceThicknessMinimum": number(film.thickness_min),
-                    "iridescenceThicknessMaximum": number(film.thickness_max),
-                }),
-            );
+            let mut value = json!({
+                "iridescenceFactor": number(film.factor),
+                "iridescenceIor": number(film.ior),
+                "iridescenceThicknessMinimum": number(film.thickness_min),
+                "iridescenceThicknessMaximum": number(film.thickness_max),
+            });
+            if let Some(texture) = film.texture {
+                value["iridescenceTexture"] = json!({ "index": texture });
+            }
+            if let Some(texture) = film.thickness_texture {
+                value["iridescenceThicknessTexture"] = json!({ "index": texture });
+            }
+            extensions.insert("KHR_materials_iridescence".into(), value);
         }
         if let Some(transmission) = m.diffuse_transmission {
             extensions.insert(

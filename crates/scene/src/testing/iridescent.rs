@@ -1,9 +1,34 @@
 //! Thin films on metal (glTF's `KHR_materials_iridescence`: `crate::Iridescence`).
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::{Fixture, cornell_room};
-use crate::{Iridescence, Material, Scene, Surface};
+use crate::{Iridescence, Material, Scene, Surface, Texels, Texture};
+
+/// [`bubble_thickness`]'s range (nm): its texture's green from 0 to 1 spans it.
+pub const BUBBLE_THICKNESS: [f32; 2] = [150.0, 750.0];
+
+/// A soap bubble's film thickness as glTF's `iridescenceThicknessTexture` (linear data, the
+/// green channel; red 1 for the factor): one column of 64 rows from the top (v = 0), thin
+/// where the water has drained off the top and growing towards the bottom, with slow ripples
+/// of the flow. Texels are whole 8-bit steps, so a PNG round trip keeps them.
+pub fn bubble_thickness() -> Texture {
+    let rows = 64;
+    let texels = (0..rows)
+        .map(|row| {
+            let v = (row as f32 + 0.5) / rows as f32;
+            let ripple = 0.08 * (v * 23.0).sin();
+            let g = (v.powf(0.8) + ripple).clamp(0.0, 1.0);
+            [1.0, (g * 255.0).round() / 255.0, 0.0, 1.0]
+        })
+        .collect();
+    Texture {
+        name: "bubble thickness".into(),
+        width: 1,
+        height: rows,
+        texels: Texels::LinearF32(texels),
+    }
+}
 
 /// A film of glTF's factor 1, index `ior` and thickness `thickness` nm (no textures).
 pub fn film(ior: f32, thickness: f32) -> Iridescence {
@@ -39,8 +64,10 @@ pub fn cornell_iridescent() -> Scene {
         iridescence: Some(film(2.4, 150.0)),
         ..Material::default()
     });
-    // A soap bubble: a film of water (index 1.33, 450 nm) on a sheet of index 1, which bare
-    // would neither reflect nor bend light.
+    // A soap bubble: a film of water (index 1.33) on a sheet of index 1, which bare would
+    // neither reflect nor bend light; drained thin at the top, thick at the bottom
+    // ([`bubble_thickness`], read by latitude).
+    let thickness = f.builder.add_texture(bubble_thickness());
     let bubble = f.builder.add_material(Material {
         name: "soap bubble".into(),
         surface: Surface::Dielectric {
@@ -48,11 +75,25 @@ pub fn cornell_iridescent() -> Scene {
             thin_walled: true,
         },
         base_color: Vec3::ONE,
-        iridescence: Some(film(1.33, 450.0)),
+        iridescence: Some(Iridescence {
+            thickness_min: BUBBLE_THICKNESS[0],
+            thickness_texture: Some(thickness),
+            ..film(1.33, BUBBLE_THICKNESS[1])
+        }),
         ..Material::default()
     });
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, titanium, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, steel, false);
-    f.sphere(Vec3::new(300.0, 300.0, 200.0), 75.0, bubble, false);
-    f.finish()
+    let centre = Vec3::new(300.0, 300.0, 200.0);
+    f.sphere(centre, 75.0, bubble, false);
+    let mut scene = f.finish();
+    // Latitude as the texture's v (0 at the top); the texture does not vary along u, so the
+    // longitude seam shows nothing.
+    for triangle in (scene.triangles.iter_mut()).filter(|t| t.material == bubble) {
+        for v in &mut triangle.vertices {
+            let d = (v.position - centre).normalize();
+            v.uv = Vec2::new(0.5, d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI);
+        }
+    }
+    scene
 }

@@ -19,7 +19,7 @@ use render::hash::{
     cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, largest_radius,
     photon_class, priority, query_entries,
 };
-use render::iridescence::{Film, metal_tint};
+use render::iridescence::{Film, lobe_film_weight, metal_tint};
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
@@ -41,8 +41,8 @@ use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, bounce_tint, clearcoat_bounce,
     dielectric_branches, diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted,
     eye_crossing_scale, hit_clearcoat, hit_film, hit_sheen, is_cut_out, lambertian_side,
-    medium_after_bounce, medium_transmittance, metal_bounce_tint, offset_origin, plastic_bounce,
-    shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
+    medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
+    sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -739,6 +739,7 @@ fn eye_path(
                 } = surface
                 {
                     lit.glossy = throughput * tint;
+                    lit.glass_film = film;
                     lit.lobe = if hit.front {
                         GlossyLobe::reflection(alpha, ior)
                     } else {
@@ -755,6 +756,7 @@ fn eye_path(
                 } = surface
                 {
                     lit.glossy = throughput * tint;
+                    lit.glass_film = film;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
                 let next =
@@ -762,10 +764,14 @@ fn eye_path(
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
                 specular_first |= depth == 0;
-                // Glass's film takes its share below, after the way not taken is counted.
-                let tint = next.map_or(tint, |(next, _)| {
-                    metal_bounce_tint(surface, tint, film, (direction, next))
-                });
+                // Smooth glass's film takes its share below, after the way not taken is
+                // counted.
+                let tint = match (surface, next) {
+                    (Surface::Dielectric { .. }, _) | (_, None) => tint,
+                    (_, Some((next, _))) => {
+                        bounce_tint(surface, tint, film, &hit, (direction, next))
+                    }
+                };
                 Some((next, tint))
             }
         };
@@ -925,6 +931,9 @@ pub struct LitLobes {
     /// A metal's colour and the thin film on it, where it has one (`glossy` then leaves the
     /// colour out: the film's depends on the light's direction).
     pub metal_film: Option<(Vec3, Film)>,
+    /// The thin film on frosted glass, whose share of the lobe's way depends on the light's
+    /// direction (`render::iridescence::lobe_film_weight`; factor 0: none).
+    pub glass_film: Film,
 }
 
 impl LitLobes {
@@ -944,9 +953,13 @@ impl LitLobes {
         if self.lobe.is_some() {
             let lobe = self.lobe.response(hit.shading, outgoing, incident);
             if lobe.value > 0.0 {
-                let tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
+                let mut tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
                     metal_tint(base, film, outgoing, incident)
                 });
+                if self.glass_film.is_some() {
+                    let ways = (outgoing, incident);
+                    tint *= lobe_film_weight(&self.lobe, self.glass_film, hit.shading, ways);
+                }
                 response +=
                     self.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
             }

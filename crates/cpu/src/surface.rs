@@ -7,7 +7,7 @@ use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
 use render::dispersion::{disperse, draws_wavelength};
-use render::iridescence::{Film, iridescent_dielectric, metal_tint};
+use render::iridescence::{Film, iridescent_dielectric, metal_tint, rough_dielectric_film_weight};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
@@ -345,7 +345,8 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
 /// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
 /// under a thin `film` (glTF's iridescence): a metal's reflection its colour at the bounce's
 /// angle ([`metal_bounce_tint`]); smooth glass's reflection or transmission the film's share
-/// of that way over the choice's probability ([`DielectricBranches::weight`]); every other bounce, and every bounce without a film,
+/// of that way over the choice's probability ([`DielectricBranches::weight`]), frosted glass's
+/// at its micro-normal (`render::iridescence::rough_dielectric_film_weight`); every other bounce, and every bounce without a film,
 /// `tint`.
 pub fn bounce_tint(
     surface: Surface,
@@ -359,6 +360,13 @@ pub fn bounce_tint(
             let branches = dielectric_branches(hit, incoming, ior, thin_walled, film);
             tint * branches.weight(next == branches.reflected)
         }
+        Surface::RoughDielectric {
+            ior, thin_walled, ..
+        } if film.is_some() => {
+            let eta = relative_eta(ior, hit.front, thin_walled);
+            let ways = (-incoming, next);
+            tint * rough_dielectric_film_weight(film, ways, hit.shading, eta, thin_walled)
+        }
         _ => metal_bounce_tint(surface, tint, film, (incoming, next)),
     }
 }
@@ -366,7 +374,7 @@ pub fn bounce_tint(
 /// A metal's reflection (mirror or rough) of `incoming` into `next` under a thin `film`: its
 /// colour `tint` at the angle to the bounce's micro-normal (`render::iridescence::
 /// metal_tint`); every other bounce, and every bounce without a film, `tint`.
-pub fn metal_bounce_tint(
+fn metal_bounce_tint(
     surface: Surface,
     tint: Vec3,
     film: Film,

@@ -1100,6 +1100,52 @@ fn every_kernel_matches_its_twin_on_iridescent_glass() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same on `cornell_frosted` with its frosted spheres under a thin film (index 1.33,
+/// 500 nm, its thickness from a checker's green), and with its spheres made thin frosted
+/// sheets (bubbles of frosted glass) under the film: bounces take the film's share of their way at their micro-normal, and the
+/// light samples of the three frosted lobes (reflection from outside, refraction out, the
+/// sheet's two ways) take it at the light's.
+#[test]
+fn every_kernel_matches_its_twin_on_iridescent_frosted_glass() {
+    let mut frosted = scene::testing::cornell_frosted();
+    let mut sheet = scene::testing::cornell_frosted();
+    for material in &mut sheet.materials {
+        if let scene::Surface::RoughDielectric {
+            ior,
+            alpha,
+            thin_walled,
+        } = &mut material.surface
+        {
+            (*ior, *alpha, *thin_walled) = (1.5, 0.09, true);
+        }
+    }
+    for scene in [&mut frosted, &mut sheet] {
+        let texture = push_checker(scene, "film checker", |x, y| match (x + y) % 2 {
+            0 => [0.0, 0.2, 0.0, 1.0],
+            _ => [0.0, 0.9, 0.0, 1.0],
+        });
+        let glass: Vec<usize> = (0..scene.materials.len())
+            .filter(|&i| scene.materials[i].surface.is_glass())
+            .collect();
+        assert!(!glass.is_empty(), "the fixture has glass");
+        for &id in &glass {
+            scene.materials[id].iridescence = Some(scene::Iridescence {
+                thickness_texture: Some(texture),
+                ..scene::testing::film(1.33, 500.0)
+            });
+        }
+        for triangle in
+            (scene.triangles.iter_mut()).filter(|t| glass.contains(&(t.material as usize)))
+        {
+            for v in &mut triangle.vertices {
+                v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
+            }
+        }
+    }
+    every_kernel_matches_its_twin(frosted, DirectLight::Sampled);
+    every_kernel_matches_its_twin(sheet, DirectLight::Sampled);
+}
+
 /// The same with the mesh's own tangents (glTF TANGENT, `render::normal_map::tangent_frame`
 /// and its WGSL twin) on `cornell_bumpy`'s normal-mapped surfaces, its hammered mirror made
 /// brushed rough metal: every vertex's tangent turned from its normal's basis by an angle of

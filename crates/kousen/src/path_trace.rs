@@ -23,7 +23,9 @@ use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pd
 use render::emission::{
     light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
 };
-use render::iridescence::{Film, iridescent_dielectric, metal_tint};
+use render::iridescence::{
+    Film, iridescent_dielectric, lobe_film_weight, metal_tint, rough_dielectric_film_weight,
+};
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
@@ -159,6 +161,9 @@ struct LitLobes<'a> {
     /// A metal's colour and its thin film (glTF's iridescence), whose colour depends on the
     /// light's direction: `glossy` then leaves the colour out.
     metal_film: Option<(Vec3, Film)>,
+    /// Frosted glass's thin film, whose share of the lobe's way depends on the light's
+    /// direction (factor 0: none).
+    glass_film: Film,
 }
 
 impl<'a> LitLobes<'a> {
@@ -189,6 +194,7 @@ impl<'a> LitLobes<'a> {
                     clearcoat: None,
                     sheen: None,
                     metal_film: None,
+                    glass_film: Film::default(),
                 }
             }
             Surface::RoughConductor { alpha } => LitLobes {
@@ -259,9 +265,13 @@ impl<'a> LitLobes<'a> {
             let lobe = self.lobe.response(normal, outgoing, incident);
             if lobe.value > 0.0 {
                 let weight = power_heuristic(light_pdf, reach * lobe.pdf);
-                let tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
+                let mut tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
                     metal_tint(base, film, outgoing, incident)
                 });
+                if self.glass_film.is_some() {
+                    let ways = (outgoing, incident);
+                    tint *= lobe_film_weight(&self.lobe, self.glass_film, normal, ways);
+                }
                 response += self.glossy * tint * (lobe.value * weight);
             }
         }
@@ -532,6 +542,9 @@ impl<'a> PathTracer<'a> {
             if matches!(lobes_of.surface, Surface::RoughConductor { .. }) && film.is_some() {
                 lit.metal_film = Some((lit.glossy, film));
                 lit.glossy = Vec3::ONE;
+            }
+            if matches!(lobes_of.surface, Surface::RoughDielectric { .. }) {
+                lit.glass_film = film;
             }
             if !self.lights.is_empty() {
                 if transmitted.is_some() {
@@ -1013,6 +1026,11 @@ impl<'a> PathTracer<'a> {
                     alpha,
                     u,
                 )?;
+                // Under a thin film each channel takes the film's share of the way chosen.
+                let film = self.film(material, point.uv);
+                let ways = (-incoming, next);
+                let tint =
+                    tint * rough_dielectric_film_weight(film, ways, shading, eta, thin_walled);
                 // Sent across the geometric surface by the shading normal: it would leak.
                 let same_side = (next.dot(shading) > 0.0) == (next.dot(geometric) > 0.0);
                 // Solid glass's reflection from outside, and its refraction out from inside,

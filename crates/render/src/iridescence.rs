@@ -252,6 +252,83 @@ pub fn iridescent_dielectric(
     Vec3::splat(fresnel).lerp(film_colour, film.factor.min(1.0))
 }
 
+/// The weight a film gives a rough dielectric's way from `view` into `out` (unit, both away
+/// from the surface; `normal` the shading normal on the view's side; `eta` = n on the view's
+/// side / n beyond; `thin_walled` a sheet, whose transmission is its reflection mirrored
+/// across the surface): at the micro-normal that takes one into the other, the film's share
+/// of that way over the bare surface's, by which `crate::microfacet::rough_dielectric` chose
+/// it (so its sampling and its lobes' densities stay as they were). 1 without a film.
+pub fn rough_dielectric_film_weight(
+    film: Film,
+    (view, out): (Vec3, Vec3),
+    normal: Vec3,
+    eta: f32,
+    thin_walled: bool,
+) -> Vec3 {
+    if !film.is_some() {
+        return Vec3::ONE;
+    }
+    let reflected = out.dot(normal) > 0.0;
+    let micro = if reflected {
+        view + out
+    } else if thin_walled {
+        view + out - 2.0 * out.dot(normal) * normal
+    } else {
+        -(eta * view + out)
+    };
+    let Some(mut micro) = micro.try_normalize() else {
+        return Vec3::ONE;
+    };
+    if micro.dot(normal) < 0.0 {
+        micro = -micro;
+    }
+    let cos_view = view.dot(micro).clamp(0.0, 1.0);
+    // Seen from outside where the view's side is the less dense (a sheet is air on both).
+    let (ior, from_outside) = if thin_walled || eta <= 1.0 {
+        (1.0 / eta, true)
+    } else {
+        (eta, false)
+    };
+    let bare = crate::optics::fresnel_dielectric(cos_view, eta);
+    let filmed = iridescent_dielectric(bare, film, cos_view, ior, from_outside);
+    let sheet = |r: f32| 2.0 * r / (1.0 + r);
+    let (bare, filmed) = if thin_walled {
+        (sheet(bare), filmed.map(sheet))
+    } else {
+        (bare, filmed)
+    };
+    if reflected {
+        if bare > 0.0 {
+            filmed / bare
+        } else {
+            Vec3::ZERO
+        }
+    } else if bare < 1.0 {
+        (Vec3::ONE - filmed) / (1.0 - bare)
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// [`rough_dielectric_film_weight`] for the frosted glass lobe a light sample serves
+/// (`crate::microfacet::GlossyLobe`: solid glass's reflection from outside, its refraction out
+/// from inside, or a thin sheet's two ways), seen along `outgoing` and lit along `incident`.
+pub fn lobe_film_weight(
+    lobe: &crate::microfacet::GlossyLobe,
+    film: Film,
+    normal: Vec3,
+    (outgoing, incident): (Vec3, Vec3),
+) -> Vec3 {
+    let (eta, thin_walled) = if lobe.sheet_eta > 0.0 {
+        (lobe.sheet_eta, true)
+    } else if lobe.refraction_eta > 0.0 {
+        (lobe.refraction_eta, false)
+    } else {
+        (1.0 / lobe.fresnel_ior, false)
+    };
+    rough_dielectric_film_weight(film, (outgoing, incident), normal, eta, thin_walled)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -505,5 +582,79 @@ mod tests {
             iridescent_dielectric(0.123, none, 0.5, ior, true),
             Vec3::splat(0.123)
         );
+    }
+
+    /// A rough dielectric's way rebuilt from its two directions finds the micro-normal that
+    /// made it: reflected, refracted out of and into glass, and through a sheet (the
+    /// reflection mirrored), the weight is the film's share over the bare one at that
+    /// micro-normal; at zero thickness it is 1.
+    #[test]
+    fn a_rough_dielectric_s_film_weight_finds_its_micro_normal() {
+        use crate::optics::{reflect, refract};
+        let film = Film {
+            factor: 1.0,
+            ior: 1.33,
+            thickness: 420.0,
+        };
+        let normal = Vec3::Z;
+        let micro = Vec3::new(0.3, -0.2, 1.0).normalize();
+        let view = Vec3::new(-0.5, 0.1, 0.8).normalize();
+        let share = |eta: f32, reflected: bool, thin: bool| {
+            let cos = view.dot(micro);
+            let (ior, outside) = if thin || eta <= 1.0 {
+                (1.0 / eta, true)
+            } else {
+                (eta, false)
+            };
+            let bare = fresnel_dielectric(cos, eta);
+            let filmed = iridescent_dielectric(bare, film, cos, ior, outside);
+            let sheet = |r: f32| 2.0 * r / (1.0 + r);
+            let (bare, filmed) = if thin {
+                (sheet(bare), filmed.map(sheet))
+            } else {
+                (bare, filmed)
+            };
+            if reflected {
+                filmed / bare
+            } else {
+                (Vec3::ONE - filmed) / (1.0 - bare)
+            }
+        };
+        let reflected = reflect(-view, micro);
+        for (eta, thin) in [(1.0 / 1.5, false), (1.5, false), (1.0 / 1.5, true)] {
+            let weight = rough_dielectric_film_weight(film, (view, reflected), normal, eta, thin);
+            let expected = share(eta, true, thin);
+            assert!(
+                (weight - expected).abs().max_element() < 1e-4,
+                "{weight} vs {expected}"
+            );
+        }
+        for eta in [1.0 / 1.5, 1.2] {
+            let out = refract(-view, micro, eta).expect("refracts");
+            let weight = rough_dielectric_film_weight(film, (view, out), normal, eta, false);
+            let expected = share(eta, false, false);
+            assert!(
+                (weight - expected).abs().max_element() < 1e-4,
+                "eta {eta}: {weight} vs {expected}"
+            );
+        }
+        let through = reflected - 2.0 * reflected.z * Vec3::Z;
+        let weight = rough_dielectric_film_weight(film, (view, through), normal, 1.0 / 1.5, true);
+        let expected = share(1.0 / 1.5, false, true);
+        assert!(
+            (weight - expected).abs().max_element() < 1e-4,
+            "{weight} vs {expected}"
+        );
+        assert!(
+            (expected - Vec3::ONE).abs().max_element() > 0.01,
+            "the film matters"
+        );
+        let bare = Film {
+            thickness: 0.0,
+            ..film
+        };
+        let weight =
+            rough_dielectric_film_weight(bare, (view, reflected), normal, 1.0 / 1.5, false);
+        assert!((weight - Vec3::ONE).abs().max_element() < 1e-4, "{weight}");
     }
 }

@@ -457,6 +457,8 @@ struct LitLobes {
     // `glossy` then leaves the colour out).
     film_base: vec3<f32>,
     film: Film,
+    // cpu::kernels::LitLobes::glass_film: frosted glass's thin film (factor 0: none).
+    glass_film: Film,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -508,6 +510,18 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
             var tint = vec3<f32>(1.0);
             if IRIDESCENCE && lit.film.factor > 0.0 {
                 tint = metal_tint(lit.film_base, lit.film, outgoing, incident);
+            }
+            if IRIDESCENCE && lit.glass_film.factor > 0.0 {
+                // render::iridescence::lobe_film_weight.
+                var eta = 1.0 / lit.coat_ior;
+                var thin_walled = false;
+                if lit.sheet_eta > 0.0 {
+                    eta = lit.sheet_eta;
+                    thin_walled = true;
+                } else if lit.refraction_eta > 0.0 {
+                    eta = lit.refraction_eta;
+                }
+                tint *= rough_dielectric_film_weight(lit.glass_film, outgoing, incident, hit.shading, eta, thin_walled);
             }
             response += lit.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
@@ -1133,7 +1147,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film());
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film());
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -1166,7 +1180,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film());
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film());
         if plastic {
             lit.coat_ior = material.ior;
             lit.coat_alpha = material.roughness_alpha;
@@ -1253,6 +1267,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) == 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
+                lit.glass_film = film;
                 if hit.front {
                     lit.coat_ior = material.ior;
                 } else {
@@ -1263,11 +1278,14 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) != 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
+                lit.glass_film = film;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
             bounce = specular_direction(material, hit, direction, film, u, u_second, u_third);
-            // Glass's film takes its share below, after the way not taken is counted.
-            bounce_tint = metal_bounce_tint(material, tint, film, direction, bounce.direction);
+            // Smooth glass's film takes its share below, after the way not taken is counted.
+            if material.surface != SURFACE_DIELECTRIC {
+                bounce_tint = bounce_tint_of(material, tint, film, hit, direction, bounce.direction);
+            }
         }
         if DIFFUSE_TRANSMISSION && far_side {
             // The glossy lobes keep the hit's light sample, the Lambertian one takes the far

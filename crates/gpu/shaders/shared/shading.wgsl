@@ -859,6 +859,51 @@ fn iridescent_dielectric(fresnel: f32, film: Film, cos_incident_in: f32, ior: f3
     return mix(vec3<f32>(fresnel), film_colour, min(film.factor, 1.0));
 }
 
+// render::iridescence::rough_dielectric_film_weight.
+fn rough_dielectric_film_weight(film: Film, view: vec3<f32>, out: vec3<f32>, normal: vec3<f32>, eta: f32, thin_walled: bool) -> vec3<f32> {
+    if film.factor <= 0.0 {
+        return vec3<f32>(1.0);
+    }
+    let reflected = dot(out, normal) > 0.0;
+    var micro = -(eta * view + out);
+    if reflected {
+        micro = view + out;
+    } else if thin_walled {
+        micro = view + out - 2.0 * dot(out, normal) * normal;
+    }
+    let length_micro = length(micro);
+    if !(length_micro > 0.0) {
+        return vec3<f32>(1.0);
+    }
+    micro = micro / length_micro;
+    if dot(micro, normal) < 0.0 {
+        micro = -micro;
+    }
+    let cos_view = clamp(dot(view, micro), 0.0, 1.0);
+    var ior = eta;
+    var from_outside = false;
+    if thin_walled || eta <= 1.0 {
+        ior = 1.0 / eta;
+        from_outside = true;
+    }
+    var bare = fresnel_dielectric(cos_view, eta);
+    var filmed = iridescent_dielectric(bare, film, cos_view, ior, from_outside);
+    if thin_walled {
+        bare = 2.0 * bare / (1.0 + bare);
+        filmed = 2.0 * filmed / (vec3<f32>(1.0) + filmed);
+    }
+    if reflected {
+        if bare > 0.0 {
+            return filmed / bare;
+        }
+        return vec3<f32>(0.0);
+    }
+    if bare < 1.0 {
+        return (vec3<f32>(1.0) - filmed) / (1.0 - bare);
+    }
+    return vec3<f32>(0.0);
+}
+
 // render::iridescence::metal_tint.
 fn metal_tint(base_color: vec3<f32>, film: Film, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
     let half_sum = outgoing + incident;
@@ -1579,11 +1624,16 @@ fn branch_weight(branches: DielectricBranches, reflected: bool) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// cpu::surface::bounce_tint (the photon pass's).
+// cpu::surface::bounce_tint.
 fn bounce_tint_of(material: GpuMaterial, tint: vec3<f32>, film: Film, hit: SurfaceHit, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
     if IRIDESCENCE && material.surface == SURFACE_DIELECTRIC && film.factor > 0.0 {
         let branches = dielectric_branches(material, hit, incoming, film);
         return tint * branch_weight(branches, all(next == branches.reflected));
+    }
+    if IRIDESCENCE && material.surface == SURFACE_ROUGH_DIELECTRIC && film.factor > 0.0 {
+        let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
+        let eta = relative_eta(material.ior, hit.front, thin_walled);
+        return tint * rough_dielectric_film_weight(film, -incoming, next, hit.shading, eta, thin_walled);
     }
     return metal_bounce_tint(material, tint, film, incoming, next);
 }

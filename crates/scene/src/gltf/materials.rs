@@ -52,15 +52,15 @@
 //!   texture's red and green), turned by
 //!   `anisotropyRotation`; a smooth metal so brushed becomes rough metal of width
 //!   `MIN_BRUSHED_ALPHA`. The dielectric's coat and glass stay isotropic (warned).
-//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on metal and smooth glass:
+//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on metal and glass:
 //!   `iridescenceFactor` (× the red of `iridescenceTexture`, linear data) its weight,
 //!   `iridescenceIor` (default 1.3) its index, its thickness `iridescenceThicknessMaximum`
 //!   (default 400 nm), or where `iridescenceThicknessTexture` (linear data) is given, from
 //!   `iridescenceThicknessMinimum` (default 100 nm) to the maximum by its green. A factor of
-//!   0 is no film; on an opaque dielectric (no metal, no transmission), on frosted glass (no
-//!   metal, roughness ≥ 0.01) and on metal rendered Lambertian (roughness ≥ 0.5, no
-//!   transmission or texture) the film is not modelled and is ignored (warned); a blend's
-//!   members all carry it, but only its metal and smooth glass show it.
+//!   0 is no film; on an opaque dielectric (no metal, no transmission) and on metal rendered
+//!   Lambertian (roughness ≥ 0.5, no transmission or texture) the film is not modelled and
+//!   is ignored (warned); a blend's members all carry it, but only its metal and glass show
+//!   it.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -116,10 +116,9 @@ use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Iridescence,
-    MIRROR_MAX_ROUGHNESS, Material, RoughnessMap, SceneBuilder, SceneError, Sheen, Surface,
-    Texture, TextureId, TextureRoughness, TexturedLobe,
-    absorption_from_attenuation as scene_absorption, brushed_metal_surface, coated_surface,
-    glass_surface, metal_surface,
+    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId,
+    TextureRoughness, TexturedLobe, absorption_from_attenuation as scene_absorption,
+    brushed_metal_surface, coated_surface, glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -478,9 +477,9 @@ impl Materials {
 
     /// `KHR_materials_iridescence` as an [`Iridescence`] ([`iridescence`]'s factors) with its
     /// factor and thickness textures, decoded as linear data. The film is rendered on metal
-    /// and smooth glass: an opaque dielectric (`metallicFactor` 0, which a metallic-roughness
-    /// texture only multiplies, and no transmission), frosted glass without metal and metal
-    /// rough enough to be rendered Lambertian get none, with a warning.
+    /// and glass: an opaque dielectric (`metallicFactor` 0, which a metallic-roughness texture
+    /// only multiplies, and no transmission) and metal rough enough to be rendered Lambertian
+    /// get none, with a warning.
     fn iridescence(
         &mut self,
         input: &Input,
@@ -491,25 +490,16 @@ impl Materials {
         let Some(mut film) = iridescence(check, m)? else {
             return Ok(None);
         };
-        // The film colours metal and smooth glass; on an opaque dielectric (plastic or
-        // Lambertian) and on frosted glass it is not modelled.
+        // The film colours metal and glass; on an opaque dielectric (plastic or Lambertian) it
+        // is not modelled.
         let pbr = &m.pbr_metallic_roughness;
         let metal = pbr.metallic_factor.0 > 0.0;
         let glass = transmission(check, m)? > 0.0;
         let roughness = pbr.roughness_factor.0;
-        let smooth = roughness < MIRROR_MAX_ROUGHNESS;
         if !metal && !glass {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on an opaque dielectric (metallicFactor 0, no transmission) \
                  is not modelled: its film is ignored",
-                check.label
-            ));
-            return Ok(None);
-        }
-        if !metal && !smooth {
-            builder.warn(format!(
-                "{}: {IRIDESCENCE} on frosted glass (roughness ≥ {MIRROR_MAX_ROUGHNESS}) is not \
-                 modelled: its film is ignored",
                 check.label
             ));
             return Ok(None);

@@ -19,9 +19,10 @@
 //!
 //! Where it is used: `cpu::surface::bounce_tint` (a bounce off metal takes the film's colour
 //! at its micro-normal; smooth glass chooses reflection by the film's mean reflectance and
-//! weighs each channel by its share), the eye paths' light samples at rough metal
-//! (`cpu::kernels::LitLobes::metal_film`), their WGSL twins and the path tracer. Plastic coats,
-//! Lambertian surfaces and frosted glass do not read a film.
+//! weighs each channel by its share; frosted glass keeps its bare choice and weighs each way by
+//! the film's share over the bare one at its micro-normal), the eye paths' light samples at
+//! rough metal and frosted glass (`cpu::kernels::LitLobes::metal_film`, `glass_film`), their
+//! WGSL twins and the path tracer. Plastic coats and Lambertian surfaces do not read a film.
 
 use std::f32::consts::PI;
 use std::sync::LazyLock;

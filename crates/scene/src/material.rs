@@ -104,7 +104,8 @@ pub struct Material {
     pub anisotropy: Option<Anisotropy>,
     /// A thin film on the surface (glTF's `KHR_materials_iridescence`: anodised or
     /// heat-tinted metal, a soap bubble); `None` for none. Every member of a blend carries it;
-    /// metal (mirror or rough) and smooth glass read it, the other surfaces not.
+    /// metal (mirror or rough) and glass (smooth or frosted) read it, plastic and Lambertian
+    /// surfaces not.
     pub iridescence: Option<Iridescence>,
 }
 

@@ -7,7 +7,9 @@ use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
 use render::dispersion::{disperse, draws_wavelength};
-use render::iridescence::{Film, iridescent_dielectric, metal_tint, rough_dielectric_film_weight};
+use render::iridescence::{
+    Film, film_share, filmed_reflectance, metal_tint, rough_dielectric_film_weight,
+};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
@@ -667,17 +669,7 @@ impl DielectricBranches {
     /// The weight of the way chosen (`reflected` or not) under the film: its share over its
     /// probability (1 without a film).
     pub fn weight(&self, reflected: bool) -> Vec3 {
-        if reflected {
-            if self.reflectance > 0.0 {
-                self.film_reflectance / self.reflectance
-            } else {
-                Vec3::ZERO
-            }
-        } else if self.reflectance < 1.0 {
-            (Vec3::ONE - self.film_reflectance) / (1.0 - self.reflectance)
-        } else {
-            Vec3::ZERO
-        }
+        film_share(self.reflectance, self.film_reflectance, reflected)
     }
 }
 
@@ -692,16 +684,9 @@ pub fn dielectric_branches(
     let normal = hit.shading;
     let eta = relative_eta(ior, hit.front, thin_walled);
     let cos_incident = -incoming.dot(normal);
-    let single = fresnel_dielectric(cos_incident, eta);
-    let film_single =
-        iridescent_dielectric(single, film, cos_incident, ior, hit.front || thin_walled);
-    // A sheet: light bounces between its two faces; the total reflectance.
-    let sheet = |r| 2.0 * r / (1.0 + r);
-    let (mut reflectance, film_reflectance) = if thin_walled {
-        (sheet(single), film_single.map(sheet))
-    } else {
-        (single, film_single)
-    };
+    let fresnel = fresnel_dielectric(cos_incident, eta);
+    let seen = (cos_incident, ior, hit.front || thin_walled);
+    let (mut reflectance, film_reflectance) = filmed_reflectance(fresnel, film, seen, thin_walled);
     if film.is_some() {
         reflectance = film_reflectance.element_sum() / 3.0;
     }

@@ -24,7 +24,7 @@ use render::emission::{
     light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
 };
 use render::iridescence::{
-    Film, iridescent_dielectric, lobe_film_weight, metal_tint, rough_dielectric_film_weight,
+    Film, filmed_reflectance, lobe_film_weight, metal_tint, rough_dielectric_film_weight,
 };
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
@@ -1100,19 +1100,14 @@ impl<'a> PathTracer<'a> {
             Surface::Dielectric { ior, thin_walled } => {
                 let eta = render::optics::relative_eta(ior, front, thin_walled);
                 let cos_i = -incoming.dot(shading);
-                let single = fresnel_dielectric(cos_i, eta);
                 // Under a thin film (glTF's iridescence) each channel reflects the film's
-                // share, and the way is chosen by their mean.
+                // share, and the way is chosen by their mean; a sheet's light bounces between
+                // its two faces (`filmed_reflectance`).
                 let film = self.film(material, point.uv);
-                let film_single =
-                    iridescent_dielectric(single, film, cos_i, ior, front || thin_walled);
-                // A sheet: light bounces between its two faces; the total reflectance.
-                let sheet = |r: f32| 2.0 * r / (1.0 + r);
-                let (mut reflectance, film_reflectance) = if thin_walled {
-                    (sheet(single), film_single.map(sheet))
-                } else {
-                    (single, film_single)
-                };
+                let seen = (cos_i, ior, front || thin_walled);
+                let fresnel = fresnel_dielectric(cos_i, eta);
+                let (mut reflectance, film_reflectance) =
+                    filmed_reflectance(fresnel, film, seen, thin_walled);
                 if film.is_some() {
                     reflectance = film_reflectance.element_sum() / 3.0;
                 }

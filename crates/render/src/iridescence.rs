@@ -253,6 +253,40 @@ pub fn iridescent_dielectric(
     Vec3::splat(fresnel).lerp(film_colour, film.factor.min(1.0))
 }
 
+/// A smooth dielectric's reflectance at `cos_incident`, bare (`fresnel`, its own Fresnel
+/// reflectance there) and under `film` ([`iridescent_dielectric`]), and for a `thin_walled`
+/// sheet, whose light bounces between its two faces, the total 2R / (1 + R) of each.
+pub fn filmed_reflectance(
+    fresnel: f32,
+    film: Film,
+    (cos_incident, ior, from_outside): (f32, f32, bool),
+    thin_walled: bool,
+) -> (f32, Vec3) {
+    let filmed = iridescent_dielectric(fresnel, film, cos_incident, ior, from_outside);
+    let sheet = |r: f32| 2.0 * r / (1.0 + r);
+    if thin_walled {
+        (sheet(fresnel), filmed.map(sheet))
+    } else {
+        (fresnel, filmed)
+    }
+}
+
+/// The weight of a way chosen by the bare reflectance `bare` (reflected or not) where each
+/// channel's share of it is the film's (`filmed`): that share over the choice's probability.
+pub fn film_share(bare: f32, filmed: Vec3, reflected: bool) -> Vec3 {
+    if reflected {
+        if bare > 0.0 {
+            filmed / bare
+        } else {
+            Vec3::ZERO
+        }
+    } else if bare < 1.0 {
+        (Vec3::ONE - filmed) / (1.0 - bare)
+    } else {
+        Vec3::ZERO
+    }
+}
+
 /// The weight a film gives a rough dielectric's way from `view` into `out` (unit, both away
 /// from the surface; `normal` the shading normal on the view's side; `eta` = n on the view's
 /// side / n beyond; `thin_walled` a sheet, whose transmission is its reflection mirrored
@@ -290,25 +324,10 @@ pub fn rough_dielectric_film_weight(
     } else {
         (eta, false)
     };
-    let bare = crate::optics::fresnel_dielectric(cos_view, eta);
-    let filmed = iridescent_dielectric(bare, film, cos_view, ior, from_outside);
-    let sheet = |r: f32| 2.0 * r / (1.0 + r);
-    let (bare, filmed) = if thin_walled {
-        (sheet(bare), filmed.map(sheet))
-    } else {
-        (bare, filmed)
-    };
-    if reflected {
-        if bare > 0.0 {
-            filmed / bare
-        } else {
-            Vec3::ZERO
-        }
-    } else if bare < 1.0 {
-        (Vec3::ONE - filmed) / (1.0 - bare)
-    } else {
-        Vec3::ZERO
-    }
+    let fresnel = crate::optics::fresnel_dielectric(cos_view, eta);
+    let seen = (cos_view, ior, from_outside);
+    let (bare, filmed) = filmed_reflectance(fresnel, film, seen, thin_walled);
+    film_share(bare, filmed, reflected)
 }
 
 /// [`rough_dielectric_film_weight`] for the frosted glass lobe a light sample serves

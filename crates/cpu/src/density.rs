@@ -262,6 +262,7 @@ mod tests {
         let mut found = 0;
         for i in 0..200u32 {
             let query = GatherQuery {
+                volume: None,
                 position: glam::Vec3::new(i as f32 / 200.0, 0.25, 0.03),
                 normal: glam::Vec3::Z,
                 radius: 0.05,

@@ -26,13 +26,19 @@ use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength
 use render::microfacet::GlossyLobe;
 use render::normal_map::{arrival_factor, departure_factor};
 use render::optics::relative_eta;
-use render::packing::{is_caustic, pack_normal, photon_normal, unpack_normal};
+use render::packing::{
+    is_caustic, is_volume, photon_normal, surface_normal, unpack_normal, unpack_volume_point,
+    volume_photon_direction, volume_point_direction,
+};
 use render::random::StreamRng;
 use render::resampling::resample_light;
 use render::rng::{
     EYE_STREAM, KernelRng, PHOTON_STREAM, pixel_jitter, pixel_lens, pixel_side, pixel_wavelength,
 };
-use render::scattering::{SCATTERINGS_PER_STEP, Walk, henyey_greenstein, scattering_solid};
+use render::scattering::{
+    SCATTERINGS_PER_STEP, Walk, henyey_greenstein, henyey_greenstein_phase, murky_glass,
+    scattering_solid,
+};
 use render::shadow_terminator::is_lifted;
 use scene::{Material, Surface};
 
@@ -115,12 +121,16 @@ pub fn photon_pass_with<R: StreamRng>(
         direction,
         flux,
         scattered,
+        volume_photon,
     } = segment;
+    if let Some(kept) = volume_photon {
+        photon = kept;
+    }
     let Some(mut hit) = hit else {
         // Still walking inside a scattering solid: it goes on from there next pass, the step
-        // counted as a bounce.
+        // counted as a bounce (ended where its walk's roulette ended it in murky glass).
         slot.depth += 1;
-        if slot.depth >= params.max_depth {
+        if slot.depth >= params.max_depth || flux == Vec3::ZERO {
             slot.depth = SLOT_IDLE;
         } else {
             slot.origin = origin.to_array();
@@ -250,12 +260,13 @@ pub fn photon_pass_with<R: StreamRng>(
     if let Some(share) = base_share
         && (slot.depth > 0 || scattered || params.sample_lights & SAMPLE_AT_VISIBLE_POINTS == 0)
     {
-        photon = Photon {
+        let landed = Photon {
             position: hit.position.to_array(),
             normal: photon_normal(hit.shading, !bounced),
             flux: (flux * (arrival * share)).to_array(),
             pad: 0,
         };
+        photon = one_of(photon, landed, || rng.next_f32());
     }
     // glTF's diffuse transmission sends the Lambertian lobe's light out on the far side when
     // a further number chooses it; materials without it draw none.
@@ -334,6 +345,20 @@ pub fn photon_pass_with<R: StreamRng>(
     }
 }
 
+/// The photon a slot keeps where a walk in murky glass kept `walked` (a volume photon, or
+/// none) and its surface keeps `landed`: a slot keeps one a pass, so where both are, one drawn
+/// by `next` with even odds, its flux doubled.
+fn one_of(walked: Photon, landed: Photon, next: impl FnOnce() -> f32) -> Photon {
+    if !walked.is_stored() {
+        return landed;
+    }
+    let chosen = if next() < 0.5 { walked } else { landed };
+    Photon {
+        flux: (vec3(chosen.flux) * 2.0).to_array(),
+        ..chosen
+    }
+}
+
 /// Where a photon slot's segment leads ([`photon_segment`]).
 struct PhotonSegment {
     /// The surface it reaches; `None` where it is still walking inside a scattering solid
@@ -346,6 +371,8 @@ struct PhotonSegment {
     flux: Vec3,
     /// Whether it scattered in a medium on the way (its light is no longer direct).
     scattered: bool,
+    /// In murky glass, the photon kept where it scattered (`render::scattering`).
+    volume_photon: Option<Photon>,
 }
 
 /// The segment of `slot` (in `medium`) to its next surface: through a clear or absorbing
@@ -353,7 +380,10 @@ struct PhotonSegment {
 /// solid a walk (`render::scattering::Walk`): its hero channel drawn by one number `next`
 /// gives, each flight by one, and at each scattering its Russian roulette by one and its new
 /// direction by two; after `SCATTERINGS_PER_STEP` scatterings it stops where it is, to go on
-/// next pass. `None` where the path leaves the scene or ends in the walk's roulette.
+/// next pass. In murky glass it keeps one volume photon a step: one of its scattering events
+/// drawn uniformly (by one more number at each), of the flux scattered there times their
+/// number (the roulette's end keeps it too). `None` where the path leaves the scene or ends
+/// in the walk's roulette without a photon.
 fn photon_segment(
     scene: &SceneData,
     slot: &PathSlot,
@@ -371,11 +401,22 @@ fn photon_segment(
             direction,
             flux,
             scattered: false,
+            volume_photon: None,
         });
     };
     let (extinction, scattering) = (solid.interior_extinction(), solid.interior_scattering());
+    let murky = solid.has_murky_glass();
     let mut walk = Walk::start(next());
     let mut events = 0;
+    // In murky glass, one of the step's scattering events, each kept with probability
+    // 1/events as they come (a reservoir of one), its photon's flux × events at the end.
+    let mut kept = Photon::default();
+    let volume_photon = |kept: Photon, events: u32| {
+        murky.then(|| Photon {
+            flux: (vec3(kept.flux) * events as f32).to_array(),
+            ..kept
+        })
+    };
     loop {
         let hit = trace(scene, origin, direction)?;
         let Some(t) = walk.flight(extinction, scattering, hit.distance, next()) else {
@@ -385,13 +426,30 @@ fn photon_segment(
                 direction,
                 flux: flux * walk.weight(),
                 scattered: events > 0,
+                volume_photon: (events > 0).then(|| volume_photon(kept, events)).flatten(),
             });
         };
         events += 1;
-        if !walk.survives(next()) {
-            return None;
-        }
         origin += t * direction;
+        if murky && next() * (events as f32) < 1.0 {
+            kept = Photon {
+                position: origin.to_array(),
+                normal: volume_photon_direction(direction),
+                flux: (flux * walk.weight()).to_array(),
+                pad: 0,
+            };
+        }
+        if !walk.survives(next()) {
+            // Ended here: only the photon kept, if any (no flux goes on).
+            return volume_photon(kept, events).map(|kept| PhotonSegment {
+                hit: None,
+                origin,
+                direction,
+                flux: Vec3::ZERO,
+                scattered: true,
+                volume_photon: Some(kept),
+            });
+        }
         direction = henyey_greenstein(direction, solid.scatter_anisotropy, [next(), next()]);
         if events == SCATTERINGS_PER_STEP {
             return Some(PhotonSegment {
@@ -400,6 +458,7 @@ fn photon_segment(
                 direction,
                 flux: flux * walk.weight(),
                 scattered: true,
+                volume_photon: volume_photon(kept, events),
             });
         }
     }
@@ -586,7 +645,29 @@ fn eye_path(
             direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
             break;
         };
-        throughput *= transmittance_to(scene, medium, &hit);
+        // In murky glass the path's flight may end where it scatters, with a volume visible
+        // point (`render::scattering`); else it passes, weighed by what is not scattered.
+        if let Some(murky) = murky_glass(&scene.materials, medium) {
+            let scattering = murky.interior_scattering();
+            let mut walk = Walk::start(rng.next_f32());
+            let extinction = murky.interior_extinction();
+            let flight = walk.flight(extinction, scattering, hit.distance, rng.next_f32());
+            if let Some(t) = flight {
+                let weight = throughput * walk.weight_over_scattering(scattering);
+                if weight.max_element() > 0.0 {
+                    visible_point = VisiblePoint {
+                        position: (origin + t * direction).to_array(),
+                        normal: volume_point_direction(direction, murky.scatter_anisotropy),
+                        weight: weight.to_array(),
+                        pad: 0,
+                    };
+                }
+                break;
+            }
+            throughput *= walk.weight();
+        } else {
+            throughput *= transmittance_to(scene, medium, &hit);
+        }
         let material = &scene.materials[hit.material as usize];
         if is_cut_out(scene, material, hit.uv) {
             pass_throughs += 1;
@@ -795,7 +876,7 @@ fn eye_path(
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
                     position: hit.position.to_array(),
-                    normal: pack_normal(side.shading),
+                    normal: surface_normal(side.shading),
                     weight: weight.to_array(),
                     pad: 0,
                 };
@@ -1217,36 +1298,69 @@ pub struct GatherQuery {
     /// Gather radius of the caustic photons.
     pub caustic_radius: f32,
     pub cell_size: f32,
+    /// For a visible point inside murky glass, what it gathers instead: the volume photons.
+    pub volume: Option<VolumeQuery>,
+}
+
+/// A volume visible point's gather (`render::scattering`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VolumeQuery {
+    /// The way its eye path travelled.
+    pub direction: Vec3,
+    /// Its medium's Henyey–Greenstein asymmetry.
+    pub anisotropy: f32,
+    /// Gather radius of the volume photons.
+    pub radius: f32,
 }
 
 impl GatherQuery {
-    /// How far any photon may count: the larger radius, which the density methods search.
+    /// How far any photon may count: the larger radius (the volume photons' for a volume
+    /// visible point), which the density methods search.
     pub fn reach(&self) -> f32 {
-        self.radius.max(self.caustic_radius)
+        match self.volume {
+            Some(volume) => volume.radius,
+            None => self.radius.max(self.caustic_radius),
+        }
     }
 }
 
-/// What a gather found: the indirect photons it counts (M) and their flux, and the caustic
-/// ones.
+/// What a gather found: the indirect photons it counts (M) and their flux, the caustic ones,
+/// and the volume ones (their flux times the phase function towards the eye).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GatherSum {
     pub found: u32,
     pub flux: Vec3,
     pub caustic_found: u32,
     pub caustic_flux: Vec3,
+    pub volume_found: u32,
+    pub volume_flux: Vec3,
 }
 
 impl GatherSum {
     /// Adds `count` photons of `flux` each to the photon's class when it lies inside that
-    /// class's sphere and on the query's side of the surface.
+    /// class's sphere and on the query's side of the surface; a volume visible point counts
+    /// only volume photons, each times the phase function between its way and the way back to
+    /// the eye, and a surface one none of them.
     pub fn add_if_near(&mut self, query: &GatherQuery, photon: &Photon, count: u32) {
+        let offset = vec3(photon.position) - query.position;
+        if let Some(volume) = query.volume {
+            if is_volume(photon.normal) && offset.length_squared() < volume.radius * volume.radius {
+                let cos = -unpack_normal(photon.normal).dot(volume.direction);
+                let phase = henyey_greenstein_phase(volume.anisotropy, cos);
+                self.volume_found += count;
+                self.volume_flux += (count as f32 * phase) * vec3(photon.flux);
+            }
+            return;
+        }
+        if is_volume(photon.normal) {
+            return;
+        }
         let caustic = is_caustic(photon.normal);
         let radius = if caustic {
             query.caustic_radius
         } else {
             query.radius
         };
-        let offset = vec3(photon.position) - query.position;
         if offset.length_squared() < radius * radius
             && unpack_normal(photon.normal).dot(query.normal) > 0.0
         {
@@ -1332,35 +1446,68 @@ pub fn gather_update(
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
     // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
     let largest = largest_radius(cell_size);
-    shrink_to_fit(&mut stats.tau, &mut stats.radius, largest);
-    shrink_to_fit(&mut stats.caustic_tau, &mut stats.caustic_radius, largest);
+    shrink_to_fit(&mut stats.tau, &mut stats.radius, largest, AREA);
+    shrink_to_fit(
+        &mut stats.caustic_tau,
+        &mut stats.caustic_radius,
+        largest,
+        AREA,
+    );
+    shrink_to_fit(
+        &mut stats.volume_tau,
+        &mut stats.volume_radius,
+        largest,
+        VOLUME,
+    );
     if !visible_point.is_valid() {
         return (stats, 0);
     }
+    let (normal, volume) = if is_volume(visible_point.normal) {
+        let (direction, anisotropy) = unpack_volume_point(visible_point.normal);
+        let volume = VolumeQuery {
+            direction,
+            anisotropy,
+            radius: stats.volume_radius,
+        };
+        (-direction, Some(volume))
+    } else {
+        (unpack_normal(visible_point.normal), None)
+    };
     let sum = query(&GatherQuery {
         position: vec3(visible_point.position),
-        normal: unpack_normal(visible_point.normal),
+        normal,
         radius: stats.radius,
         caustic_radius: stats.caustic_radius,
         cell_size,
+        volume,
     });
     let weight = vec3(visible_point.weight);
     let s = &mut stats;
     let indirect = (sum.found, weight * sum.flux, params.indirect_alpha);
-    update(&mut s.tau, &mut s.photon_count, &mut s.radius, indirect);
-    let caustic = (sum.caustic_found, weight * sum.caustic_flux, params.alpha);
     update(
+        &mut s.tau,
+        &mut s.photon_count,
+        &mut s.radius,
+        indirect,
+        AREA,
+    );
+    let caustic = (sum.caustic_found, weight * sum.caustic_flux, params.alpha);
+    let (tau, count, radius) = (
         &mut s.caustic_tau,
         &mut s.caustic_count,
         &mut s.caustic_radius,
-        caustic,
     );
+    update(tau, count, radius, caustic, AREA);
+    let scattered = (sum.volume_found, weight * sum.volume_flux, params.alpha);
+    let (tau, count, radius) = (&mut s.volume_tau, &mut s.volume_count, &mut s.volume_radius);
+    update(tau, count, radius, scattered, VOLUME);
     // Only radii that have met photons size the cells: the others would hold them at the
     // initial radius for ever, and one photon kept per cell would then serve ever more
     // pixels.
     let lit_radius = [
         (stats.photon_count, stats.radius),
         (stats.caustic_count, stats.caustic_radius),
+        (stats.volume_count, stats.volume_radius),
     ]
     .into_iter()
     .filter(|&(count, _)| count > 0.0)
@@ -1370,18 +1517,32 @@ pub fn gather_update(
     (stats, lit_radius)
 }
 
-/// A radius larger than the cells allow shrinks to `largest`, its flux scaled with the area.
-fn shrink_to_fit(tau: &mut [f32; 3], radius: &mut f32, largest: f32) {
+/// The dimensions a set of statistics gathers over: a disc's on surfaces, a sphere's in murky
+/// glass.
+const AREA: i32 = 2;
+const VOLUME: i32 = 3;
+
+/// A radius larger than the cells allow shrinks to `largest`, its flux scaled with the disc's
+/// area or the sphere's volume (`dimensions`).
+fn shrink_to_fit(tau: &mut [f32; 3], radius: &mut f32, largest: f32, dimensions: i32) {
     if *radius > largest {
-        let scale = (largest / *radius) * (largest / *radius);
+        let scale = (largest / *radius).powi(dimensions);
         *tau = (vec3(*tau) * scale).to_array();
         *radius = largest;
     }
 }
 
 /// SPPM's update of one set of statistics (DESIGN.md, "SPPM update") with M photons found of
-/// weighted flux Φ, at α: N' = N + αM, R' = R·√((N + αM)/(N + M)), τ' = (τ + Φ)·R'²/R².
-fn update(tau: &mut [f32; 3], count: &mut f32, radius: &mut f32, found: (u32, Vec3, f32)) {
+/// weighted flux Φ, at α: N' = N + αM, R' = R·√((N + αM)/(N + M)), τ' = (τ + Φ)·R'²/R², over
+/// a disc; in a sphere (`dimensions` 3) R' = R·∛((N + αM)/(N + M)), τ' = (τ + Φ)·R'³/R³ (so τ
+/// scales by the same ratio either way).
+fn update(
+    tau: &mut [f32; 3],
+    count: &mut f32,
+    radius: &mut f32,
+    found: (u32, Vec3, f32),
+    dimensions: i32,
+) {
     let (m, flux, alpha) = found;
     if m == 0 {
         return;
@@ -1391,7 +1552,11 @@ fn update(tau: &mut [f32; 3], count: &mut f32, radius: &mut f32, found: (u32, Ve
     let n_next = n + alpha * m;
     let ratio = n_next / (n + m);
     *count = n_next;
-    *radius *= ratio.sqrt();
+    *radius *= if dimensions == VOLUME {
+        ratio.cbrt()
+    } else {
+        ratio.sqrt()
+    };
     *tau = ((vec3(*tau) + flux) * ratio).to_array();
 }
 

@@ -296,15 +296,17 @@ impl Backend for CpuBackend {
             }
             // No tree: no hash was built this pass, so no photon is found.
             (Density::KdTree, tree) => tree.map_or_else(Default::default, |tree| {
-                let radii = [query.caustic_radius, query.radius];
-                let [(caustic_found, caustic_flux), (found, flux)] =
-                    tree.query_classes(query.position, radii, query.normal);
-                kernels::GatherSum {
-                    found,
-                    flux,
-                    caustic_found,
-                    caustic_flux,
-                }
+                let mut sum = kernels::GatherSum::default();
+                tree.visit(query.position, query.reach(), |node| {
+                    let photon = render::buffers::Photon {
+                        position: node.position,
+                        normal: node.normal,
+                        flux: node.flux,
+                        pad: 0,
+                    };
+                    sum.add_if_near(query, &photon, 1);
+                });
+                sum
             }),
             (Density::StochasticHash, _) => kernels::stochastic_query(params, hash, photons, query),
         };

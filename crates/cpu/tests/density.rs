@@ -155,6 +155,7 @@ fn full_hash_and_kd_tree_find_exactly_the_photons_in_the_sphere() {
         let [(caustic_found, caustic_flux), (found, flux)] =
             render::kdtree::gather_brute_force_classes(&photons, position, radii, normal);
         let query = GatherQuery {
+            volume: None,
             position,
             normal,
             radius,

@@ -290,6 +290,7 @@ fn kd_tree_gather_matches_its_cpu_twin_on_the_gpu_state() {
                         flux,
                         caustic_found,
                         caustic_flux,
+                        ..GatherSum::default()
                     }
                 })
             })

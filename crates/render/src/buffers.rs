@@ -80,9 +80,11 @@ impl VisiblePoint {
     }
 }
 
-/// A pixel's progressive statistics (64 bytes): SPPM's τ, N and R twice, for the indirect
-/// photons and for the caustic ones (each set shrinks at its own α: caustics are sharp,
-/// indirect light smooth), and the sum of the direct light its eye passes saw.
+/// A pixel's progressive statistics (80 bytes): SPPM's τ, N and R three times, for the
+/// indirect photons and for the caustic ones (each set shrinks at its own α: caustics are
+/// sharp, indirect light smooth) on surfaces, and for the photons scattered in murky glass
+/// around visible points inside it (a sphere's volume for a disc's area,
+/// `render::scattering`), and the sum of the direct light its eye passes saw.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PixelStats {
@@ -102,15 +104,21 @@ pub struct PixelStats {
     /// 1 once an eye pass's camera ray met a mirror, glass or metal first in this pixel: later
     /// eye passes trace it more paths ([`SPECULAR_EXTRA_PATHS`]).
     pub specular_seen: u32,
-    pub pad: [u32; 2],
+    /// τ, N and R of the volume photons (τ already scaled to the current radius's volume).
+    pub volume_tau: [f32; 3],
+    pub volume_count: f32,
+    pub volume_radius: f32,
+    pub pad: [u32; 3],
 }
 
 impl PixelStats {
-    /// A pixel before any photon: nothing gathered, each class at its starting radius.
+    /// A pixel before any photon: nothing gathered, each class at its starting radius (the
+    /// volume photons' at the indirect ones').
     pub fn initial(radius: f32, caustic_radius: f32) -> PixelStats {
         PixelStats {
             radius,
             caustic_radius,
+            volume_radius: radius,
             ..PixelStats::default()
         }
     }

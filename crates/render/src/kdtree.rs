@@ -165,11 +165,28 @@ impl PhotonKdTree {
 
     /// [`Self::query`] for caustic and indirect photons apart ([`crate::packing::is_caustic`]),
     /// each within its own radius (`radii`: caustic, indirect): their counts and fluxes.
+    /// Volume photons ([`crate::packing::is_volume`]) are not counted.
     pub fn query_classes(&self, position: Vec3, radii: [f32; 2], normal: Vec3) -> [(u32, Vec3); 2] {
-        let count = self.nodes.len();
-        let radius = radii[0].max(radii[1]);
-        let radius_sq = radius * radius;
         let mut sums = [(0u32, Vec3::ZERO); 2];
+        self.visit(position, radii[0].max(radii[1]), |kd| {
+            let offset = Vec3::from(kd.position) - position;
+            let class = !crate::packing::is_caustic(kd.normal) as usize;
+            if offset.length_squared() < radii[class] * radii[class]
+                && !crate::packing::is_volume(kd.normal)
+                && unpack_normal(kd.normal).dot(normal) > 0.0
+            {
+                sums[class].0 += 1;
+                sums[class].1 += Vec3::from(kd.flux);
+            }
+        });
+        sums
+    }
+
+    /// Calls `visit` on every node the search around `position` within `radius` reaches (all
+    /// those within it, and some beyond), in `kd_gather`'s order.
+    pub fn visit(&self, position: Vec3, radius: f32, mut visit: impl FnMut(&KdNode)) {
+        let count = self.nodes.len();
+        let radius_sq = radius * radius;
         let mut stack = [0u32; STACK_SIZE];
         let mut top = 0;
         let mut node = 0;
@@ -177,13 +194,7 @@ impl PhotonKdTree {
             while node < count {
                 let kd = self.nodes[node];
                 let offset = Vec3::from(kd.position) - position;
-                let class = !crate::packing::is_caustic(kd.normal) as usize;
-                if offset.length_squared() < radii[class] * radii[class]
-                    && unpack_normal(kd.normal).dot(normal) > 0.0
-                {
-                    sums[class].0 += 1;
-                    sums[class].1 += Vec3::from(kd.flux);
-                }
+                visit(&kd);
                 // The split plane is `offset[axis]` away: the query lies on the left (lower)
                 // side when the plane is ahead of it.
                 let to_plane = offset[kd.axis()];
@@ -200,7 +211,7 @@ impl PhotonKdTree {
                 node = near;
             }
             if top == 0 {
-                return sums;
+                return;
             }
             top -= 1;
             node = stack[top] as usize;
@@ -232,7 +243,8 @@ pub fn gather_brute_force_classes(
         let class = !crate::packing::is_caustic(photon.normal) as usize;
         let offset = Vec3::from(photon.position) - position;
         let near = offset.length_squared() < radii[class] * radii[class];
-        if near && unpack_normal(photon.normal).dot(normal) > 0.0 {
+        let surface = !crate::packing::is_volume(photon.normal);
+        if near && surface && unpack_normal(photon.normal).dot(normal) > 0.0 {
             sums[class].0 += 1;
             sums[class].1 += Vec3::from(photon.flux);
         }

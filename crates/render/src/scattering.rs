@@ -3,7 +3,22 @@
 //! absorbed (σa) and scattered (σs) as it goes, the extinction σt = σa + σs; the photon pass
 //! walks it from scattering to scattering (Henyey–Greenstein phase) until it reaches a
 //! surface, where the photon lands as on any other (`cpu::kernels::photon_pass`). Light
-//! samples and eye paths, which never walk, see what is not scattered away: exp(−σt·d).
+//! samples, which never walk, see what is not scattered away: exp(−σt·d).
+//!
+//! Inside murky glass (solid glass that scatters: murky water, smoky glass,
+//! `scene::Material::has_murky_glass`) eye paths pass in through the clear surface, so the
+//! light scattered inside is gathered where it scatters: volume photon mapping in SPPM (after
+//! Jensen and Christensen 1998 and Knaus and Zwicker 2011). There a photon's walk stops at
+//! each scattering event, where the photon is kept with its flux times σs (what scatters
+//! there: `Walk::weight` after the flight) and the way it travelled, and goes on next pass;
+//! an eye path's flight ends at its scattering event too, with a volume visible point whose
+//! weight is the path's over σs (`Walk::weight_over_scattering`: the in-scattered radiance
+//! per unit length carries σs in the photons). The gather then sums the volume photons in a
+//! sphere, each times the phase function between its way and the eye's, over the sphere's
+//! volume, and each pixel keeps a third set of statistics for them, whose radius shrinks as
+//! R' = R·((N + αM)/(N + M))^⅓ (`cpu::kernels::gather_update`). Volume visible points take no
+//! light samples: light reaching murky glass from outside comes through its specular surface,
+//! which shadow rays cannot follow, so photons there carry the direct light too.
 //!
 //! Where a scattering event falls is drawn by one colour channel's σt, chosen once a walk
 //! with equal probability, and the walk weighed against all three's densities ([`Walk`]).
@@ -27,6 +42,12 @@ pub fn scattering_solid(materials: &[Material], medium: u32) -> Option<&Material
     (medium != NO_MEDIUM)
         .then(|| &materials[medium as usize])
         .filter(|m| m.interior_scattering().max_element() > 0.0)
+}
+
+/// The murky glass of `medium` (`scene::Material::has_murky_glass`): where photons are kept
+/// as they scatter and eye paths end where they scatter.
+pub fn murky_glass(materials: &[Material], medium: u32) -> Option<&Material> {
+    scattering_solid(materials, medium).filter(|m| m.has_murky_glass())
 }
 
 /// A random walk through a scattering medium: the distances to its scattering events drawn by
@@ -58,6 +79,18 @@ impl Walk {
     /// What the walk multiplies the light it carries by.
     pub fn weight(&self) -> Vec3 {
         self.weight
+    }
+
+    /// The weight after a flight that ended at a scattering event, over the medium's
+    /// `scattering` σs (0 in a channel that does not scatter): the transmittance to the event
+    /// over the density of drawing it, which an eye path's volume visible point carries (the
+    /// photons there carry σs).
+    pub fn weight_over_scattering(&self, scattering: Vec3) -> Vec3 {
+        Vec3::select(
+            scattering.cmpgt(Vec3::ZERO),
+            self.weight / scattering.max(Vec3::splat(f32::MIN_POSITIVE)),
+            Vec3::ZERO,
+        )
     }
 
     /// The next flight over a segment of `distance` in a medium of `extinction` σt and
@@ -145,7 +178,7 @@ mod tests {
         let scattering = Vec3::new(0.9, 1.0, 1.0);
         let distance = 0.7;
         let n = 400;
-        let (mut passed, mut scattered) = (Vec3::ZERO, Vec3::ZERO);
+        let (mut passed, mut scattered, mut reached) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
         for i in 0..n {
             for j in 0..n {
                 let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
@@ -155,6 +188,7 @@ mod tests {
                     Some(t) => {
                         assert!(t < distance && walk.weight().is_finite());
                         scattered += walk.weight();
+                        reached += walk.weight_over_scattering(scattering);
                     }
                 }
             }
@@ -171,6 +205,13 @@ mod tests {
             (scattered / count - expected_scattered).abs().max_element() < 2e-3,
             "{} against {expected_scattered}",
             scattered / count
+        );
+        // Over σs: the distance travelled within d, weighed by the transmittance, ∫ exp(−σt·t).
+        let expected_reached = (Vec3::ONE - kept) / extinction;
+        assert!(
+            (reached / count - expected_reached).abs().max_element() < 2e-3,
+            "{} against {expected_reached}",
+            reached / count
         );
     }
 

@@ -65,10 +65,11 @@ pub struct Material {
     /// solid it is in (`render::medium`), and solids nest (`render::nesting`).
     pub absorption: Vec3,
     /// Scattering inside a translucent solid (a diffusely transmitting surface bounding a
-    /// volume, [`DiffuseTransmission::volume`]), per unit of length and colour channel: light
-    /// inside is turned aside at this rate, by the Henyey–Greenstein phase function of
-    /// asymmetry `scatter_anisotropy` (0 isotropic, towards 1 forward), and absorbed at
-    /// `absorption`'s (`render::scattering`). Zero: none. Only translucent solids scatter.
+    /// volume, [`DiffuseTransmission::volume`]) or a solid of glass (murky water, smoky
+    /// glass), per unit of length and colour channel: light inside is turned aside at this
+    /// rate, by the Henyey–Greenstein phase function of asymmetry `scatter_anisotropy` (0
+    /// isotropic, towards 1 forward), and absorbed at `absorption`'s (`render::scattering`).
+    /// Zero: none. Only those solids scatter ([`Material::interior_scattering`]).
     pub scattering: Vec3,
     pub scatter_anisotropy: f32,
     /// A tangent-space normal map (glTF's `normalTexture`, linear RGB: +X along increasing u,
@@ -690,6 +691,19 @@ impl Material {
         }
     }
 
+    /// Whether it is a solid of glass, smooth or frosted, and not a blend: where eye paths
+    /// pass inside, so that what scatters there is seen through its surface.
+    pub fn is_solid_glass(&self) -> bool {
+        self.surface.is_solid_dielectric() && self.blend.is_none()
+    }
+
+    /// Whether light scatters inside solid glass ([`Material::is_solid_glass`]): murky water,
+    /// smoky glass. There eye paths end at a scattering event too, and photons are kept where
+    /// they scatter, to be gathered there (volume photons, `render::scattering`).
+    pub fn has_murky_glass(&self) -> bool {
+        self.is_solid_glass() && self.scattering.max_element() > 0.0
+    }
+
     /// Whether it is a translucent solid: a Lambertian lobe whose diffuse transmission bounds
     /// a volume.
     pub fn is_translucent_solid(&self) -> bool {
@@ -697,9 +711,10 @@ impl Material {
     }
 
     /// The scattering a path inside this material meets: [`Material::scattering`] for a
-    /// translucent solid, zero for every other surface.
+    /// translucent solid and for solid glass that is not a blend ([`Material::has_murky_glass`]),
+    /// zero for every other surface.
     pub fn interior_scattering(&self) -> Vec3 {
-        if self.is_translucent_solid() {
+        if self.is_translucent_solid() || self.is_solid_glass() {
             self.scattering
         } else {
             Vec3::ZERO

@@ -1576,20 +1576,24 @@ fn diffuse_transmission_is_read() {
 /// `KHR_materials_volume_scatter` (a draft) on a translucent solid splits the volume's
 /// attenuation (the extinction) by the single-scattering albedo of `multiscatterColor`
 /// (`scene::single_scatter_albedo`: 0 → 0 (6e-6 in f32), 1 → 1, rising between) and reads
-/// `scatterAnisotropy`; on a sheet or glass it is warned about and ignored; an anisotropy
-/// outside (−1, 1) is refused in words.
+/// `scatterAnisotropy`; so on solid glass (murky water); on a blend of glass and plastic it
+/// is warned about and ignored; an anisotropy outside (−1, 1) is refused in words.
 #[test]
 fn volume_scatter_splits_a_translucent_solid_s_extinction() {
     const TRANSLUCENT: &str = "KHR_materials_diffuse_transmission";
+    const HALF_GLASS: &str = "half glass";
     let scattering = |volume: Value, scatter: Value, transmission: &str| {
         let mut material = pbr(0.0, 0.3);
         let mut extensions = json!({
             "KHR_materials_volume": volume,
             "KHR_materials_volume_scatter": scatter,
         });
-        extensions[transmission] = match transmission {
-            TRANSLUCENT => json!({ "diffuseTransmissionFactor": 1.0 }),
-            _ => json!({ "transmissionFactor": 1.0 }),
+        match transmission {
+            TRANSLUCENT => extensions[TRANSLUCENT] = json!({ "diffuseTransmissionFactor": 1.0 }),
+            HALF_GLASS => {
+                extensions["KHR_materials_transmission"] = json!({ "transmissionFactor": 0.5 })
+            }
+            _ => extensions[transmission] = json!({ "transmissionFactor": 1.0 }),
         };
         material["extensions"] = extensions;
         quad_doc(Some(material)).load()
@@ -1613,16 +1617,38 @@ fn volume_scatter_splits_a_translucent_solid_s_extinction() {
     );
     assert_eq!(m.scatter_anisotropy, 0.4);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let glass = scattering(volume.clone(), scatter, "KHR_materials_transmission").expect("loads");
-    assert_eq!(glass.materials[0].interior_scattering(), Vec3::ZERO);
-    assert_eq!(glass.materials[0].interior_absorption(), extinction);
+    let glass = scattering(
+        volume.clone(),
+        scatter.clone(),
+        "KHR_materials_transmission",
+    )
+    .expect("loads");
+    let murky = &glass.materials[0];
+    assert!(murky.has_murky_glass());
     assert!(
-        glass
+        (murky.interior_extinction() - extinction)
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    assert!(
+        (murky.interior_scattering() - extinction * albedo)
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    assert!(glass.warnings.is_empty(), "{:?}", glass.warnings);
+    let blend = scattering(volume.clone(), scatter, HALF_GLASS).expect("loads");
+    assert!(blend.materials[0].blend.is_some());
+    assert_eq!(blend.materials[0].interior_scattering(), Vec3::ZERO);
+    assert_eq!(blend.materials[0].interior_absorption(), extinction);
+    assert!(
+        blend
             .warnings
             .iter()
             .any(|w| w.contains("only translucent solids")),
         "{:?}",
-        glass.warnings
+        blend.warnings
     );
     let error =
         scattering(volume, json!({ "scatterAnisotropy": 1.0 }), TRANSLUCENT).expect_err("refused");

@@ -1,7 +1,7 @@
 //! The kd-tree against brute force, and its build's invariants.
 
 use super::*;
-use crate::packing::pack_normal;
+use crate::packing::surface_normal;
 
 /// SplitMix64: a small seeded generator for test photons.
 struct Random(u64);
@@ -35,7 +35,7 @@ impl Random {
     fn photon(&mut self, position: Vec3) -> Photon {
         Photon {
             position: position.to_array(),
-            normal: pack_normal(self.direction()),
+            normal: surface_normal(self.direction()),
             flux: self.vec3(0.01, 1.0).to_array(),
             pad: 0,
         }
@@ -151,7 +151,7 @@ fn gather_handles_no_and_one_photon() {
     assert_eq!(empty.query(Vec3::ZERO, 1.0, normal), (0, Vec3::ZERO));
     let photon = Photon {
         position: [0.5, 0.0, 0.0],
-        normal: pack_normal(Vec3::Z),
+        normal: surface_normal(Vec3::Z),
         flux: [1.0, 2.0, 3.0],
         pad: 0,
     };

@@ -42,10 +42,11 @@
 //!   With `KHR_materials_volume`'s `thicknessFactor` above 0 the surface bounds a translucent
 //!   solid (wax, jade: [`DiffuseTransmission::volume`]) whose attenuation absorbs inside it,
 //!   else it is a sheet. A factor of 0 is none.
-//! - `KHR_materials_volume_scatter` (a Khronos draft) on a translucent solid: the attenuation
-//!   is the extinction, of which the single-scattering albedo of `multiscatterColor` scatters
-//!   (`Material::scattering`, Henyey–Greenstein of `scatterAnisotropy`) and the rest absorbs;
-//!   ignored with a warning elsewhere.
+//! - `KHR_materials_volume_scatter` (a Khronos draft) on a translucent solid or on solid glass
+//!   that is not a blend (murky water, smoky glass): the attenuation is the extinction, of
+//!   which the single-scattering albedo of `multiscatterColor` scatters (`Material::scattering`,
+//!   Henyey–Greenstein of `scatterAnisotropy`) and the rest absorbs; ignored with a warning
+//!   elsewhere.
 //! - `KHR_materials_anisotropy` → [`Anisotropy`] on the metal (brushed metal):
 //!   `anisotropyStrength` (× the blue of `anisotropyTexture`, linear data), the direction
 //!   +u of the mesh's TANGENT frame, else of each triangle's texture frame (or the
@@ -271,7 +272,10 @@ impl Materials {
         let diffuse_transmission = self.diffuse_transmission(input, builder, &check, m)?;
         let translucent_volume = diffuse_transmission.is_some_and(|t| t.volume);
         let extinction = absorption(&check, m, &surfaces, translucent_volume)?;
-        let scatter = volume_scatter(&check, m, translucent_volume, extinction, builder)?;
+        // Solid glass of one surface (not a blend) scatters too: murky water, smoky glass.
+        let glass_volume = matches!(surfaces.as_slice(), [(_, s)] if s.is_solid_dielectric());
+        let scattering_volume = translucent_volume || glass_volume;
+        let scatter = volume_scatter(&check, m, scattering_volume, extinction, builder)?;
         let emission = emission(&check, m)?;
         let alpha_mode = alpha_mode(&check, m, builder)?;
         let mut texture = |info: &Option<json::texture::Info>, slot: &'static str| {
@@ -1155,7 +1159,8 @@ struct VolumeScatter {
     anisotropy: f32,
 }
 
-/// `KHR_materials_volume_scatter` (a Khronos draft) on a translucent solid: the volume's
+/// `KHR_materials_volume_scatter` (a Khronos draft) on a `scattering_volume` (a translucent
+/// solid, or solid glass that is not a blend): the volume's
 /// attenuation is then its `extinction` (absorption and scattering together), of which the
 /// single-scattering albedo of `multiscatterColor` (default black:
 /// [`crate::single_scatter_albedo`]) scatters and the rest absorbs; `scatterAnisotropy` in
@@ -1164,7 +1169,7 @@ struct VolumeScatter {
 fn volume_scatter(
     check: &Check,
     m: &json::Material,
-    translucent_volume: bool,
+    scattering_volume: bool,
     extinction: Vec3,
     builder: &mut SceneBuilder,
 ) -> Result<VolumeScatter, SceneError> {
@@ -1176,10 +1181,10 @@ fn volume_scatter(
     let Some(value) = extension(m, VOLUME_SCATTER) else {
         return Ok(absorbing);
     };
-    if !translucent_volume {
+    if !scattering_volume {
         builder.warn(format!(
             "{}: {VOLUME_SCATTER} ignored: only translucent solids (diffuse transmission with \
-             a volume) scatter",
+             a volume) and solid glass that is not a blend scatter",
             check.label
         ));
         return Ok(absorbing);

@@ -34,11 +34,13 @@
 
 mod iridescent;
 mod metallic_roughness;
+mod murky;
 mod prism;
 mod translucent;
 
 pub use iridescent::*;
 pub use metallic_roughness::*;
+pub use murky::*;
 pub use prism::*;
 pub use translucent::*;
 

@@ -233,6 +233,17 @@ fn info_counts_translucent_materials() {
     );
 }
 
+/// `kousen info` counts the materials of murky glass (`cornell-murky`'s quartz and water),
+/// which are not translucent solids.
+#[test]
+fn info_counts_murky_glass() {
+    let murky = info_json(&shipped("cornell-murky.gltf"));
+    assert_eq!(murky["murky_glass_materials"], 2);
+    assert_eq!(murky["scattering_solids"], 0);
+    let solids = info_json(&shipped("cornell-translucent-solids.gltf"));
+    assert_eq!(solids["murky_glass_materials"], 0);
+}
+
 #[test]
 fn info_json_keeps_the_contract_for_scripts() {
     let info = info_json(&shipped("cornell-box.gltf"));

@@ -185,6 +185,16 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
             x.absorption,
             y.absorption
         );
+        assert!(
+            close(x.scattering, y.scattering, 1e-5),
+            "{stem}: scattering {} vs {}",
+            x.scattering,
+            y.scattering
+        );
+        assert!(
+            (x.scatter_anisotropy - y.scatter_anisotropy).abs() < 1e-6,
+            "{stem}: scattering's anisotropy"
+        );
         assert_eq!(x.normal_scale, y.normal_scale, "{stem}: normal scale");
         assert!(
             (x.dispersion - y.dispersion).abs() <= 1e-6 * y.dispersion,

@@ -38,6 +38,10 @@ struct Info {
     /// Of those, the ones scattering inside (`scene::Material::scattering`: glTF's
     /// `KHR_materials_volume_scatter`).
     scattering_solids: usize,
+    /// Materials of murky glass: solid glass scattering inside
+    /// (`scene::Material::has_murky_glass`: glTF's `KHR_materials_volume_scatter` on
+    /// transmission), whose light is gathered where it scatters (`render::scattering`).
+    murky_glass_materials: usize,
     /// Materials (blend members) brushed (`scene::Anisotropy`: glTF's
     /// `KHR_materials_anisotropy`).
     brushed_materials: usize,
@@ -299,7 +303,10 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         sheened_materials: count(|m| m.sheen.is_some()),
         translucent_materials: count(|m| m.diffuse_transmission.is_some()),
         translucent_solids: count(|m| m.diffuse_transmission.is_some_and(|t| t.volume)),
-        scattering_solids: count(|m| m.interior_scattering().max_element() > 0.0),
+        scattering_solids: count(|m| {
+            m.is_translucent_solid() && m.interior_scattering().max_element() > 0.0
+        }),
+        murky_glass_materials: count(|m| m.has_murky_glass()),
         brushed_materials: count(|m| m.anisotropy.is_some()),
         iridescent_materials: count(|m| m.iridescence.is_some()),
         vertex_tangents: scene.has_vertex_tangents(),
@@ -455,6 +462,10 @@ fn print_table(info: &Info) {
         (
             "iridescence",
             format!("{} materials", info.iridescent_materials),
+        ),
+        (
+            "murky glass",
+            format!("{} materials", info.murky_glass_materials),
         ),
         (
             "inside solids",

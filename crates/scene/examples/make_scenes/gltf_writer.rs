@@ -44,7 +44,7 @@ use serde_json::{Map, Value, json};
 pub type Fixture = fn() -> Scene;
 
 /// The scenes shipped in `scenes/`, by file stem.
-pub const SHIPPED: [(&str, Fixture); 21] = [
+pub const SHIPPED: [(&str, Fixture); 22] = [
     ("cornell-box", scene::testing::cornell_box),
     ("cornell-caustics", scene::testing::cornell_caustics),
     ("cornell-rough", scene::testing::cornell_rough),
@@ -71,6 +71,7 @@ pub const SHIPPED: [(&str, Fixture); 21] = [
     ),
     ("cornell-brushed", scene::testing::cornell_brushed),
     ("cornell-iridescent", scene::testing::cornell_iridescent),
+    ("cornell-murky", scene::testing::cornell_murky),
     ("spheres-on-a-floor", scene::testing::spheres_on_a_floor),
 ];
 
@@ -406,6 +407,9 @@ impl Document {
             extensions.insert("KHR_materials_ior".into(), json!({ "ior": number(ior) }));
             if !thin_walled {
                 extensions.insert("KHR_materials_volume".into(), volume(m, thickness));
+                if m.has_murky_glass() {
+                    extensions.insert("KHR_materials_volume_scatter".into(), volume_scatter(m));
+                }
                 if m.dispersion > 0.0 {
                     // The extension's 20 / V, V the Abbe number (ior − 1) / dispersion.
                     let strength = 20.0 * m.dispersion / (ior - 1.0);
@@ -594,7 +598,8 @@ fn volume(m: &Material, thickness: f32) -> Value {
     volume
 }
 
-/// `KHR_materials_volume_scatter` of a scattering translucent solid `m`: the multiple-scatter
+/// `KHR_materials_volume_scatter` of a scattering solid `m` (translucent, or murky glass): the
+/// multiple-scatter
 /// colour whose single-scattering albedo (`scene::single_scatter_albedo`, rising in it) is
 /// σs / σt, found by bisection.
 fn volume_scatter(m: &Material) -> Value {

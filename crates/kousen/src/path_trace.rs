@@ -1227,6 +1227,24 @@ mod tests {
         );
     }
 
+    /// The furnace with lossless murky glass in view (`testing::furnace_with_murky_glass`: a
+    /// smooth glass ball of index 1.33 scattering σs = (20, 8, 3) inside, g = 0.5): paths
+    /// refracted into it walk through it and out through its glass, none lost, so it stays
+    /// invisible. 524,288 paths, seeds 1–2: channels 0.979–1.002 (65,536: red 0.958, the
+    /// walks in it long and the glass's Fresnel choices on top). Tolerance: each channel
+    /// within 3 %, as for the translucent solid.
+    #[test]
+    fn murky_glass_in_the_furnace_is_invisible() {
+        let scene = testing::furnace_with_murky_glass(Vec3::new(20.0, 8.0, 3.0), 0.5, 1.33);
+        let mean = furnace_mean(&scene, 8192);
+        println!("murky furnace: {mean}");
+        let expected = testing::FURNACE_RADIANCE;
+        assert!(
+            (mean - Vec3::splat(expected)).abs().max_element() < 0.03 * expected,
+            "{mean}"
+        );
+    }
+
     /// A lamp inside a lossless scattering solid (`testing::lamp_in_scattering_cube`): a
     /// sixth of its light leaves through the top face, whose radiance averages I / (6h²).
     /// Paths looking straight down at points spread evenly over the face (a 512 × 512 grid)

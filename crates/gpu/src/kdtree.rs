@@ -3,7 +3,7 @@
 //! (`shaders/kernels/kdtree_query.wgsl`): one gather per query, for tests and the density
 //! benchmark. The SPPM gather variant includes `kdtree.wgsl` itself.
 //!
-//! The module is the whole SPPM module (for `unpack_normal`, whose file needs the rest), then
+//! The module is the whole SPPM module (for `add_if_near`, whose file needs the rest), then
 //! the kd-tree's files. Its pipeline layout holds only what the kernel binds: its own buffers,
 //! group 1 bindings 16 to 19, past the SPPM kernels' (group 0, the scene, is left out).
 

@@ -57,6 +57,8 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MATERIAL_THIN_WALLED", U32(types::MATERIAL_THIN_WALLED)),
         ("MATERIAL_BLEND", U32(types::MATERIAL_BLEND)),
         ("MATERIAL_BOUNDS_VOLUME", U32(types::MATERIAL_BOUNDS_VOLUME)),
+        ("MATERIAL_MURKY_GLASS", U32(types::MATERIAL_MURKY_GLASS)),
+        ("VOLUME_BIT", U32(render::packing::VOLUME_BIT)),
         (
             "SCATTERINGS_PER_STEP",
             U32(render::scattering::SCATTERINGS_PER_STEP),

@@ -148,8 +148,10 @@ pub(crate) struct SceneFeatures {
     pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
     pub media: bool,
-    /// Some translucent solid scatters inside (`SCATTERING`).
+    /// Some solid scatters inside, a translucent solid or murky glass (`SCATTERING`).
     pub scattering: bool,
+    /// Some of them is murky glass (`MURKY_GLASS`): volume photons and visible points.
+    pub murky_glass: bool,
     /// Some glass disperses (`DISPERSION`).
     pub dispersion: bool,
     /// Some member's surface follows a metallic-roughness texture (`ROUGHNESS_MAPS`).
@@ -188,6 +190,7 @@ impl SceneFeatures {
             iridescence: any(|m| m.iridescence.is_some()),
             media: any(|m| m.interior_extinction().max_element() > 0.0),
             scattering: any(|m| m.interior_scattering().max_element() > 0.0),
+            murky_glass: any(|m| m.has_murky_glass()),
             dispersion: any(|m| m.dispersion > 0.0),
             roughness_maps: any(|m| m.roughness_map.is_some()),
             sky_map: scene.lights.sky.as_ref().is_some_and(|s| s.map.is_some()),
@@ -195,7 +198,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 16] {
+    fn constants(self) -> [(&'static str, f64); 17] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -210,6 +213,7 @@ impl SceneFeatures {
             ("IRIDESCENCE", flag(self.iridescence)),
             ("MEDIA", flag(self.media)),
             ("SCATTERING", flag(self.scattering)),
+            ("MURKY_GLASS", flag(self.murky_glass)),
             ("DISPERSION", flag(self.dispersion)),
             ("ROUGHNESS_MAPS", flag(self.roughness_maps)),
             ("SKY_MAP", flag(self.sky_map)),
@@ -861,5 +865,16 @@ mod tests {
         );
         let sheens = |scene: &scene::Scene| SceneFeatures::of(scene).sheens;
         assert!(sheens(&testing::cornell_sheen()) && !sheens(&testing::cornell_clearcoat()));
+        // Murky glass scatters; a translucent solid scatters without being murky glass.
+        let scattering = |scene: &scene::Scene| {
+            let f = SceneFeatures::of(scene);
+            (f.scattering, f.murky_glass)
+        };
+        assert_eq!(scattering(&testing::cornell_murky()), (true, true));
+        assert_eq!(
+            scattering(&testing::cornell_translucent_solids()),
+            (true, false)
+        );
+        assert_eq!(scattering(&testing::cornell_box()), (false, false));
     }
 }

@@ -146,6 +146,10 @@ pub const MATERIAL_BLEND: u32 = 4;
 /// Paths crossing the surface go inside a volume (`scene::Material::bounds_volume`: solid
 /// glass, or a translucent solid).
 pub const MATERIAL_BOUNDS_VOLUME: u32 = 8;
+/// Solid glass that scatters inside (`scene::Material::has_murky_glass`): photons walking in
+/// it keep volume photons, eye paths end where they scatter (`render::scattering`); a
+/// translucent solid scatters too but is not murky glass.
+pub const MATERIAL_MURKY_GLASS: u32 = 16;
 /// `GpuMaterial::roughness_lobe` values (`scene::TexturedLobe`, or none).
 pub const ROUGHNESS_METAL: u32 = 0;
 pub const ROUGHNESS_COATED: u32 = 1;
@@ -253,8 +257,9 @@ pub struct GpuMaterial {
     /// brushing without a texture in the texture frame (`Anisotropy::base`; zero: none).
     pub anisotropy_texture: u32,
     pub anisotropy: [f32; 2],
-    /// A translucent solid's scattering inside (`Material::interior_scattering`; zero:
-    /// none) and its phase function's asymmetry (`render::scattering`).
+    /// A translucent solid's or murky glass's scattering inside
+    /// (`Material::interior_scattering`; zero: none) and its phase function's asymmetry
+    /// (`render::scattering`).
     pub scattering: [f32; 3],
     pub scatter_anisotropy: f32,
     /// glTF's iridescence (`scene::Iridescence`): its factor (0: none), the film's index and
@@ -293,7 +298,8 @@ impl GpuMaterial {
         let flags = flag(material.double_sided, MATERIAL_DOUBLE_SIDED)
             | flag(thin_walled, MATERIAL_THIN_WALLED)
             | flag(material.blend.is_some(), MATERIAL_BLEND)
-            | flag(material.bounds_volume(), MATERIAL_BOUNDS_VOLUME);
+            | flag(material.bounds_volume(), MATERIAL_BOUNDS_VOLUME)
+            | flag(material.has_murky_glass(), MATERIAL_MURKY_GLASS);
         let map = material.roughness_map;
         GpuMaterial {
             base_color: material.base_color.to_array(),
@@ -532,12 +538,26 @@ mod tests {
             ..Material::default()
         };
         for (material, bounds) in [
-            (solid_glass, true),
+            (solid_glass.clone(), true),
             (translucent(true), true),
             (translucent(false), false),
         ] {
             let flags = GpuMaterial::new(&material, &Default::default()).flags;
             assert_eq!(flags & MATERIAL_BOUNDS_VOLUME != 0, bounds, "{material:?}");
+        }
+
+        // Solid glass that scatters is murky glass; a translucent solid that scatters is not.
+        let scattering = |m: Material| Material {
+            scattering: glam::Vec3::splat(0.5),
+            ..m
+        };
+        for (material, murky) in [
+            (scattering(solid_glass.clone()), true),
+            (solid_glass, false),
+            (scattering(translucent(true)), false),
+        ] {
+            let flags = GpuMaterial::new(&material, &Default::default()).flags;
+            assert_eq!(flags & MATERIAL_MURKY_GLASS != 0, murky, "{material:?}");
         }
     }
 }

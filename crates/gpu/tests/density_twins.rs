@@ -8,7 +8,9 @@
 //!   equals `cpu::density::full_query`'s; two renders with the same seed give the same image,
 //!   bit for bit;
 //! - kd-tree: the gather over the tree uploaded from the GPU's photons equals the CPU's query
-//!   of the same tree.
+//!   of the same tree;
+//! - both gathers in murky glass (`scene::testing::furnace_with_murky_glass`), where volume
+//!   visible points gather the volume photons.
 //!
 //! Runs on whatever adapter wgpu finds (lavapipe in CI), so the sizes are small.
 
@@ -16,10 +18,10 @@ use std::sync::atomic::AtomicU32;
 
 use bvh::{BuildOptions, PackedBvh};
 use cpu::density::{full_query, photon_entry};
-use cpu::kernels::{GatherSum, gather_with};
+use cpu::kernels::{GatherQuery, GatherSum, gather_with};
 use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
-use render::buffers::{HASH_ENTRY_WORDS, Photon, PixelStats, VisiblePoint};
+use render::buffers::{HASH_ENTRY_WORDS, Photon, PixelStats, SppmParams, VisiblePoint};
 use render::density::{SCAN_BLOCK, full_word, scan_counts};
 use render::half_storage::Precision;
 use render::integrator::Phase;
@@ -60,7 +62,20 @@ fn render(density: Density) -> (Sppm<GpuBackend>, Settings) {
 }
 
 fn render_in(density: Density, precision: Precision) -> (Sppm<GpuBackend>, Settings) {
-    let scene = scene::testing::cornell_caustics();
+    render_scene(scene::testing::cornell_caustics(), density, precision)
+}
+
+/// The murky glass furnace (`scene::testing::furnace_with_murky_glass`): most pixels see the
+/// ball, whose eye paths end at volume visible points gathering volume photons.
+fn murky_furnace() -> scene::Scene {
+    scene::testing::furnace_with_murky_glass(glam::Vec3::new(4.0, 2.0, 1.0), 0.5, 1.33)
+}
+
+fn render_scene(
+    scene: scene::Scene,
+    density: Density,
+    precision: Precision,
+) -> (Sppm<GpuBackend>, Settings) {
     let bvh = PackedBvh::build(&scene.triangles, &BuildOptions::default());
     let camera = scene.camera(None).expect("a camera");
     let settings = Settings {
@@ -97,13 +112,26 @@ fn pass(sppm: &mut Sppm<GpuBackend>, density: Density) -> (BeforeGather, Vec<Pix
     (before, after)
 }
 
+/// The CPU's gather of every pixel on the GPU's state `before`, its photons found by `query`.
+fn twin_gather(
+    before: &BeforeGather,
+    params: &SppmParams,
+    counters: &[AtomicU32],
+    query: impl Fn(&GatherQuery) -> GatherSum,
+) -> Vec<PixelStats> {
+    (before.stats.iter())
+        .zip(&before.points)
+        .map(|(s, point)| gather_with(counters, params, point, *s, &query))
+        .collect()
+}
+
 fn relative(a: f32, b: f32) -> f32 {
     (a - b).abs() / a.abs().max(b.abs()).max(1e-30)
 }
 
 /// Asserts that at most [`MAX_DIVERGED`] of the pixels differ beyond the tolerance, and that
-/// the pass met photons at all.
-fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) {
+/// the pass met photons at all; returns how many pixels' volume statistics met photons.
+fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) -> usize {
     let differing = gpu
         .iter()
         .zip(twin)
@@ -113,18 +141,26 @@ fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) {
                 relative(g.radius, c.radius),
                 relative(g.caustic_count, c.caustic_count),
                 relative(g.caustic_radius, c.caustic_radius),
+                relative(g.volume_count, c.volume_count),
+                relative(g.volume_radius, c.volume_radius),
             ];
-            errors.extend((0..3).map(|k| relative(g.tau[k], c.tau[k])));
-            errors.extend((0..3).map(|k| relative(g.caustic_tau[k], c.caustic_tau[k])));
+            for (g, c) in [
+                (g.tau, c.tau),
+                (g.caustic_tau, c.caustic_tau),
+                (g.volume_tau, c.volume_tau),
+            ] {
+                errors.extend((0..3).map(|k| relative(g[k], c[k])));
+            }
             errors.iter().any(|&e| e > RELATIVE_TOLERANCE)
         })
         .count();
     let lit = twin
         .iter()
-        .filter(|s| s.photon_count > 0.0 || s.caustic_count > 0.0)
+        .filter(|s| s.photon_count > 0.0 || s.caustic_count > 0.0 || s.volume_count > 0.0)
         .count();
+    let volume_lit = twin.iter().filter(|s| s.volume_count > 0.0).count();
     println!(
-        "{label}: {differing} of {} pixels differ; {lit} lit",
+        "{label}: {differing} of {} pixels differ; {lit} lit, {volume_lit} by volume photons",
         gpu.len()
     );
     assert!(
@@ -135,30 +171,44 @@ fn assert_gather_matches(label: &str, gpu: &[PixelStats], twin: &[PixelStats]) {
         differing as f64 <= MAX_DIVERGED * gpu.len() as f64,
         "{label}: {differing} pixels differ"
     );
+    volume_lit
 }
 
 #[test]
 fn full_hash_matches_its_cpu_twin_on_the_gpu_state() {
-    full_hash_matches_its_cpu_twin(Precision::F32);
+    full_hash_matches_its_cpu_twin(scene::testing::cornell_caustics(), Precision::F32);
 }
 
 /// With f16 photons the sort copies packed records into list order, which the gather unpacks.
 #[test]
 fn full_hash_matches_its_cpu_twin_with_f16_photons() {
-    full_hash_matches_its_cpu_twin(Precision::F16);
+    full_hash_matches_its_cpu_twin(scene::testing::cornell_caustics(), Precision::F16);
 }
 
-fn full_hash_matches_its_cpu_twin(precision: Precision) {
-    let (mut sppm, _) = render_in(Density::FullHash, precision);
-    let params = {
-        let scene = scene::testing::cornell_caustics();
-        let camera = scene.camera(None).unwrap();
-        let lights = render::emission::light_table(&scene).len() as u32;
-        render::integrator::params(&scene, &camera, sppm.settings(), lights)
-    };
+/// In murky glass: volume visible points gather the listed volume photons in their spheres,
+/// weighed by the phase function, and surface ones pass them by.
+#[test]
+fn full_hash_matches_its_cpu_twin_in_murky_glass() {
+    let volume_lit = full_hash_matches_its_cpu_twin(murky_furnace(), Precision::F32);
+    assert!(volume_lit > 100, "{volume_lit} pixels met volume photons");
+}
+
+/// The kernels' parameters for `scene` under `settings`, as the backends are given them.
+fn params_of(scene: &scene::Scene, settings: &Settings) -> SppmParams {
+    let camera = scene.camera(None).unwrap();
+    let lights = render::emission::light_table(scene).len() as u32;
+    render::integrator::params(scene, &camera, settings, lights)
+}
+
+/// Three passes of the full hash on the GPU against their CPU twins; the pixels whose volume
+/// statistics met photons in the last.
+fn full_hash_matches_its_cpu_twin(scene: scene::Scene, precision: Precision) -> usize {
+    let (mut sppm, settings) = render_scene(scene.clone(), Density::FullHash, precision);
+    let params = params_of(&scene, &settings);
+    let mut volume_lit = 0;
     for p in 0..3 {
-        let (before, after) = pass(&mut sppm, Density::FullHash);
-        let (order, offsets) = before.lists.expect("full hash lists");
+        let (mut before, after) = pass(&mut sppm, Density::FullHash);
+        let (order, offsets) = before.lists.take().expect("full hash lists");
         let words = &before.hash;
         // The prefix sum, word for word, over the GPU's own counts.
         let counts: Vec<u32> = words
@@ -216,18 +266,12 @@ fn full_hash_matches_its_cpu_twin(precision: Precision) {
         // The gather over the GPU's lists.
         let hash = atomics(words);
         let order = atomics(&order);
-        let twin: Vec<PixelStats> = before
-            .stats
-            .iter()
-            .zip(&before.points)
-            .map(|(s, point)| {
-                gather_with(&counters, &params, point, *s, |q| {
-                    full_query(&params, &hash, &offsets, &order, &before.photons, q)
-                })
-            })
-            .collect();
-        assert_gather_matches(&format!("full hash pass {p}"), &after, &twin);
+        let twin = twin_gather(&before, &params, &counters, |q| {
+            full_query(&params, &hash, &offsets, &order, &before.photons, q)
+        });
+        volume_lit = assert_gather_matches(&format!("full hash pass {p}"), &after, &twin);
     }
+    volume_lit
 }
 
 #[test]
@@ -265,36 +309,42 @@ fn restarted_full_hash_render_equals_a_new_one() {
 
 #[test]
 fn kd_tree_gather_matches_its_cpu_twin_on_the_gpu_state() {
-    let (mut sppm, settings) = render(Density::KdTree);
-    let params = {
-        let scene = scene::testing::cornell_caustics();
-        let camera = scene.camera(None).unwrap();
-        let lights = render::emission::light_table(&scene).len() as u32;
-        render::integrator::params(&scene, &camera, &settings, lights)
-    };
+    kd_tree_gather_matches_its_cpu_twin(scene::testing::cornell_caustics());
+}
+
+/// In murky glass: volume visible points gather the volume photons the tree visits in their
+/// spheres, and surface ones pass them by.
+#[test]
+fn kd_tree_gather_matches_its_cpu_twin_in_murky_glass() {
+    let volume_lit = kd_tree_gather_matches_its_cpu_twin(murky_furnace());
+    assert!(volume_lit > 100, "{volume_lit} pixels met volume photons");
+}
+
+/// Three passes of the kd-tree gather on the GPU against the CPU backend's (every node the
+/// search visits through `GatherSum::add_if_near`) on the tree of the GPU's photons; the
+/// pixels whose volume statistics met photons in the last.
+fn kd_tree_gather_matches_its_cpu_twin(scene: scene::Scene) -> usize {
+    let (mut sppm, settings) = render_scene(scene.clone(), Density::KdTree, Precision::F32);
+    let params = params_of(&scene, &settings);
+    let mut volume_lit = 0;
     for p in 0..3 {
         let (before, after) = pass(&mut sppm, Density::KdTree);
         let tree = PhotonKdTree::build(&before.photons);
         let counters = atomics(&before.counters);
-        let twin: Vec<PixelStats> = before
-            .stats
-            .iter()
-            .zip(&before.points)
-            .map(|(s, point)| {
-                gather_with(&counters, &params, point, *s, |q| {
-                    let radii = [q.caustic_radius, q.radius];
-                    let [(caustic_found, caustic_flux), (found, flux)] =
-                        tree.query_classes(q.position, radii, q.normal);
-                    GatherSum {
-                        found,
-                        flux,
-                        caustic_found,
-                        caustic_flux,
-                        ..GatherSum::default()
-                    }
-                })
-            })
-            .collect();
-        assert_gather_matches(&format!("kd-tree pass {p}"), &after, &twin);
+        let twin = twin_gather(&before, &params, &counters, |q| {
+            let mut sum = GatherSum::default();
+            tree.visit(q.position, q.reach(), |node| {
+                let photon = Photon {
+                    position: node.position,
+                    normal: node.normal,
+                    flux: node.flux,
+                    pad: 0,
+                };
+                sum.add_if_near(q, &photon, 1);
+            });
+            sum
+        });
+        volume_lit = assert_gather_matches(&format!("kd-tree pass {p}"), &after, &twin);
     }
+    volume_lit
 }

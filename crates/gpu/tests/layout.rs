@@ -439,7 +439,7 @@ fn gpu_types_layout_matches_rust() {
 
 #[test]
 fn sppm_types_layout_matches_render_buffers() {
-    use render::buffers::{Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint};
+    use render::buffers::{Light, PathSlot, Photon, SppmParams, VisiblePoint};
     let source = Module::Sppm.source();
     let module = parse(&source, "sppm");
     assert_layout(
@@ -477,23 +477,7 @@ fn sppm_types_layout_matches_render_buffers() {
             ("pad", offset_of!(VisiblePoint, pad)),
         ],
     );
-    assert_layout(
-        &module,
-        "PixelStats",
-        size_of::<PixelStats>(),
-        &[
-            ("tau", offset_of!(PixelStats, tau)),
-            ("photon_count", offset_of!(PixelStats, photon_count)),
-            ("direct", offset_of!(PixelStats, direct)),
-            ("radius", offset_of!(PixelStats, radius)),
-            ("caustic_tau", offset_of!(PixelStats, caustic_tau)),
-            ("caustic_count", offset_of!(PixelStats, caustic_count)),
-            ("caustic_radius", offset_of!(PixelStats, caustic_radius)),
-            ("specular_seen", offset_of!(PixelStats, specular_seen)),
-            ("pad1", offset_of!(PixelStats, pad)),
-            ("pad2", offset_of!(PixelStats, pad) + 4),
-        ],
-    );
+    assert_pixel_stats_layout(&module);
     assert_layout(
         &module,
         "Light",
@@ -611,36 +595,51 @@ fn display_params_layout_matches_rust() {
         ],
     );
     // The statistics it reads are the SPPM kernels' struct.
+    assert_pixel_stats_layout(&module);
+}
+
+/// `PixelStats` (`sppm_types.wgsl`) against `render::buffers::PixelStats`, its `[f32; 3]`
+/// members arrays of stride 4 (a vec3 would align the struct to 16 bytes).
+fn assert_pixel_stats_layout(module: &naga::Module) {
+    use render::buffers::PixelStats;
     assert_layout(
-        &module,
+        module,
         "PixelStats",
-        size_of::<render::buffers::PixelStats>(),
+        size_of::<PixelStats>(),
         &[
-            ("tau", offset_of!(render::buffers::PixelStats, tau)),
-            (
-                "photon_count",
-                offset_of!(render::buffers::PixelStats, photon_count),
-            ),
-            ("direct", offset_of!(render::buffers::PixelStats, direct)),
-            ("radius", offset_of!(render::buffers::PixelStats, radius)),
-            (
-                "caustic_tau",
-                offset_of!(render::buffers::PixelStats, caustic_tau),
-            ),
-            (
-                "caustic_count",
-                offset_of!(render::buffers::PixelStats, caustic_count),
-            ),
-            (
-                "caustic_radius",
-                offset_of!(render::buffers::PixelStats, caustic_radius),
-            ),
-            (
-                "specular_seen",
-                offset_of!(render::buffers::PixelStats, specular_seen),
-            ),
-            ("pad1", offset_of!(render::buffers::PixelStats, pad)),
-            ("pad2", offset_of!(render::buffers::PixelStats, pad) + 4),
+            ("tau", offset_of!(PixelStats, tau)),
+            ("photon_count", offset_of!(PixelStats, photon_count)),
+            ("direct", offset_of!(PixelStats, direct)),
+            ("radius", offset_of!(PixelStats, radius)),
+            ("caustic_tau", offset_of!(PixelStats, caustic_tau)),
+            ("caustic_count", offset_of!(PixelStats, caustic_count)),
+            ("caustic_radius", offset_of!(PixelStats, caustic_radius)),
+            ("specular_seen", offset_of!(PixelStats, specular_seen)),
+            ("volume_tau", offset_of!(PixelStats, volume_tau)),
+            ("volume_count", offset_of!(PixelStats, volume_count)),
+            ("volume_radius", offset_of!(PixelStats, volume_radius)),
+            ("pad", offset_of!(PixelStats, pad)),
         ],
     );
+    let (members, _) = wgsl_struct(module, "PixelStats");
+    let pad = PixelStats::default().pad.len() as u32;
+    for member in &members {
+        let name = member.name.as_deref().unwrap_or("?");
+        let length = match name {
+            "tau" | "direct" | "caustic_tau" | "volume_tau" => 3,
+            "pad" => pad,
+            _ => continue,
+        };
+        match module.types[member.ty].inner {
+            naga::TypeInner::Array { stride, size, .. } => {
+                assert_eq!(stride, 4, "PixelStats.{name} stride");
+                assert_eq!(
+                    size,
+                    naga::ArraySize::Constant(length.try_into().unwrap()),
+                    "PixelStats.{name} length"
+                );
+            }
+            ref other => panic!("PixelStats.{name} is not an array: {other:?}"),
+        }
+    }
 }

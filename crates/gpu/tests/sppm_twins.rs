@@ -26,7 +26,7 @@ use render::buffers::{
     PathSlot, Photon, PixelStats, SLOT_IDLE, SppmParams, VisiblePoint, counter, vec3,
 };
 use render::direct::DirectLight;
-use render::packing::unpack_normal;
+use render::packing::{is_volume, unpack_normal};
 use render::{Backend, Image, Settings, Sppm, Statistics};
 use scene::{Camera, Scene};
 
@@ -216,6 +216,15 @@ fn stats_errors_within(
         (
             "specular_seen",
             (g.specular_seen != c.specular_seen) as u32 as f32,
+        ),
+        ("volume_tau", relative(g.volume_tau, c.volume_tau)),
+        (
+            "volume_count",
+            relative_scalar(g.volume_count, c.volume_count),
+        ),
+        (
+            "volume_radius",
+            relative_scalar(g.volume_radius, c.volume_radius),
         ),
     ]
 }
@@ -1004,6 +1013,148 @@ fn every_kernel_matches_its_twin_in_translucent_solids() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same in murky glass (`scene::testing::furnace_with_murky_glass`: a smooth ball of
+/// index 1.33 scattering σs = (4, 2, 1) inside, g = 0.5, in the furnace; `render::scattering`):
+/// photon walks keep one volume photon a step by one more number at each scattering event,
+/// the slot idles where the walk's roulette ends it, eye paths entering the ball draw a walk
+/// and a flight and end where they scatter, at volume visible points carrying their medium's
+/// asymmetry in their word, which gather the volume photons in a sphere weighed by the phase
+/// function, shrinking their radius by the cube root. With a diffuse core inside the ball,
+/// walks that reach it land a surface photon too, and the slot keeps one of the two by one
+/// more number; eye paths inside end there or where they scatter.
+#[test]
+fn every_kernel_matches_its_twin_in_murky_glass() {
+    let furnace =
+        || scene::testing::furnace_with_murky_glass(glam::Vec3::new(4.0, 2.0, 1.0), 0.5, 1.33);
+    for (scene, direct) in [
+        (furnace(), DirectLight::Photons),
+        (with_diffuse_core(furnace()), DirectLight::Sampled),
+    ] {
+        let seen = every_kernel_matches_its_twin(scene, direct);
+        assert!(seen.volume_points > 100, "{seen:?}");
+        assert!(seen.volume_photons > 300, "{seen:?}");
+        assert!(seen.volume_lit_pixels > 100, "{seen:?}");
+    }
+}
+
+/// The same in `scene::testing::cornell_murky`: milky quartz and murky water that absorb as
+/// they scatter, under the ceiling light, their volume visible points among the room's.
+#[test]
+fn every_kernel_matches_its_twin_in_the_murky_cornell_box() {
+    let seen = every_kernel_matches_its_twin(scene::testing::cornell_murky(), DirectLight::Sampled);
+    assert!(seen.volume_points > 20, "{seen:?}");
+    assert!(seen.volume_photons > 100, "{seen:?}");
+    assert!(seen.volume_lit_pixels > 20, "{seen:?}");
+}
+
+/// The photon pass on slots that all walk in murky glass: [`with_diffuse_core`]'s ball, each
+/// slot restored into the GPU's state halfway between the core and the glass, going some way,
+/// so that walks keep volume photons at every step, their roulette ends many, and many reach
+/// the core, where the slot keeps the volume photon or the landed one by one more number. The
+/// twin in the furnace meets these too rarely to notice a wrong draw (dropping that number
+/// left it passing); here each such slot would differ.
+#[test]
+fn photon_walks_in_murky_glass_match_their_twin() {
+    let scene = scene::testing::furnace_with_murky_glass(glam::Vec3::new(4.0, 2.0, 1.0), 0.5, 1.33);
+    let fixture = Fixture::new(with_diffuse_core(scene));
+    let glass = (fixture.scene.materials.iter())
+        .position(|m| m.has_murky_glass())
+        .expect("murky glass");
+    let ball = (fixture.scene.triangles.iter())
+        .filter(|t| t.material as usize == glass)
+        .flat_map(|t| t.positions())
+        .fold(scene::Bounds::EMPTY, |b, p| b.grow(p));
+    let (centre, radius) = (ball.center(), 0.5 * ball.extent().x);
+    let settings = caustics_settings();
+    let params = fixture.params(&settings);
+    let mut g = fixture.gpu(context(), &settings);
+    let direction = |i: u32, k: u32| {
+        let z = 2.0 * unit(i, k) - 1.0;
+        let phi = std::f32::consts::TAU * unit(i, k + 1);
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        glam::Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    };
+    let slots: Vec<PathSlot> = (0..params.slot_count)
+        .map(|i| PathSlot {
+            origin: (centre + 0.8 * radius * direction(i, 0)).to_array(),
+            depth: 1,
+            direction: direction(i, 2).to_array(),
+            pass_throughs: 0,
+            flux: [1.0, 0.8, 0.6],
+            state: render::medium::pack_slot_state(
+                i % 2 == 0,
+                glass as u32,
+                render::dispersion::WHOLE_SPECTRUM,
+            ),
+        })
+        .collect();
+    let mut snapshot = g.backend().snapshot().expect("snapshot");
+    snapshot.slots = bytemuck::cast_slice(&slots).to_vec();
+    g.backend().restore(&snapshot).expect("restore");
+    g.pass();
+    let data = fixture.scene_data();
+    let twin: Vec<_> = (0..params.slot_count)
+        .map(|i| kernels::photon_pass(&data, &params, 0, i, slots[i as usize]))
+        .collect();
+    let d = fixture.diagonal;
+    let twin_slots: Vec<PathSlot> = twin.iter().map(|t| t.slot).collect();
+    let twin_photons: Vec<Photon> = twin.iter().map(|t| t.photon).collect();
+    let gpu = g.backend();
+    let (gpu_slots, gpu_photons) = (gpu.read_slots().unwrap(), gpu.read_photons().unwrap());
+    Comparison::new("murky walks' slots", &gpu_slots, &twin_slots, |g, c| {
+        slot_errors(g, c, d)
+    })
+    .assert_at_most(MAX_DIVERGED);
+    Comparison::new(
+        "murky walks' photons",
+        &gpu_photons,
+        &twin_photons,
+        |g, c| photon_errors(g, c, d),
+    )
+    .assert_at_most(MAX_DIVERGED);
+    let count = |keep: &dyn Fn(&Photon) -> bool| twin_photons.iter().filter(|p| keep(p)).count();
+    let volume = count(&|p| p.is_stored() && is_volume(p.normal));
+    let landed = count(&|p| p.is_stored() && !is_volume(p.normal));
+    let ended = twin_slots.iter().filter(|s| s.depth == SLOT_IDLE).count();
+    eprintln!("{volume} volume photons, {landed} landed, {ended} slots ended");
+    assert!(volume > 1000 && landed > 100 && ended > 40);
+}
+
+/// A number in [0, 1) for test input `i`, dimension `k`.
+fn unit(i: u32, k: u32) -> f32 {
+    (render::rng::stream_key(17, k, 0, i) >> 8) as f32 / (1u32 << 24) as f32
+}
+
+/// `scene` with a diffuse ball (white, 0.6 of the radius) inside its murky glass ball: a copy
+/// of the glass's triangles shrunk about their centre.
+fn with_diffuse_core(mut scene: scene::Scene) -> scene::Scene {
+    let glass = (scene.materials.iter())
+        .position(|m| m.has_murky_glass())
+        .expect("a murky glass ball") as u32;
+    let core = scene.materials.len() as u32;
+    scene.materials.push(scene::Material {
+        name: "diffuse core".into(),
+        base_color: glam::Vec3::splat(0.8),
+        ..scene::Material::default()
+    });
+    let ball: Vec<scene::Triangle> = (scene.triangles.iter())
+        .filter(|t| t.material == glass)
+        .cloned()
+        .collect();
+    let centre = (ball.iter())
+        .flat_map(|t| &t.vertices)
+        .fold(scene::Bounds::EMPTY, |b, v| b.grow(v.position))
+        .center();
+    for mut triangle in ball {
+        triangle.material = core;
+        for v in &mut triangle.vertices {
+            v.position = centre + 0.6 * (v.position - centre);
+        }
+        scene.triangles.push(triangle);
+    }
+    scene
+}
+
 /// The same with glTF's anisotropy (`scene::Anisotropy`, `render::microfacet::
 /// brushed_reflection` and its WGSL twin) on `cornell_rough`'s metal spheres: the gold brushed
 /// at strength 0.8 turned 0.5 rad from +u, the silver along a checker of directions (red and
@@ -1282,11 +1433,24 @@ fn push_checker(scene: &mut scene::Scene, name: &str, texel: impl Fn(u32, u32) -
     scene.textures.len() as u32 - 1
 }
 
-fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) {
-    every_kernel_matches_its_twin_on(context(), scene, direct);
+fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) -> Seen {
+    every_kernel_matches_its_twin_on(context(), scene, direct)
 }
 
-fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, direct: DirectLight) {
+/// What the GPU's passes held, summed over a twin run: murky glass's volume visible points and
+/// photons (`render::packing::is_volume`), and pixels whose volume statistics met photons.
+#[derive(Debug, Default)]
+struct Seen {
+    volume_points: usize,
+    volume_photons: usize,
+    volume_lit_pixels: usize,
+}
+
+fn every_kernel_matches_its_twin_on(
+    context: GpuContext,
+    scene: scene::Scene,
+    direct: DirectLight,
+) -> Seen {
     let settings = Settings {
         eye_every: 2,
         direct,
@@ -1295,14 +1459,14 @@ fn every_kernel_matches_its_twin_on(context: GpuContext, scene: scene::Scene, di
         light_candidates: Some(render::resampling::DEFAULT_LIGHT_CANDIDATES),
         ..caustics_settings()
     };
-    every_kernel_matches_its_twin_with(context, scene, settings);
+    every_kernel_matches_its_twin_with(context, scene, settings)
 }
 
 fn every_kernel_matches_its_twin_with(
     context: GpuContext,
     scene: scene::Scene,
     settings: Settings,
-) {
+) -> Seen {
     // Mirrors, glass and metal seen first send pixels extra eye paths; plastic coats do not.
     let flags_pixels = scene.materials.iter().any(|m| {
         !matches!(
@@ -1326,6 +1490,7 @@ fn every_kernel_matches_its_twin_with(
     let mut g = fixture.gpu(context, &settings);
     let mut specular_slots = 0;
     let mut flagged = 0;
+    let mut seen = Seen::default();
     for pass in 0..4u32 {
         let gpu = g.backend();
         let slots_before = gpu.read_slots().expect("slots");
@@ -1430,6 +1595,13 @@ fn every_kernel_matches_its_twin_with(
         if pass == 0 {
             flagged = stats.iter().filter(|s| s.specular_seen != 0).count();
         }
+        seen.volume_points += (points.iter())
+            .filter(|p| p.is_valid() && is_volume(p.normal))
+            .count();
+        seen.volume_photons += (photons.iter())
+            .filter(|p| p.is_stored() && is_volume(p.normal))
+            .count();
+        seen.volume_lit_pixels = stats.iter().filter(|s| s.volume_count > 0.0).count();
     }
     // The later passes continued paths past specular and diffuse bounces.
     assert!(specular_slots > 1000, "{specular_slots} continued paths");
@@ -1439,6 +1611,8 @@ fn every_kernel_matches_its_twin_with(
         "{flagged} pixels flagged after the first eye pass"
     );
     assert!(flags_pixels || flagged == 0, "{flagged} pixels flagged");
+    eprintln!("{seen:?}");
+    seen
 }
 
 #[test]

@@ -48,22 +48,25 @@ fn display_source_index(target_pixel: u32, target_size: u32, render_size: u32) -
     return min(scaled, render_size - 1u);
 }
 
-// render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted) for each class.
+// render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted) for each class on
+// surfaces, τ / (4/3 π R³ N_emitted) for the volume photons.
 fn display_resolve(stats: PixelStats) -> vec3<f32> {
     var direct = vec3<f32>(0.0);
     if display.eye_passes > 0u {
-        direct = stats.direct / f32(display.eye_passes);
+        direct = stats_vec(stats.direct) / f32(display.eye_passes);
     }
     let emitted = f32(display_counters[COUNTER_EMITTED_HI]) * 4294967296.0
         + f32(display_counters[COUNTER_EMITTED_LO]);
-    return direct + display_density(stats.tau, stats.radius, emitted)
-        + display_density(stats.caustic_tau, stats.caustic_radius, emitted);
+    let volume = 4.0 / 3.0 * PI * stats.volume_radius * stats.volume_radius * stats.volume_radius;
+    return direct + display_density(stats_vec(stats.tau), PI * stats.radius * stats.radius, emitted)
+        + display_density(stats_vec(stats.caustic_tau), PI * stats.caustic_radius * stats.caustic_radius, emitted)
+        + display_density(stats_vec(stats.volume_tau), volume, emitted);
 }
 
-fn display_density(tau: vec3<f32>, radius: f32, emitted: f32) -> vec3<f32> {
-    let area = PI * radius * radius;
-    if emitted > 0.0 && area > 0.0 {
-        return tau / (area * emitted);
+// τ over a disc's area or a sphere's volume (`measure`) and the emitted paths.
+fn display_density(tau: vec3<f32>, measure: f32, emitted: f32) -> vec3<f32> {
+    if emitted > 0.0 && measure > 0.0 {
+        return tau / (measure * emitted);
     }
     return vec3<f32>(0.0);
 }

@@ -1,7 +1,7 @@
 // kdtree_query: one kd_gather per query, for tests and benchmarks of the photon kd-tree
 // (gpu::kdtree::KdTreeQuery; twin of render::kdtree::PhotonKdTree::query). It follows the
-// SPPM module (for `unpack_normal`), binds nothing of it, and takes bindings of group 1 past
-// the SPPM kernels'.
+// SPPM module (for `add_if_near` and what it needs), binds nothing of it, and takes bindings
+// of group 1 past the SPPM kernels'.
 
 // gpu::kdtree::KdQuery
 struct KdQuery {
@@ -37,6 +37,8 @@ fn kdtree_query(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
         return;
     }
     let query = kd_queries[index];
-    let gathered = kd_gather(query.position, vec2<f32>(query.radius), query.normal, kd_params.node_count);
+    // render::kdtree::PhotonKdTree::query: both surface classes within the one radius.
+    let around = GatherQuery(query.position, query.normal, query.radius, query.radius, false, vec3<f32>(0.0), 0.0, 0.0);
+    let gathered = kd_gather(around, kd_params.node_count);
     kd_results[index] = KdResult(gathered.caustic_flux + gathered.flux, gathered.caustic_found + gathered.found);
 }

@@ -641,7 +641,9 @@ fn shadow_ray(light: LightSample, origin: vec3<f32>) -> vec4<f32> {
 
 // Where a photon slot's segment leads (cpu::kernels::PhotonSegment); found false where it
 // leaves the scene or ends in a walk; walking where it is still inside a scattering solid
-// after SCATTERINGS_PER_STEP scatterings, at origin (hit not set).
+// after SCATTERINGS_PER_STEP scatterings, at origin (hit not set). In murky glass the volume
+// photon its walk kept (zero flux: none), also where found is false because the walk's
+// roulette ended it (cpu::kernels: a segment with no hit and zero flux, whose slot idles).
 struct PhotonSegment {
     found: bool,
     walking: bool,
@@ -650,14 +652,19 @@ struct PhotonSegment {
     direction: vec3<f32>,
     flux: vec3<f32>,
     scattered: bool,
+    volume_photon: Photon,
 }
 
 // cpu::kernels::photon_segment: straight through a clear or absorbing medium, a walk from
-// scattering to scattering inside a scattering solid, drawing the same numbers.
+// scattering to scattering inside a scattering solid, drawing the same numbers; in murky
+// glass one more number at each scattering event keeps it as the step's volume photon with
+// probability 1/events (a reservoir of one), whose flux is multiplied by the events at the
+// end.
 fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> PhotonSegment {
     var segment: PhotonSegment;
     segment.scattered = false;
     segment.walking = false;
+    segment.volume_photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     var origin = slot.origin;
     var direction = slot.direction;
     var scatters = false;
@@ -676,8 +683,10 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
     let extinction = materials[medium].absorption;
     let scattering = materials[medium].scattering;
     let anisotropy = materials[medium].scatter_anisotropy;
+    let murky = is_murky_glass(medium);
     var walk = walk_start(next_f32(rng));
     var events = 0u;
+    var kept = segment.volume_photon;
     loop {
         let hit = trace_surface(origin, direction);
         if !hit.found {
@@ -691,14 +700,24 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
             segment.direction = direction;
             segment.flux = slot.flux * walk.weight;
             segment.scattered = events > 0u;
+            if murky && events > 0u {
+                segment.volume_photon = times_events(kept, events);
+            }
             return segment;
         }
         events += 1u;
+        origin += t * direction;
+        if murky && next_f32(rng) * f32(events) < 1.0 {
+            kept = Photon(origin, volume_photon_direction(direction), slot.flux * walk.weight, 0u);
+        }
         if !walk_survives(&walk, next_f32(rng)) {
+            // Ended here: only the photon kept, if any (no flux goes on).
             segment.found = false;
+            if murky {
+                segment.volume_photon = times_events(kept, events);
+            }
             return segment;
         }
-        origin += t * direction;
         let u0 = next_f32(rng);
         let u1 = next_f32(rng);
         direction = henyey_greenstein(direction, anisotropy, u0, u1);
@@ -709,11 +728,34 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
             segment.direction = direction;
             segment.flux = slot.flux * walk.weight;
             segment.scattered = true;
+            if murky {
+                segment.volume_photon = times_events(kept, events);
+            }
             return segment;
         }
     }
     // Not reached (the loop returns); naga asks for a return all the same.
     return segment;
+}
+
+// The volume photon a murky walk's reservoir kept among `events` scattering events: its flux
+// times their number.
+fn times_events(kept: Photon, events: u32) -> Photon {
+    return Photon(kept.position, kept.normal, kept.flux * f32(events), kept.pad);
+}
+
+// cpu::kernels::one_of: the photon a slot keeps where its walk kept `walked` (zero flux: none)
+// and its surface keeps `landed`: one of them drawn with even odds, its flux doubled.
+fn one_of(walked: Photon, landed: Photon, rng: ptr<function, Rng>) -> Photon {
+    if !MURKY_GLASS || !any(walked.flux != vec3<f32>(0.0)) {
+        return landed;
+    }
+    var chosen = landed;
+    if next_f32(rng) < 0.5 {
+        chosen = walked;
+    }
+    chosen.flux *= 2.0;
+    return chosen;
 }
 
 // What one photon-pass step leaves (cpu::kernels::PhotonStep).
@@ -741,15 +783,19 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // a scattering one walks it to a surface.
     let medium = slot_medium(slot.state);
     let segment = photon_segment(slot, medium, &rng);
+    // cpu::kernels: the volume photon a walk in murky glass kept, whatever comes next.
+    if MURKY_GLASS {
+        photon = segment.volume_photon;
+    }
     if !segment.found {
         slot.depth = SLOT_IDLE;
         return PhotonStep(slot, photon, emitted);
     }
     if SCATTERING && segment.walking {
         // cpu::kernels: still walking inside a scattering solid; it goes on from there next
-        // pass, the step counted as a bounce.
+        // pass, the step counted as a bounce (its flux gone: ended).
         slot.depth += 1u;
-        if slot.depth >= params.max_depth {
+        if slot.depth >= params.max_depth || all(segment.flux == vec3<f32>(0.0)) {
             slot.depth = SLOT_IDLE;
         } else {
             slot.origin = segment.origin;
@@ -847,12 +893,6 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     if draws_wavelength(material, wavelength) {
         u_wavelength = next_f32(&rng);
     }
-    // cpu::kernels: glTF's diffuse transmission chooses the Lambertian lobe's side with one
-    // more number.
-    var u_side = 1.0;
-    if transmits_diffusely(material) {
-        u_side = next_f32(&rng);
-    }
     var next = vec3<f32>(0.0);
     var weight = 1.0;
     var tint = surface_tint;
@@ -875,8 +915,15 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             if keeper_surface == SURFACE_PLASTIC {
                 share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, dot(direction, hit.shading));
             }
-            photon = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (arrival * share), 0u);
+            let landed = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (arrival * share), 0u);
+            photon = one_of(photon, landed, &rng);
         }
+    }
+    // cpu::kernels: glTF's diffuse transmission chooses the Lambertian lobe's side with one
+    // more number (after the choice of photon).
+    var u_side = 1.0;
+    if transmits_diffusely(material) {
+        u_side = next_f32(&rng);
     }
     if material.surface == SURFACE_DIFFUSE {
         // Its later photons are indirect (if it goes on; an ended slot's is not read).
@@ -1028,7 +1075,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             }
         }
     }
-    pixels[index].direct += direct / f32(1u + extra);
+    pixels[index].direct = stats_array(stats_vec(pixels[index].direct) + direct / f32(1u + extra));
 }
 
 // cpu::kernels::EyePath: `direct` is its emission met and then its light sample added.
@@ -1102,7 +1149,24 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             direct += throughput * emission_share * (sky_radiance(direction) * medium_transmittance(medium, RAY_T_MAX)) * sky_weight(glossy, direction);
             break;
         }
-        throughput *= transmittance_to(medium, hit);
+        // cpu::kernels::eye_path: in murky glass the flight may end where it scatters, with a
+        // volume visible point; else it passes, weighed by what is not scattered.
+        if is_murky_glass(medium) {
+            let murky = materials[medium];
+            var walk = walk_start(next_f32(rng));
+            let t = walk_flight(&walk, murky.absorption, murky.scattering, hit.distance, next_f32(rng));
+            if t >= 0.0 {
+                let weight = throughput * walk_weight_over_scattering(walk, murky.scattering);
+                if max3(weight) > 0.0 {
+                    let word = volume_point_direction(direction, murky.scatter_anisotropy);
+                    point = VisiblePoint(origin + t * direction, word, weight, 0u);
+                }
+                break;
+            }
+            throughput *= walk.weight;
+        } else {
+            throughput *= transmittance_to(medium, hit);
+        }
         let root_id = hit.material;
         let root = materials[root_id];
         if is_cut_out(root, hit.uv) {
@@ -1217,7 +1281,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             }
             let weight = throughput * side.tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {
-                point = VisiblePoint(hit.position, pack_normal(side.hit.shading), weight, 0u);
+                point = VisiblePoint(hit.position, surface_normal(side.hit.shading), weight, 0u);
                 if (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) != 0u {
                     lit.diffuse = weight;
                 }
@@ -1412,28 +1476,69 @@ fn hash_select(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     }
 }
 
-// cpu::kernels::GatherSum: the indirect photons a gather counts (M) and their flux, and the
-// caustic ones.
+// cpu::kernels::GatherSum: the indirect photons a gather counts (M) and their flux, the
+// caustic ones, and the volume ones (their flux times the phase function towards the eye).
 struct GatherSum {
     found: u32,
     flux: vec3<f32>,
     caustic_found: u32,
     caustic_flux: vec3<f32>,
+    volume_found: u32,
+    volume_flux: vec3<f32>,
 }
 
-// cpu::kernels::GatherQuery::reach: the larger of the two radii (x caustic, y indirect).
-fn reach(radii: vec2<f32>) -> f32 {
-    return max(radii.y, radii.x);
+fn no_photons() -> GatherSum {
+    return GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
+}
+
+// cpu::kernels::GatherQuery with its VolumeQuery: where and how far a visible point gathers.
+// A volume visible point (volume true, inside murky glass) gathers the volume photons within
+// volume_radius instead, weighed by the phase function between their way and its eye path's
+// `direction` in a medium of asymmetry `anisotropy`.
+struct GatherQuery {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    radius: f32,
+    caustic_radius: f32,
+    volume: bool,
+    direction: vec3<f32>,
+    anisotropy: f32,
+    volume_radius: f32,
+}
+
+// cpu::kernels::GatherQuery::reach: how far any photon may count, which the density methods
+// search.
+fn reach(query: GatherQuery) -> f32 {
+    if MURKY_GLASS && query.volume {
+        return query.volume_radius;
+    }
+    return max(query.radius, query.caustic_radius);
 }
 
 // cpu::kernels::GatherSum::add_if_near: `count` photons of `photon`'s flux to its class when
-// it lies inside that class's sphere (radii: x caustic, y indirect) and on the visible
-// point's side of the surface.
-fn add_if_near(sum: ptr<function, GatherSum>, position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, photon: Photon, count: u32) {
+// it lies inside that class's sphere and on the visible point's side of the surface; a volume
+// visible point counts only volume photons, each times the phase function towards the eye,
+// and a surface one none of them.
+fn add_if_near(sum: ptr<function, GatherSum>, query: GatherQuery, photon: Photon, count: u32) {
+    let offset = photon.position - query.position;
+    if MURKY_GLASS {
+        if query.volume {
+            let radius = query.volume_radius;
+            if is_volume(photon.normal) && dot(offset, offset) < radius * radius {
+                let cos = -dot(unpack_normal(photon.normal), query.direction);
+                let phase = henyey_greenstein_phase(query.anisotropy, cos);
+                (*sum).volume_found += count;
+                (*sum).volume_flux += (f32(count) * phase) * photon.flux;
+            }
+            return;
+        }
+        if is_volume(photon.normal) {
+            return;
+        }
+    }
     let caustic = is_caustic(photon.normal);
-    let radius = select(radii.y, radii.x, caustic);
-    let offset = photon.position - position;
-    if dot(offset, offset) < radius * radius && dot(unpack_normal(photon.normal), normal) > 0.0 {
+    let radius = select(query.radius, query.caustic_radius, caustic);
+    if dot(offset, offset) < radius * radius && dot(unpack_normal(photon.normal), query.normal) > 0.0 {
         let flux = f32(count) * photon.flux;
         if caustic {
             (*sum).caustic_found += count;
@@ -1445,26 +1550,91 @@ fn add_if_near(sum: ptr<function, GatherSum>, position: vec3<f32>, normal: vec3<
     }
 }
 
-// One class's statistics (PixelStats' τ, N and R of the indirect or the caustic photons).
+// The query of visible point `point` with its pixel's radii (cpu::kernels::gather_update): a
+// volume visible point's word holds its eye path's way and its medium's asymmetry.
+fn gather_query(point: VisiblePoint, radius: f32, caustic_radius: f32, volume_radius: f32) -> GatherQuery {
+    var query = GatherQuery(point.position, vec3<f32>(0.0), radius, caustic_radius, false, vec3<f32>(0.0), 0.0, volume_radius);
+    if MURKY_GLASS && is_volume(point.normal) {
+        let unpacked = unpack_volume_point(point.normal);
+        query.volume = true;
+        query.direction = unpacked.xyz;
+        query.anisotropy = unpacked.w;
+        query.normal = -unpacked.xyz;
+    } else {
+        query.normal = unpack_normal(point.normal);
+    }
+    return query;
+}
+
+// One class's statistics (PixelStats' τ, N and R of the indirect, caustic or volume photons).
 struct Estimate {
     tau: vec3<f32>,
     count: f32,
     radius: f32,
 }
 
-// cpu::kernels::shrink_to_fit: a radius larger than the cells allow shrinks to `largest`.
-fn shrink_to_fit(e: Estimate, largest: f32) -> Estimate {
-    let scale = (largest / e.radius) * (largest / e.radius);
+// cpu::kernels' dimensions a set of statistics gathers over: a disc's on surfaces, a sphere's
+// in murky glass.
+const AREA: u32 = 2u;
+const VOLUME: u32 = 3u;
+
+// cpu::kernels::shrink_to_fit: a radius larger than the cells allow shrinks to `largest`, τ
+// scaled with the disc's area or the sphere's volume (Rust's powi: (s·s)·s).
+fn shrink_to_fit(e: Estimate, largest: f32, dimensions: u32) -> Estimate {
+    let shrink = largest / e.radius;
+    var scale = shrink * shrink;
+    if dimensions == VOLUME {
+        scale *= shrink;
+    }
     return Estimate(e.tau * scale, e.count, largest);
 }
 
-// cpu::kernels::update: one class's statistics after M > 0 photons of weighted flux `flux`.
-fn update(e: Estimate, found: u32, flux: vec3<f32>, alpha: f32) -> Estimate {
+// f32::cbrt of x in (0, 1]: pow's estimate, a few ulp off on GPUs, and one Newton step.
+fn cube_root(x: f32) -> f32 {
+    let c = pow(x, 1.0 / 3.0);
+    if c <= 0.0 {
+        return c;
+    }
+    return c - (c * c * c - x) / (3.0 * c * c);
+}
+
+// cpu::kernels::update: one class's statistics after M > 0 photons of weighted flux `flux`,
+// the radius shrinking by the square root of the count's ratio on a disc, the cube root in a
+// sphere.
+fn update(e: Estimate, found: u32, flux: vec3<f32>, alpha: f32, dimensions: u32) -> Estimate {
     let n = e.count;
     let m = f32(found);
     let n_next = n + alpha * m;
     let ratio = n_next / (n + m);
-    return Estimate((e.tau + flux) * ratio, n_next, e.radius * sqrt(ratio));
+    var shrink = sqrt(ratio);
+    if dimensions == VOLUME {
+        shrink = cube_root(ratio);
+    }
+    return Estimate((e.tau + flux) * ratio, n_next, e.radius * shrink);
+}
+
+// `e` shrunk to `largest` where it is larger; `changed` set where it was.
+fn fitted(e: Estimate, largest: f32, dimensions: u32, changed: ptr<function, bool>) -> Estimate {
+    if e.radius > largest {
+        *changed = true;
+        return shrink_to_fit(e, largest, dimensions);
+    }
+    return e;
+}
+
+// `e` updated with `found` photons of weighted flux `flux` where there are any, and offered
+// to the pass's largest lit radius where it has met photons; `changed` set where it was
+// updated.
+fn updated(e: Estimate, found: u32, flux: vec3<f32>, alpha: f32, dimensions: u32, changed: ptr<function, bool>) -> Estimate {
+    var next = e;
+    if found > 0u {
+        next = update(e, found, flux, alpha, dimensions);
+        *changed = true;
+    }
+    if next.count > 0.0 {
+        atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(next.radius));
+    }
+    return next;
 }
 
 // cpu::kernels::gather_with: the update is the same for every density method; the module's
@@ -1480,43 +1650,27 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
     // A radius larger than the cells allow shrinks to fit.
     let largest = largest_radius(cell_size);
-    var indirect = Estimate(stats.tau, stats.photon_count, stats.radius);
-    var caustic = Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius);
     var changed = false;
-    if indirect.radius > largest {
-        indirect = shrink_to_fit(indirect, largest);
-        changed = true;
-    }
-    if caustic.radius > largest {
-        caustic = shrink_to_fit(caustic, largest);
-        changed = true;
-    }
-    let valid = any(point.weight != vec3<f32>(0.0));
-    if valid {
-        let radii = vec2<f32>(caustic.radius, indirect.radius);
-        let sum = density_query(point.position, unpack_normal(point.normal), radii, cell_size);
-        if sum.found > 0u {
-            indirect = update(indirect, sum.found, point.weight * sum.flux, params.indirect_alpha);
-            changed = true;
-        }
-        if sum.caustic_found > 0u {
-            caustic = update(caustic, sum.caustic_found, point.weight * sum.caustic_flux, params.alpha);
-            changed = true;
-        }
-        if indirect.count > 0.0 {
-            atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(indirect.radius));
-        }
-        if caustic.count > 0.0 {
-            atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(caustic.radius));
-        }
+    var indirect = fitted(Estimate(stats_vec(stats.tau), stats.photon_count, stats.radius), largest, AREA, &changed);
+    var caustic = fitted(Estimate(stats_vec(stats.caustic_tau), stats.caustic_count, stats.caustic_radius), largest, AREA, &changed);
+    var volume = fitted(Estimate(stats_vec(stats.volume_tau), stats.volume_count, stats.volume_radius), largest, VOLUME, &changed);
+    if any(point.weight != vec3<f32>(0.0)) {
+        let query = gather_query(point, indirect.radius, caustic.radius, volume.radius);
+        let sum = density_query(query, cell_size);
+        indirect = updated(indirect, sum.found, point.weight * sum.flux, params.indirect_alpha, AREA, &changed);
+        caustic = updated(caustic, sum.caustic_found, point.weight * sum.caustic_flux, params.alpha, AREA, &changed);
+        volume = updated(volume, sum.volume_found, point.weight * sum.volume_flux, params.alpha, VOLUME, &changed);
     }
     if changed {
-        stats.tau = indirect.tau;
+        stats.tau = stats_array(indirect.tau);
         stats.photon_count = indirect.count;
         stats.radius = indirect.radius;
-        stats.caustic_tau = caustic.tau;
+        stats.caustic_tau = stats_array(caustic.tau);
         stats.caustic_count = caustic.count;
         stats.caustic_radius = caustic.radius;
+        stats.volume_tau = stats_array(volume.tau);
+        stats.volume_count = volume.count;
+        stats.volume_radius = volume.radius;
         pixels[index] = stats;
     }
 }

@@ -169,9 +169,9 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
 }
 
 // cpu::density::full_query_listed: every photon listed in each distinct entry the sphere touches.
-fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
-    var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
-    let touched = query_entries(position, reach(radii), cell_size);
+fn density_query(query: GatherQuery, cell_size: f32) -> GatherSum {
+    var sum = no_photons();
+    let touched = query_entries(query.position, reach(query), cell_size);
     for (var slot = 0u; slot < 8u; slot += 1u) {
         let entry = query_entry(touched, slot);
         if entry == NO_CELL {
@@ -181,7 +181,7 @@ fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_
         let start = list_start(word);
         let listed = atomicLoad(&hash[word + FULL_COUNT]);
         for (var place = start; place < start + listed; place += 1u) {
-            add_if_near(&sum, position, normal, radii, unpack_photon(listed_photons[place]), 1u);
+            add_if_near(&sum, query, unpack_photon(listed_photons[place]), 1u);
         }
     }
     return sum;

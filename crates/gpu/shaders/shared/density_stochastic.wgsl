@@ -3,9 +3,9 @@
 // in class 0's table and each other photon class's table its count word marks
 // (render::hash::photon_class, class_mark).
 
-fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_size: f32) -> GatherSum {
-    var sum = GatherSum(0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0));
-    let touched = query_entries(position, reach(radii), cell_size);
+fn density_query(query: GatherQuery, cell_size: f32) -> GatherSum {
+    var sum = no_photons();
+    let touched = query_entries(query.position, reach(query), cell_size);
     let classes = hash_classes();
     for (var slot = 0u; slot < 8u; slot += 1u) {
         let entry = query_entry(touched, slot);
@@ -21,7 +21,7 @@ fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_
         }
         if in_entry != 0u {
             let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));
-            add_if_near(&sum, position, normal, radii, photon, in_entry);
+            add_if_near(&sum, query, photon, in_entry);
         }
         if DISPERSION {
             for (var table = 1u; table < classes; table += 1u) {
@@ -32,7 +32,7 @@ fn density_query(position: vec3<f32>, normal: vec3<f32>, radii: vec2<f32>, cell_
                 let in_class = class_entry_count(atomicLoad(&hash[class_word + HASH_COUNT]), classes);
                 if in_class != 0u {
                     let photon = load_photon(atomicLoad(&hash[class_word + HASH_WINNER]));
-                    add_if_near(&sum, position, normal, radii, photon, in_class);
+                    add_if_near(&sum, query, photon, in_class);
                 }
             }
         }

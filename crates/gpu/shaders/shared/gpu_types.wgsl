@@ -34,7 +34,7 @@ struct SceneInfo {
 
 // One material (400 bytes). surface: SURFACE_* constants; textures are indices or NO_TEXTURE;
 // alpha_cutoff < 0 means opaque; flags: MATERIAL_DOUBLE_SIDED | MATERIAL_THIN_WALLED |
-// MATERIAL_BLEND | MATERIAL_BOUNDS_VOLUME;
+// MATERIAL_BLEND | MATERIAL_BOUNDS_VOLUME | MATERIAL_MURKY_GLASS;
 // ior: of dielectrics and plastic coats; roughness_alpha: GGX width of rough surfaces; normal_texture: a tangent-space normal map
 // (NO_TEXTURE: none), its X and Y scaled by normal_scale; coat_*: plastic's coat
 // (render::plastic::Coat: its diffuse scale, a rough coat's transmittance at COAT_NODES cosines).

@@ -22,13 +22,50 @@ fn pack_normal(n: vec3<f32>) -> u32 {
     return pack2x16snorm(p);
 }
 
-// render::packing::photon_normal: the class in the lowest bit (1: caustic).
+// render::packing::surface_normal: VOLUME_BIT clear (surface visible points and photons).
+fn surface_normal(n: vec3<f32>) -> u32 {
+    return pack_normal(n) & ~VOLUME_BIT;
+}
+
+// render::packing::photon_normal: the class in the lowest bit (1: caustic), VOLUME_BIT clear.
 fn photon_normal(n: vec3<f32>, caustic: bool) -> u32 {
-    return (pack_normal(n) & ~1u) | select(0u, 1u, caustic);
+    return (surface_normal(n) & ~1u) | select(0u, 1u, caustic);
 }
 
 fn is_caustic(packed_normal: u32) -> bool {
     return (packed_normal & 1u) != 0u;
+}
+
+// render::packing::is_volume: a volume photon's or visible point's word (murky glass).
+fn is_volume(packed_normal: u32) -> bool {
+    return (packed_normal & VOLUME_BIT) != 0u;
+}
+
+// render::packing::volume_photon_direction: the way it travelled, no caustic class.
+fn volume_photon_direction(direction: vec3<f32>) -> u32 {
+    return (pack_normal(direction) & ~1u) | VOLUME_BIT;
+}
+
+// render::packing's ANISOTROPY_BITS (private there; tests/packing_twins.rs checks the words
+// bit for bit): the nine bits of a volume visible point's word that hold its asymmetry.
+const ANISOTROPY_BITS: u32 = 0x001e001fu;
+
+// render::packing::volume_point_direction: the way the eye path travelled and its medium's
+// Henyey–Greenstein asymmetry to nine bits. Rust's round() takes halves away from zero,
+// WGSL's to even: the level is rounded by hand (x − floor(x) is exact).
+fn volume_point_direction(direction: vec3<f32>, g: f32) -> u32 {
+    let scaled = (clamp(g, -1.0, 1.0) + 1.0) * 0.5 * 511.0;
+    let below = floor(scaled);
+    let level = u32(select(below, below + 1.0, scaled - below >= 0.5));
+    let bits = (level & 0x1fu) | ((level >> 5u) << 17u);
+    return (pack_normal(direction) & ~(ANISOTROPY_BITS | VOLUME_BIT)) | bits | VOLUME_BIT;
+}
+
+// render::packing::unpack_volume_point: its direction (xyz) and asymmetry (w).
+fn unpack_volume_point(word: u32) -> vec4<f32> {
+    let level = (word & 0x1fu) | (((word >> 17u) & 0xfu) << 5u);
+    let g = f32(level) / 511.0 * 2.0 - 1.0;
+    return vec4<f32>(unpack_normal(word & ~(ANISOTROPY_BITS | VOLUME_BIT)), g);
 }
 
 fn unpack_normal(bits: u32) -> vec3<f32> {
@@ -615,8 +652,18 @@ fn medium_after_bounce(material: GpuMaterial, root: u32, medium: u32, hit: Surfa
 }
 
 // ---- render::scattering ----
-// Whether some translucent solid scatters inside; compiled out as MEDIA is.
+// Whether some solid scatters inside (a translucent solid or murky glass); compiled out as
+// MEDIA is.
 override SCATTERING: bool = true;
+// Whether some of them is murky glass (MATERIAL_MURKY_GLASS): volume photons, volume visible
+// points and their statistics; compiled out as MEDIA is.
+override MURKY_GLASS: bool = true;
+
+// render::scattering::murky_glass: whether `medium` is murky glass, where photons are kept as
+// they scatter and eye paths end where they scatter.
+fn is_murky_glass(medium: u32) -> bool {
+    return MURKY_GLASS && medium != NO_MEDIUM && (materials[medium].flags & MATERIAL_MURKY_GLASS) != 0u;
+}
 
 // render::scattering::Walk: its hero channel, its weight, and each channel's density of it
 // over their mean.
@@ -668,6 +715,20 @@ fn walk_survives(walk: ptr<function, Walk>, u: f32) -> bool {
     }
     (*walk).weight /= survival;
     return true;
+}
+
+// render::scattering::Walk::weight_over_scattering: the weight after a flight that ended at
+// a scattering event over σs (0 in a channel that does not scatter).
+fn walk_weight_over_scattering(walk: Walk, scattering: vec3<f32>) -> vec3<f32> {
+    let over = walk.weight / max(scattering, vec3<f32>(1.17549435e-38));
+    return select(vec3<f32>(0.0), over, scattering > vec3<f32>(0.0));
+}
+
+// render::scattering::henyey_greenstein_phase: per steradian, at the cosine between the way
+// light travelled and the way it is scattered.
+fn henyey_greenstein_phase(g: f32, cos: f32) -> f32 {
+    let denominator = max(1.0 + g * g - 2.0 * g * cos, 1e-12);
+    return (1.0 - g * g) / (4.0 * PI * denominator * sqrt(denominator));
 }
 
 // render::scattering::henyey_greenstein.

@@ -12,7 +12,9 @@
 //! - `resolved_images_match_after_eight_passes`: the images of both backends, same seed;
 //! - `gpu_and_cpu_renders_differ_by_no_more_than_their_noise`: different seeds, the Cornell box.
 //! - `a_scene_past_the_binding_limit_renders_from_texels`: the storage fallback of
-//!   `gpu::scene_upload::fitting_storage`, end to end.
+//!   `gpu::scene_upload::fitting_storage`, end to end;
+//! - `photon_walks_in_murky_glass_match_their_twin`: the photon pass on slots restored inside
+//!   murky glass, where every walk keeps volume photons.
 
 use std::fmt::Debug;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};

@@ -793,7 +793,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     }
     if SCATTERING && segment.walking {
         // cpu::kernels: still walking inside a scattering solid; it goes on from there next
-        // pass, the step counted as a bounce (its flux gone: ended).
+        // pass, the step counted as a bounce, unless it carries no flux.
         slot.depth += 1u;
         if slot.depth >= params.max_depth || all(segment.flux == vec3<f32>(0.0)) {
             slot.depth = SLOT_IDLE;

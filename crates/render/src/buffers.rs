@@ -108,8 +108,10 @@ pub struct PixelStats {
     pub volume_tau: [f32; 3],
     pub volume_count: f32,
     pub volume_radius: f32,
-    pub pad: [u32; 3],
+    pub pad: [u32; 1],
 }
+
+const _: () = assert!(size_of::<PixelStats>() == 80);
 
 impl PixelStats {
     /// A pixel before any photon: nothing gathered, each class at its starting radius (the

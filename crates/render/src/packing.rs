@@ -5,7 +5,8 @@ use glam::{Vec2, Vec3};
 
 pub fn pack_normal(n: Vec3) -> u32 {
     let o = octahedral(n);
-    let snorm = |x: f32| ((x.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16 as u32;
+    // WGSL's floor(0.5 + 32767·x), not Rust's round (away from zero at halves).
+    let snorm = |x: f32| ((x.clamp(-1.0, 1.0) * 32767.0 + 0.5).floor() as i16) as u16 as u32;
     snorm(o.x) | (snorm(o.y) << 16)
 }
 

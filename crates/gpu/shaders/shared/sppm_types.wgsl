@@ -41,7 +41,7 @@ struct PixelStats {
     volume_tau: array<f32, 3>,
     volume_count: f32,
     volume_radius: f32,
-    pad: array<u32, 3>,
+    pad: array<u32, 1>,
 }
 
 fn stats_vec(a: array<f32, 3>) -> vec3<f32> {

@@ -12,7 +12,7 @@ use glam::Vec3;
 use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams, counter};
 use render::density::full_word;
 use render::kdtree::PhotonKdTree;
-use render::packing::pack_normal;
+use render::packing::surface_normal;
 use render::{Budget, Density, Image, Settings, Sppm};
 
 fn atomics(n: usize) -> Vec<AtomicU32> {
@@ -54,7 +54,7 @@ fn photons() -> Vec<Photon> {
             let normal = (Vec3::Y + (rng.vec3() - 0.5) * 2.5).normalize();
             Photon {
                 position: position.to_array(),
-                normal: pack_normal(normal),
+                normal: surface_normal(normal),
                 flux: (Vec3::new(0.1, 0.2, 0.3) + rng.vec3()).to_array(),
                 pad: 0,
             }

@@ -10,7 +10,7 @@ use render::buffers::{
     HASH_ENTRY_WORDS, Photon, PixelStats, SppmParams, VisiblePoint, counter, hash_word,
 };
 use render::hash::{cell_of, cell_size, entry_of};
-use render::packing::{pack_normal, unpack_normal};
+use render::packing::{surface_normal, unpack_normal};
 
 /// The counters and hash table of one pass, laid out as the backends keep them.
 struct Table {
@@ -86,7 +86,7 @@ impl Table {
 fn photon(position: Vec3, normal: Vec3, flux: Vec3) -> Photon {
     Photon {
         position: position.to_array(),
-        normal: pack_normal(normal),
+        normal: surface_normal(normal),
         flux: flux.to_array(),
         pad: 0,
     }
@@ -247,7 +247,7 @@ fn assert_gather_estimate_unbiased(classes: u32) {
     let normal = Vec3::Y;
     let point = VisiblePoint {
         position: position.to_array(),
-        normal: pack_normal(normal),
+        normal: surface_normal(normal),
         weight: [1.0; 3],
         pad: 0,
     };

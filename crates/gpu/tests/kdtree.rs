@@ -23,7 +23,7 @@ use naga::valid::{Capabilities, ValidationFlags, Validator};
 use render::Settings;
 use render::buffers::{PathSlot, Photon};
 use render::kdtree::{KdNode, PhotonKdTree};
-use render::packing::{pack_normal, unpack_normal};
+use render::packing::{surface_normal, unpack_normal};
 
 /// Flux, relative: both sum in the same order; this leaves room for a compiler's reordering.
 const RELATIVE_TOLERANCE: f32 = 1e-5;
@@ -153,7 +153,7 @@ fn random_photons(random: &mut Random, count: usize) -> Vec<Photon> {
             };
             Photon {
                 position: position.to_array(),
-                normal: pack_normal(random.direction()),
+                normal: surface_normal(random.direction()),
                 flux: flux.to_array(),
                 pad: 0,
             }

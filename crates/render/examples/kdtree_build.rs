@@ -8,7 +8,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use render::buffers::Photon;
 use render::kdtree::{PhotonKdTree, gather_brute_force};
-use render::packing::pack_normal;
+use render::packing::surface_normal;
 
 const PHOTONS: usize = 1 << 18;
 const QUERIES: usize = 1 << 16;
@@ -44,7 +44,7 @@ fn photons() -> Vec<Photon> {
             };
             Photon {
                 position: position.to_array(),
-                normal: pack_normal(normal),
+                normal: surface_normal(normal),
                 flux: [1e-5; 3],
                 pad: 0,
             }

@@ -104,11 +104,12 @@ pub struct PixelStats {
     /// 1 once an eye pass's camera ray met a mirror, glass or metal first in this pixel: later
     /// eye passes trace it more paths ([`SPECULAR_EXTRA_PATHS`]).
     pub specular_seen: u32,
-    /// τ, N and R of the volume photons (τ already scaled to the current radius's volume).
-    pub volume_tau: [f32; 3],
+    /// N, R and τ of the volume photons (τ already scaled to the current radius's volume;
+    /// last, so that each τ starts a 16-byte boundary, as a WGSL vec3 must).
     pub volume_count: f32,
     pub volume_radius: f32,
-    pub pad: [u32; 1],
+    pub volume_tau: [f32; 3],
+    pub pad: u32,
 }
 
 const _: () = assert!(size_of::<PixelStats>() == 80);

@@ -8,10 +8,14 @@
 //! Inside murky glass (solid glass that scatters: murky water, smoky glass,
 //! `scene::Material::has_murky_glass`) eye paths pass in through the clear surface, so the
 //! light scattered inside is gathered where it scatters: volume photon mapping in SPPM (after
-//! Jensen and Christensen 1998 and Knaus and Zwicker 2011). There a photon's walk stops at
-//! each scattering event, where the photon is kept with its flux times σs (what scatters
-//! there: `Walk::weight` after the flight) and the way it travelled, and goes on next pass;
-//! an eye path's flight ends at its scattering event too, with a volume visible point whose
+//! Jensen and Christensen 1998 and Knaus and Zwicker 2011). There a photon's walk keeps one
+//! photon a step (a slot stores one a pass): one of the step's scattering events drawn
+//! uniformly as they come (a reservoir of one), with its flux times σs (what scatters there:
+//! `Walk::weight` after the flight) times the step's number of events, and the way it
+//! travelled; where the walk reaches a surface that keeps a photon too, one of the two is
+//! drawn with even odds, its flux doubled (stopping the walk at its last scattering instead,
+//! to draw the flight again next pass, would favour scattering: a flight redrawn only when it
+//! passes). An eye path's flight ends at its scattering event, with a volume visible point whose
 //! weight is the path's over σs (`Walk::weight_over_scattering`: the in-scattered radiance
 //! per unit length carries σs in the photons). The gather then sums the volume photons in a
 //! sphere, each times the phase function between its way and the eye's, over the sphere's

@@ -53,14 +53,14 @@ fn display_source_index(target_pixel: u32, target_size: u32, render_size: u32) -
 fn display_resolve(stats: PixelStats) -> vec3<f32> {
     var direct = vec3<f32>(0.0);
     if display.eye_passes > 0u {
-        direct = stats_vec(stats.direct) / f32(display.eye_passes);
+        direct = stats.direct / f32(display.eye_passes);
     }
     let emitted = f32(display_counters[COUNTER_EMITTED_HI]) * 4294967296.0
         + f32(display_counters[COUNTER_EMITTED_LO]);
     let volume = 4.0 / 3.0 * PI * stats.volume_radius * stats.volume_radius * stats.volume_radius;
-    return direct + display_density(stats_vec(stats.tau), PI * stats.radius * stats.radius, emitted)
-        + display_density(stats_vec(stats.caustic_tau), PI * stats.caustic_radius * stats.caustic_radius, emitted)
-        + display_density(stats_vec(stats.volume_tau), volume, emitted);
+    return direct + display_density(stats.tau, PI * stats.radius * stats.radius, emitted)
+        + display_density(stats.caustic_tau, PI * stats.caustic_radius * stats.caustic_radius, emitted)
+        + display_density(stats.volume_tau, volume, emitted);
 }
 
 // τ over a disc's area or a sphere's volume (`measure`) and the emitted paths.

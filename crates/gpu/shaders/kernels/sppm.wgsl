@@ -1075,7 +1075,7 @@ fn eye_pass(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
             }
         }
     }
-    pixels[index].direct = stats_array(stats_vec(pixels[index].direct) + direct / f32(1u + extra));
+    pixels[index].direct += direct / f32(1u + extra);
 }
 
 // cpu::kernels::EyePath: `direct` is its emission met and then its light sample added.
@@ -1651,9 +1651,9 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     // A radius larger than the cells allow shrinks to fit.
     let largest = largest_radius(cell_size);
     var changed = false;
-    var indirect = fitted(Estimate(stats_vec(stats.tau), stats.photon_count, stats.radius), largest, AREA, &changed);
-    var caustic = fitted(Estimate(stats_vec(stats.caustic_tau), stats.caustic_count, stats.caustic_radius), largest, AREA, &changed);
-    var volume = fitted(Estimate(stats_vec(stats.volume_tau), stats.volume_count, stats.volume_radius), largest, VOLUME, &changed);
+    var indirect = fitted(Estimate(stats.tau, stats.photon_count, stats.radius), largest, AREA, &changed);
+    var caustic = fitted(Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius), largest, AREA, &changed);
+    var volume = fitted(Estimate(stats.volume_tau, stats.volume_count, stats.volume_radius), largest, VOLUME, &changed);
     if any(point.weight != vec3<f32>(0.0)) {
         let query = gather_query(point, indirect.radius, caustic.radius, volume.radius);
         let sum = density_query(query, cell_size);
@@ -1662,13 +1662,13 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
         volume = updated(volume, sum.volume_found, point.weight * sum.volume_flux, params.alpha, VOLUME, &changed);
     }
     if changed {
-        stats.tau = stats_array(indirect.tau);
+        stats.tau = indirect.tau;
         stats.photon_count = indirect.count;
         stats.radius = indirect.radius;
-        stats.caustic_tau = stats_array(caustic.tau);
+        stats.caustic_tau = caustic.tau;
         stats.caustic_count = caustic.count;
         stats.caustic_radius = caustic.radius;
-        stats.volume_tau = stats_array(volume.tau);
+        stats.volume_tau = volume.tau;
         stats.volume_count = volume.count;
         stats.volume_radius = volume.radius;
         pixels[index] = stats;

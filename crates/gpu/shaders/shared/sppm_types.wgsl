@@ -24,32 +24,22 @@ struct VisiblePoint {
     pad: u32,
 }
 
-// render::buffers::PixelStats: its [f32; 3] members are arrays here, as in Rust, since
-// volume_tau lies past a 16-byte boundary and a vec3 member would make the struct 16-byte
-// aligned (sizes rounded up to 16 bytes); stats_vec and stats_array convert.
+// render::buffers::PixelStats (80 bytes; each τ on a 16-byte boundary).
 struct PixelStats {
-    tau: array<f32, 3>,
+    tau: vec3<f32>,
     photon_count: f32,
-    direct: array<f32, 3>,
+    direct: vec3<f32>,
     radius: f32,
-    caustic_tau: array<f32, 3>,
+    caustic_tau: vec3<f32>,
     caustic_count: f32,
     caustic_radius: f32,
     // render::buffers::PixelStats::specular_seen.
     specular_seen: u32,
-    // τ, N and R of the volume photons (murky glass).
-    volume_tau: array<f32, 3>,
+    // N, R and τ of the volume photons (murky glass).
     volume_count: f32,
     volume_radius: f32,
-    pad: array<u32, 1>,
-}
-
-fn stats_vec(a: array<f32, 3>) -> vec3<f32> {
-    return vec3<f32>(a[0], a[1], a[2]);
-}
-
-fn stats_array(v: vec3<f32>) -> array<f32, 3> {
-    return array<f32, 3>(v.x, v.y, v.z);
+    volume_tau: vec3<f32>,
+    pad: u32,
 }
 
 // render::buffers::Light: what v0, edge1 and edge2 hold depends on kind (LIGHT_*).

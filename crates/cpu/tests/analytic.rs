@@ -152,24 +152,31 @@ fn render_furnace_passes(
 fn a_scattering_solid_in_the_furnace_is_invisible() {
     let scene = testing::furnace_with_scattering_solid(Vec3::new(20.0, 8.0, 3.0), 0.5);
     let (out, _) = render_furnace_passes(&scene, Density::FullHash, 1, 512);
+    assert_furnace_channels("scattering furnace", &out.image, 0.03, 0.08);
+}
+
+/// Every channel of a furnace image: its mean within `mean_tolerance` of
+/// `testing::FURNACE_RADIANCE` (relative) and its per-pixel rms error below `rms_tolerance`.
+fn assert_furnace_channels(label: &str, image: &Image, mean_tolerance: f32, rms_tolerance: f64) {
     let expected = testing::FURNACE_RADIANCE;
-    let mean = out.image.mean();
+    let mean = image.mean();
     let rms: Vec<f64> = (0..3)
         .map(|channel| {
-            let pixels = out.image.pixels.iter().map(|p| (p[channel], expected));
+            let pixels = image.pixels.iter().map(|p| (p[channel], expected));
             relative_errors(pixels).1
         })
         .collect();
-    println!("scattering furnace: mean {mean}, per-pixel rms {rms:.3?}");
+    println!("{label}: mean {mean}, per-pixel rms {rms:.3?}");
     for channel in 0..3 {
         assert!(
-            (mean[channel] - expected).abs() < 0.03 * expected,
-            "channel {channel}: image mean {} is not within 3% of {expected}",
+            (mean[channel] - expected).abs() < mean_tolerance * expected,
+            "{label}, channel {channel}: image mean {} is not within {mean_tolerance} of \
+             {expected}",
             mean[channel]
         );
         assert!(
-            rms[channel] < 0.08,
-            "channel {channel}: per-pixel rms {} above 8%",
+            rms[channel] < rms_tolerance,
+            "{label}, channel {channel}: per-pixel rms {} above {rms_tolerance}",
             rms[channel]
         );
     }
@@ -187,10 +194,9 @@ fn a_scattering_solid_in_the_furnace_is_invisible() {
 /// 0.12, whose image is 8 % dark in red). 1024 passes with full cell lists, seed 1: channel
 /// means 0.981–0.982, per-pixel rms 31 %, 15 %, 16 % (the walks' photons carry their step's
 /// count of scatterings, up to 16, red's the most); tolerances: each channel within 5 %, rms
-/// below 40 %. Stopping the
-/// walk at its last scattering rather than let it reach the surface (drawing that flight
-/// again next pass) made it 2.05 in red; keeping one photon a scattering (each a pass) 0.74 at
-/// σs = 20 (the paths' light still inside the ball at the end).
+/// below 40 %. Stopping the walk at its last scattering rather than let it reach the surface
+/// (drawing that flight again next pass) made it 2.05 in red; keeping one photon a scattering
+/// (each a pass) 0.74 at σs = 20 (the paths' light still inside the ball at the end).
 #[test]
 fn murky_glass_in_the_furnace_is_invisible() {
     let scene = testing::furnace_with_murky_glass(Vec3::new(4.0, 2.0, 1.0), 0.5, 1.33);
@@ -204,27 +210,7 @@ fn murky_glass_in_the_furnace_is_invisible() {
     };
     let mut sppm = Sppm::new(backend(&scene), &scene, &camera, settings).unwrap();
     let out = sppm.run(Budget::Passes(1024), &mut |_| {}).unwrap();
-    let expected = testing::FURNACE_RADIANCE;
-    let mean = out.image.mean();
-    let rms: Vec<f64> = (0..3)
-        .map(|channel| {
-            let pixels = out.image.pixels.iter().map(|p| (p[channel], expected));
-            relative_errors(pixels).1
-        })
-        .collect();
-    println!("murky furnace: mean {mean}, per-pixel rms {rms:.3?}");
-    for channel in 0..3 {
-        assert!(
-            (mean[channel] - expected).abs() < 0.05 * expected,
-            "channel {channel}: image mean {} is not within 5% of {expected}",
-            mean[channel]
-        );
-        assert!(
-            rms[channel] < 0.40,
-            "channel {channel}: per-pixel rms {} above 40%",
-            rms[channel]
-        );
-    }
+    assert_furnace_channels("murky furnace", &out.image, 0.05, 0.40);
 }
 
 /// The furnace in a blend (`testing::furnace_sphere_blended`): a quarter of the hits mirror

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use render::backend::{Backend, BackendError, PhotonTracing, Setup, Snapshot, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
-    emitted_total, initial_counters, vec3,
+    emitted_total, vec3,
 };
 use render::density::Density;
 use render::half_storage::{Precision, round_photon, round_visible_point};
@@ -178,15 +178,12 @@ impl Backend for CpuBackend {
             slots: vec![PathSlot::IDLE; params.slot_count as usize],
             photons: vec![Photon::default(); params.slot_count as usize],
             visible_points: vec![VisiblePoint::default(); pixels],
-            pixels: vec![
-                PixelStats::initial(setup.initial_radius, setup.initial_caustic_radius);
-                pixels
-            ],
+            pixels: vec![setup.initial_stats(); pixels],
             hash: atomics(std::iter::repeat_n(
                 0,
                 params.hash_entries() * HASH_ENTRY_WORDS,
             )),
-            counters: atomics(initial_counters(setup.initial_radius)),
+            counters: atomics(setup.initial_counters()),
             path_segments: Vec::new(),
             density: setup.density,
             precision: setup.precision,

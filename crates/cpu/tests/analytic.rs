@@ -191,7 +191,10 @@ fn assert_furnace_channels(label: &str, image: &Image, mean_tolerance: f32, rms_
 /// carry flux, the radiance there is n² the furnace's). The gather's sphere reaching out of
 /// the ball finds no photons there: a bias of volume photon mapping that shrinks with the
 /// radius, so the first radius is 0.03 (a tenth of the ball's; the scene's bounds would give
-/// 0.12, whose image is 8 % dark in red). 1024 passes with full cell lists, seed 1: channel
+/// 0.12, whose image is 8 % dark in red; the volume photons' first radius, 1.6 times it,
+/// `render::scattering::VOLUME_RADIUS_SHARE`, is held to the surfaces' here: no volume
+/// visible point meets a photon in the first pass, and only radii that have met photons size
+/// the cells). 1024 passes with full cell lists, seed 1: channel
 /// means 0.981–0.982, per-pixel rms 31 %, 15 %, 16 % (the walks' photons carry their step's
 /// count of scatterings, up to 16, red's the most); tolerances: each channel within 5 %, rms
 /// below 40 %. Stopping the walk at its last scattering rather than let it reach the surface
@@ -623,6 +626,7 @@ fn render_top_view_sampling(
             lights,
             initial_radius: TopView::INITIAL_RADIUS,
             initial_caustic_radius: TopView::INITIAL_RADIUS,
+            initial_volume_radius: TopView::INITIAL_RADIUS,
             density: render::Density::default(),
             precision: Default::default(),
         })

@@ -336,7 +336,7 @@ fn assert_gather_estimate_unbiased(classes: u32) {
             &table.hash,
             &photons,
             &point,
-            PixelStats::initial(radius, radius),
+            PixelStats::initial(radius, radius, radius),
         );
         // Both classes of photon (the packed normals' lowest bits pick them) count.
         let flux = (Vec3::from_array(stats.tau) + Vec3::from_array(stats.caustic_tau)) / ALPHA;

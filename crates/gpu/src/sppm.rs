@@ -13,7 +13,7 @@ pub use naive::NAIVE_STORAGE_BUFFERS;
 use render::backend::{Backend, BackendError, Setup, Snapshot, Statistics};
 use render::buffers::{
     HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
-    emitted_total, initial_counters,
+    emitted_total,
 };
 use render::half_storage::{HalfPoint, Precision};
 use wgpu::util::DeviceExt;
@@ -506,19 +506,10 @@ impl GpuBackend {
         let visible_points = zeroed("visible_points", sizes[2].2);
         let pixels = init(
             "pixel_stats",
-            bytemuck::cast_slice(&vec![
-                PixelStats::initial(
-                    setup.initial_radius,
-                    setup.initial_caustic_radius
-                );
-                params.pixel_count() as usize
-            ]),
+            bytemuck::cast_slice(&vec![setup.initial_stats(); params.pixel_count() as usize]),
         );
         let hash = zeroed("hash_table", sizes[4].2);
-        let counters = init(
-            "counters",
-            bytemuck::cast_slice(&initial_counters(setup.initial_radius)),
-        );
+        let counters = init("counters", bytemuck::cast_slice(&setup.initial_counters()));
         let bind_group = bind_buffers(
             device,
             "sppm state",

@@ -509,6 +509,7 @@ fn draw_fills_the_viewport_and_follows_a_restarted_render() {
         lights,
         initial_radius: render::integrator::initial_radius(&render.scene, 16, 12),
         initial_caustic_radius: render::integrator::initial_radius(&render.scene, 16, 12),
+        initial_volume_radius: render::integrator::initial_radius(&render.scene, 16, 12),
         density: render::Density::default(),
         precision: Default::default(),
     };

@@ -16,10 +16,31 @@ pub struct Setup {
     pub initial_radius: f32,
     /// And of the caustic photons.
     pub initial_caustic_radius: f32,
+    /// And of the volume photons (`render::scattering::initial_volume_radius`).
+    pub initial_volume_radius: f32,
     /// How photons are found around the visible points.
     pub density: Density,
     /// How photons and visible points are stored.
     pub precision: Precision,
+}
+
+impl Setup {
+    /// Every pixel's starting statistics.
+    pub fn initial_stats(&self) -> crate::buffers::PixelStats {
+        crate::buffers::PixelStats::initial(
+            self.initial_radius,
+            self.initial_caustic_radius,
+            self.initial_volume_radius,
+        )
+    }
+
+    /// The counters' starting values: the first cells sized by the largest starting radius.
+    pub fn initial_counters(&self) -> [u32; crate::buffers::counter::COUNT] {
+        let largest = (self.initial_radius)
+            .max(self.initial_caustic_radius)
+            .max(self.initial_volume_radius);
+        crate::buffers::initial_counters(largest)
+    }
 }
 
 /// What a backend reads back: every pixel's statistics and the paths emitted so far.

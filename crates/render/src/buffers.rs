@@ -115,13 +115,12 @@ pub struct PixelStats {
 const _: () = assert!(size_of::<PixelStats>() == 80);
 
 impl PixelStats {
-    /// A pixel before any photon: nothing gathered, each class at its starting radius (the
-    /// volume photons' at the indirect ones').
-    pub fn initial(radius: f32, caustic_radius: f32) -> PixelStats {
+    /// A pixel before any photon: nothing gathered, each class at its starting radius.
+    pub fn initial(radius: f32, caustic_radius: f32, volume_radius: f32) -> PixelStats {
         PixelStats {
             radius,
             caustic_radius,
-            volume_radius: radius,
+            volume_radius,
             ..PixelStats::default()
         }
     }
@@ -328,7 +327,7 @@ pub fn emitted_total(low: u32, high: u32) -> u64 {
     ((high as u64) << 32) | low as u64
 }
 
-/// The counters' starting values for a render whose gather radius starts at `radius`.
+/// The counters' starting values for a render whose largest gather radius starts at `radius`.
 pub fn initial_counters(radius: f32) -> [u32; counter::COUNT] {
     let mut counters = [0; counter::COUNT];
     counters[counter::CELL_SIZE] = crate::hash::cell_size(radius).to_bits();

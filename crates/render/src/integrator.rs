@@ -234,6 +234,7 @@ impl<B: Backend> Sppm<B> {
             lights,
             initial_radius: radius,
             initial_caustic_radius: radius * settings.caustic_radius_share,
+            initial_volume_radius: crate::scattering::initial_volume_radius(scene, radius),
             density: settings.density,
             precision: settings.precision,
         };

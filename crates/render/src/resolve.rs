@@ -69,7 +69,7 @@ mod tests {
             "{l}"
         );
         assert_eq!(
-            resolve_pixel(&PixelStats::initial(1.0, 0.5), 0, 0),
+            resolve_pixel(&PixelStats::initial(1.0, 0.5, 2.0), 0, 0),
             Vec3::ZERO
         );
     }

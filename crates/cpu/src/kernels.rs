@@ -412,7 +412,7 @@ fn photon_segment(
     // 1/events as they come (a reservoir of one), its photon's flux × events at the end.
     let mut kept = Photon::default();
     let volume_photon = |kept: Photon, events: u32| {
-        murky.then(|| Photon {
+        (murky && events > 0).then(|| Photon {
             flux: (vec3(kept.flux) * events as f32).to_array(),
             ..kept
         })
@@ -426,7 +426,7 @@ fn photon_segment(
                 direction,
                 flux: flux * walk.weight(),
                 scattered: events > 0,
-                volume_photon: (events > 0).then(|| volume_photon(kept, events)).flatten(),
+                volume_photon: volume_photon(kept, events),
             });
         };
         events += 1;

@@ -950,13 +950,7 @@ fn every_kernel_matches_its_twin_under_textured_sheens() {
         roughness_texture: Some(texture),
         ..scene::Sheen::new(glam::Vec3::splat(0.6), 1.0).unwrap()
     });
-    for triangle in
-        (scene.triangles.iter_mut()).filter(|t| [velvet, white].contains(&(t.material as usize)))
-    {
-        for v in &mut triangle.vertices {
-            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
-        }
-    }
+    planar_uv(&mut scene, &[velvet, white]);
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
@@ -996,11 +990,7 @@ fn every_kernel_matches_its_twin_through_diffuse_transmission() {
         color_texture: Some(texture),
         ..scene::DiffuseTransmission::new(1.0, glam::Vec3::splat(0.9)).unwrap()
     });
-    for triangle in (scene.triangles.iter_mut()).filter(|t| t.material as usize == layered) {
-        for v in &mut triangle.vertices {
-            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
-        }
-    }
+    planar_uv(&mut scene, &[layered]);
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
@@ -1181,13 +1171,7 @@ fn every_kernel_matches_its_twin_on_brushed_metal() {
         rotation: -0.3,
         texture: Some(texture),
     });
-    for triangle in
-        (scene.triangles.iter_mut()).filter(|t| [gold, silver].contains(&(t.material as usize)))
-    {
-        for v in &mut triangle.vertices {
-            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
-        }
-    }
+    planar_uv(&mut scene, &[gold, silver]);
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
@@ -1213,13 +1197,7 @@ fn every_kernel_matches_its_twin_on_iridescent_metal() {
             film.texture = Some(texture);
         }
     }
-    for triangle in
-        (scene.triangles.iter_mut()).filter(|t| [titanium, steel].contains(&(t.material as usize)))
-    {
-        for v in &mut triangle.vertices {
-            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
-        }
-    }
+    planar_uv(&mut scene, &[titanium, steel]);
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
@@ -1230,26 +1208,7 @@ fn every_kernel_matches_its_twin_on_iridescent_metal() {
 #[test]
 fn every_kernel_matches_its_twin_on_iridescent_glass() {
     let mut scene = scene::testing::cornell_caustics();
-    let texture = push_checker(&mut scene, "film checker", |x, y| match (x + y) % 2 {
-        0 => [0.0, 0.2, 0.0, 1.0],
-        _ => [0.0, 0.9, 0.0, 1.0],
-    });
-    let glass: Vec<usize> = (0..scene.materials.len())
-        .filter(|&i| scene.materials[i].surface.is_glass())
-        .collect();
-    assert!(!glass.is_empty(), "the fixture has glass");
-    for &id in &glass {
-        scene.materials[id].iridescence = Some(scene::Iridescence {
-            thickness_texture: Some(texture),
-            ..scene::testing::film(1.33, 500.0)
-        });
-    }
-    for triangle in (scene.triangles.iter_mut()).filter(|t| glass.contains(&(t.material as usize)))
-    {
-        for v in &mut triangle.vertices {
-            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
-        }
-    }
+    glass_under_textured_film(&mut scene);
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
@@ -1273,27 +1232,7 @@ fn every_kernel_matches_its_twin_on_iridescent_frosted_glass() {
         }
     }
     for scene in [&mut frosted, &mut sheet] {
-        let texture = push_checker(scene, "film checker", |x, y| match (x + y) % 2 {
-            0 => [0.0, 0.2, 0.0, 1.0],
-            _ => [0.0, 0.9, 0.0, 1.0],
-        });
-        let glass: Vec<usize> = (0..scene.materials.len())
-            .filter(|&i| scene.materials[i].surface.is_glass())
-            .collect();
-        assert!(!glass.is_empty(), "the fixture has glass");
-        for &id in &glass {
-            scene.materials[id].iridescence = Some(scene::Iridescence {
-                thickness_texture: Some(texture),
-                ..scene::testing::film(1.33, 500.0)
-            });
-        }
-        for triangle in
-            (scene.triangles.iter_mut()).filter(|t| glass.contains(&(t.material as usize)))
-        {
-            for v in &mut triangle.vertices {
-                v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
-            }
-        }
+        glass_under_textured_film(scene);
     }
     every_kernel_matches_its_twin(frosted, DirectLight::Sampled);
     every_kernel_matches_its_twin(sheet, DirectLight::Sampled);
@@ -1433,6 +1372,37 @@ fn push_checker(scene: &mut scene::Scene, name: &str, texel: impl Fn(u32, u32) -
         texels: scene::Texels::LinearF32(texels),
     });
     scene.textures.len() as u32 - 1
+}
+
+/// Texture coordinates on the triangles of `materials` from their positions (a planar map,
+/// 40 units a repeat), so that textures on them vary over the surface.
+fn planar_uv(scene: &mut scene::Scene, materials: &[usize]) {
+    let of_them = |t: &&mut scene::Triangle| materials.contains(&(t.material as usize));
+    for triangle in scene.triangles.iter_mut().filter(of_them) {
+        for v in &mut triangle.vertices {
+            v.uv = glam::Vec2::new(v.position.x + v.position.z, v.position.y) / 40.0;
+        }
+    }
+}
+
+/// Every glass of `scene` under a thin film (index 1.33, 500 nm) whose thickness a checker's
+/// green gives (0.2 and 0.9 of it), mapped over the glass by [`planar_uv`].
+fn glass_under_textured_film(scene: &mut scene::Scene) {
+    let texture = push_checker(scene, "film checker", |x, y| match (x + y) % 2 {
+        0 => [0.0, 0.2, 0.0, 1.0],
+        _ => [0.0, 0.9, 0.0, 1.0],
+    });
+    let glass: Vec<usize> = (0..scene.materials.len())
+        .filter(|&i| scene.materials[i].surface.is_glass())
+        .collect();
+    assert!(!glass.is_empty(), "the fixture has glass");
+    for &id in &glass {
+        scene.materials[id].iridescence = Some(scene::Iridescence {
+            thickness_texture: Some(texture),
+            ..scene::testing::film(1.33, 500.0)
+        });
+    }
+    planar_uv(scene, &glass);
 }
 
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) -> Seen {

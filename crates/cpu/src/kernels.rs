@@ -100,6 +100,7 @@ pub fn photon_pass_with<R: StreamRng>(
             pass_throughs: 0,
             flux: e.flux.to_array(),
             state: pack_slot_state(false, e.medium, WHOLE_SPECTRUM),
+            ..PathSlot::IDLE
         };
         emitted = true;
     }
@@ -122,9 +123,14 @@ pub fn photon_pass_with<R: StreamRng>(
         flux,
         scattered,
         volume_photon,
+        walk,
     } = segment;
     if let Some(kept) = volume_photon {
         photon = kept;
+    }
+    if let Some(walk) = walk {
+        slot.walk_hero = walk.hero();
+        slot.walk_densities = walk.densities().to_array();
     }
     let Some(mut hit) = hit else {
         // Still walking inside a scattering solid: it goes on from there next pass, the step
@@ -373,12 +379,15 @@ struct PhotonSegment {
     scattered: bool,
     /// In murky glass, the photon kept where it scattered (`render::scattering`).
     volume_photon: Option<Photon>,
+    /// The path's walk after the segment, its weight in `flux`: `None` where it did not walk.
+    walk: Option<Walk>,
 }
 
 /// The segment of `slot` (in `medium`) to its next surface: through a clear or absorbing
 /// medium straight, the flux absorbed by the way (`transmittance_to`); inside a scattering
-/// solid a walk (`render::scattering::Walk`): its hero channel drawn by one number `next`
-/// gives, each flight by one, and at each scattering its Russian roulette by one and its new
+/// solid the path's walk (`render::scattering::Walk`) goes on from the slot's (its hero
+/// channel drawn by one number `next` gives where the path has not walked before), each
+/// flight by one, and at each scattering its Russian roulette by one and its new
 /// direction by two; after `SCATTERINGS_PER_STEP` scatterings it stops where it is, to go on
 /// next pass. In murky glass it keeps one volume photon a step: one of its scattering events
 /// drawn uniformly (by one more number at each), of the flux scattered there times their
@@ -402,11 +411,13 @@ fn photon_segment(
             flux,
             scattered: false,
             volume_photon: None,
+            walk: None,
         });
     };
     let (extinction, scattering) = (solid.interior_extinction(), solid.interior_scattering());
     let murky = solid.has_murky_glass();
-    let mut walk = Walk::start(next());
+    let densities = vec3(slot.walk_densities);
+    let mut walk = Walk::resume(slot.walk_hero, densities).unwrap_or_else(|| Walk::start(next()));
     let mut events = 0;
     // In murky glass, one of the step's scattering events, each kept with probability
     // 1/events as they come (a reservoir of one), its photon's flux × events at the end.
@@ -424,9 +435,10 @@ fn photon_segment(
                 hit: Some(hit),
                 origin,
                 direction,
-                flux: flux * walk.weight(),
+                flux: flux * walk.take_weight(),
                 scattered: events > 0,
                 volume_photon: volume_photon(kept, events),
+                walk: Some(walk),
             });
         };
         events += 1;
@@ -448,6 +460,7 @@ fn photon_segment(
                 flux: Vec3::ZERO,
                 scattered: true,
                 volume_photon: Some(kept),
+                walk: None,
             });
         }
         direction = henyey_greenstein(direction, solid.scatter_anisotropy, [next(), next()]);
@@ -456,9 +469,10 @@ fn photon_segment(
                 hit: None,
                 origin,
                 direction,
-                flux: flux * walk.weight(),
+                flux: flux * walk.take_weight(),
                 scattered: true,
                 volume_photon: volume_photon(kept, events),
+                walk: Some(walk),
             });
         }
     }
@@ -636,6 +650,9 @@ fn eye_path(
     let mut medium = params.camera_medium;
     // The wavelength the path keeps since its first dispersive glass.
     let mut wavelength = WHOLE_SPECTRUM;
+    // The path's walk through murky glass, one over all its flights there (its hero drawn at
+    // the first: `render::scattering`).
+    let mut walk: Option<Walk> = None;
     while depth < params.max_depth {
         let Some(mut hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one), unless water around the path
@@ -649,7 +666,7 @@ fn eye_path(
         // point (`render::scattering`); else it passes, weighed by what is not scattered.
         if let Some(murky) = murky_glass(&scene.materials, medium) {
             let scattering = murky.interior_scattering();
-            let mut walk = Walk::start(rng.next_f32());
+            let walk = walk.get_or_insert_with(|| Walk::start(rng.next_f32()));
             let extinction = murky.interior_extinction();
             let flight = walk.flight(extinction, scattering, hit.distance, rng.next_f32());
             if let Some(t) = flight {
@@ -664,7 +681,7 @@ fn eye_path(
                 }
                 break;
             }
-            throughput *= walk.weight();
+            throughput *= walk.take_weight();
         } else {
             throughput *= transmittance_to(scene, medium, &hit);
         }

@@ -63,6 +63,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             "SCATTERINGS_PER_STEP",
             U32(render::scattering::SCATTERINGS_PER_STEP),
         ),
+        ("NO_WALK", U32(render::scattering::NO_WALK)),
         ("ROUGHNESS_METAL", U32(types::ROUGHNESS_METAL)),
         ("ROUGHNESS_UNMAPPED", U32(types::ROUGHNESS_UNMAPPED)),
         ("ROUGHNESS_GLASS", U32(types::ROUGHNESS_GLASS)),

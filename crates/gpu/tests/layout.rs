@@ -453,6 +453,8 @@ fn sppm_types_layout_matches_render_buffers() {
             ("pass_throughs", offset_of!(PathSlot, pass_throughs)),
             ("flux", offset_of!(PathSlot, flux)),
             ("state", offset_of!(PathSlot, state)),
+            ("walk_densities", offset_of!(PathSlot, walk_densities)),
+            ("walk_hero", offset_of!(PathSlot, walk_hero)),
         ],
     );
     assert_layout(

@@ -182,6 +182,11 @@ fn slot_errors(g: &PathSlot, c: &PathSlot, diagonal: f32) -> Vec<(&'static str, 
             absolute(g.direction, c.direction, DIRECTION_TOLERANCE),
         ),
         ("flux", relative(g.flux, c.flux)),
+        ("walk_hero", exact(g.walk_hero, c.walk_hero)),
+        (
+            "walk_densities",
+            relative(g.walk_densities, c.walk_densities),
+        ),
     ]
 }
 
@@ -1078,6 +1083,7 @@ fn photon_walks_in_murky_glass_match_their_twin() {
                 glass as u32,
                 render::dispersion::WHOLE_SPECTRUM,
             ),
+            ..PathSlot::IDLE
         })
         .collect();
     let mut snapshot = g.backend().snapshot().expect("snapshot");

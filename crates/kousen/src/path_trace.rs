@@ -363,8 +363,8 @@ impl<'a> PathTracer<'a> {
         let mut medium = self.camera_medium;
         // The wavelength the path keeps since its first dispersive glass.
         let mut wavelength = render::dispersion::WHOLE_SPECTRUM;
-        // The walk through the scattering solid the path is in, if any, and its scatterings
-        // (`render::scattering`).
+        // The path's walk through scattering solids, one over all of them (its hero drawn at
+        // the first), and the scatterings of its current step (`render::scattering`).
         let (mut walk, mut scatterings): (Option<Walk>, u32) = (None, 0);
         while depth < max_depth {
             let Some(mut point) = self.intersect(origin, direction) else {
@@ -384,8 +384,9 @@ impl<'a> PathTracer<'a> {
             if let Some(solid) = scattering_solid(&self.materials, medium) {
                 // Inside a scattering solid the path walks: the punctual lights' light
                 // scattered once along the segment is sampled (`segment_light`); scattered on
-                // the way, the path goes on from there in a direction the phase function draws. Every `SCATTERINGS_PER_STEP` scatterings the walk
-                // restarts, the step counted as a bounce, as the photon pass's do.
+                // the way, the path goes on from there in a direction the phase function draws.
+                // Every `SCATTERINGS_PER_STEP` scatterings the step is counted as a bounce, as
+                // the photon pass's are, its weight handed to the throughput.
                 let inside = walk.get_or_insert_with(|| Walk::start(rng.next_f32()));
                 let segment = (origin, direction, distance);
                 let light = self.segment_light(segment, solid, medium, rng);
@@ -402,14 +403,14 @@ impl<'a> PathTracer<'a> {
                     direction = henyey_greenstein(direction, solid.scatter_anisotropy, u);
                     arrival = Arrival::Unsampled;
                     if scatterings == SCATTERINGS_PER_STEP {
-                        throughput *= inside.weight();
-                        (walk, scatterings) = (None, 0);
+                        throughput *= inside.take_weight();
+                        scatterings = 0;
                         depth += 1;
                     }
                     continue;
                 }
-                throughput *= inside.weight();
-                (walk, scatterings) = (None, 0);
+                throughput *= inside.take_weight();
+                scatterings = 0;
             } else {
                 // Beer–Lambert over the segment in the medium it ran through.
                 let absorbs_inside = material.interior_extinction().max_element() > 0.0;

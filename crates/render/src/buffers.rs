@@ -9,7 +9,7 @@ use glam::Vec3;
 /// `PathSlot::depth` of a slot whose path has ended: the next photon pass starts a new one.
 pub const SLOT_IDLE: u32 = u32::MAX;
 
-/// One photon path slot (48 bytes): a light path in flight, advanced one bounce per pass.
+/// One photon path slot (64 bytes): a light path in flight, advanced one bounce per pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PathSlot {
@@ -27,6 +27,13 @@ pub struct PathSlot {
     /// caustic: [`crate::packing::photon_normal`]) and the solid it is inside
     /// ([`crate::medium`]), packed by [`crate::medium::pack_slot_state`].
     pub state: u32,
+    /// The path's walk through scattering solids ([`crate::scattering::Walk`]): each colour
+    /// channel's density of drawing it over their mean, carried from step to step so that
+    /// the whole path's walk is weighed as one (its weight is in `flux` already).
+    pub walk_densities: [f32; 3],
+    /// The walk's hero channel, or [`crate::scattering::NO_WALK`] before the path's first
+    /// scattering solid.
+    pub walk_hero: u32,
 }
 
 impl PathSlot {
@@ -38,6 +45,8 @@ impl PathSlot {
         pass_throughs: 0,
         flux: [0.0; 3],
         state: 0,
+        walk_densities: [1.0; 3],
+        walk_hero: crate::scattering::NO_WALK,
     };
 }
 

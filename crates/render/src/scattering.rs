@@ -24,8 +24,12 @@
 //! light samples: light reaching murky glass from outside comes through its specular surface,
 //! which shadow rays cannot follow, so photons there carry the direct light too.
 //!
-//! Where a scattering event falls is drawn by one colour channel's σt, chosen once a walk
-//! with equal probability, and the walk weighed against all three's densities ([`Walk`]).
+//! Where a scattering event falls is drawn by one colour channel's σt, chosen with equal
+//! probability the first time a path walks, and the path's walks weighed against all three's
+//! densities ([`Walk`]): one walk over the whole path, however many steps (and passes) it
+//! takes, so the weights stay bounded. Photon slots carry its hero and densities from pass to
+//! pass (`buffers::PathSlot::walk_hero`, `walk_densities`), its weight folded into their flux
+//! at the end of each step ([`Walk::take_weight`]).
 
 use glam::Vec3;
 use scene::Material;
@@ -34,11 +38,16 @@ use crate::medium::NO_MEDIUM;
 use crate::sampling::about_axis;
 
 /// Scatterings a walk takes in one step of a photon path (one kernel invocation) before it
-/// stops where it is, to go on next pass as a new walk (the step counts as a bounce towards
-/// the path's length); the path tracer's walks restart so too. A photon pass's invocations
+/// stops where it is, to go on next pass (the step counts as a bounce towards the path's
+/// length; its weight is handed to the path's flux, and the walk resumes from the slot's hero
+/// and densities); the path tracer's steps count so too. A photon pass's invocations
 /// wait for their longest walk (a SIMD group runs together): this bounds the wait, and light
 /// is not lost to a cap.
 pub const SCATTERINGS_PER_STEP: u32 = 16;
+
+/// A path's walk hero before it first walks ([`Walk::resume`]): the first scattering solid it
+/// meets draws one.
+pub const NO_WALK: u32 = u32::MAX;
 
 /// The solid of `medium` (a material id, or [`NO_MEDIUM`]) where it scatters inside: where a
 /// path in that medium walks.
@@ -74,10 +83,10 @@ pub fn murky_glass(materials: &[Material], medium: u32) -> Option<&Material> {
     scattering_solid(materials, medium).filter(|m| m.has_murky_glass())
 }
 
-/// A random walk through a scattering medium: the distances to its scattering events drawn by
-/// one colour channel's extinction (its hero, chosen once for the walk), and its weight the
+/// A random walk through scattering media: the distances to its scattering events drawn by
+/// one colour channel's extinction (its hero, chosen once for the path), and its weight the
 /// walk's value over the mean of the three channels' densities of drawing it (the balance
-/// heuristic over the whole walk, as pbrt-v4 weighs spectral paths): each channel's weight
+/// heuristic over the path's whole walk, as pbrt-v4 weighs spectral paths): each channel's weight
 /// stays below 3 × its albedo's power, however long the walk and however the channels'
 /// rates differ (weighing each flight by itself instead, the weights' product over 40
 /// flights in a coloured medium is so heavy-tailed that 64 passes saw half the red light).
@@ -100,9 +109,38 @@ impl Walk {
         }
     }
 
+    /// The walk of a path that has walked before, its hero `hero` and its channels'
+    /// densities `densities` (over their mean), its weight since handed to the path
+    /// ([`Walk::take_weight`]); `None` where `hero` is [`NO_WALK`].
+    pub fn resume(hero: u32, densities: Vec3) -> Option<Walk> {
+        (hero != NO_WALK).then(|| Walk {
+            hero: (hero as usize).min(2),
+            weight: Vec3::ONE,
+            densities,
+        })
+    }
+
+    /// The hero channel (0–2), which a path keeps for all its walks.
+    pub fn hero(&self) -> u32 {
+        self.hero as u32
+    }
+
+    /// Each channel's density of drawing the walk so far over their mean.
+    pub fn densities(&self) -> Vec3 {
+        self.densities
+    }
+
     /// What the walk multiplies the light it carries by.
     pub fn weight(&self) -> Vec3 {
         self.weight
+    }
+
+    /// The weight so far, handed to the path's throughput at the end of a step: the walk
+    /// goes on from weight 1 with its hero and densities, so the path's steps multiply to
+    /// the whole walk's balance heuristic (restarting the walk each step instead multiplies
+    /// weights of up to 3 each: heavy-tailed, coloured fireflies in strongly coloured media).
+    pub fn take_weight(&mut self) -> Vec3 {
+        std::mem::replace(&mut self.weight, Vec3::ONE)
     }
 
     /// The weight after a flight that ended at a scattering event, over the medium's
@@ -255,6 +293,36 @@ mod tests {
                 assert!(weight.min_element() >= 0.0);
             }
         }
+    }
+
+    /// A walk taken in steps, each step's weight handed on (`take_weight`) and the walk
+    /// resumed from its hero and densities, weighs the same as the walk taken whole.
+    #[test]
+    fn a_walk_in_steps_weighs_as_the_whole_walk() {
+        let extinction = Vec3::new(1.0, 4.0, 16.0);
+        let scattering = Vec3::new(0.9, 3.0, 15.0);
+        let mut rng = crate::rng::KernelRng::new(3, 0, 0, 0);
+        for _ in 0..100 {
+            let hero_number = rng.next_f32();
+            let (mut whole, mut stepped) = (Walk::start(hero_number), Walk::start(hero_number));
+            let mut handed = Vec3::ONE;
+            for flight in 0..60 {
+                let (distance, u) = (rng.next_f32() * 2.0, rng.next_f32());
+                let a = whole.flight(extinction, scattering, distance, u);
+                let b = stepped.flight(extinction, scattering, distance, u);
+                assert_eq!(a, b);
+                if flight % 7 == 6 {
+                    handed *= stepped.take_weight();
+                    stepped = Walk::resume(stepped.hero(), stepped.densities()).unwrap();
+                }
+            }
+            let (a, b) = (whole.weight(), handed * stepped.weight());
+            assert!(
+                (a - b).abs().max_element() <= 1e-4 * a.max_element().max(1e-30),
+                "{a} against {b}"
+            );
+        }
+        assert_eq!(Walk::resume(NO_WALK, Vec3::ONE), None);
     }
 
     /// A clear medium (σt = 0) always lets the walk pass, whole.

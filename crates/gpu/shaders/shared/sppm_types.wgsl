@@ -8,6 +8,10 @@ struct PathSlot {
     flux: vec3<f32>,
     // render::buffers::PathSlot::state (render::medium::pack_slot_state).
     state: u32,
+    // The path's walk through scattering solids (render::scattering::Walk): its channels'
+    // densities over their mean and its hero (NO_WALK before its first).
+    walk_densities: vec3<f32>,
+    walk_hero: u32,
 }
 
 struct Photon {

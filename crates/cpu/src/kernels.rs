@@ -1,5 +1,5 @@
 //! The SPPM kernels, one function per GPU invocation: the same names, arithmetic and random
-//! numbers as `crates/gpu/shaders/kernels/sppm_*.wgsl`. Each takes one element's input and
+//! numbers as `crates/gpu/shaders/kernels/sppm/*.wgsl`. Each takes one element's input and
 //! returns its output, so the backend can run them on rayon and the tests can run them alone.
 
 use std::f32::consts::FRAC_1_PI;

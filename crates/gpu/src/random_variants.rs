@@ -68,10 +68,10 @@ impl Generator {
     /// The label of its SPPM module.
     pub fn label(self) -> &'static str {
         match self {
-            Generator::Pcg => "sppm.wgsl",
-            Generator::TalkFloat => "sppm.wgsl + random_talk.wgsl",
-            Generator::Tea => "sppm.wgsl + random_tea.wgsl",
-            Generator::FractSin => "sppm.wgsl + random_fract_sin.wgsl",
+            Generator::Pcg => "sppm/*.wgsl",
+            Generator::TalkFloat => "sppm/*.wgsl + random_talk.wgsl",
+            Generator::Tea => "sppm/*.wgsl + random_tea.wgsl",
+            Generator::FractSin => "sppm/*.wgsl + random_fract_sin.wgsl",
         }
     }
 

@@ -29,8 +29,40 @@ const STORAGE_PART: &str = "shared/photon_storage_f32.wgsl";
 /// The files that can stand in that part ([`Module::source_with_precision`]).
 pub const STORAGE_PARTS: [&str; 2] = [STORAGE_PART, "shared/photon_storage_f16.wgsl"];
 const TEXTURES: &str = include_str!("../shaders/shared/textures.wgsl");
-const SHADING: &str = include_str!("../shaders/shared/shading.wgsl");
-const SPPM: &str = include_str!("../shaders/kernels/sppm.wgsl");
+/// A file under `shaders/` as a module's part: (its name there, its text).
+macro_rules! part {
+    ($name:literal) => {
+        ($name, include_str!(concat!("../shaders/", $name)))
+    };
+}
+/// What the SPPM kernels know about a hit and the arithmetic their paths share, a concern a
+/// file (each names the `render`/`cpu` functions it twins).
+const SHADING: [(&str, &str); 12] = [
+    part!("shared/shading/optics.wgsl"),
+    part!("shared/shading/packing.wgsl"),
+    part!("shared/shading/normals.wgsl"),
+    part!("shared/shading/surface.wgsl"),
+    part!("shared/shading/materials.wgsl"),
+    part!("shared/shading/media.wgsl"),
+    part!("shared/shading/thin_film.wgsl"),
+    part!("shared/shading/microfacet.wgsl"),
+    part!("shared/shading/coats.wgsl"),
+    part!("shared/shading/sheen.wgsl"),
+    part!("shared/shading/bounces.wgsl"),
+    part!("shared/shading/hash.wgsl"),
+];
+/// The SPPM kernels, twins of `cpu::kernels`: group 1's bindings, then a file per concern
+/// (lights, direct light, the photon pass, the eye pass, the hash and gather).
+const SPPM: [(&str, &str); 8] = [
+    part!("kernels/sppm/bindings.wgsl"),
+    part!("kernels/sppm/lights.wgsl"),
+    part!("kernels/sppm/light_sampling.wgsl"),
+    part!("kernels/sppm/direct_light.wgsl"),
+    part!("kernels/sppm/photon_pass.wgsl"),
+    part!("kernels/sppm/camera.wgsl"),
+    part!("kernels/sppm/eye_pass.wgsl"),
+    part!("kernels/sppm/gather.wgsl"),
+];
 const SKY_MAP: &str = include_str!("../shaders/shared/sky_map.wgsl");
 const DENSITY_STOCHASTIC: &str = include_str!("../shaders/shared/density_stochastic.wgsl");
 const DENSITY_FULL: &str = include_str!("../shaders/shared/density_full.wgsl");
@@ -67,7 +99,7 @@ pub enum Module {
     Trace,
     /// Benchmark ray generation (`raygen.wgsl`).
     Raygen,
-    /// The SPPM kernels (`sppm.wgsl`).
+    /// The SPPM kernels (`kernels/sppm/*.wgsl`, over `shared/shading/*.wgsl`).
     Sppm,
     /// The progressive image on screen: vertex and fragment shaders over the SPPM statistics
     /// (`display.wgsl`, used by [`crate::display`]); no scene bindings.
@@ -120,19 +152,23 @@ impl Module {
                 ("shared/random.wgsl", RANDOM),
                 ("kernels/raygen.wgsl", RAYGEN),
             ],
-            Module::Sppm => &[
-                ("shared/intersect.wgsl", INTERSECT),
-                ("shared/traverse.wgsl", TRAVERSE),
-                ("shared/random.wgsl", RANDOM),
-                ("shared/random_pcg.wgsl", RANDOM_PCG),
-                ("shared/sppm_types.wgsl", SPPM_TYPES),
-                (STORAGE_PART, STORAGE_F32),
-                ("shared/textures.wgsl", TEXTURES),
-                ("shared/shading.wgsl", SHADING),
-                ("shared/sky_map.wgsl", SKY_MAP),
-                ("kernels/sppm.wgsl", SPPM),
-                ("shared/density_stochastic.wgsl", DENSITY_STOCHASTIC),
-            ],
+            Module::Sppm => {
+                let mut parts = scene.to_vec();
+                parts.extend_from_slice(&[
+                    ("shared/intersect.wgsl", INTERSECT),
+                    ("shared/traverse.wgsl", TRAVERSE),
+                    ("shared/random.wgsl", RANDOM),
+                    ("shared/random_pcg.wgsl", RANDOM_PCG),
+                    ("shared/sppm_types.wgsl", SPPM_TYPES),
+                    (STORAGE_PART, STORAGE_F32),
+                    ("shared/textures.wgsl", TEXTURES),
+                ]);
+                parts.extend_from_slice(&SHADING);
+                parts.push(("shared/sky_map.wgsl", SKY_MAP));
+                parts.extend_from_slice(&SPPM);
+                parts.push(("shared/density_stochastic.wgsl", DENSITY_STOCHASTIC));
+                return parts;
+            }
             Module::SppmFullHash => {
                 return Module::Sppm.with_density(&[("shared/density_full.wgsl", DENSITY_FULL)]);
             }
@@ -210,11 +246,11 @@ impl Module {
         match self {
             Module::Trace => "trace.wgsl",
             Module::Raygen => "raygen.wgsl",
-            Module::Sppm => "sppm.wgsl",
+            Module::Sppm => "sppm/*.wgsl",
             Module::Display => "display.wgsl",
             Module::PhotonTraceNaive => "photon_trace_naive.wgsl",
-            Module::SppmFullHash => "sppm.wgsl + density_full.wgsl",
-            Module::SppmKdTree => "sppm.wgsl + density_kdtree.wgsl",
+            Module::SppmFullHash => "sppm/*.wgsl + density_full.wgsl",
+            Module::SppmKdTree => "sppm/*.wgsl + density_kdtree.wgsl",
             Module::SppmRandom(generator) => generator.label(),
         }
     }

@@ -1,4 +1,4 @@
-//! The GPU backend of the SPPM integrator: the kernels of `shaders/kernels/sppm.wgsl` on the
+//! The GPU backend of the SPPM integrator: the kernels of `shaders/kernels/sppm/*.wgsl` on the
 //! state of `render::buffers` in storage buffers. Each pass is one command buffer; the host
 //! never reads anything back per pass, and keeps at most [`MAX_PASSES_IN_FLIGHT`] submitted
 //! ahead so that progress and `--time` stay honest.
@@ -124,7 +124,8 @@ fn compile_kernels(
 /// What a scene uses that the kernels can be compiled without (WGSL `override` constants).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct SceneFeatures {
-    /// Some material, or its clear coat, has a normal map (`NORMAL_MAPS` in `shading.wgsl`).
+    /// Some material, or its clear coat, has a normal map (`NORMAL_MAPS` in
+    /// `shading/surface.wgsl`).
     pub normal_maps: bool,
     /// Some material is rough plastic, or plastic a metallic-roughness texture may roughen
     /// (`ROUGH_COATS`).
@@ -304,8 +305,8 @@ impl GpuBackend {
     }
 
     /// [`GpuBackend::new`] with the SPPM kernels compiled from `source` (WGSL holding the
-    /// entry points of `sppm.wgsl`, e.g. with another random generator): for benchmarks that
-    /// compare variants of one kernel.
+    /// entry points of `kernels/sppm/*.wgsl`, e.g. with another random generator): for
+    /// benchmarks that compare variants of one kernel.
     pub fn with_kernels(
         mut context: GpuContext,
         scene: &scene::Scene,

@@ -554,12 +554,21 @@ fn sppm_module_is_validated_and_binds_the_buffers_the_backend_counts() {
         "Module::ALL lacks Sppm"
     );
     let used: Vec<&str> = Module::Sppm.parts().iter().map(|(name, _)| *name).collect();
-    for part in [
-        "shared/sppm_types.wgsl",
-        "shared/shading.wgsl",
-        "kernels/sppm.wgsl",
-    ] {
-        assert!(used.contains(&part), "Module::Sppm lacks {part}");
+    assert!(
+        used.contains(&"shared/sppm_types.wgsl"),
+        "Module::Sppm lacks shared/sppm_types.wgsl"
+    );
+    // Every piece of the shading and of the kernels, each file of their folders.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    for folder in ["shared/shading", "kernels/sppm"] {
+        let mut files = Vec::new();
+        wgsl_files(&root.join(folder), &mut files);
+        assert!(!files.is_empty(), "no pieces in shaders/{folder}");
+        for path in files {
+            let relative = path.strip_prefix(&root).expect("under shaders/");
+            let part = relative.to_str().expect("UTF-8 path").replace('\\', "/");
+            assert!(used.contains(&part.as_str()), "Module::Sppm lacks {part}");
+        }
     }
     let source = Module::Sppm.source();
     let module = parse(&source, "sppm");
@@ -572,7 +581,7 @@ fn sppm_module_is_validated_and_binds_the_buffers_the_backend_counts() {
     assert_eq!(
         storage as u32,
         gpu::sppm::SPPM_STORAGE_BUFFERS,
-        "storage buffers bound by sppm.wgsl vs gpu::sppm::SPPM_STORAGE_BUFFERS"
+        "storage buffers bound by Module::Sppm vs gpu::sppm::SPPM_STORAGE_BUFFERS"
     );
 }
 

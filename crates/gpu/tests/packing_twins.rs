@@ -1,6 +1,6 @@
 //! The packed words of murky glass (`render::packing`: `surface_normal`, `photon_normal`,
 //! `volume_photon_direction`, `volume_point_direction`, `unpack_volume_point`) against their
-//! WGSL twins in `shading.wgsl`, bit for bit: the kernel twins (`sppm_twins.rs`) compare
+//! WGSL twins in `shading/packing.wgsl`, bit for bit: the kernel twins (`sppm_twins.rs`) compare
 //! packed normals by the cosine between them, which would let a misplaced flag bit or
 //! asymmetry level through. The direction's own bits follow `pack_normal`, which may round a
 //! half the other way ([`FLAG_BITS`]). Directions over the sphere and asymmetries over [−1, 1] (each of
@@ -29,7 +29,7 @@ const FLAG_BITS: [u32; 4] = [
     0x001e_001f | VOLUME_BIT,
 ];
 
-/// Appended to the SPPM module (for `shading.wgsl`), binding past its group 1 buffers as
+/// Appended to the SPPM module (for `shading/packing.wgsl`), binding past its group 1 buffers as
 /// `kdtree_query.wgsl` does: per query (direction, g), the words surface_normal,
 /// photon_normal (caustic), volume_photon_direction and volume_point_direction, then the
 /// bits of unpack_volume_point of the CPU's volume_point_direction word (given in `.w`'s

@@ -1,4 +1,4 @@
-//! The SPPM kernels of `sppm.wgsl` against their CPU twins (`cpu::kernels`), which draw the
+//! The SPPM kernels (`sppm/*.wgsl`) against their CPU twins (`cpu::kernels`), which draw the
 //! same random numbers, so the two agree element by element up to float rounding (GPU sin, cos,
 //! sqrt and fused multiply-adds). Rounding may flip a branch (Russian roulette, Fresnel choice,
 //! a hash cell) and send one path elsewhere, so a small share of elements may differ: the share

@@ -1,7 +1,8 @@
 //! Blended materials (`scene::Blend`): which member surface a hit takes, and which member
 //! keeps the photons that land on the blend; and where glTF's metallic-roughness texture maps
 //! a material (`scene::RoughnessMap`), the member's weight and surface at the hit. The
-//! kernels' twins (`blend_member`, `mapped_material` in `shading.wgsl`) run the same arithmetic.
+//! kernels' twins (`blend_member`, `mapped_material` in `shading/materials.wgsl`) run the same
+//! arithmetic.
 
 use std::borrow::Cow;
 

@@ -4,7 +4,7 @@
 //! beneath, untinted and unrefracted, as glTF's model has it: the material beneath is dimmed
 //! by `1 − weight · F` on the way in and again on the way out.
 //!
-//! The kernels (CPU, WGSL twins in `shading.wgsl`, the path tracer) meet the coat first at a
+//! The kernels (CPU, WGSL twins in `shading/coats.wgsl`, the path tracer) meet the coat first at a
 //! hit ([`clearcoat_event`]): reflected with that probability, weight 1 (a rough coat reflects
 //! about a visible GGX micro-normal, weight `G1` of the reflection, as rough metal does: the
 //! choice keeps the surface's Fresnel rather than the micro-normal's, whose ratio to it would

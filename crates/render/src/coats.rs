@@ -1,6 +1,6 @@
 //! Every material's plastic coat as the kernels look it up ([`Coats`]), shared by the CPU
 //! backend, the path tracer and the GPU upload (whose WGSL twins are `coat_transmittance_of`
-//! and `coat_diffuse_scale_of` in `shading.wgsl`).
+//! and `coat_diffuse_scale_of` in `shading/coats.wgsl`).
 //!
 //! A coat's tables ([`Coat`]) depend on its GGX width: for ior 1.5 the base's scale falls from
 //! 1.10 (smooth) to 0.83 at roughness 0.49 and the transmittance at cosine 0.05 rises from

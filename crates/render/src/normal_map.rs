@@ -1,5 +1,6 @@
 //! Tangent-space normal maps and the shading-normal factors of photon transport, shared by the
-//! CPU backend (`cpu::surface`, `cpu::kernels`) and their WGSL twins in `shading.wgsl`.
+//! CPU backend (`cpu::surface`, `cpu::kernels`) and their WGSL twins in
+//! `shading/normals.wgsl`.
 //!
 //! A map's texel (r, g, b) is the normal (2r − 1, 2g − 1, 2b − 1) in a frame whose X runs
 //! along increasing u, whose Y points to the image's top (decreasing v: texture rows run top to

@@ -3,7 +3,7 @@
 //! Gems II). Near the terminator of a coarse mesh (a sphere of a few hundred triangles) the
 //! shading normal still faces the light where the facet's neighbour already blocks a ray from
 //! the facet: the lit side ends in a staircase of facets instead of a smooth curve. Shared by
-//! `cpu::surface`, the path tracer and their WGSL twin in `shading.wgsl`.
+//! `cpu::surface`, the path tracer and their WGSL twin in `shading/normals.wgsl`.
 
 use glam::Vec3;
 

@@ -16,7 +16,7 @@
 //! smaller of the two factors instead; the product keeps the layer reciprocal, as the clear
 //! coat is here (`render::clearcoat`), and the two differ only where the sheen is bright.
 //!
-//! The kernels (CPU, WGSL twins in `shading.wgsl`, the path tracer) meet the sheen after the
+//! The kernels (CPU, WGSL twins in `shading/sheen.wgsl`, the path tracer) meet the sheen after the
 //! clear coat ([`sheen_event`]): it reflects with that probability, into a cosine-distributed
 //! direction weighted by the lobe over the choice ([`SheenTable::lobe_scale`]: choice and
 //! weight together return `C · E · min(1, 1/E)`, the table's error moving only the choice), or

@@ -1,5 +1,5 @@
 //! The sky's environment map as the kernels read it (`scene::SkyMap`): one flat buffer of f32
-//! that the CPU kernels and the GPU's (`sky_map` in sppm.wgsl) read alike, and the
+//! that the CPU kernels and the GPU's (`sky_map` in `kernels/sppm/`) read alike, and the
 //! lookups and importance sampling both sides do on it.
 //!
 //! Radiance is bilinear between texel centres (`scene::SkyMap::radiance_at`), so the map is

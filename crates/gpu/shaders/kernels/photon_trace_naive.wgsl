@@ -2,7 +2,7 @@
 // "one pixel = one photon path"): every invocation starts a new light path and loops bounce
 // after bounce until it ends, so its SIMD group waits for the group's longest path. Twin of
 // cpu::kernels::photon_trace_naive; measured by `kousen bench photons` (render::PhotonTracing).
-// The bounce is sppm.wgsl's photon_step, the one photon_pass runs.
+// The bounce is sppm/photon_pass.wgsl's photon_step, the one photon_pass runs.
 
 // Per slot, the segments its path took (bounces and alpha pass-throughs).
 @group(3) @binding(0) var<storage, read_write> path_segments: array<u32>;

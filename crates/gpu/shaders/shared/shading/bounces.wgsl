@@ -1,0 +1,147 @@
+// How a path leaves a surface, by its kind: the Lambertian bounce, plastic's coat or base,
+// the specular and rough directions, smooth glass's branches, and the tints films give them.
+
+// cpu::surface::diffuse_bounce: weight 0 where it would go below the geometric surface.
+fn diffuse_bounce(hit: SurfaceHit, u1: f32, u2: f32) -> Scattered {
+    let next = cosine_direction(hit.shading, u1, u2);
+    return Scattered(next, select(0.0, 1.0, dot(next, hit.geometric) > 0.0));
+}
+
+// cpu::surface::plastic_bounce (render::plastic::coat_event): `base` true where the light
+// passes the coat to the base, whose estimate it multiplies by `base_weight`; otherwise the
+// coat's reflection (weight 0 where the path ends).
+struct PlasticBounce {
+    base: bool,
+    base_weight: f32,
+    coat: Scattered,
+}
+
+fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, u_choice: f32, u1: f32, u2: f32) -> PlasticBounce {
+    let ior = material.ior;
+    let alpha = material.roughness_alpha;
+    let normal = hit.shading;
+    let cos_view = -dot(incoming, normal);
+    let none = Scattered(vec3<f32>(0.0), 0.0);
+    if alpha == 0.0 {
+        if u_choice < coat_reflectance(cos_view, ior) {
+            return PlasticBounce(false, 0.0, Scattered(reflect_about(incoming, normal), 1.0));
+        }
+        return PlasticBounce(true, 1.0, none);
+    }
+    let frame = frame_about(normal);
+    let view = to_local(frame, -incoming);
+    if view.z <= 0.0 {
+        return PlasticBounce(true, 1.0, none);
+    }
+    let micro = sample_visible_normal(view, alpha, u1, u2);
+    let micro_reflectance = coat_reflectance(dot(view, micro), ior);
+    if u_choice < micro_reflectance {
+        let out = reflect_about(-view, micro);
+        let weight = smith_g1(out, alpha);
+        let next = to_world(frame, out);
+        if weight <= 0.0 || dot(next, hit.geometric) <= 0.0 {
+            return PlasticBounce(false, 0.0, none);
+        }
+        return PlasticBounce(false, 0.0, Scattered(next, weight));
+    }
+    return PlasticBounce(true, coat_transmittance_of(hit.material, alpha, cos_view) / (1.0 - micro_reflectance), none);
+}
+
+// cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.
+fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film, u: f32, u_second: f32, u_third: f32) -> Scattered {
+    let normal = hit.shading;
+    if material.surface == SURFACE_ROUGH_CONDUCTOR {
+        if ANISOTROPY && any(hit.brush != vec3<f32>(0.0)) {
+            return brushed_reflection(hit, incoming, material.roughness_alpha, u, u_second);
+        }
+        return rough_reflection(hit, incoming, material.roughness_alpha, u, u_second);
+    }
+    if material.surface == SURFACE_ROUGH_DIELECTRIC {
+        return rough_dielectric(material, hit, incoming, u, u_second, u_third);
+    }
+    if material.surface == SURFACE_MIRROR {
+        return Scattered(reflect_about(incoming, normal), 1.0);
+    }
+    let branches = dielectric_branches(material, hit, incoming, film);
+    if u < branches.reflectance {
+        return Scattered(branches.reflected, 1.0);
+    }
+    return Scattered(branches.transmitted, 1.0);
+}
+
+// cpu::surface::DielectricBranches: reflected with probability `reflectance`, else
+// transmitted (refracted; straight on through a thin-walled sheet; reflected at total
+// internal reflection); under a thin film each channel's share reflected is
+// `film_reflectance`.
+struct DielectricBranches {
+    reflectance: f32,
+    film_reflectance: vec3<f32>,
+    reflected: vec3<f32>,
+    transmitted: vec3<f32>,
+}
+
+// cpu::surface::dielectric_branches.
+fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film) -> DielectricBranches {
+    let normal = hit.shading;
+    let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
+    let eta = relative_eta(material.ior, hit.front, thin_walled);
+    let cos_incident = -dot(incoming, normal);
+    var reflectance = fresnel_dielectric(cos_incident, eta);
+    var film_reflectance = vec3<f32>(reflectance);
+    if IRIDESCENCE && film.factor > 0.0 {
+        film_reflectance = iridescent_dielectric(reflectance, film, cos_incident, material.ior, hit.front || thin_walled);
+    }
+    if thin_walled {
+        reflectance = 2.0 * reflectance / (1.0 + reflectance);
+        film_reflectance = 2.0 * film_reflectance / (vec3<f32>(1.0) + film_reflectance);
+    }
+    if IRIDESCENCE && film.factor > 0.0 {
+        reflectance = (film_reflectance.x + film_reflectance.y + film_reflectance.z) / 3.0;
+    }
+    let reflected = reflect_about(incoming, normal);
+    var transmitted = incoming;
+    if !thin_walled {
+        transmitted = refract_or_reflect(incoming, normal, eta);
+    }
+    return DielectricBranches(reflectance, film_reflectance, reflected, transmitted);
+}
+
+// cpu::surface::DielectricBranches::weight.
+fn branch_weight(branches: DielectricBranches, reflected: bool) -> vec3<f32> {
+    if reflected {
+        if branches.reflectance > 0.0 {
+            return branches.film_reflectance / branches.reflectance;
+        }
+        return vec3<f32>(0.0);
+    }
+    if branches.reflectance < 1.0 {
+        return (vec3<f32>(1.0) - branches.film_reflectance) / (1.0 - branches.reflectance);
+    }
+    return vec3<f32>(0.0);
+}
+
+// cpu::surface::bounce_tint.
+fn bounce_tint_of(material: GpuMaterial, tint: vec3<f32>, film: Film, hit: SurfaceHit, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
+    if IRIDESCENCE && material.surface == SURFACE_DIELECTRIC && film.factor > 0.0 {
+        let branches = dielectric_branches(material, hit, incoming, film);
+        return tint * branch_weight(branches, all(next == branches.reflected));
+    }
+    if IRIDESCENCE && material.surface == SURFACE_ROUGH_DIELECTRIC && film.factor > 0.0 {
+        let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
+        let eta = relative_eta(material.ior, hit.front, thin_walled);
+        return tint * rough_dielectric_film_weight(film, -incoming, next, hit.shading, eta, thin_walled);
+    }
+    return metal_bounce_tint(material, tint, film, incoming, next);
+}
+
+// cpu::surface::eye_crossing_scale: an eye path's render::optics::eye_refraction_scale where
+// `next` crosses a solid dielectric's surface; 1 for every other way on.
+fn eye_crossing_scale(material: GpuMaterial, hit: SurfaceHit, next: vec3<f32>) -> f32 {
+    let dielectric = material.surface == SURFACE_DIELECTRIC || material.surface == SURFACE_ROUGH_DIELECTRIC;
+    let solid = (material.flags & MATERIAL_THIN_WALLED) == 0u;
+    if dielectric && solid && dot(next, hit.geometric) < 0.0 {
+        let eta = relative_eta(material.ior, hit.front, false);
+        return eta * eta;
+    }
+    return 1.0;
+}

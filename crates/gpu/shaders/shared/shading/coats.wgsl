@@ -1,0 +1,163 @@
+// The coats over a surface: plastic's (render::plastic's tables, render::coats' grids under
+// a metallic-roughness texture) and glTF's clear coat (render::clearcoat).
+
+// ---- render::plastic ----
+fn coat_reflectance(cos_view: f32, ior: f32) -> f32 {
+    return fresnel_dielectric(abs(cos_view), 1.0 / ior);
+}
+
+fn coat_transmittance(cos_view: f32, ior: f32) -> f32 {
+    return 1.0 - coat_reflectance(cos_view, ior);
+}
+
+// render::plastic::Coat::transmittance of the table in record `record` (a material, or a
+// coat grid's node): cosines (i / (COAT_NODES − 1))², interpolated linearly, its two nodes
+// read straight from the storage buffer (a copy of the table to index it cost lavapipe's
+// plastic scenes ~14 %).
+fn coat_table(record: u32, cos_view: f32) -> f32 {
+    let node = table_node(cos_view, COAT_NODES);
+    let j = node.i + 1u;
+    let first = materials[record].coat_transmittance[node.i / 4u][node.i % 4u];
+    let second = materials[record].coat_transmittance[j / 4u][j % 4u];
+    return first * (1.0 - node.t) + second * node.t;
+}
+
+// Where cosine `cos` falls in a table of `count` nodes at cosines (i / (count − 1))²: the node
+// below it and the weight of the one above (render::plastic::Coat::transmittance,
+// render::sheen::SheenTable::albedo).
+struct TableNode {
+    i: u32,
+    t: f32,
+}
+
+fn table_node(cos: f32, count: u32) -> TableNode {
+    let x = sqrt(min(abs(cos), 1.0)) * f32(count - 1u);
+    let i = min(u32(x), count - 2u);
+    return TableNode(i, x - f32(i));
+}
+
+// render::coats::CoatGrid::at: the records of the rough nodes about width `alpha` of material
+// `id`'s grid, and the weight of the second.
+struct CoatNodes {
+    lower: u32,
+    upper: u32,
+    t: f32,
+}
+
+fn coat_grid_nodes(id: u32, alpha: f32) -> CoatNodes {
+    let first = materials[id].coat_grid_first + 1u;
+    let last = materials[id].coat_grid_nodes - 1u;
+    if last == 0u {
+        return CoatNodes(first, first, 0.0);
+    }
+    let x = clamp((sqrt(alpha) - materials[id].coat_grid_roughness) / materials[id].coat_grid_step, 0.0, f32(last));
+    let i = min(u32(x), last - 1u);
+    return CoatNodes(first + i, first + i + 1u, x - f32(i));
+}
+
+// Whether material `id`'s coat follows a metallic-roughness texture (a grid of tables).
+fn has_coat_grid(id: u32) -> bool {
+    return ROUGHNESS_MAPS && materials[id].coat_grid_nodes > 0u;
+}
+
+// render::coats::Coats::at(id, ..).transmittance: the coat of material `id` at a hit where its
+// width is `alpha` (mapped_material's): a smooth coat's 1 − F, a rough one's table, a mapped
+// one's grid interpolated entry by entry, then in the cosine, as the CPU twin does.
+fn coat_transmittance_of(id: u32, alpha: f32, cos_view: f32) -> f32 {
+    if !ROUGH_COATS || alpha <= 0.0 {
+        return coat_transmittance(cos_view, materials[id].ior);
+    }
+    if !has_coat_grid(id) {
+        return coat_table(id, cos_view);
+    }
+    let nodes = coat_grid_nodes(id, alpha);
+    let x = sqrt(min(abs(cos_view), 1.0)) * f32(COAT_NODES - 1u);
+    let i = min(u32(x), COAT_NODES - 2u);
+    let s = x - f32(i);
+    let j = i + 1u;
+    let t = nodes.t;
+    let first = materials[nodes.lower].coat_transmittance[i / 4u][i % 4u] * (1.0 - t)
+        + materials[nodes.upper].coat_transmittance[i / 4u][i % 4u] * t;
+    let second = materials[nodes.lower].coat_transmittance[j / 4u][j % 4u] * (1.0 - t)
+        + materials[nodes.upper].coat_transmittance[j / 4u][j % 4u] * t;
+    return first * (1.0 - s) + second * s;
+}
+
+// render::plastic::Coat::diffuse_scale of the same coat.
+fn coat_diffuse_scale_of(id: u32, alpha: f32) -> f32 {
+    if !has_coat_grid(id) {
+        return materials[id].coat_diffuse_scale;
+    }
+    if alpha <= 0.0 {
+        return materials[materials[id].coat_grid_first].coat_diffuse_scale;
+    }
+    let nodes = coat_grid_nodes(id, alpha);
+    return materials[nodes.lower].coat_diffuse_scale * (1.0 - nodes.t)
+        + materials[nodes.upper].coat_diffuse_scale * nodes.t;
+}
+
+// ---- render::clearcoat ----
+// clearcoat_reflectance: the share of light meeting a clear coat of `weight` at cosine `cos`
+// that it reflects.
+fn clearcoat_reflectance(weight: f32, cos: f32) -> f32 {
+    return weight * fresnel_dielectric(abs(cos), 1.0 / CLEARCOAT_IOR);
+}
+
+// clearcoat_transmittance: 1 without a coat (weight 0).
+fn clearcoat_transmittance(weight: f32, cos: f32) -> f32 {
+    if !CLEARCOATS {
+        return 1.0;
+    }
+    return 1.0 - clearcoat_reflectance(weight, cos);
+}
+
+// render::clearcoat::clearcoat_at (scene::Clearcoat::at): `material`'s coat where the hit's
+// texture coordinates are `uv`, as (weight, GGX width).
+struct Clearcoat {
+    weight: f32,
+    alpha: f32,
+}
+
+fn clearcoat_at(material: GpuMaterial, uv: vec2<f32>) -> Clearcoat {
+    var weight_texel = 1.0;
+    var roughness_texel = 1.0;
+    if material.clearcoat_texture != NO_TEXTURE {
+        weight_texel = sample_texture(material.clearcoat_texture, uv).x;
+    }
+    if material.clearcoat_roughness_texture != NO_TEXTURE {
+        roughness_texel = sample_texture(material.clearcoat_roughness_texture, uv).y;
+    }
+    let scale = clamp(roughness_texel, 0.0, 1.0);
+    var alpha = material.clearcoat_alpha * (scale * scale);
+    if alpha < MIRROR_MAX_ROUGHNESS * MIRROR_MAX_ROUGHNESS {
+        alpha = 0.0;
+    }
+    return Clearcoat(material.clearcoat * clamp(weight_texel, 0.0, 1.0), alpha);
+}
+
+// cpu::surface::clearcoat_bounce (render::clearcoat::clearcoat_event about the normal before
+// the normal map, its numbers drawn as clearcoat_numbers does): `reflected` where the coat
+// reflects the ray (weight 0 where the path ends), otherwise it passes to the surface beneath.
+struct ClearcoatBounce {
+    reflected: bool,
+    bounce: Scattered,
+}
+
+fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32>, rng: ptr<function, Rng>) -> ClearcoatBounce {
+    var hit = surface_hit;
+    hit.shading = surface_hit.interpolated;
+    let u_choice = next_f32(rng);
+    var u_micro = vec2<f32>(0.0);
+    if coat.alpha > 0.0 {
+        let u1 = next_f32(rng);
+        let u2 = next_f32(rng);
+        u_micro = vec2<f32>(u1, u2);
+    }
+    if u_choice >= clearcoat_reflectance(coat.weight, -dot(incoming, hit.shading)) {
+        return ClearcoatBounce(false, Scattered(vec3<f32>(0.0), 0.0));
+    }
+    if coat.alpha == 0.0 {
+        return ClearcoatBounce(true, Scattered(reflect_about(incoming, hit.shading), 1.0));
+    }
+    return ClearcoatBounce(true, rough_reflection(hit, incoming, coat.alpha, u_micro.x, u_micro.y));
+}

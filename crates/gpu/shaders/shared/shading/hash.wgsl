@@ -1,0 +1,109 @@
+// render::hash: the photon hash's cells, classes and table entries, shared by its build (the
+// SPPM kernels) and its queries (density_*.wgsl).
+
+// ---- render::hash ----
+fn hash_cell_size(max_radius: f32) -> f32 {
+    return max(2.0 * max_radius * CELL_SLACK, 1.17549435e-38 * 4.0);
+}
+
+// render::hash::largest_radius: the inverse of hash_cell_size.
+fn largest_radius(cell_size: f32) -> f32 {
+    return cell_size * (0.5 / CELL_SLACK);
+}
+
+// render::hash::cell_of: the grid offset by half a cell (no boundary on the plane 0).
+fn cell_of(position: vec3<f32>, cell_size: f32) -> vec3<i32> {
+    return vec3<i32>(floor(position / cell_size + 0.5));
+}
+
+// render::buffers::SppmParams::hash_classes.
+fn hash_classes() -> u32 {
+    return max(params.photon_classes, 1u);
+}
+
+// render::hash::photon_class: where the scene keeps classes apart, 1–3 for a photon with a
+// channel of zero (its brightest channel, the first of equals), 0 otherwise.
+fn photon_class(flux: vec3<f32>) -> u32 {
+    if hash_classes() <= 1u || min(min(flux.x, flux.y), flux.z) > 0.0 {
+        return 0u;
+    }
+    if flux.x >= flux.y && flux.x >= flux.z {
+        return 1u;
+    }
+    return select(3u, 2u, flux.y >= flux.z);
+}
+
+// render::hash::entry_count: a count word's count, the class marks cleared.
+fn class_entry_count(word: u32, classes: u32) -> u32 {
+    if classes > 1u {
+        return word & ((1u << CLASS_MARK_SHIFT) - 1u);
+    }
+    return word;
+}
+
+// render::hash::class_mark.
+fn class_mark(photon_table: u32) -> u32 {
+    return 1u << (CLASS_MARK_SHIFT + photon_table - 1u);
+}
+
+fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {
+    let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z))));
+    return h % table_size;
+}
+
+// The table entry of the 2×2×2 block's cell `lo + d`, or NO_CELL where that cell lies past
+// the gather sphere's box (`span`: 0 or 1 per axis).
+const NO_CELL: u32 = 0xffffffffu;
+
+fn block_entry(lo: vec3<i32>, span: vec3<i32>, d: vec3<i32>) -> u32 {
+    if any(d > span) {
+        return NO_CELL;
+    }
+    return entry_of(lo + d, params.hash_size);
+}
+
+// render::hash::query_entries: the distinct table entries a gather sphere's box touches, in the
+// twin's order (x fastest, then y, then z; an entry reached again by a collision kept at its
+// first cell). The eight cells of the block from the box's lowest cell, each NO_CELL where
+// it is past the box or repeats an earlier entry: fixed slots in two vectors rather than a
+// list grown per invocation, which CPU-type adapters (lavapipe) store and read lane by lane
+// (the gather took a third less time through lavapipe).
+struct QueryEntries {
+    low: vec4<u32>,
+    high: vec4<u32>,
+}
+
+fn query_entries(position: vec3<f32>, radius: f32, cell_size: f32) -> QueryEntries {
+    let lo = cell_of(position - vec3<f32>(radius), cell_size);
+    let span = min(cell_of(position + vec3<f32>(radius), cell_size) - lo, vec3<i32>(1));
+    let a = vec4<u32>(
+        block_entry(lo, span, vec3<i32>(0, 0, 0)),
+        block_entry(lo, span, vec3<i32>(1, 0, 0)),
+        block_entry(lo, span, vec3<i32>(0, 1, 0)),
+        block_entry(lo, span, vec3<i32>(1, 1, 0)),
+    );
+    let b = vec4<u32>(
+        block_entry(lo, span, vec3<i32>(0, 0, 1)),
+        block_entry(lo, span, vec3<i32>(1, 0, 1)),
+        block_entry(lo, span, vec3<i32>(0, 1, 1)),
+        block_entry(lo, span, vec3<i32>(1, 1, 1)),
+    );
+    // Whether each slot repeats an entry of a slot before it.
+    let a_seen = vec4<bool>(false, a.y == a.x, any(a.zz == a.xy), any(a.www == a.xyz));
+    let b_seen = vec4<bool>(
+        any(b.xxxx == a),
+        any(b.yyyy == a) || b.y == b.x,
+        any(b.zzzz == a) || any(b.zz == b.xy),
+        any(b.wwww == a) || any(b.www == b.xyz),
+    );
+    let none = vec4<u32>(NO_CELL);
+    return QueryEntries(select(a, none, a_seen), select(b, none, b_seen));
+}
+
+// The entry in slot `slot` (0–7) of a query, or NO_CELL.
+fn query_entry(query: QueryEntries, slot: u32) -> u32 {
+    if slot < 4u {
+        return query.low[slot];
+    }
+    return query.high[slot - 4u];
+}

@@ -1049,7 +1049,8 @@ fn every_kernel_matches_its_twin_in_the_murky_cornell_box() {
 /// so that walks keep volume photons at every step, their roulette ends many, and many reach
 /// the core, where the slot keeps the volume photon or the landed one by one more number. The
 /// twin in the furnace meets these too rarely to notice a wrong draw (dropping that number
-/// left it passing); here each such slot would differ.
+/// left it passing); here each such slot would differ. Two slots in three carry a walk from
+/// earlier steps (a hero and skewed densities), which goes on without a new hero.
 #[test]
 fn photon_walks_in_murky_glass_match_their_twin() {
     let scene = scene::testing::furnace_with_murky_glass(glam::Vec3::new(4.0, 2.0, 1.0), 0.5, 1.33);
@@ -1083,7 +1084,12 @@ fn photon_walks_in_murky_glass_match_their_twin() {
                 glass as u32,
                 render::dispersion::WHOLE_SPECTRUM,
             ),
-            ..PathSlot::IDLE
+            walk_densities: [1.6, 0.9, 0.5],
+            walk_hero: if i % 3 == 2 {
+                render::scattering::NO_WALK
+            } else {
+                i % 3
+            },
         })
         .collect();
     let mut snapshot = g.backend().snapshot().expect("snapshot");

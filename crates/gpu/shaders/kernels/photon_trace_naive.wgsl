@@ -28,7 +28,7 @@ fn photon_trace_naive(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num
     }
     let path = naive_path(atomicLoad(&counters[COUNTER_PASS]), index);
     let limit = naive_segment_limit();
-    var slot = PathSlot(vec3<f32>(0.0), SLOT_IDLE, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
+    var slot = PathSlot(vec3<f32>(0.0), SLOT_IDLE, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u, vec3<f32>(1.0), NO_WALK);
     var photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     var segments = 0u;
     loop {

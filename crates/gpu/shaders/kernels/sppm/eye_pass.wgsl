@@ -102,6 +102,9 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
     // cpu::kernels::eye_path's glossy vertex: emission met next is weighed against the light
     // sample taken there.
     var glossy = GlossyVertex(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    // cpu::kernels::eye_path: the path's walk through murky glass, one over all its flights
+    // there (hero NO_WALK until the first draws it).
+    var walk = Walk(NO_WALK, vec3<f32>(1.0), vec3<f32>(1.0));
     while depth < params.max_depth {
         var hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
         if probing {
@@ -131,7 +134,9 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         // volume visible point; else it passes, weighed by what is not scattered.
         if is_murky_glass(medium) {
             let murky = materials[medium];
-            var walk = walk_start(next_f32(rng));
+            if walk.hero == NO_WALK {
+                walk = walk_start(next_f32(rng));
+            }
             let t = walk_flight(&walk, murky.absorption, murky.scattering, hit.distance, next_f32(rng));
             if t >= 0.0 {
                 let weight = throughput * walk_weight_over_scattering(walk, murky.scattering);
@@ -142,6 +147,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 break;
             }
             throughput *= walk.weight;
+            walk.weight = vec3<f32>(1.0);
         } else {
             throughput *= transmittance_to(medium, hit);
         }

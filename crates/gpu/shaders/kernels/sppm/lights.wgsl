@@ -160,5 +160,5 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         direction = normalize(cosine_direction(normal, u_direction, u4));
     }
     // render::emission::sample_emission: the path starts in the light's medium.
-    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, pack_slot_state(false, light.medium, WHOLE_SPECTRUM));
+    return PathSlot(origin + params.epsilon * normal, 0u, direction, 0u, flux, pack_slot_state(false, light.medium, WHOLE_SPECTRUM), vec3<f32>(1.0), NO_WALK);
 }

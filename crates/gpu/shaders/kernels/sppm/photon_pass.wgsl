@@ -15,10 +15,14 @@ struct PhotonSegment {
     flux: vec3<f32>,
     scattered: bool,
     volume_photon: Photon,
+    // The path's walk after the segment, its weight in flux (walked false: it did not walk).
+    walked: bool,
+    walk: Walk,
 }
 
 // cpu::kernels::photon_segment: straight through a clear or absorbing medium, a walk from
-// scattering to scattering inside a scattering solid, drawing the same numbers; in murky
+// scattering to scattering inside a scattering solid (the path's, going on from the slot's;
+// its hero drawn where the path has not walked), drawing the same numbers; in murky
 // glass one more number at each scattering event keeps it as the step's volume photon with
 // probability 1/events (a reservoir of one), whose flux is multiplied by the events at the
 // end.
@@ -26,6 +30,7 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
     var segment: PhotonSegment;
     segment.scattered = false;
     segment.walking = false;
+    segment.walked = false;
     segment.volume_photon = Photon(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     var origin = slot.origin;
     var direction = slot.direction;
@@ -46,7 +51,12 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
     let scattering = materials[medium].scattering;
     let anisotropy = materials[medium].scatter_anisotropy;
     let murky = is_murky_glass(medium);
-    var walk = walk_start(next_f32(rng));
+    var walk: Walk;
+    if slot.walk_hero == NO_WALK {
+        walk = walk_start(next_f32(rng));
+    } else {
+        walk = walk_resume(slot.walk_hero, slot.walk_densities);
+    }
     var events = 0u;
     var kept = segment.volume_photon;
     loop {
@@ -62,6 +72,8 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
             segment.direction = direction;
             segment.flux = slot.flux * walk.weight;
             segment.scattered = events > 0u;
+            segment.walked = true;
+            segment.walk = walk;
             if murky && events > 0u {
                 segment.volume_photon = times_events(kept, events);
             }
@@ -90,6 +102,8 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
             segment.direction = direction;
             segment.flux = slot.flux * walk.weight;
             segment.scattered = true;
+            segment.walked = true;
+            segment.walk = walk;
             if murky {
                 segment.volume_photon = times_events(kept, events);
             }
@@ -148,6 +162,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // cpu::kernels: the volume photon a walk in murky glass kept, whatever comes next.
     if MURKY_GLASS {
         photon = segment.volume_photon;
+    }
+    // cpu::kernels: the slot carries the path's walk on (its weight is in the flux).
+    if SCATTERING && segment.walked {
+        slot.walk_hero = segment.walk.hero;
+        slot.walk_densities = segment.walk.densities;
     }
     if !segment.found {
         slot.depth = SLOT_IDLE;

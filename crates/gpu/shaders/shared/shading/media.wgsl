@@ -84,6 +84,12 @@ fn walk_start(u: f32) -> Walk {
     return Walk(min(u32(u * 3.0), 2u), vec3<f32>(1.0), vec3<f32>(1.0));
 }
 
+// render::scattering::Walk::resume: a path's walk from the hero and densities it carried, its
+// weight since handed to the path (a hero of NO_WALK: the path has not walked; not called).
+fn walk_resume(hero: u32, densities: vec3<f32>) -> Walk {
+    return Walk(min(hero, 2u), vec3<f32>(1.0), densities);
+}
+
 // render::scattering::Walk::flight: the distance to the scattering event, or -1 where the
 // walk reaches the segment's end.
 fn walk_flight(walk: ptr<function, Walk>, extinction: vec3<f32>, scattering: vec3<f32>, distance: f32, u: f32) -> f32 {

@@ -105,7 +105,7 @@ fn sppm_photons_over_a_lowered_binding_limit_are_refused_in_words() {
     let slot_bytes = (settings.photons as usize * size_of::<render::buffers::PathSlot>()) as u64;
     let photon_bytes = (settings.photons as usize * size_of::<render::buffers::Photon>()) as u64;
     // Simulate a smaller device: the scene and every per-pixel buffer fit, the photon
-    // buffers (1 Mi slots: 48 MiB of path slots, 32 MiB of photons) do not.
+    // buffers (1 Mi slots: 64 MiB of path slots, 32 MiB of photons) do not.
     let limit = 16 << 20;
     assert!(photon_bytes > limit && slot_bytes > limit);
     context.limits.max_storage_buffer_binding_size = limit;
@@ -122,9 +122,10 @@ fn sppm_photons_over_a_lowered_binding_limit_are_refused_in_words() {
         ),
         "{error:?}"
     );
-    // The first buffer checked that breaks the limit: the path slots, 48 MiB.
+    // The first buffer checked that breaks the limit: the path slots, 64 MiB.
     assert!(message.contains("photon_slots"), "{message}");
-    assert!(message.contains("48.0 MiB"), "{message}");
+    let expected = format!("{:.1} MiB", slot_bytes as f64 / (1 << 20) as f64);
+    assert!(message.contains(&expected), "{message}");
     assert!(
         message.contains("max_storage_buffer_binding_size = 16.0 MiB"),
         "{message}"

@@ -63,6 +63,9 @@ pub struct DisplayParams {
 pub struct DisplaySource {
     /// `array<PixelStats>`, `width × height` of them, row-major, top row first.
     pub pixels: wgpu::Buffer,
+    /// Their volume photons' τ (`array<vec4<f32>>`): one a pixel where the scene has murky
+    /// glass, else one zero element. Allocated with `pixels`.
+    pub volume_tau: wgpu::Buffer,
     /// The counters (`render::buffers::counter`); the emitted-path total is read from them.
     pub counters: wgpu::Buffer,
     pub width: u32,
@@ -184,6 +187,7 @@ impl DisplayPass {
                 layout_entry(0, wgpu::BufferBindingType::Uniform),
                 layout_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
                 layout_entry(2, wgpu::BufferBindingType::Storage { read_only: true }),
+                layout_entry(3, wgpu::BufferBindingType::Storage { read_only: true }),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -264,6 +268,10 @@ impl DisplayPass {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: source.counters.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: source.volume_tau.as_entire_binding(),
                 },
             ],
         })

@@ -12,8 +12,8 @@ pub use naive::NAIVE_STORAGE_BUFFERS;
 
 use render::backend::{Backend, BackendError, Setup, Snapshot, Statistics};
 use render::buffers::{
-    HASH_ENTRY_WORDS, Light, PathSlot, Photon, PixelStats, SppmParams, VisiblePoint, counter,
-    emitted_total,
+    HASH_ENTRY_WORDS, Light, PIXEL_STATS_SURFACE_BYTES, PathSlot, Photon, PixelStats, SppmParams,
+    VisiblePoint, counter, emitted_total,
 };
 use render::half_storage::{HalfPoint, Precision};
 use wgpu::util::DeviceExt;
@@ -28,9 +28,10 @@ use crate::{GpuContext, GpuError, GpuScene, check_buffer_fits};
 
 /// Passes submitted but not known finished before the host waits.
 const MAX_PASSES_IN_FLIGHT: usize = 2;
-/// Storage buffers the SPPM kernels bind per stage: the scene's five, the state's seven, the
-/// sky map and the mesh's tangents.
-pub const SPPM_STORAGE_BUFFERS: u32 = 14;
+/// Storage buffers the SPPM kernels bind per stage: the scene's five, the state's eight
+/// (the volume photons' τ apart from the rest of the pixel statistics), the sky map and the
+/// mesh's tangents.
+pub const SPPM_STORAGE_BUFFERS: u32 = 15;
 
 /// The kernels' entry points; indices into `GpuBackend::pipelines`.
 const KERNELS: [&str; 6] = [
@@ -55,7 +56,12 @@ struct State {
     slots: wgpu::Buffer,
     photons: wgpu::Buffer,
     visible_points: wgpu::Buffer,
+    /// The pixel statistics up to their volume τ (`PIXEL_STATS_SURFACE_BYTES` a pixel), and
+    /// that τ, one `vec4` a pixel where the scene has murky glass (`volume_pixels`), else one
+    /// zero element: no volume photon is kept, τ stays 0.
     pixels: wgpu::Buffer,
+    volume_tau: wgpu::Buffer,
+    volume_pixels: bool,
     hash: wgpu::Buffer,
     counters: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -283,6 +289,7 @@ fn state_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     entries.extend((2..8).map(|b| storage_entry(b, false)));
     entries.push(storage_entry(8, true));
     entries.push(storage_entry(9, true));
+    entries.push(storage_entry(10, false));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sppm state"),
         entries: &entries,
@@ -448,7 +455,9 @@ impl GpuBackend {
         let pixels = params.pixel_count() as u64;
         let slots = params.slot_count as u64;
         let point_bytes = setup.precision.point_bytes();
-        let sizes: [(&'static str, &'static str, u64); 6] = [
+        let volume_pixels = self.features.murky_glass;
+        let volume_taus = if volume_pixels { pixels } else { 1 };
+        let sizes: [(&'static str, &'static str, u64); 7] = [
             (
                 "photon_slots",
                 "photons",
@@ -459,7 +468,12 @@ impl GpuBackend {
             (
                 "pixel_stats",
                 "statistics",
-                pixels * size_of::<PixelStats>() as u64,
+                pixels * PIXEL_STATS_SURFACE_BYTES as u64,
+            ),
+            (
+                "pixel_volume_tau",
+                "statistics",
+                volume_taus * VOLUME_TAU_BYTES as u64,
             ),
             (
                 "hash_table",
@@ -505,11 +519,11 @@ impl GpuBackend {
         );
         let photons = zeroed("photons", sizes[1].2);
         let visible_points = zeroed("visible_points", sizes[2].2);
-        let pixels = init(
-            "pixel_stats",
-            bytemuck::cast_slice(&vec![setup.initial_stats(); params.pixel_count() as usize]),
-        );
-        let hash = zeroed("hash_table", sizes[4].2);
+        let initial = vec![setup.initial_stats(); params.pixel_count() as usize];
+        let (surface_words, volume_words) = split_stats(&initial, volume_pixels);
+        let pixels = init("pixel_stats", bytemuck::cast_slice(&surface_words));
+        let volume_tau = init("pixel_volume_tau", bytemuck::cast_slice(&volume_words));
+        let hash = zeroed("hash_table", sizes[5].2);
         let counters = init("counters", bytemuck::cast_slice(&setup.initial_counters()));
         let bind_group = bind_buffers(
             device,
@@ -526,6 +540,7 @@ impl GpuBackend {
                 &counters,
                 &self.sky_map,
                 &self.vertex_tangents,
+                &volume_tau,
             ],
         );
         let mut memory: Vec<(&'static str, u64)> = vec![
@@ -546,6 +561,8 @@ impl GpuBackend {
             photons,
             visible_points,
             pixels,
+            volume_tau,
+            volume_pixels,
             hash,
             counters,
             bind_group,
@@ -612,6 +629,21 @@ impl GpuBackend {
         self.read_state(|s| (&s.counters, counter::COUNT))
     }
 
+    /// The pixel statistics, their two buffers joined as `render::buffers::PixelStats`.
+    fn read_pixel_stats(&mut self) -> Result<Vec<PixelStats>, BackendError> {
+        let (count, volume_pixels) = {
+            let state = self.state()?;
+            (state.params.pixel_count() as usize, state.volume_pixels)
+        };
+        let surface: Vec<u32> = self.read_state(|s| (&s.pixels, count * SURFACE_WORDS))?;
+        let volume: Vec<u32> = if volume_pixels {
+            self.read_state(|s| (&s.volume_tau, count * VOLUME_TAU_WORDS))?
+        } else {
+            Vec::new()
+        };
+        Ok(join_stats(&surface, &volume, count))
+    }
+
     /// This pass's photons (for tests, and the kd-tree built on the CPU), as f32 whatever
     /// the storage.
     pub fn read_photons(&mut self) -> Result<Vec<Photon>, BackendError> {
@@ -658,6 +690,7 @@ impl GpuBackend {
     pub fn display_source(&self) -> Option<DisplaySource> {
         self.state.as_ref().map(|s| DisplaySource {
             pixels: s.pixels.clone(),
+            volume_tau: s.volume_tau.clone(),
             counters: s.counters.clone(),
             width: s.params.width,
             height: s.params.height,
@@ -683,8 +716,49 @@ fn device_error(e: GpuError) -> BackendError {
     BackendError::Device(e.to_string())
 }
 
+/// Words of a pixel's statistics in the `pixel_stats` buffer, and of its volume τ in
+/// `pixel_volume_tau` (a `vec4`: τ and the struct's padding).
+const SURFACE_WORDS: usize = PIXEL_STATS_SURFACE_BYTES / 4;
+const VOLUME_TAU_WORDS: usize = VOLUME_TAU_BYTES / 4;
+const VOLUME_TAU_BYTES: usize = size_of::<PixelStats>() - PIXEL_STATS_SURFACE_BYTES;
+const _: () = assert!(VOLUME_TAU_BYTES == 16);
+
+/// `stats` as the words of the two statistics buffers: each pixel's first
+/// `PIXEL_STATS_SURFACE_BYTES`, and its volume τ where `volume_pixels`, else one zero `vec4`.
+fn split_stats(stats: &[PixelStats], volume_pixels: bool) -> (Vec<u32>, Vec<u32>) {
+    let words: &[u32] = bytemuck::cast_slice(stats);
+    let record = SURFACE_WORDS + VOLUME_TAU_WORDS;
+    let part = |range: std::ops::Range<usize>| {
+        (words.chunks_exact(record))
+            .flat_map(|pixel| pixel[range.clone()].iter().copied())
+            .collect::<Vec<u32>>()
+    };
+    let volume = if volume_pixels {
+        part(SURFACE_WORDS..record)
+    } else {
+        vec![0; VOLUME_TAU_WORDS]
+    };
+    (part(0..SURFACE_WORDS), volume)
+}
+
+/// [`split_stats`] undone for `count` pixels: `volume` empty where the scene keeps no volume
+/// τ (it is 0).
+fn join_stats(surface: &[u32], volume: &[u32], count: usize) -> Vec<PixelStats> {
+    (0..count)
+        .map(|i| {
+            let mut words = [0u32; SURFACE_WORDS + VOLUME_TAU_WORDS];
+            words[..SURFACE_WORDS].copy_from_slice(&surface[i * SURFACE_WORDS..][..SURFACE_WORDS]);
+            if !volume.is_empty() {
+                let tau = &volume[i * VOLUME_TAU_WORDS..][..VOLUME_TAU_WORDS];
+                words[SURFACE_WORDS..].copy_from_slice(tau);
+            }
+            bytemuck::cast(words)
+        })
+        .collect()
+}
+
 /// Words of the counters, slots, visible points (as stored: f32 or f16) and statistics
-/// buffers, in [`Snapshot::parts`] order.
+/// buffers, in [`Snapshot::parts`] order (the statistics joined as `PixelStats`).
 fn snapshot_words(state: &State) -> [usize; 4] {
     let pixels = state.params.pixel_count() as usize;
     let point = match state.precision {
@@ -779,7 +853,7 @@ impl Backend for GpuBackend {
             counters: self.read_state(|s| (&s.counters, sizes[0]))?,
             slots: self.read_state(|s| (&s.slots, sizes[1]))?,
             visible_points: self.read_state(|s| (&s.visible_points, sizes[2]))?,
-            pixels: self.read_state(|s| (&s.pixels, sizes[3]))?,
+            pixels: bytemuck::cast_slice(&self.read_pixel_stats()?).to_vec(),
         })
     }
 
@@ -787,13 +861,16 @@ impl Backend for GpuBackend {
         self.synchronize()?;
         let state = self.state()?;
         snapshot.check_sizes(snapshot_words(state))?;
-        let buffers = [
-            &state.counters,
-            &state.slots,
-            &state.visible_points,
-            &state.pixels,
+        let stats: &[PixelStats] = bytemuck::cast_slice(&snapshot.pixels);
+        let (surface, volume) = split_stats(stats, state.volume_pixels);
+        let writes = [
+            (&state.counters, &snapshot.counters),
+            (&state.slots, &snapshot.slots),
+            (&state.visible_points, &snapshot.visible_points),
+            (&state.pixels, &surface),
+            (&state.volume_tau, &volume),
         ];
-        for (buffer, (_, words)) in buffers.into_iter().zip(snapshot.parts()) {
+        for (buffer, words) in writes {
             self.context
                 .queue
                 .write_buffer(buffer, 0, bytemuck::cast_slice(words));
@@ -803,7 +880,7 @@ impl Backend for GpuBackend {
 
     fn read_statistics(&mut self) -> Result<Statistics, BackendError> {
         let emitted_paths = self.emitted_paths()?;
-        let pixels = self.read_state(|s| (&s.pixels, s.params.pixel_count() as usize))?;
+        let pixels = self.read_pixel_stats()?;
         Ok(Statistics {
             pixels,
             emitted_paths,
@@ -827,7 +904,42 @@ impl Backend for GpuBackend {
 
 #[cfg(test)]
 mod tests {
-    use super::SceneFeatures;
+    use super::{PixelStats, SceneFeatures, join_stats, split_stats};
+
+    /// The two statistics buffers' words join back into the statistics they were split from;
+    /// without the volume buffer's pixels (no murky glass) the volume τ joins as 0.
+    #[test]
+    fn statistics_split_and_join_back() {
+        let stats: Vec<PixelStats> = (0..5)
+            .map(|i| PixelStats {
+                tau: [i as f32, 1.0, 2.0],
+                photon_count: 3.0,
+                direct: [4.0, 5.0, 6.0],
+                radius: 0.5,
+                caustic_tau: [7.0, 8.0, 9.0],
+                caustic_count: 10.0,
+                caustic_radius: 0.25,
+                specular_seen: i % 2,
+                volume_count: 11.0,
+                volume_radius: 0.75,
+                volume_tau: [12.0, 13.0, i as f32],
+                pad: 0,
+            })
+            .collect();
+        let (surface, volume) = split_stats(&stats, true);
+        assert_eq!((surface.len(), volume.len()), (5 * 16, 5 * 4));
+        assert_eq!(join_stats(&surface, &volume, 5), stats);
+        let (surface, volume) = split_stats(&stats, false);
+        assert_eq!(volume, vec![0; 4]);
+        let joined = join_stats(&surface, &[], 5);
+        let without_tau: Vec<PixelStats> = (stats.iter())
+            .map(|s| PixelStats {
+                volume_tau: [0.0; 3],
+                ..*s
+            })
+            .collect();
+        assert_eq!(joined, without_tau);
+    }
     use scene::testing;
 
     /// Each override is on exactly where the scene has what it compiles in.

@@ -609,13 +609,20 @@ fn display_params_layout_matches_rust() {
     assert_pixel_stats_layout(&module);
 }
 
-/// `PixelStats` (`sppm_types.wgsl`) against `render::buffers::PixelStats`.
+/// `PixelStats` (`sppm_types.wgsl`) against `render::buffers::PixelStats` up to its volume τ,
+/// which the GPU keeps in a buffer of its own (a `vec4` a pixel: τ and the padding).
 fn assert_pixel_stats_layout(module: &naga::Module) {
-    use render::buffers::PixelStats;
+    use render::buffers::{PIXEL_STATS_SURFACE_BYTES, PixelStats};
+    assert_eq!(
+        offset_of!(PixelStats, volume_tau),
+        PIXEL_STATS_SURFACE_BYTES
+    );
+    assert_eq!(size_of::<PixelStats>(), PIXEL_STATS_SURFACE_BYTES + 16);
+    assert_eq!(offset_of!(PixelStats, pad), PIXEL_STATS_SURFACE_BYTES + 12);
     assert_layout(
         module,
         "PixelStats",
-        size_of::<PixelStats>(),
+        PIXEL_STATS_SURFACE_BYTES,
         &[
             ("tau", offset_of!(PixelStats, tau)),
             ("photon_count", offset_of!(PixelStats, photon_count)),
@@ -627,8 +634,6 @@ fn assert_pixel_stats_layout(module: &naga::Module) {
             ("specular_seen", offset_of!(PixelStats, specular_seen)),
             ("volume_count", offset_of!(PixelStats, volume_count)),
             ("volume_radius", offset_of!(PixelStats, volume_radius)),
-            ("volume_tau", offset_of!(PixelStats, volume_tau)),
-            ("pad", offset_of!(PixelStats, pad)),
         ],
     );
 }

@@ -23,6 +23,9 @@ struct DisplayParams {
 @group(0) @binding(0) var<uniform> display: DisplayParams;
 @group(0) @binding(1) var<storage, read> display_pixels: array<PixelStats>;
 @group(0) @binding(2) var<storage, read> display_counters: array<u32>;
+// The volume photons' τ (render::buffers::PixelStats::volume_tau), a pixel each where the
+// scene has murky glass, else one unused element.
+@group(0) @binding(3) var<storage, read> display_volume_tau: array<vec4<f32>>;
 
 struct DisplayVertex {
     @builtin(position) position: vec4<f32>,
@@ -50,7 +53,7 @@ fn display_source_index(target_pixel: u32, target_size: u32, render_size: u32) -
 
 // render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted) for each class on
 // surfaces, τ / (4/3 π R³ N_emitted) for the volume photons.
-fn display_resolve(stats: PixelStats) -> vec3<f32> {
+fn display_resolve(stats: PixelStats, volume_tau: vec3<f32>) -> vec3<f32> {
     var direct = vec3<f32>(0.0);
     if display.eye_passes > 0u {
         direct = stats.direct / f32(display.eye_passes);
@@ -60,7 +63,7 @@ fn display_resolve(stats: PixelStats) -> vec3<f32> {
     let volume = 4.0 / 3.0 * PI * stats.volume_radius * stats.volume_radius * stats.volume_radius;
     return direct + display_density(stats.tau, PI * stats.radius * stats.radius, emitted)
         + display_density(stats.caustic_tau, PI * stats.caustic_radius * stats.caustic_radius, emitted)
-        + display_density(stats.volume_tau, volume, emitted);
+        + display_density(volume_tau, volume, emitted);
 }
 
 // τ over a disc's area or a sphere's volume (`measure`) and the emitted paths.
@@ -131,7 +134,13 @@ fn display_fragment(vertex: DisplayVertex) -> @location(0) vec4<f32> {
     let target_pixel = min(vec2<u32>(vertex.uv * vec2<f32>(target_size)), target_size - 1u);
     let x = display_source_index(target_pixel.x, display.target_width, display.render_width);
     let y = display_source_index(target_pixel.y, display.target_height, display.render_height);
-    let radiance = display_resolve(display_pixels[y * display.render_width + x]);
+    let index = y * display.render_width + x;
+    // A scene without murky glass has one zero element there, not one a pixel: τ is 0.
+    var volume_tau = vec3<f32>(0.0);
+    if arrayLength(&display_volume_tau) == display.render_width * display.render_height {
+        volume_tau = display_volume_tau[index].xyz;
+    }
+    let radiance = display_resolve(display_pixels[index], volume_tau);
     let scale = exp2(display.exposure);
     var colour = vec3<f32>(
         display_value(radiance.x, scale),

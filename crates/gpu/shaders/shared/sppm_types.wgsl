@@ -28,7 +28,9 @@ struct VisiblePoint {
     pad: u32,
 }
 
-// render::buffers::PixelStats (80 bytes; each τ on a 16-byte boundary).
+// render::buffers::PixelStats up to its volume_tau (64 bytes, PIXEL_STATS_SURFACE_BYTES;
+// each τ on a 16-byte boundary): the volume photons' τ has its own buffer, pixel_volume_tau,
+// only as long as the image where the scene has murky glass.
 struct PixelStats {
     tau: vec3<f32>,
     photon_count: f32,
@@ -39,11 +41,9 @@ struct PixelStats {
     caustic_radius: f32,
     // render::buffers::PixelStats::specular_seen.
     specular_seen: u32,
-    // N, R and τ of the volume photons (murky glass).
+    // N and R of the volume photons (murky glass; τ in pixel_volume_tau).
     volume_count: f32,
     volume_radius: f32,
-    volume_tau: vec3<f32>,
-    pad: u32,
 }
 
 // render::buffers::Light: what v0, edge1 and edge2 hold depends on kind (LIGHT_*).

@@ -14,3 +14,6 @@
 // render::normal_map::packed_tangents: the mesh's tangents, three a packed triangle (read
 // only where TANGENTS).
 @group(1) @binding(9) var<storage, read> vertex_tangents: array<vec4<f32>>;
+// render::buffers::PixelStats::volume_tau of each pixel (w: its padding), where MURKY_GLASS;
+// else one unused element.
+@group(1) @binding(10) var<storage, read_write> pixel_volume_tau: array<vec4<f32>>;

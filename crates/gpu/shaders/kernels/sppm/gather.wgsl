@@ -228,7 +228,12 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     var changed = false;
     var indirect = fitted(Estimate(stats.tau, stats.photon_count, stats.radius), largest, AREA, &changed);
     var caustic = fitted(Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius), largest, AREA, &changed);
-    var volume = fitted(Estimate(stats.volume_tau, stats.volume_count, stats.volume_radius), largest, VOLUME, &changed);
+    // Without murky glass no volume photon is kept: τ stays 0 (not stored), R shrinks alone.
+    var volume_tau = vec3<f32>(0.0);
+    if MURKY_GLASS {
+        volume_tau = pixel_volume_tau[index].xyz;
+    }
+    var volume = fitted(Estimate(volume_tau, stats.volume_count, stats.volume_radius), largest, VOLUME, &changed);
     if any(point.weight != vec3<f32>(0.0)) {
         let query = gather_query(point, indirect.radius, caustic.radius, volume.radius);
         let sum = density_query(query, cell_size);
@@ -243,10 +248,12 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
         stats.caustic_tau = caustic.tau;
         stats.caustic_count = caustic.count;
         stats.caustic_radius = caustic.radius;
-        stats.volume_tau = volume.tau;
         stats.volume_count = volume.count;
         stats.volume_radius = volume.radius;
         pixels[index] = stats;
+        if MURKY_GLASS {
+            pixel_volume_tau[index] = vec4<f32>(volume.tau, 0.0);
+        }
     }
 }
 

@@ -66,6 +66,14 @@ pub enum GpuError {
         /// The limit in words.
         limit: String,
     },
+    /// A render's buffer is larger than the device allows, with what would make it fit.
+    #[error("{error} ({remedy})")]
+    RenderBufferTooLarge {
+        /// The [`GpuError::BufferTooLarge`].
+        error: Box<GpuError>,
+        /// The setting that sizes the buffer, in words.
+        remedy: &'static str,
+    },
     /// Scene records stored as texels need more texture rows than the device allows.
     #[error(
         "texture {label} needs {size}: {rows} rows of {row} texels, but the device allows max_texture_dimension_2d = {limit}"

@@ -486,8 +486,20 @@ impl GpuBackend {
                 (setup.lights.len() * size_of::<Light>()) as u64,
             ),
         ];
-        for (label, _, bytes) in sizes {
-            check_buffer_fits(label, bytes, limits)?;
+        for (label, kind, bytes) in sizes {
+            check_buffer_fits(label, bytes, limits).map_err(|error| {
+                let remedy = match kind {
+                    "photons" | "hash" => {
+                        "fewer photon slots, --photons, would make it fit, or --backend cpu"
+                    }
+                    "scene" => "fewer lights would make it fit, or --backend cpu",
+                    _ => "a smaller image would make it fit, or --backend cpu",
+                };
+                GpuError::RenderBufferTooLarge {
+                    error: Box::new(error),
+                    remedy,
+                }
+            })?;
         }
         let usage = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC

@@ -126,6 +126,8 @@ fn sppm_photons_over_a_lowered_binding_limit_are_refused_in_words() {
     assert!(message.contains("photon_slots"), "{message}");
     let expected = format!("{:.1} MiB", slot_bytes as f64 / (1 << 20) as f64);
     assert!(message.contains(&expected), "{message}");
+    // And what would make it fit.
+    assert!(message.contains("--photons"), "{message}");
     assert!(
         message.contains("max_storage_buffer_binding_size = 16.0 MiB"),
         "{message}"

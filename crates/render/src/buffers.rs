@@ -130,6 +130,9 @@ const _: () = assert!(size_of::<PixelStats>() == 80);
 /// every scene (WGSL's `PixelStats`).
 pub const PIXEL_STATS_SURFACE_BYTES: usize = std::mem::offset_of!(PixelStats, volume_tau);
 const _: () = assert!(PIXEL_STATS_SURFACE_BYTES == 64);
+// A 1920 × 1080 image's statistics fit a 128 MiB storage binding (lavapipe's): growing this
+// part would refuse full-HD renders there, as session 39's 80 bytes did.
+const _: () = assert!(PIXEL_STATS_SURFACE_BYTES * 1920 * 1080 <= 128 << 20);
 
 impl PixelStats {
     /// A pixel before any photon: nothing gathered, each class at its starting radius.

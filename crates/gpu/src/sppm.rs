@@ -57,11 +57,10 @@ struct State {
     photons: wgpu::Buffer,
     visible_points: wgpu::Buffer,
     /// The pixel statistics up to their volume τ (`PIXEL_STATS_SURFACE_BYTES` a pixel), and
-    /// that τ, one `vec4` a pixel where the scene has murky glass (`volume_pixels`), else one
-    /// zero element: no volume photon is kept, τ stays 0.
+    /// that τ, one `vec4` a pixel where the scene has murky glass (`SceneFeatures::
+    /// murky_glass`), else one zero element: no volume photon is kept, τ stays 0.
     pixels: wgpu::Buffer,
     volume_tau: wgpu::Buffer,
-    volume_pixels: bool,
     hash: wgpu::Buffer,
     counters: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -574,7 +573,6 @@ impl GpuBackend {
             visible_points,
             pixels,
             volume_tau,
-            volume_pixels,
             hash,
             counters,
             bind_group,
@@ -643,10 +641,8 @@ impl GpuBackend {
 
     /// The pixel statistics, their two buffers joined as `render::buffers::PixelStats`.
     fn read_pixel_stats(&mut self) -> Result<Vec<PixelStats>, BackendError> {
-        let (count, volume_pixels) = {
-            let state = self.state()?;
-            (state.params.pixel_count() as usize, state.volume_pixels)
-        };
+        let count = self.state()?.params.pixel_count() as usize;
+        let volume_pixels = self.features.murky_glass;
         let surface: Vec<u32> = self.read_state(|s| (&s.pixels, count * SURFACE_WORDS))?;
         let volume: Vec<u32> = if volume_pixels {
             self.read_state(|s| (&s.volume_tau, count * VOLUME_TAU_WORDS))?
@@ -874,7 +870,7 @@ impl Backend for GpuBackend {
         let state = self.state()?;
         snapshot.check_sizes(snapshot_words(state))?;
         let stats: &[PixelStats] = bytemuck::cast_slice(&snapshot.pixels);
-        let (surface, volume) = split_stats(stats, state.volume_pixels);
+        let (surface, volume) = split_stats(stats, self.features.murky_glass);
         let writes = [
             (&state.counters, &snapshot.counters),
             (&state.slots, &snapshot.slots),

@@ -40,6 +40,7 @@ use render::scattering::{
     scattering_solid,
 };
 use render::shadow_terminator::is_lifted;
+use render::volume_boundary;
 use scene::{Material, Surface};
 
 use crate::SceneData;
@@ -653,6 +654,9 @@ fn eye_path(
     // The path's walk through murky glass, one over all its flights there (its hero drawn at
     // the first: `render::scattering`).
     let mut walk: Option<Walk> = None;
+    // The plane of the surface the ray last left (normal, offset), where a volume visible
+    // point measures its depth from (`render::volume_boundary`): none from the camera.
+    let mut behind = (Vec3::ZERO, volume_boundary::NO_SURFACE);
     while depth < params.max_depth {
         let Some(mut hit) = trace(scene, origin, direction) else {
             // Out of the scene: the sky (zero without one), unless water around the path
@@ -672,11 +676,14 @@ fn eye_path(
             if let Some(t) = flight {
                 let weight = throughput * walk.weight_over_scattering(scattering);
                 if weight.max_element() > 0.0 {
+                    let position = origin + t * direction;
+                    let depth_behind = (behind.0.dot(position) + behind.1).abs();
+                    let depth_ahead = (hit.distance - t) * direction.dot(hit.geometric).abs();
                     visible_point = VisiblePoint {
-                        position: (origin + t * direction).to_array(),
+                        position: position.to_array(),
                         normal: volume_point_direction(direction, murky.scatter_anisotropy),
                         weight: weight.to_array(),
-                        pad: 0,
+                        pad: volume_boundary::depths_word(depth_behind, depth_ahead),
                     };
                 }
                 break;
@@ -694,6 +701,7 @@ fn eye_path(
             origin = hit.position + params.epsilon * direction;
             continue;
         }
+        behind = (hit.geometric, -hit.geometric.dot(hit.position));
         let emission = emitted(scene, material, &hit);
         if emission.max_element() > 0.0 {
             let weight = glossy.emitter_weight(scene, &hit, direction);
@@ -1515,7 +1523,13 @@ pub fn gather_update(
         &mut s.caustic_radius,
     );
     update(tau, count, radius, caustic, AREA);
-    let scattered = (sum.volume_found, weight * sum.volume_flux, params.alpha);
+    // Divided by the share of the sphere inside the medium: none is found outside.
+    let inside = volume_boundary::share_inside(visible_point.pad, s.volume_radius);
+    let scattered = (
+        sum.volume_found,
+        weight * sum.volume_flux / inside,
+        params.alpha,
+    );
     let (tau, count, radius) = (&mut s.volume_tau, &mut s.volume_count, &mut s.volume_radius);
     update(tau, count, radius, scattered, VOLUME);
     // Only radii that have met photons size the cells: the others would hold them at the

@@ -37,13 +37,14 @@ macro_rules! part {
 }
 /// What the SPPM kernels know about a hit and the arithmetic their paths share, a concern a
 /// file (each names the `render`/`cpu` functions it twins).
-const SHADING: [(&str, &str); 12] = [
+const SHADING: [(&str, &str); 13] = [
     part!("shared/shading/optics.wgsl"),
     part!("shared/shading/packing.wgsl"),
     part!("shared/shading/normals.wgsl"),
     part!("shared/shading/surface.wgsl"),
     part!("shared/shading/materials.wgsl"),
     part!("shared/shading/media.wgsl"),
+    part!("shared/shading/volume_boundary.wgsl"),
     part!("shared/shading/thin_film.wgsl"),
     part!("shared/shading/microfacet.wgsl"),
     part!("shared/shading/coats.wgsl"),

@@ -4,7 +4,8 @@
 //! packed normals by the cosine between them, which would let a misplaced flag bit or
 //! asymmetry level through. The direction's own bits follow `pack_normal`, which may round a
 //! half the other way ([`FLAG_BITS`]). Directions over the sphere and asymmetries over [−1, 1] (each of
-//! the 512 levels' midpoints, where the rounding decides, and values past either end).
+//! the 512 levels' midpoints, where the rounding decides, and values past either end). Also
+//! `render::volume_boundary`'s depth word and sphere share against `shading/volume_boundary.wgsl`.
 
 use glam::Vec3;
 use gpu::GpuContext;
@@ -39,6 +40,18 @@ const KERNEL: &str = r#"
 @group(1) @binding(17) var<storage, read_write> packing_words: array<vec4<u32>>;
 
 @compute @workgroup_size(64)
+fn boundary_twins(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if 2u * i + 1u >= arrayLength(&packing_queries) {
+        return;
+    }
+    let q = packing_queries[2u * i];
+    let word = depths_word(q.x, q.y);
+    packing_words[2u * i] = vec4<u32>(word, bitcast<u32>(share_inside(word, q.z)), 0u, 0u);
+    packing_words[2u * i + 1u] = vec4<u32>(0u);
+}
+
+@compute @workgroup_size(64)
 fn packing_twins(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if 2u * i + 1u >= arrayLength(&packing_queries) {
@@ -66,8 +79,8 @@ fn uniform(i: u32, dimension: u32) -> f32 {
     (render::rng::stream_key(11, dimension, 0, i) >> 8) as f32 / (1u32 << 24) as f32
 }
 
-/// Runs the kernel: two vec4 a query in, two vec4<u32> a query out.
-fn run(context: &GpuContext, queries: &[[f32; 4]]) -> Vec<[u32; 4]> {
+/// Runs the kernel's entry point `entry`: two vec4 a query in, two vec4<u32> a query out.
+fn run(context: &GpuContext, entry: &str, queries: &[[f32; 4]]) -> Vec<[u32; 4]> {
     let device = &context.device;
     let source = format!("{}\n{KERNEL}", Module::Sppm.source());
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -79,7 +92,7 @@ fn run(context: &GpuContext, queries: &[[f32; 4]]) -> Vec<[u32; 4]> {
         label: Some("packing twins"),
         layout: None,
         module: &module,
-        entry_point: Some("packing_twins"),
+        entry_point: Some(entry),
         compilation_options: Default::default(),
         cache: None,
     });
@@ -158,7 +171,7 @@ fn murky_glass_words_match_render_packing_bit_for_bit_but_for_half_steps() {
             [n.extend(g).to_array(), [word, 0.0, 0.0, 0.0]]
         })
         .collect();
-    let output = run(&context(), &input);
+    let output = run(&context(), "packing_twins", &input);
     let mut moved = 0;
     for (i, (&(n, g), words)) in queries.iter().zip(output.chunks(2)).enumerate() {
         let cpu = [
@@ -195,4 +208,40 @@ fn murky_glass_words_match_render_packing_bit_for_bit_but_for_half_steps() {
     }
     println!("{moved} of {} words moved by a step", queries.len());
     assert!(moved <= queries.len() / 1000, "{moved} words moved");
+}
+
+#[test]
+fn volume_boundary_words_match_bit_for_bit_and_their_shares_closely() {
+    use render::volume_boundary::{NO_SURFACE, depths_word, share_inside};
+    // Depths from far inside to on the surface, against radii from a tenth of them to ten
+    // times, with the camera's "no surface" and zero among them.
+    let depth = |i: u32, k: u32| match i % 7 {
+        0 => NO_SURFACE,
+        1 => 0.0,
+        _ => 10f32.powf(4.0 * uniform(i, k) - 2.0),
+    };
+    let queries: Vec<[f32; 4]> = (0..2048)
+        .map(|i| {
+            let (behind, ahead) = (depth(i, 3), depth(i / 7, 4));
+            let radius = 10f32.powf(4.0 * uniform(i, 5) - 2.0);
+            [behind, ahead, radius, 0.0]
+        })
+        .collect();
+    let input: Vec<[f32; 4]> = queries.iter().flat_map(|&q| [q, [0.0; 4]]).collect();
+    let output = run(&context(), "boundary_twins", &input);
+    let mut cut = 0;
+    for (q, words) in queries.iter().zip(output.chunks(2)) {
+        let word = depths_word(q[0], q[1]);
+        let share = share_inside(word, q[2]);
+        assert_eq!(words[0][0], word, "depths {q:?}");
+        // A GPU's division may be a few ulps off (WGSL allows 2.5).
+        let gpu_share = f32::from_bits(words[0][1]);
+        assert!(
+            (gpu_share - share).abs() <= 1e-6,
+            "share {gpu_share} against {share}, {q:?}"
+        );
+        cut += usize::from(share < 1.0);
+    }
+    // Both the sphere whole and cut by its planes were met.
+    assert!(cut > queries.len() / 4 && cut < queries.len(), "{cut} cut");
 }

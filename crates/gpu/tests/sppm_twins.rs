@@ -29,6 +29,7 @@ use render::buffers::{
 };
 use render::direct::DirectLight;
 use render::packing::{is_volume, unpack_normal};
+use render::volume_boundary::unpack_depths;
 use render::{Backend, Image, Settings, Sppm, Statistics};
 use scene::{Camera, Scene};
 
@@ -151,7 +152,23 @@ fn point_errors(g: &VisiblePoint, c: &VisiblePoint, diagonal: f32) -> Vec<(&'sta
         ),
         ("normal", normal(g.normal, c.normal)),
         ("weight", relative(g.weight, c.weight)),
+        ("boundary depths", boundary_depths(g.pad, c.pad, diagonal)),
     ]
+}
+
+/// A volume visible point's depths below its medium's surfaces (`render::volume_boundary`):
+/// both words without them, or each depth within the positions' tolerance and a bfloat16 step.
+fn boundary_depths(g: u32, c: u32, diagonal: f32) -> f32 {
+    match (unpack_depths(g), unpack_depths(c)) {
+        (None, None) => 0.0,
+        (Some((g_behind, g_ahead)), Some((c_behind, c_ahead))) => {
+            [(g_behind, c_behind), (g_ahead, c_ahead)]
+                .into_iter()
+                .map(|(g, c)| (g - c).abs() / (POSITION_TOLERANCE * diagonal + g.max(c) / 64.0))
+                .fold(0.0, f32::max)
+        }
+        _ => f32::INFINITY,
+    }
 }
 
 fn photon_errors(g: &Photon, c: &Photon, diagonal: f32) -> Vec<(&'static str, f32)> {

@@ -39,6 +39,7 @@ pub mod sheen;
 pub mod sky_map;
 pub mod textures;
 pub mod tonemap;
+pub mod volume_boundary;
 
 pub use backend::{Backend, BackendError, PhotonTracing, Setup, Snapshot, Statistics};
 pub use density::Density;

@@ -18,8 +18,8 @@
 //! passes). An eye path's flight ends at its scattering event, with a volume visible point whose
 //! weight is the path's over σs (`Walk::weight_over_scattering`: the in-scattered radiance
 //! per unit length carries σs in the photons). The gather then sums the volume photons in a
-//! sphere, each times the phase function between its way and the eye's, over the sphere's
-//! volume, and each pixel keeps a third set of statistics for them, whose radius shrinks as
+//! sphere, each times the phase function between its way and the eye's, over the volume of
+//! the sphere's share inside the medium (`render::volume_boundary`), and each pixel keeps a third set of statistics for them, whose radius shrinks as
 //! R' = R·((N + αM)/(N + M))^⅓ (`cpu::kernels::gather_update`). Volume visible points take no
 //! light samples: light reaching murky glass from outside comes through its specular surface,
 //! which shadow rays cannot follow, so photons there carry the direct light too.

@@ -105,6 +105,9 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
     // cpu::kernels::eye_path: the path's walk through murky glass, one over all its flights
     // there (hero NO_WALK until the first draws it).
     var walk = Walk(NO_WALK, vec3<f32>(1.0), vec3<f32>(1.0));
+    // cpu::kernels::eye_path: the plane of the surface the ray last left (normal, offset),
+    // where a volume visible point's depth is measured from; none from the camera.
+    var behind = vec4<f32>(vec3<f32>(0.0), NO_SURFACE);
     while depth < params.max_depth {
         var hit = trace_surface(select(origin, probe_origin, probing), select(direction, probe_direction, probing));
         if probing {
@@ -142,7 +145,10 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 let weight = throughput * walk_weight_over_scattering(walk, murky.scattering);
                 if max3(weight) > 0.0 {
                     let word = volume_point_direction(direction, murky.scatter_anisotropy);
-                    point = VisiblePoint(origin + t * direction, word, weight, 0u);
+                    let position = origin + t * direction;
+                    let depth_behind = abs(dot(behind.xyz, position) + behind.w);
+                    let depth_ahead = (hit.distance - t) * abs(dot(direction, hit.geometric));
+                    point = VisiblePoint(position, word, weight, depths_word(depth_behind, depth_ahead));
                 }
                 break;
             }
@@ -161,6 +167,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             origin = hit.position + params.epsilon * direction;
             continue;
         }
+        behind = vec4<f32>(hit.geometric, -dot(hit.geometric, hit.position));
         let emission = emitted(root, hit);
         if max3(emission) > 0.0 {
             direct += throughput * emission_share * emission * emitter_weight(glossy, hit, direction);

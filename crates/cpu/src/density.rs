@@ -6,21 +6,18 @@
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
-use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams, counter, vec3};
+use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams};
 use render::density::{SCAN_BLOCK, full_word};
-use render::hash::{cell_of, entry_of, query_entries};
+use render::hash::query_entries;
 
-use crate::kernels::{GatherQuery, GatherSum};
+use crate::kernels::{self, GatherQuery, GatherSum};
 
 /// The first table word of the entry a stored photon hashes to this pass; `None` if the slot
 /// stored no photon.
 pub fn photon_entry(params: &SppmParams, counters: &[AtomicU32], photon: &Photon) -> Option<usize> {
-    if !photon.is_stored() {
-        return None;
-    }
-    let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
-    let cell = cell_of(vec3(photon.position), cell_size);
-    Some(entry_of(cell, params.hash_size) as usize * HASH_ENTRY_WORDS)
+    photon
+        .is_stored()
+        .then(|| kernels::photon_entry(params, counters, photon) as usize * HASH_ENTRY_WORDS)
 }
 
 /// Counting sort, first step, photon `index`: its entry's count grows by one.
@@ -160,7 +157,7 @@ fn full_query_with<'a>(
     let (entries, count) = query_entries(
         query.position,
         query.reach(),
-        query.cell_size,
+        query.grid(),
         params.hash_size,
     );
     let mut sum = GatherSum::default();
@@ -178,7 +175,7 @@ fn full_query_with<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use render::buffers::initial_counters;
+    use render::buffers::{counter, initial_counters};
     use render::density::scan_counts;
 
     fn atomics(n: usize) -> Vec<AtomicU32> {
@@ -209,7 +206,7 @@ mod tests {
             hash_size: 300,
             ..SppmParams::default()
         };
-        let counters: Vec<AtomicU32> = initial_counters(0.05)
+        let counters: Vec<AtomicU32> = initial_counters(0.05, 0.05)
             .into_iter()
             .map(AtomicU32::new)
             .collect();

@@ -16,7 +16,7 @@ use render::direct::{shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
 use render::hash::{
-    cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, largest_radius,
+    cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, grid_salt, largest_radius,
     photon_class, priority, query_entries,
 };
 use render::iridescence::{Film, lobe_film_weight, metal_tint};
@@ -1284,10 +1284,8 @@ fn photon_key(
     if !photon.is_stored() {
         return None;
     }
-    let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
-    let cell = cell_of(vec3(photon.position), cell_size);
     let class = photon_class(photon.flux, params.hash_classes());
-    let entry = entry_of(cell, params.hash_size);
+    let entry = photon_entry(params, counters, photon);
     let pass = counters[counter::PASS].load(Relaxed);
     Some(PhotonKey {
         word: class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS,
@@ -1295,6 +1293,24 @@ fn photon_key(
         class,
         priority: priority(params.seed, pass, index),
     })
+}
+
+/// The class-0 table entry of a stored photon's cell this pass: in the volume photons' grid for
+/// a volume photon (`render::hash`), else in the surfaces'.
+pub fn photon_entry(params: &SppmParams, counters: &[AtomicU32], photon: &Photon) -> u32 {
+    let volume = is_volume(photon.normal);
+    let cell = cell_of(vec3(photon.position), cell_size_of(counters, volume));
+    entry_of(cell, grid_salt(volume), params.hash_size)
+}
+
+/// This pass's cell size of the volume photons' grid (`volume`) or the surfaces'.
+fn cell_size_of(counters: &[AtomicU32], volume: bool) -> f32 {
+    let index = if volume {
+        counter::VOLUME_CELL_SIZE
+    } else {
+        counter::CELL_SIZE
+    };
+    f32::from_bits(counters[index].load(Relaxed))
 }
 
 /// Gather and update, one pixel: the visible point reads the hash entries its radius
@@ -1322,6 +1338,7 @@ pub struct GatherQuery {
     pub radius: f32,
     /// Gather radius of the caustic photons.
     pub caustic_radius: f32,
+    /// The size of the cells it reads: the volume photons' grid's for a volume visible point.
     pub cell_size: f32,
     /// For a visible point inside murky glass, what it gathers instead: the volume photons.
     pub volume: Option<VolumeQuery>,
@@ -1346,6 +1363,12 @@ impl GatherQuery {
             Some(volume) => volume.radius,
             None => self.radius.max(self.caustic_radius),
         }
+    }
+
+    /// The grid it reads, as [`query_entries`] takes it: the volume photons' for a volume
+    /// visible point, the surfaces' otherwise (`render::hash`).
+    pub fn grid(&self) -> (f32, u32) {
+        (self.cell_size, grid_salt(self.volume.is_some()))
     }
 }
 
@@ -1413,7 +1436,7 @@ pub fn stochastic_query(
     let (entries, count) = query_entries(
         query.position,
         query.reach(),
-        query.cell_size,
+        query.grid(),
         params.hash_size,
     );
     let classes = params.hash_classes();
@@ -1452,22 +1475,47 @@ pub fn gather_with(
     stats: PixelStats,
     query: impl FnOnce(&GatherQuery) -> GatherSum,
 ) -> PixelStats {
-    let (stats, lit_radius) = gather_update(counters, params, visible_point, stats, query);
-    counters[counter::MAX_RADIUS].fetch_max(lit_radius, Relaxed);
+    let (stats, lit) = gather_update(counters, params, visible_point, stats, query);
+    lit.offer(counters);
     stats
 }
 
-/// [`gather_with`] without its atomic: the new statistics, and the bits of the largest radius
-/// that has met photons (0 for none), which a caller gathering many pixels can reduce itself
-/// before one `fetch_max` (positive floats order as their bits do).
+/// The bits of the largest radii that have met photons (0 for none), on surfaces and of the
+/// volume photons, each sizing its own grid's cells next pass (`render::hash`). Positive floats
+/// order as their bits do.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LitRadii {
+    pub surfaces: u32,
+    pub volume: u32,
+}
+
+impl LitRadii {
+    /// The larger of each.
+    pub fn max(self, other: LitRadii) -> LitRadii {
+        LitRadii {
+            surfaces: self.surfaces.max(other.surfaces),
+            volume: self.volume.max(other.volume),
+        }
+    }
+
+    /// Offers them to the pass's maxima ([`finish_pass`] sizes the cells by them).
+    pub fn offer(self, counters: &[AtomicU32]) {
+        counters[counter::MAX_RADIUS].fetch_max(self.surfaces, Relaxed);
+        counters[counter::VOLUME_MAX_RADIUS].fetch_max(self.volume, Relaxed);
+    }
+}
+
+/// [`gather_with`] without its atomics: the new statistics, and the radii that have met
+/// photons, which a caller gathering many pixels can reduce itself before offering them once.
 pub fn gather_update(
     counters: &[AtomicU32],
     params: &SppmParams,
     visible_point: &VisiblePoint,
     mut stats: PixelStats,
     query: impl FnOnce(&GatherQuery) -> GatherSum,
-) -> (PixelStats, u32) {
-    let cell_size = f32::from_bits(counters[counter::CELL_SIZE].load(Relaxed));
+) -> (PixelStats, LitRadii) {
+    let cell_size = cell_size_of(counters, false);
+    let volume_cell_size = cell_size_of(counters, true);
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
     // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
     let largest = largest_radius(cell_size);
@@ -1481,11 +1529,11 @@ pub fn gather_update(
     shrink_to_fit(
         &mut stats.volume_tau,
         &mut stats.volume_radius,
-        largest,
+        largest_radius(volume_cell_size),
         VOLUME,
     );
     if !visible_point.is_valid() {
-        return (stats, 0);
+        return (stats, LitRadii::default());
     }
     let (normal, volume) = if is_volume(visible_point.normal) {
         let (direction, anisotropy) = unpack_volume_point(visible_point.normal);
@@ -1503,7 +1551,11 @@ pub fn gather_update(
         normal,
         radius: stats.radius,
         caustic_radius: stats.caustic_radius,
-        cell_size,
+        cell_size: if volume.is_some() {
+            volume_cell_size
+        } else {
+            cell_size
+        },
         volume,
     });
     let weight = vec3(visible_point.weight);
@@ -1535,17 +1587,13 @@ pub fn gather_update(
     // Only radii that have met photons size the cells: the others would hold them at the
     // initial radius for ever, and one photon kept per cell would then serve ever more
     // pixels.
-    let lit_radius = [
-        (stats.photon_count, stats.radius),
-        (stats.caustic_count, stats.caustic_radius),
-        (stats.volume_count, stats.volume_radius),
-    ]
-    .into_iter()
-    .filter(|&(count, _)| count > 0.0)
-    .map(|(_, radius)| radius.to_bits())
-    .max()
-    .unwrap_or(0);
-    (stats, lit_radius)
+    let lit = |count: f32, radius: f32| if count > 0.0 { radius.to_bits() } else { 0 };
+    let lit_radii = LitRadii {
+        surfaces: lit(stats.photon_count, stats.radius)
+            .max(lit(stats.caustic_count, stats.caustic_radius)),
+        volume: lit(stats.volume_count, stats.volume_radius),
+    };
+    (stats, lit_radii)
 }
 
 /// The dimensions a set of statistics gathers over: a disc's on surfaces, a sphere's in murky
@@ -1592,17 +1640,22 @@ fn update(
 }
 
 /// Closes a pass (one invocation): folds this pass's emitted paths into the 64-bit total,
-/// sets the next pass's cell size from the largest radius, and advances the pass counter.
+/// sets the next pass's cell sizes from the largest radii, and advances the pass counter.
 pub fn finish_pass(counters: &[AtomicU32]) {
     let emitted = counters[counter::EMITTED_PASS].swap(0, Relaxed);
     let low = counters[counter::EMITTED_LO].load(Relaxed);
     let (sum, carry) = low.overflowing_add(emitted);
     counters[counter::EMITTED_LO].store(sum, Relaxed);
     counters[counter::EMITTED_HI].fetch_add(carry as u32, Relaxed);
-    // No pixel has met a photon yet: the cells stay as they are.
-    let max_radius = f32::from_bits(counters[counter::MAX_RADIUS].swap(0, Relaxed));
-    if max_radius > 0.0 {
-        counters[counter::CELL_SIZE].store(cell_size(max_radius).to_bits(), Relaxed);
+    // No pixel has met a photon yet: the cells stay as they are. Each grid by its own radii.
+    for (max, cells) in [
+        (counter::MAX_RADIUS, counter::CELL_SIZE),
+        (counter::VOLUME_MAX_RADIUS, counter::VOLUME_CELL_SIZE),
+    ] {
+        let max_radius = f32::from_bits(counters[max].swap(0, Relaxed));
+        if max_radius > 0.0 {
+            counters[cells].store(cell_size(max_radius).to_bits(), Relaxed);
+        }
     }
     counters[counter::PASS].fetch_add(1, Relaxed);
 }

@@ -307,21 +307,19 @@ impl Backend for CpuBackend {
             }),
             (Density::StochasticHash, _) => kernels::stochastic_query(params, hash, photons, query),
         };
-        // The pass's largest lit radius, reduced per thread and offered once (as with the
+        // The pass's largest lit radii, reduced per thread and offered once (as with the
         // emitted paths: no shared atomic per pixel).
-        let lit_radius = state
+        state
             .pixels
             .par_iter_mut()
             .zip(state.visible_points.par_iter())
             .map(|(stats, point)| {
-                let (next, lit_radius) =
-                    kernels::gather_update(counters, params, point, *stats, query);
+                let (next, lit) = kernels::gather_update(counters, params, point, *stats, query);
                 *stats = next;
-                lit_radius
+                lit
             })
-            .max()
-            .unwrap_or(0);
-        counters[counter::MAX_RADIUS].fetch_max(lit_radius, Relaxed);
+            .reduce(kernels::LitRadii::default, kernels::LitRadii::max)
+            .offer(counters);
         kernels::finish_pass(counters);
     }
 

@@ -75,7 +75,7 @@ impl Table {
     fn entry(&self, position: Vec3) -> (u32, u32) {
         let cell = f32::from_bits(self.counters[counter::CELL_SIZE].load(Relaxed));
         let word =
-            entry_of(cell_of(position, cell), self.params.hash_size) as usize * HASH_ENTRY_WORDS;
+            entry_of(cell_of(position, cell), 0, self.params.hash_size) as usize * HASH_ENTRY_WORDS;
         (
             self.hash[word + hash_word::COUNT].load(Relaxed),
             self.hash[word + hash_word::WINNER].load(Relaxed),
@@ -137,12 +137,12 @@ fn the_kept_photon_is_a_uniform_pick() {
     for (i, elsewhere) in [(1, 3.5), (7, -2.5), (8, 3.6), (15, 9.5)] {
         photons[i] = photon(Vec3::new(elsewhere - 0.5, 0.0, 0.0), up, Vec3::ONE);
     }
-    let entry_of_cell = entry_of(cell_of(centre, cell), 64);
+    let entry_of_cell = entry_of(cell_of(centre, cell), 0, 64);
     for p in photons.iter().filter(|p| p.is_stored()) {
         let position = Vec3::from_array(p.position);
         assert!(
             cell_of(position, cell) == cell_of(centre, cell)
-                || entry_of(cell_of(position, cell), 64) != entry_of_cell,
+                || entry_of(cell_of(position, cell), 0, 64) != entry_of_cell,
             "a photon outside the cell collides with it; pick another layout"
         );
     }

@@ -138,6 +138,15 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("COUNTER_EMITTED_PASS", U32(counter::EMITTED_PASS as u32)),
         ("COUNTER_MAX_RADIUS", U32(counter::MAX_RADIUS as u32)),
         ("COUNTER_CELL_SIZE", U32(counter::CELL_SIZE as u32)),
+        (
+            "COUNTER_VOLUME_MAX_RADIUS",
+            U32(counter::VOLUME_MAX_RADIUS as u32),
+        ),
+        (
+            "COUNTER_VOLUME_CELL_SIZE",
+            U32(counter::VOLUME_CELL_SIZE as u32),
+        ),
+        ("VOLUME_CELL_SALT", U32(render::hash::VOLUME_CELL_SALT)),
     ]
 }
 

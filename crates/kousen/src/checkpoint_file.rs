@@ -17,8 +17,10 @@ const MAGIC: &[u8; 8] = b"KOUSENCP";
 /// 2: pixel statistics hold caustic and indirect sets (session 11). 3: a photon slot's state
 /// word keeps the wavelength its path keeps (`render::medium::pack_slot_state`, session 29).
 /// 4: pixel statistics hold a third set, the volume photons' (`render::scattering`, session
-/// 39). 5: a photon slot carries its path's walk, hero and densities (session 40).
-const FORMAT: u32 = 5;
+/// 39). 5: a photon slot carries its path's walk, hero and densities (session 40). 6: the
+/// counters hold the volume photons' own grid, and volume visible points their depths below
+/// their medium's surfaces (`render::hash`, `render::volume_boundary`, session 41).
+const FORMAT: u32 = 6;
 
 /// The settings a continued render must share with the stopped one, each with the option
 /// that sets it (for messages).

@@ -34,12 +34,11 @@ impl Setup {
         )
     }
 
-    /// The counters' starting values: the first cells sized by the largest starting radius.
+    /// The counters' starting values: the first cells sized by the largest starting radius on
+    /// surfaces, and the volume photons' by theirs.
     pub fn initial_counters(&self) -> [u32; crate::buffers::counter::COUNT] {
-        let largest = (self.initial_radius)
-            .max(self.initial_caustic_radius)
-            .max(self.initial_volume_radius);
-        crate::buffers::initial_counters(largest)
+        let largest = self.initial_radius.max(self.initial_caustic_radius);
+        crate::buffers::initial_counters(largest, self.initial_volume_radius)
     }
 }
 

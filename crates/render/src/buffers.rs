@@ -331,6 +331,10 @@ pub mod counter {
     pub const MAX_RADIUS: usize = 4;
     /// Bits of the hash cell size for this pass (f32).
     pub const CELL_SIZE: usize = 5;
+    /// The same two for the volume photons' own grid (`crate::hash`): the largest volume
+    /// radius that has met photons, and their cells' size.
+    pub const VOLUME_MAX_RADIUS: usize = 6;
+    pub const VOLUME_CELL_SIZE: usize = 7;
     pub const COUNT: usize = 8;
 }
 
@@ -347,10 +351,12 @@ pub fn emitted_total(low: u32, high: u32) -> u64 {
     ((high as u64) << 32) | low as u64
 }
 
-/// The counters' starting values for a render whose largest gather radius starts at `radius`.
-pub fn initial_counters(radius: f32) -> [u32; counter::COUNT] {
+/// The counters' starting values for a render whose largest gather radius on surfaces starts
+/// at `radius` and whose volume photons' at `volume_radius`.
+pub fn initial_counters(radius: f32, volume_radius: f32) -> [u32; counter::COUNT] {
     let mut counters = [0; counter::COUNT];
     counters[counter::CELL_SIZE] = crate::hash::cell_size(radius).to_bits();
+    counters[counter::VOLUME_CELL_SIZE] = crate::hash::cell_size(volume_radius).to_bits();
     counters
 }
 

@@ -1,6 +1,15 @@
 //! The stochastic spatial hash's arithmetic (DESIGN.md, "Stochastic hash"), shared by both
 //! backends' kernels: cells of side ≥ 2·R_max, so a gather sphere touches at most 2×2×2 cells;
 //! each table entry keeps one photon picked uniformly among those hashed to it, and their count.
+//!
+//! Volume photons (kept where photons scatter in murky glass, `crate::scattering`) lie in a
+//! grid of their own, sized by the volume gathers' largest radius
+//! (`buffers::counter::VOLUME_CELL_SIZE`) and hashed with [`VOLUME_CELL_SALT`] into the same
+//! table: only volume visible points gather them, and only those gather in spheres, whose
+//! radius starts larger (`scattering::VOLUME_RADIUS_SHARE`). One grid for both would size the
+//! surfaces' cells by the spheres, so that each kept photon would serve more surface
+//! gathers (with the stochastic hash, the surfaces' noise +23 % on `scenes/cornell-murky.gltf`
+//! at a volume share of 2.5: docs/BENCHMARKS.md, session 41).
 
 use bvh::bench_rays::pcg_hash;
 use glam::{IVec3, Vec3};
@@ -42,9 +51,18 @@ fn floor_to_i32(x: f32) -> i32 {
     }
 }
 
-/// The table entry of a cell.
-pub fn entry_of(cell: IVec3, table_size: u32) -> u32 {
-    let h = pcg_hash(cell.x as u32 ^ pcg_hash(cell.y as u32 ^ pcg_hash(cell.z as u32)));
+/// Mixed into the hash of a volume photon's cell ([`entry_of`]), so that a volume cell and the
+/// surface cell of the same coordinates (their grids differ in size) fall on unrelated entries.
+pub const VOLUME_CELL_SALT: u32 = 0x9e37_79b9;
+
+/// The grid's salt for a photon or gather of the volume photons (`volume`) or the surfaces'.
+pub fn grid_salt(volume: bool) -> u32 {
+    if volume { VOLUME_CELL_SALT } else { 0 }
+}
+
+/// The table entry of a cell of the grid with salt `salt` ([`grid_salt`]).
+pub fn entry_of(cell: IVec3, salt: u32, table_size: u32) -> u32 {
+    let h = pcg_hash(cell.x as u32 ^ pcg_hash(cell.y as u32 ^ pcg_hash(cell.z as u32 ^ salt)));
     h % table_size
 }
 
@@ -117,12 +135,13 @@ pub fn priority(seed: u32, pass: u32, index: u32) -> u32 {
     stream_key(seed, HASH_STREAM, pass, index) | 1
 }
 
-/// The distinct table entries a gather sphere at `position` with `radius` reads: the cells its
-/// bounding box touches (at most 8), entries reached twice (collisions) listed once.
+/// The distinct table entries a gather sphere at `position` with `radius` reads in the grid of
+/// `cell_size` and `salt`: the cells its bounding box touches (at most 8), entries reached
+/// twice (collisions) listed once.
 pub fn query_entries(
     position: Vec3,
     radius: f32,
-    cell_size: f32,
+    (cell_size, salt): (f32, u32),
     table_size: u32,
 ) -> ([u32; 8], usize) {
     let lo = cell_of(position - Vec3::splat(radius), cell_size);
@@ -132,7 +151,7 @@ pub fn query_entries(
     for z in lo.z..=hi.z {
         for y in lo.y..=hi.y {
             for x in lo.x..=hi.x {
-                let entry = entry_of(IVec3::new(x, y, z), table_size);
+                let entry = entry_of(IVec3::new(x, y, z), salt, table_size);
                 if !entries[..count].contains(&entry) {
                     entries[count] = entry;
                     count += 1;
@@ -196,13 +215,27 @@ mod tests {
 
     #[test]
     fn query_lists_each_entry_once() {
-        let (entries, count) = query_entries(Vec3::new(0.5, 0.5, 0.5), 0.1, 1.0, 1);
+        let (entries, count) = query_entries(Vec3::new(0.5, 0.5, 0.5), 0.1, (1.0, 0), 1);
         assert_eq!((count, entries[0]), (1, 0));
-        let (entries, count) = query_entries(Vec3::splat(0.5), 0.1, 1.0, 1 << 20);
+        let (entries, count) = query_entries(Vec3::splat(0.5), 0.1, (1.0, 0), 1 << 20);
         assert_eq!(count, 8);
         let mut sorted = entries.to_vec();
         sorted.sort();
         sorted.dedup();
         assert_eq!(sorted.len(), 8);
+    }
+
+    #[test]
+    fn volume_cells_fall_on_other_entries_than_the_surfaces_cells() {
+        let size = 1 << 20;
+        let cells = (-8..8).flat_map(|x| (-8..8).map(move |y| IVec3::new(x, y, x ^ y)));
+        let shared = cells
+            .filter(|&c| entry_of(c, grid_salt(true), size) == entry_of(c, grid_salt(false), size))
+            .count();
+        assert_eq!(shared, 0);
+        // The surfaces' grid hashes as it always has (no salt).
+        let c = IVec3::new(3, -2, 7);
+        let plain = pcg_hash(c.x as u32 ^ pcg_hash(c.y as u32 ^ pcg_hash(c.z as u32))) % size;
+        assert_eq!(entry_of(c, grid_salt(false), size), plain);
     }
 }

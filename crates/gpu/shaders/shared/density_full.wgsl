@@ -24,8 +24,7 @@ fn photon_entry(index: u32) -> u32 {
     if !any(photon.flux != vec3<f32>(0.0)) {
         return NO_ENTRY;
     }
-    let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
-    return entry_of(cell_of(photon.position, cell_size), params.hash_size) * HASH_ENTRY_WORDS;
+    return photon_entry_of(photon) * HASH_ENTRY_WORDS;
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -171,7 +170,7 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
 // cpu::density::full_query_listed: every photon listed in each distinct entry the sphere touches.
 fn density_query(query: GatherQuery, cell_size: f32) -> GatherSum {
     var sum = no_photons();
-    let touched = query_entries(query.position, reach(query), cell_size);
+    let touched = query_entries(query.position, reach(query), cell_size, query_salt(query));
     for (var slot = 0u; slot < 8u; slot += 1u) {
         let entry = query_entry(touched, slot);
         if entry == NO_CELL {

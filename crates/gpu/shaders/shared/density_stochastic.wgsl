@@ -5,7 +5,7 @@
 
 fn density_query(query: GatherQuery, cell_size: f32) -> GatherSum {
     var sum = no_photons();
-    let touched = query_entries(query.position, reach(query), cell_size);
+    let touched = query_entries(query.position, reach(query), cell_size, query_salt(query));
     let classes = hash_classes();
     for (var slot = 0u; slot < 8u; slot += 1u) {
         let entry = query_entry(touched, slot);

@@ -21,9 +21,8 @@ fn photon_key(index: u32) -> PhotonKey {
     if !any(photon.flux != vec3<f32>(0.0)) {
         return PhotonKey(0u, 0u, 0u, 0u, false);
     }
-    let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
     let photon_table = photon_class(photon.flux);
-    let entry = entry_of(cell_of(photon.position, cell_size), params.hash_size);
+    let entry = photon_entry_of(photon);
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
     let priority = stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;
     let word = (photon_table * params.hash_size + entry) * HASH_ENTRY_WORDS;
@@ -88,6 +87,11 @@ fn reach(query: GatherQuery) -> f32 {
         return query.volume_radius;
     }
     return max(query.radius, query.caustic_radius);
+}
+
+// cpu::kernels::GatherQuery::grid's salt: the volume photons' grid for a volume visible point.
+fn query_salt(query: GatherQuery) -> u32 {
+    return grid_salt(MURKY_GLASS && query.volume);
 }
 
 // cpu::kernels::GatherSum::add_if_near: `count` photons of `photon`'s flux to its class when
@@ -207,7 +211,9 @@ fn updated(e: Estimate, found: u32, flux: vec3<f32>, alpha: f32, dimensions: u32
         *changed = true;
     }
     if next.count > 0.0 {
-        atomicMax(&counters[COUNTER_MAX_RADIUS], bitcast<u32>(next.radius));
+        // Each grid's cells are sized by its own gathers' radii (render::hash).
+        let largest = select(COUNTER_MAX_RADIUS, COUNTER_VOLUME_MAX_RADIUS, dimensions == VOLUME);
+        atomicMax(&counters[largest], bitcast<u32>(next.radius));
     }
     return next;
 }
@@ -222,7 +228,8 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     }
     var stats = pixels[index];
     let point = load_visible_point(index);
-    let cell_size = bitcast<f32>(atomicLoad(&counters[COUNTER_CELL_SIZE]));
+    let cell_size = cell_size_of(false);
+    let volume_cell_size = cell_size_of(true);
     // A radius larger than the cells allow shrinks to fit.
     let largest = largest_radius(cell_size);
     var changed = false;
@@ -233,10 +240,10 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     if MURKY_GLASS {
         volume_tau = pixel_volume_tau[index].xyz;
     }
-    var volume = fitted(Estimate(volume_tau, stats.volume_count, stats.volume_radius), largest, VOLUME, &changed);
+    var volume = fitted(Estimate(volume_tau, stats.volume_count, stats.volume_radius), largest_radius(volume_cell_size), VOLUME, &changed);
     if any(point.weight != vec3<f32>(0.0)) {
         let query = gather_query(point, indirect.radius, caustic.radius, volume.radius);
-        let sum = density_query(query, cell_size);
+        let sum = density_query(query, select(cell_size, volume_cell_size, query.volume));
         indirect = updated(indirect, sum.found, point.weight * sum.flux, params.indirect_alpha, AREA, &changed);
         caustic = updated(caustic, sum.caustic_found, point.weight * sum.caustic_flux, params.alpha, AREA, &changed);
         // Divided by the share of the sphere inside the medium: none is found outside.
@@ -259,8 +266,8 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     }
 }
 
-// One invocation: the pass's emitted paths into the 64-bit total, the next cell size from the
-// largest radius, the pass counter advanced (cpu::kernels::finish_pass).
+// One invocation: the pass's emitted paths into the 64-bit total, each grid's next cell size
+// from its largest radius, the pass counter advanced (cpu::kernels::finish_pass).
 @compute @workgroup_size(1)
 fn finish_pass() {
     let emitted = atomicExchange(&counters[COUNTER_EMITTED_PASS], 0u);
@@ -271,6 +278,10 @@ fn finish_pass() {
     let max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
     if max_radius > 0.0 {
         atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(hash_cell_size(max_radius)));
+    }
+    let volume_max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_VOLUME_MAX_RADIUS], 0u));
+    if volume_max_radius > 0.0 {
+        atomicStore(&counters[COUNTER_VOLUME_CELL_SIZE], bitcast<u32>(hash_cell_size(volume_max_radius)));
     }
     atomicAdd(&counters[COUNTER_PASS], 1u);
 }

@@ -46,20 +46,39 @@ fn class_mark(photon_table: u32) -> u32 {
     return 1u << (CLASS_MARK_SHIFT + photon_table - 1u);
 }
 
-fn entry_of(cell: vec3<i32>, table_size: u32) -> u32 {
-    let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z))));
+// render::hash::grid_salt: the volume photons' grid's (VOLUME_CELL_SALT) or the surfaces' (0).
+fn grid_salt(volume: bool) -> u32 {
+    return select(0u, VOLUME_CELL_SALT, volume);
+}
+
+// render::hash::entry_of: a cell's entry in the grid of `salt`.
+fn entry_of(cell: vec3<i32>, salt: u32, table_size: u32) -> u32 {
+    let h = pcg_hash(bitcast<u32>(cell.x) ^ pcg_hash(bitcast<u32>(cell.y) ^ pcg_hash(bitcast<u32>(cell.z) ^ salt)));
     return h % table_size;
+}
+
+// cpu::kernels' cell_size_of: this pass's cell size of the volume photons' grid or the
+// surfaces'.
+fn cell_size_of(volume: bool) -> f32 {
+    return bitcast<f32>(atomicLoad(&counters[select(COUNTER_CELL_SIZE, COUNTER_VOLUME_CELL_SIZE, volume)]));
+}
+
+// cpu::kernels::photon_entry: the class-0 entry of a stored photon's cell, in the volume
+// photons' grid for a volume photon.
+fn photon_entry_of(photon: Photon) -> u32 {
+    let volume = is_volume(photon.normal);
+    return entry_of(cell_of(photon.position, cell_size_of(volume)), grid_salt(volume), params.hash_size);
 }
 
 // The table entry of the 2×2×2 block's cell `lo + d`, or NO_CELL where that cell lies past
 // the gather sphere's box (`span`: 0 or 1 per axis).
 const NO_CELL: u32 = 0xffffffffu;
 
-fn block_entry(lo: vec3<i32>, span: vec3<i32>, d: vec3<i32>) -> u32 {
+fn block_entry(lo: vec3<i32>, span: vec3<i32>, d: vec3<i32>, salt: u32) -> u32 {
     if any(d > span) {
         return NO_CELL;
     }
-    return entry_of(lo + d, params.hash_size);
+    return entry_of(lo + d, salt, params.hash_size);
 }
 
 // render::hash::query_entries: the distinct table entries a gather sphere's box touches, in the
@@ -73,20 +92,20 @@ struct QueryEntries {
     high: vec4<u32>,
 }
 
-fn query_entries(position: vec3<f32>, radius: f32, cell_size: f32) -> QueryEntries {
+fn query_entries(position: vec3<f32>, radius: f32, cell_size: f32, salt: u32) -> QueryEntries {
     let lo = cell_of(position - vec3<f32>(radius), cell_size);
     let span = min(cell_of(position + vec3<f32>(radius), cell_size) - lo, vec3<i32>(1));
     let a = vec4<u32>(
-        block_entry(lo, span, vec3<i32>(0, 0, 0)),
-        block_entry(lo, span, vec3<i32>(1, 0, 0)),
-        block_entry(lo, span, vec3<i32>(0, 1, 0)),
-        block_entry(lo, span, vec3<i32>(1, 1, 0)),
+        block_entry(lo, span, vec3<i32>(0, 0, 0), salt),
+        block_entry(lo, span, vec3<i32>(1, 0, 0), salt),
+        block_entry(lo, span, vec3<i32>(0, 1, 0), salt),
+        block_entry(lo, span, vec3<i32>(1, 1, 0), salt),
     );
     let b = vec4<u32>(
-        block_entry(lo, span, vec3<i32>(0, 0, 1)),
-        block_entry(lo, span, vec3<i32>(1, 0, 1)),
-        block_entry(lo, span, vec3<i32>(0, 1, 1)),
-        block_entry(lo, span, vec3<i32>(1, 1, 1)),
+        block_entry(lo, span, vec3<i32>(0, 0, 1), salt),
+        block_entry(lo, span, vec3<i32>(1, 0, 1), salt),
+        block_entry(lo, span, vec3<i32>(0, 1, 1), salt),
+        block_entry(lo, span, vec3<i32>(1, 1, 1), salt),
     );
     // Whether each slot repeats an entry of a slot before it.
     let a_seen = vec4<bool>(false, a.y == a.x, any(a.zz == a.xy), any(a.www == a.xyz));

@@ -60,12 +60,15 @@ pub fn scattering_solid(materials: &[Material], medium: u32) -> Option<&Material
 /// The volume photons' first gather radius over the surfaces' where the scene has murky
 /// glass. Volume photons are sparser in a sphere than surface photons on a disc of the same
 /// radius (on `scenes/cornell-murky.gltf`, about a fifteenth as many a gather), so their
-/// estimates are far noisier. A larger sphere finds more, at the price of more bias where it
-/// reaches out of the medium (and of cells sized by it, so such scenes' surface gathers
-/// search more photons). Measured on that scene (docs/BENCHMARKS.md, session 39): 1.6 halves
-/// the media's pixel noise at 100 passes and leaves them 1.3–2 % dark after 75 s at 128²
-/// (1: 0.5–1 %; 2.5: a third of the noise, 2–3 % dark).
-pub const VOLUME_RADIUS_SHARE: f32 = 1.6;
+/// estimates are far noisier. A larger sphere finds more, at the price of more bias where
+/// the light in it is not even (`crate::volume_boundary` takes out most of the bias where it
+/// reaches out of the medium); the volume photons have a grid of their own (`crate::hash`),
+/// so the surfaces' cells do not grow with it. Measured at 128², four seeds × 400 passes
+/// (docs/BENCHMARKS.md, session 41), 1.6 → 2.5: the media's pixel noise a third lower (full
+/// lists) or an eighth (stochastic hash), the water 0.5–0.8 % darker, the relMSE against the
+/// path tracer 7–11 % lower on `scenes/cornell-murky.gltf` and a thick variant, the render
+/// 0–5 % slower; 4 is noisier still in error with full lists (more bias).
+pub const VOLUME_RADIUS_SHARE: f32 = 2.5;
 
 /// The volume photons' first gather radius for `scene` whose surfaces' is `radius`:
 /// [`VOLUME_RADIUS_SHARE`] of it where the scene has murky glass, else the same (never used).

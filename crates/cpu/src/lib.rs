@@ -18,6 +18,7 @@ use render::density::Density;
 use render::half_storage::{Precision, round_photon, round_visible_point};
 use render::kdtree::PhotonKdTree;
 use render::textures::{DEFAULT_MAX_SIDE, TextureArray};
+use render::volume_boundary::share_in_weight;
 use scene::{Material, Scene};
 
 /// The scene as the CPU kernels read it: the packed BVH and triangles the GPU reads, the
@@ -213,7 +214,10 @@ impl Backend for CpuBackend {
                     kernels::eye_pass_pixel(scene, &params, pass, index as u32, stats);
                 *point = match precision {
                     Precision::F32 => visible_point,
-                    Precision::F16 => round_visible_point(&visible_point, origin),
+                    Precision::F16 => {
+                        let kept = share_in_weight(&visible_point, stats.volume_radius);
+                        round_visible_point(&kept, origin)
+                    }
                 };
             });
     }

@@ -13,7 +13,10 @@
 //! The depths ride in the visible point's spare word (`buffers::VisiblePoint::pad`) as two
 //! bfloat16 (an f32's upper half, truncated alike on both backends: 2⁻⁷ relative, plenty for a
 //! share), the upper one's sign bit set to say they are there. The 16-byte f16 storage
-//! (`half_storage`) has no such word: its volume points gather over the whole sphere.
+//! (`half_storage`) has no such word: there the eye pass divides a volume point's weight by
+//! the share at its pixel's radius as it stands then ([`share_in_weight`]).
+
+use crate::buffers::VisiblePoint;
 
 /// The smallest share a gather is divided by: where both planes cut deep (a sheet of murky
 /// glass much thinner than the sphere) the estimate would otherwise multiply a few photons
@@ -60,6 +63,20 @@ pub fn share_inside(word: u32, radius: f32) -> f32 {
             (1.0 - outside).max(MIN_SHARE)
         }
         _ => 1.0,
+    }
+}
+
+/// `point` as the 16-byte f16 storage keeps it, which has no spare word for the depths: a
+/// volume point's weight divided by the share inside at its pixel's volume radius `radius` as
+/// the eye pass finds it, the depths dropped. The gathers until the next eye pass use radii a
+/// little smaller (most in a render's first passes), whose shares are a little larger: the
+/// f32 storage's division at each gather is exact.
+pub fn share_in_weight(point: &VisiblePoint, radius: f32) -> VisiblePoint {
+    let share = share_inside(point.pad, radius);
+    VisiblePoint {
+        weight: (crate::buffers::vec3(point.weight) / share).to_array(),
+        pad: 0,
+        ..*point
     }
 }
 

@@ -54,6 +54,9 @@ fn load_visible_point(index: u32) -> VisiblePoint {
     return VisiblePoint(u.position, h.normal, u.value, 0u);
 }
 
+// A volume point's depths have no room here: its weight takes the share inside its medium at
+// the pixel's volume radius instead (render::volume_boundary::share_in_weight).
 fn store_visible_point(index: u32, point: VisiblePoint) {
-    visible_points[index] = pack_half_point(point.position, point.normal, point.weight);
+    let kept = share_in_weight(point, pixels[index].volume_radius);
+    visible_points[index] = pack_half_point(kept.position, kept.normal, kept.weight);
 }

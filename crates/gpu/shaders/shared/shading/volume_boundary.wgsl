@@ -30,3 +30,9 @@ fn share_inside(word: u32, radius: f32) -> f32 {
     let ahead = bitcast<f32>(word << 16u);
     return max(1.0 - (cap_share(behind, radius) + cap_share(ahead, radius)), MIN_BOUNDARY_SHARE);
 }
+
+// render::volume_boundary::share_in_weight: for the f16 storage, which has no spare word, the
+// share at the pixel's volume radius `radius` folded into the weight.
+fn share_in_weight(point: VisiblePoint, radius: f32) -> VisiblePoint {
+    return VisiblePoint(point.position, point.normal, point.weight / share_inside(point.pad, radius), 0u);
+}

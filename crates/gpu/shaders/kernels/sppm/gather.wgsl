@@ -246,9 +246,13 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
         let sum = density_query(query, select(cell_size, volume_cell_size, query.volume));
         indirect = updated(indirect, sum.found, point.weight * sum.flux, params.indirect_alpha, AREA, &changed);
         caustic = updated(caustic, sum.caustic_found, point.weight * sum.caustic_flux, params.alpha, AREA, &changed);
-        // Divided by the share of the sphere inside the medium: none is found outside.
-        let inside = share_inside(point.pad, volume.radius);
-        volume = updated(volume, sum.volume_found, point.weight * sum.volume_flux / inside, params.alpha, VOLUME, &changed);
+        // Divided by the share of the sphere inside the medium: none is found outside (only
+        // murky glass has volume points: elsewhere the share is 1, and not computed).
+        var volume_flux = point.weight * sum.volume_flux;
+        if MURKY_GLASS {
+            volume_flux /= share_inside(point.pad, volume.radius);
+        }
+        volume = updated(volume, sum.volume_found, volume_flux, params.alpha, VOLUME, &changed);
     }
     if changed {
         stats.tau = indirect.tau;

@@ -66,7 +66,7 @@ fn cell_size_of(volume: bool) -> f32 {
 // cpu::kernels::photon_entry: the class-0 entry of a stored photon's cell, in the volume
 // photons' grid for a volume photon.
 fn photon_entry_of(photon: Photon) -> u32 {
-    let volume = is_volume(photon.normal);
+    let volume = MURKY_GLASS && is_volume(photon.normal);
     return entry_of(cell_of(photon.position, cell_size_of(volume)), grid_salt(volume), params.hash_size);
 }
 

@@ -167,7 +167,10 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             origin = hit.position + params.epsilon * direction;
             continue;
         }
-        behind = vec4<f32>(hit.geometric, -dot(hit.geometric, hit.position));
+        // Only volume points (murky glass) read it: elsewhere it is not kept per bounce.
+        if MURKY_GLASS {
+            behind = vec4<f32>(hit.geometric, -dot(hit.geometric, hit.position));
+        }
         let emission = emitted(root, hit);
         if max3(emission) > 0.0 {
             direct += throughput * emission_share * emission * emitter_weight(glossy, hit, direction);

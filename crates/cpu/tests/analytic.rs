@@ -195,14 +195,15 @@ fn assert_furnace_channels(label: &str, image: &Image, mean_tolerance: f32, rms_
 /// radius (the gathers divide by their sphere's share inside the ball, but its curve is
 /// flatter there than it is: the next test), so the first radius is 0.03 (a tenth of the
 /// ball's; the volume photons' 2.5 times it, `render::scattering::VOLUME_RADIUS_SHARE`, in
-/// their own grid). 1024 passes with full cell lists; seeds 1–8: channel means 0.984–1.003,
-/// median pixel errors 5.6–6.4 %, 3.1–3.4 %, 3.6–3.9 % (red scatters most, and the walks'
-/// photons carry their step's count of scatterings, up to 16; until session 41 the volume
-/// radius was held to the surfaces' 0.03 here, sharing their grid, and the medians were
-/// 16–18 %, 9–11 %, 7–8 %); a few pixels a seed can be fireflies (a photon of many
-/// scatterings, times the phase function forwards, in a sphere grown small), so the
-/// per-pixel rms says little and the median is checked. Tolerances: each channel's mean
-/// within 5 %, its median pixel error below 25 %.
+/// their own grid). 512 passes with full cell lists; seeds 1–6: channel means 0.984–1.006,
+/// median pixel errors 7.0–7.7 %, 3.9–4.5 %, 4.7–5.0 % (at 1,024 passes seeds 1–8 gave
+/// 5.6–6.4 %, 3.1–3.4 %, 3.6–3.9 %; red scatters most, and the walks' photons carry their
+/// step's count of scatterings, up to 16; until session 41 the volume radius was held to the
+/// surfaces' 0.03 here, sharing their grid, and the medians at 1,024 passes were 16–18 %,
+/// 9–11 %, 7–8 %); a few pixels a seed can be fireflies (a photon of many scatterings, times
+/// the phase function forwards, in a sphere grown small), so the per-pixel rms says little
+/// and the median is checked. Tolerances: each channel's mean within 5 %, its median pixel
+/// error below 15 %.
 /// Stopping the walk at its last scattering rather than let it reach the surface (drawing
 /// that flight again next pass) made it 2.05 in red; keeping one photon a scattering (each a
 /// pass) 0.74 at σs = 20 (the paths' light still inside the ball at the end).
@@ -218,7 +219,7 @@ fn murky_glass_in_the_furnace_is_invisible() {
         ..Settings::new(32, 32, 1 << 14)
     };
     let mut sppm = Sppm::new(backend(&scene), &scene, &camera, settings).unwrap();
-    let out = sppm.run(Budget::Passes(1024), &mut |_| {}).unwrap();
+    let out = sppm.run(Budget::Passes(512), &mut |_| {}).unwrap();
     let expected = testing::FURNACE_RADIANCE;
     let mean = out.image.mean();
     for channel in 0..3 {
@@ -237,8 +238,8 @@ fn murky_glass_in_the_furnace_is_invisible() {
             mean[channel]
         );
         assert!(
-            median < 0.25,
-            "channel {channel}: median pixel error {median} above 25%"
+            median < 0.15,
+            "channel {channel}: median pixel error {median} above 15%"
         );
     }
 }

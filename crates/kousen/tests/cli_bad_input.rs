@@ -1,7 +1,7 @@
 //! Bad input to `kousen info` and `kousen render`: each a one-line error and a non-zero exit,
 //! never a panic, never a half-written file.
 
-mod common;
+use crate::common;
 
 use common::*;
 use serde_json::json;

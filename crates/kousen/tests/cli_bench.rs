@@ -1,7 +1,7 @@
 //! `kousen bench traversal` end to end on a shipped scene: the JSON contract, zero mismatches
 //! between every variant on the GPU adapter (lavapipe in CI) and the CPU twins; bad input.
 
-mod common;
+use crate::common;
 
 use common::{assert_clean_error, kousen_quiet as kousen, shipped};
 

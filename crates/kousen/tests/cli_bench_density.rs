@@ -3,7 +3,7 @@
 //! finding the same photons (the same error at equal passes), the GPU/CPU ratios, the images;
 //! bad input.
 
-mod common;
+use crate::common;
 
 use common::{assert_clean_error, kousen_quiet as kousen, shipped};
 

@@ -2,7 +2,7 @@
 //! GPU adapter, lavapipe in CI, and on the CPU backend), positive rates, the naive paths equal
 //! to the CPU twin's; bad input.
 
-mod common;
+use crate::common;
 
 use common::{assert_clean_error, kousen_quiet as kousen, shipped};
 

@@ -2,7 +2,7 @@
 //! adapter, lavapipe in CI, and on the CPU twins; the battery's verdicts; the images); bad
 //! input.
 
-mod common;
+use crate::common;
 
 use common::{assert_clean_error, kousen_quiet as kousen, shipped};
 

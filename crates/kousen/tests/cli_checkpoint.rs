@@ -2,7 +2,7 @@
 //! image, byte for byte, as one that was never stopped; a checkpoint that does not fit the
 //! render, or is not one, is refused in one line and no image is written.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! The commands end to end on a shipped scene: `info --json` keeps its contract, `render`
 //! writes a readable image.
 
-mod common;
+use crate::common;
 
 use common::kousen;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! `kousen diff A B`: the figures it prints and writes as JSON, and clean errors for images that
 //! cannot be compared. The images are PFM files written here by hand.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

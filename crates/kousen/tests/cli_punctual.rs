@@ -2,7 +2,7 @@
 //! point light alone renders (a scene needs a light, not an emissive surface), `kousen info`
 //! counts the lights by kind, and the path integrator samples them too.
 
-mod common;
+use crate::common;
 
 use common::*;
 use serde_json::{Value, json};

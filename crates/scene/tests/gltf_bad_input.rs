@@ -1,7 +1,7 @@
 //! Malformed and hostile glTF files: each must end in a one-line `SceneError` saying what is
 //! wrong where, never a panic, a stack overflow or a huge allocation.
 
-mod gltf_support;
+use crate::gltf_support;
 
 use gltf_support::*;
 use scene::SceneError;

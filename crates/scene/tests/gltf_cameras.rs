@@ -1,6 +1,6 @@
 //! glTF cameras: placement by their nodes, order, selection, orthographic ones skipped.
 
-mod gltf_support;
+use crate::gltf_support;
 
 use glam::Vec3;
 use gltf_support::*;

@@ -1,6 +1,6 @@
 //! glTF containers: data URIs, external `.bin`, `.glb`, and the shipped Cornell box.
 
-mod gltf_support;
+use crate::gltf_support;
 
 use gltf_support::*;
 use scene::{Scene, Surface};

@@ -1,6 +1,6 @@
 //! glTF geometry: transforms, winding, normals, index types, topologies, texture coordinates.
 
-mod gltf_support;
+use crate::gltf_support;
 
 use glam::{Vec2, Vec3, Vec4};
 use gltf_support::*;

@@ -1,7 +1,7 @@
 //! glTF lights (`KHR_lights_punctual`): placement by their nodes, kinds, intensity, cones,
 //! `range` ignored with a warning, and bad input refused with a one-line error.
 
-mod gltf_support;
+use crate::gltf_support;
 
 use std::f32::consts::{FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4};
 

@@ -1,10 +1,9 @@
 //! glTF materials: the mapping onto kousen's surfaces, emission, alpha, textures, lights.
 
-mod gltf_support;
+use crate::gltf_support;
 // The writer of `make_scenes`, for round trips of what the loader reads.
 #[allow(dead_code)]
-#[path = "../examples/make_scenes/gltf_writer.rs"]
-mod gltf_writer;
+use crate::gltf_writer;
 
 use glam::{Vec2, Vec3};
 use gltf_support::*;

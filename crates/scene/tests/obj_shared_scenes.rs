@@ -2,7 +2,7 @@
 //!
 //! Those files are not in the repository (CI runs on a clean clone), so each test checks that
 //! its file exists and otherwise prints a note and passes. Load times are printed; run
-//! `cargo test --release -p scene --test obj_shared_scenes -- --nocapture` to see them.
+//! `cargo test --release -p scene --test integration obj_shared_scenes -- --nocapture` to see them.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -4,10 +4,8 @@
 //! (The file is named `obj_*` only because of how the crate's test files are divided among
 //! its authors; it tests the shipped glTF scenes.)
 
-#[path = "../examples/make_scenes/gltf_writer.rs"]
-mod gltf_writer;
-#[path = "../examples/make_scenes/sky_writer.rs"]
-mod sky_writer;
+use crate::gltf_writer;
+use crate::sky_writer;
 
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,23 @@
+//! The scene crate's integration tests, one module per file beside this one, built as one
+//! test binary: each binary links the whole dependency graph, and linking forty of them was
+//! a large share of a clean build (CI).
+
+mod gltf_support;
+#[path = "../examples/make_scenes/gltf_writer.rs"]
+#[allow(dead_code)] // each test module uses a different part
+mod gltf_writer;
+#[path = "../examples/make_scenes/sky_writer.rs"]
+#[allow(dead_code)] // each test module uses a different part
+mod sky_writer;
+
+mod gltf_bad_input;
+mod gltf_cameras;
+mod gltf_containers;
+mod gltf_geometry;
+mod gltf_lights;
+mod gltf_materials;
+mod obj_bad_input;
+mod obj_geometry;
+mod obj_materials;
+mod obj_shared_scenes;
+mod obj_shipped_scenes;

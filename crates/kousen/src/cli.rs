@@ -552,6 +552,12 @@ pub struct RenderArgs {
     /// Write statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Also write the image's parts beside OUT, each named before its extension
+    /// (out.direct.exr, out.indirect.exr, out.caustic.exr, out.volume.exr): what the eye
+    /// paths saw directly (emission, light samples), the indirect and caustic photons on
+    /// surfaces, the volume photons in murky glass. They sum to the image.
+    #[arg(long)]
+    pub components: bool,
     /// Save the render's state to FILE every minute and at the end, to continue it later
     /// with --resume (may be the same file).
     #[arg(long, value_name = "FILE")]

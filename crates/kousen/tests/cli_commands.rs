@@ -586,3 +586,96 @@ fn read_pfm(path: &Path) -> Vec<glam::Vec3> {
         .flat_map(|row| row.chunks_exact(3).map(glam::Vec3::from_slice))
         .collect()
 }
+
+/// `render --components` on `scene` with `extra`: the four parts' images beside the image,
+/// which they sum to exactly; returns each part's channel sum, by name.
+fn render_components(scene: &str, extra: &str) -> Vec<(&'static str, f64)> {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.pfm");
+    let scene = shipped(scene);
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--components",
+    ];
+    args.extend(extra.split_whitespace());
+    let output = kousen(&args);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let image = read_pfm(&out);
+    let parts: Vec<(&str, Vec<glam::Vec3>)> = ["direct", "indirect", "caustic", "volume"]
+        .into_iter()
+        .map(|name| (name, read_pfm(&dir.path().join(format!("out.{name}.pfm")))))
+        .collect();
+    for (i, pixel) in image.iter().enumerate() {
+        for c in 0..3 {
+            // The same additions in the same order as the image's resolve.
+            let sum = parts.iter().fold(0.0, |sum, (_, p)| sum + p[i][c]);
+            assert_eq!(sum, pixel[c], "pixel {i}, channel {c}");
+        }
+    }
+    parts
+        .iter()
+        .map(|(name, p)| (*name, p.iter().map(|v| f64::from(v.element_sum())).sum()))
+        .collect()
+}
+
+/// With --components a render also writes its radiance by part: on the Cornell box with a
+/// glass sphere (CPU backend) the direct light, the indirect photons and the glass sphere's
+/// caustic each bring light, and nothing comes from volume photons (no murky glass).
+#[test]
+fn render_components_sum_to_the_image() {
+    let sums = render_components(
+        "cornell-caustics.gltf",
+        "--width 24 --height 24 --passes 4 --photons 16384 --backend cpu",
+    );
+    for (name, sum) in &sums {
+        match *name {
+            "volume" => assert_eq!(*sum, 0.0, "{name}"),
+            _ => assert!(*sum > 0.0, "{name}: {sum}"),
+        }
+    }
+}
+
+/// The same through the GPU backend (lavapipe in CI) in murky glass, where the volume photons
+/// bring light too.
+#[test]
+fn gpu_render_components_include_the_volume_photons() {
+    let sums = render_components(
+        "cornell-murky.gltf",
+        "--width 16 --height 16 --passes 2 --photons 16384 --backend gpu",
+    );
+    for (name, sum) in &sums {
+        if *name != "caustic" {
+            assert!(*sum > 0.0, "{name}: {sum}");
+        }
+    }
+}
+
+/// The path tracer's image has no parts: --components with it is refused before any work,
+/// leaving no file behind.
+#[test]
+fn components_of_a_path_traced_render_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.pfm");
+    let scene = shipped("cornell-box.gltf");
+    let output = common::kousen_quiet(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--components",
+        "--integrator",
+        "path",
+        "--passes",
+        "1",
+    ]);
+    common::assert_clean_error(&output, "--components");
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(left.is_empty(), "files left: {left:?}");
+}

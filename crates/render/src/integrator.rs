@@ -374,6 +374,19 @@ impl<B: Backend> Sppm<B> {
         ))
     }
 
+    /// The image so far by part of its radiance ([`resolve::COMPONENTS`]: direct, indirect,
+    /// caustic, volume), which sum to [`Sppm::image`]'s pixels.
+    pub fn component_images(&mut self) -> Result<[Image; 4], RenderError> {
+        let stats = self.backend.read_statistics()?;
+        Ok(resolve::resolve_component_images(
+            &stats.pixels,
+            self.settings.width,
+            self.settings.height,
+            self.eye_passes,
+            stats.emitted_paths,
+        ))
+    }
+
     pub fn passes(&self) -> u32 {
         self.passes
     }

@@ -7,7 +7,19 @@ use glam::Vec3;
 use crate::Image;
 use crate::buffers::{PixelStats, vec3};
 
+/// The parts of a pixel's radiance, in the order [`resolve_components`] gives them: what the
+/// eye paths saw directly (emission through specular chains, light samples), the indirect
+/// and caustic photons' estimates on surfaces, and the volume photons' in murky glass.
+pub const COMPONENTS: [&str; 4] = ["direct", "indirect", "caustic", "volume"];
+
+/// A pixel's radiance: its [`resolve_components`] summed.
 pub fn resolve_pixel(stats: &PixelStats, eye_passes: u32, emitted_paths: u64) -> Vec3 {
+    let [direct, indirect, caustic, volume] = resolve_components(stats, eye_passes, emitted_paths);
+    direct + indirect + caustic + volume
+}
+
+/// A pixel's radiance by part, as [`COMPONENTS`] names them.
+pub fn resolve_components(stats: &PixelStats, eye_passes: u32, emitted_paths: u64) -> [Vec3; 4] {
     let direct = if eye_passes > 0 {
         vec3(stats.direct) / eye_passes as f32
     } else {
@@ -22,10 +34,12 @@ pub fn resolve_pixel(stats: &PixelStats, eye_passes: u32, emitted_paths: u64) ->
     };
     let area = |radius: f32| std::f64::consts::PI * (radius as f64).powi(2);
     let volume = 4.0 / 3.0 * std::f64::consts::PI * (stats.volume_radius as f64).powi(3);
-    direct
-        + density(stats.tau, area(stats.radius))
-        + density(stats.caustic_tau, area(stats.caustic_radius))
-        + density(stats.volume_tau, volume)
+    [
+        direct,
+        density(stats.tau, area(stats.radius)),
+        density(stats.caustic_tau, area(stats.caustic_radius)),
+        density(stats.volume_tau, volume),
+    ]
 }
 
 pub fn resolve(
@@ -42,6 +56,21 @@ pub fn resolve(
     Image::new(width, height, pixels)
 }
 
+/// One image per part of the radiance ([`COMPONENTS`]); they sum to [`resolve`]'s.
+pub fn resolve_component_images(
+    pixels: &[PixelStats],
+    width: u32,
+    height: u32,
+    eye_passes: u32,
+    emitted_paths: u64,
+) -> [Image; 4] {
+    let parts: Vec<[Vec3; 4]> = pixels
+        .iter()
+        .map(|s| resolve_components(s, eye_passes, emitted_paths))
+        .collect();
+    std::array::from_fn(|k| Image::new(width, height, parts.iter().map(|p| p[k]).collect()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -53,7 +82,7 @@ mod tests {
             photon_count: 10.0,
             direct: [3.0, 6.0, 9.0],
             radius: 2.0,
-            caustic_tau: [std::f32::consts::PI * 2.0; 3],
+            caustic_tau: [std::f32::consts::PI * 4.0; 3],
             caustic_count: 1.0,
             caustic_radius: 1.0,
             volume_tau: [std::f32::consts::PI * 48.0; 3],
@@ -61,13 +90,34 @@ mod tests {
             volume_radius: 3.0,
             ..PixelStats::default()
         };
-        // τ / (π·4·2) = 1; caustic τ / (π·1·2) = 1; volume τ / (4/3·π·27·2) = 2/3;
+        // τ / (π·4·2) = 1; caustic τ / (π·1·2) = 2; volume τ / (4/3·π·27·2) = 2/3;
         // direct / 3 = (1, 2, 3).
         let l = resolve_pixel(&stats, 3, 2);
         assert!(
-            (l - Vec3::new(11.0, 14.0, 17.0) / 3.0).abs().max_element() < 1e-5,
+            (l - Vec3::new(14.0, 17.0, 20.0) / 3.0).abs().max_element() < 1e-5,
             "{l}"
         );
+        let parts = resolve_components(&stats, 3, 2);
+        let expected = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::ONE,
+            Vec3::splat(2.0),
+            Vec3::splat(2.0 / 3.0),
+        ];
+        for (name, (part, expected)) in COMPONENTS.iter().zip(parts.iter().zip(expected)) {
+            assert!(
+                (*part - expected).abs().max_element() < 1e-5,
+                "{name}: {part}"
+            );
+        }
+        // The images by part sum to the image, bit for bit (the same additions in order).
+        let pixels = [stats, PixelStats::initial(1.0, 0.5, 2.0)];
+        let image = resolve(&pixels, 2, 1, 3, 2);
+        let [a, b, c, d] = resolve_component_images(&pixels, 2, 1, 3, 2);
+        for i in 0..2 {
+            let sum = a.pixels[i] + b.pixels[i] + c.pixels[i] + d.pixels[i];
+            assert_eq!(sum, image.pixels[i]);
+        }
         assert_eq!(
             resolve_pixel(&PixelStats::initial(1.0, 0.5, 2.0), 0, 0),
             Vec3::ZERO

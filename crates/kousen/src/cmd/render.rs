@@ -1,6 +1,7 @@
 //! `kousen render`: a scene to an image with SPPM on the GPU or CPU backend (or, with
 //! `--integrator path`, the CPU path tracer kept as an independent reference).
 
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -107,6 +108,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let stop = stop_on_ctrl_c();
     // Fail on a bad output or checkpoint path, or an unreadable checkpoint, before any work.
     let output = Output::create_with(&args.output, args.exr_precision)?;
+    let components = args
+        .components
+        .then(|| component_outputs(&args.output, args.exr_precision))
+        .transpose()?;
     if let Some(path) = &args.checkpoint {
         crate::output_file::PendingFile::create(path)?;
     }
@@ -118,6 +123,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.integrator == Integrator::Path && (args.checkpoint.is_some() || resume.is_some()) {
         bail!("--checkpoint and --resume are for SPPM renders, not --integrator path");
     }
+    if args.integrator == Integrator::Path && args.components {
+        bail!("--components is for SPPM renders, not --integrator path (its image has no parts)");
+    }
+    let output = Outputs {
+        image: output,
+        components,
+    };
     let mut scene = scene::load(&args.scene)?;
     args.added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
@@ -174,7 +186,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             &bvh,
             frame,
             budget,
-            output,
+            output.image,
             &continuation.stop,
         );
     }
@@ -265,6 +277,33 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
 }
 
+/// Where a render's image goes and, with --components, its parts (`render::resolve::COMPONENTS`).
+struct Outputs {
+    image: Output,
+    components: Option<Vec<Output>>,
+}
+
+/// The files of --components: `out.direct.exr` and so on beside `out.exr`.
+fn component_outputs(
+    output: &Path,
+    precision: crate::image_io::ExrPrecision,
+) -> anyhow::Result<Vec<Output>> {
+    render::resolve::COMPONENTS
+        .iter()
+        .map(|name| Output::create_with(&component_path(output, name), precision))
+        .collect()
+}
+
+/// `out.exr` with `name` before its extension: `out.NAME.exr`.
+fn component_path(output: &Path, name: &str) -> PathBuf {
+    let stem = output.file_stem().unwrap_or_default().to_string_lossy();
+    let file = match output.extension() {
+        Some(extension) => format!("{stem}.{name}.{}", extension.to_string_lossy()),
+        None => format!("{stem}.{name}"),
+    };
+    output.with_file_name(file)
+}
+
 /// The checkpoint a render continues, if any, the scene-and-view fingerprint its
 /// checkpoints carry (empty when neither --checkpoint nor --resume is given), and when it
 /// stops early.
@@ -281,7 +320,7 @@ fn finish<B: Backend>(
     settings: Settings,
     backend: B,
     budget: Budget,
-    output: Output,
+    output: Outputs,
     continuation: Continuation,
 ) -> anyhow::Result<()> {
     let backend_name = backend.name();
@@ -337,7 +376,12 @@ fn finish<B: Backend>(
         checkpoint_file::write(path, header(seconds), &sppm.checkpoint()?)?;
     }
     let host_cpu_seconds = thread_cpu_seconds() - cpu_before;
-    output.commit(&rendered.image, args.look())?;
+    output.image.commit(&rendered.image, args.look())?;
+    if let Some(components) = output.components {
+        for (file, image) in components.into_iter().zip(sppm.component_images()?) {
+            file.commit(&image, args.look())?;
+        }
+    }
     log::info!(
         "{} passes, {} photon paths in {:.2} s",
         rendered.passes,

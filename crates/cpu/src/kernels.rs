@@ -24,7 +24,7 @@ use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
 use render::microfacet::GlossyLobe;
-use render::normal_map::{arrival_factor, departure_factor};
+use render::normal_map::{arrival_factor, bounded_correction, departure_factor};
 use render::optics::relative_eta;
 use render::packing::{
     is_caustic, is_volume, photon_normal, surface_normal, unpack_normal, unpack_volume_point,
@@ -173,8 +173,10 @@ pub fn photon_pass_with<R: StreamRng>(
         && let Some(reflected) = clearcoat_bounce(&hit, direction, &coat, || rng.next_f32())
     {
         let reflected = reflected.map(|(next, weight)| {
-            let shading_factors = arrival_factor(-direction, hit.interpolated, hit.geometric)
-                * departure_factor(next, hit.interpolated, hit.geometric);
+            let shading_factors = bounded_correction(
+                arrival_factor(-direction, hit.interpolated, hit.geometric)
+                    * departure_factor(next, hit.interpolated, hit.geometric),
+            );
             (next, weight * shading_factors)
         });
         slot.depth += 1;
@@ -202,8 +204,10 @@ pub fn photon_pass_with<R: StreamRng>(
         slot.depth += 1;
         match reflected {
             Some((next, weight)) if slot.depth < params.max_depth => {
-                let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
-                    * departure_factor(next, hit.shading, hit.geometric);
+                let shading_factors = bounded_correction(
+                    arrival_factor(-direction, hit.shading, hit.geometric)
+                        * departure_factor(next, hit.shading, hit.geometric),
+                );
                 let coat = through_coat.map_or(1.0, |c| {
                     clearcoat_transmittance(&c, next.dot(hit.interpolated))
                 });
@@ -270,7 +274,7 @@ pub fn photon_pass_with<R: StreamRng>(
         let landed = Photon {
             position: hit.position.to_array(),
             normal: photon_normal(hit.shading, !bounced),
-            flux: (flux * (arrival * share)).to_array(),
+            flux: (flux * (bounded_correction(arrival) * share)).to_array(),
             pad: 0,
         };
         photon = one_of(photon, landed, || rng.next_f32());
@@ -329,7 +333,10 @@ pub fn photon_pass_with<R: StreamRng>(
             clearcoat_transmittance(&c, next.dot(out.interpolated))
         });
         let sheen = through_sheen.map_or(1.0, |s| s.transmittance(next.dot(out.shading)));
-        (next, weight * (arrival * departure * coat * sheen))
+        (
+            next,
+            weight * (bounded_correction(arrival * departure) * coat * sheen),
+        )
     });
     let survival = tint.max_element().min(1.0);
     slot.depth += 1;

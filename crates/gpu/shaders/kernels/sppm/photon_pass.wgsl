@@ -210,8 +210,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         coat_weight = clearcoat.weight;
         let coat = clearcoat_bounce(clearcoat, hit, direction, &rng);
         if coat.reflected {
-            let shading_factors = arrival_factor(-direction, hit.interpolated, hit.geometric)
-                * departure_factor(coat.bounce.direction, hit.interpolated, hit.geometric);
+            let shading_factors = bounded_correction(arrival_factor(-direction, hit.interpolated, hit.geometric)
+                * departure_factor(coat.bounce.direction, hit.interpolated, hit.geometric));
             let coat_weight = coat.bounce.weight * shading_factors;
             slot.depth += 1u;
             if coat_weight > 0.0 && slot.depth < params.max_depth {
@@ -233,8 +233,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         if bounce.reflected {
             slot.depth += 1u;
             if max3(bounce.weight) > 0.0 && slot.depth < params.max_depth {
-                let shading_factors = arrival_factor(-direction, hit.shading, hit.geometric)
-                    * departure_factor(bounce.direction, hit.shading, hit.geometric);
+                let shading_factors = bounded_correction(arrival_factor(-direction, hit.shading, hit.geometric)
+                    * departure_factor(bounce.direction, hit.shading, hit.geometric));
                 let coat = clearcoat_transmittance(coat_weight, dot(bounce.direction, hit.interpolated));
                 slot.origin = offset_origin(hit, bounce.direction, params.epsilon);
                 slot.direction = bounce.direction;
@@ -296,7 +296,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             if keeper_surface == SURFACE_PLASTIC {
                 share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, dot(direction, hit.shading));
             }
-            let landed = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (arrival * share), 0u);
+            let landed = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (bounded_correction(arrival) * share), 0u);
             photon = one_of(photon, landed, &rng);
         }
     }
@@ -346,7 +346,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     // through).
     let out_of_coat = clearcoat_transmittance(coat_weight, dot(next, out.interpolated));
     let out_of_sheen = sheen_transmittance(sheen, dot(next, out.shading));
-    weight = weight * (arrival * departure_factor(next, out.shading, out.geometric) * out_of_coat * out_of_sheen);
+    weight = weight * (bounded_correction(arrival * departure_factor(next, out.shading, out.geometric)) * out_of_coat * out_of_sheen);
     let survival = min(max3(tint), 1.0);
     slot.depth += 1u;
     if weight > 0.0 && u_roulette < survival && slot.depth < params.max_depth {

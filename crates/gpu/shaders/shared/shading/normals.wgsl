@@ -117,6 +117,13 @@ fn departure_factor(next: vec3<f32>, shading: vec3<f32>, geometric: vec3<f32>) -
     return shading_ratio(next, geometric, shading);
 }
 
+// render::normal_map::MAX_SHADING_CORRECTION and bounded_correction.
+const MAX_SHADING_CORRECTION: f32 = 4.0;
+
+fn bounded_correction(factor: f32) -> f32 {
+    return min(factor, MAX_SHADING_CORRECTION);
+}
+
 // ---- render::shadow_terminator ----
 fn smooth_position(position: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, n0: vec3<f32>, n1: vec3<f32>, n2: vec3<f32>, barycentric: vec3<f32>) -> vec3<f32> {
     var lifted = position;

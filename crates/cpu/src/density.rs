@@ -6,9 +6,9 @@
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
-use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams};
+use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams, vec3};
 use render::density::{SCAN_BLOCK, full_word};
-use render::hash::query_entries;
+use render::hash::{cell_of, entry_of, grid_salt, query_entries, volume_query_cells};
 
 use crate::kernels::{self, GatherQuery, GatherSum};
 
@@ -154,18 +154,33 @@ fn full_query_with<'a>(
     query: &GatherQuery,
     photon_at: impl Fn(u32) -> &'a Photon,
 ) -> GatherSum {
+    let listed_in = |entry: u32| {
+        let word = entry as usize * HASH_ENTRY_WORDS;
+        let start = list_start(hash, block_offsets, word);
+        start..start + hash[word + full_word::COUNT].load(Relaxed)
+    };
+    let mut sum = GatherSum::default();
+    if query.volume.is_some() {
+        // The volume photons' finer grid, cell by cell: each photon counted in its own cell
+        // only, where two cells share an entry (`render::hash::volume_query_cells`).
+        for cell in volume_query_cells(query.position, query.reach(), query.cell_size) {
+            for place in listed_in(entry_of(cell, grid_salt(true), params.hash_size)) {
+                let photon = photon_at(place);
+                if cell_of(vec3(photon.position), query.cell_size) == cell {
+                    sum.add_if_near(query, photon, 1);
+                }
+            }
+        }
+        return sum;
+    }
     let (entries, count) = query_entries(
         query.position,
         query.reach(),
         query.grid(),
         params.hash_size,
     );
-    let mut sum = GatherSum::default();
     for &entry in &entries[..count] {
-        let word = entry as usize * HASH_ENTRY_WORDS;
-        let start = list_start(hash, block_offsets, word);
-        let listed = hash[word + full_word::COUNT].load(Relaxed);
-        for place in start..start + listed {
+        for place in listed_in(entry) {
             sum.add_if_near(query, photon_at(place), 1);
         }
     }

@@ -16,8 +16,8 @@ use render::direct::{shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
 use render::hash::{
-    cell_of, cell_size, class_entry, class_mark, entry_count, entry_of, grid_salt, largest_radius,
-    photon_class, priority, query_entries,
+    cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
+    grid_salt, photon_class, priority, query_entries, volume_query_cells,
 };
 use render::iridescence::{Film, lobe_film_weight, metal_tint};
 use render::lens::camera_ray;
@@ -1433,43 +1433,70 @@ impl GatherSum {
 
 /// The stochastic hash's query: each distinct entry the sphere overlaps gives its kept photon,
 /// weighted by the entry's count, in class 0's table and each other photon class's table its
-/// count word marks (`render::hash::photon_class`, `class_mark`).
+/// count word marks (`render::hash::photon_class`, `class_mark`). A volume visible point reads
+/// the volume photons' finer grid cell by cell ([`volume_query_cells`]), each cell's kept
+/// photon counting only where it lies in that cell.
 pub fn stochastic_query(
     params: &SppmParams,
     hash: &[AtomicU32],
     photons: &[Photon],
     query: &GatherQuery,
 ) -> GatherSum {
+    let mut sum = GatherSum::default();
+    if query.volume.is_some() {
+        for cell in volume_query_cells(query.position, query.reach(), query.cell_size) {
+            let entry = entry_of(cell, grid_salt(true), params.hash_size);
+            add_kept_photons(&mut sum, params, hash, photons, query, entry, |photon| {
+                cell_of(vec3(photon.position), query.cell_size) == cell
+            });
+        }
+        return sum;
+    }
     let (entries, count) = query_entries(
         query.position,
         query.reach(),
         query.grid(),
         params.hash_size,
     );
-    let classes = params.hash_classes();
-    let mut sum = GatherSum::default();
     for &entry in &entries[..count] {
-        // Class 0's count, and the other classes' marks above it.
-        let count_word = hash[entry as usize * HASH_ENTRY_WORDS + hash_word::COUNT].load(Relaxed);
-        for class in 0..classes {
-            if class > 0 && count_word & class_mark(class) == 0 {
-                continue;
-            }
-            let word = class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS;
-            let counted = if class == 0 {
-                count_word
-            } else {
-                hash[word + hash_word::COUNT].load(Relaxed)
-            };
-            let photons_in_entry = entry_count(counted, classes);
-            if photons_in_entry == 0 {
-                continue;
-            }
-            let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
+        add_kept_photons(&mut sum, params, hash, photons, query, entry, |_| true);
+    }
+    sum
+}
+
+/// Adds the photons table entry `entry` keeps, in class 0's table and in each other class's its
+/// count word marks, each weighted by its class's count there, where `counts` accepts it.
+fn add_kept_photons(
+    sum: &mut GatherSum,
+    params: &SppmParams,
+    hash: &[AtomicU32],
+    photons: &[Photon],
+    query: &GatherQuery,
+    entry: u32,
+    counts: impl Fn(&Photon) -> bool,
+) {
+    let classes = params.hash_classes();
+    // Class 0's count, and the other classes' marks above it.
+    let count_word = hash[entry as usize * HASH_ENTRY_WORDS + hash_word::COUNT].load(Relaxed);
+    for class in 0..classes {
+        if class > 0 && count_word & class_mark(class) == 0 {
+            continue;
+        }
+        let word = class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS;
+        let counted = if class == 0 {
+            count_word
+        } else {
+            hash[word + hash_word::COUNT].load(Relaxed)
+        };
+        let photons_in_entry = entry_count(counted, classes);
+        if photons_in_entry == 0 {
+            continue;
+        }
+        let photon = &photons[hash[word + hash_word::WINNER].load(Relaxed) as usize];
+        if counts(photon) {
             sum.add_if_near(query, photon, photons_in_entry);
         }
     }
-    sum
 }
 
 /// Gather and update with any density method: `query` finds the photons around the visible
@@ -1525,7 +1552,7 @@ pub fn gather_update(
     let volume_cell_size = cell_size_of(counters, true);
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
     // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
-    let largest = largest_radius(cell_size);
+    let largest = grid_largest_radius(cell_size, false);
     shrink_to_fit(&mut stats.tau, &mut stats.radius, largest, AREA);
     shrink_to_fit(
         &mut stats.caustic_tau,
@@ -1536,7 +1563,7 @@ pub fn gather_update(
     shrink_to_fit(
         &mut stats.volume_tau,
         &mut stats.volume_radius,
-        largest_radius(volume_cell_size),
+        grid_largest_radius(volume_cell_size, true),
         VOLUME,
     );
     if !visible_point.is_valid() {
@@ -1655,13 +1682,13 @@ pub fn finish_pass(counters: &[AtomicU32]) {
     counters[counter::EMITTED_LO].store(sum, Relaxed);
     counters[counter::EMITTED_HI].fetch_add(carry as u32, Relaxed);
     // No pixel has met a photon yet: the cells stay as they are. Each grid by its own radii.
-    for (max, cells) in [
-        (counter::MAX_RADIUS, counter::CELL_SIZE),
-        (counter::VOLUME_MAX_RADIUS, counter::VOLUME_CELL_SIZE),
+    for (max, cells, volume) in [
+        (counter::MAX_RADIUS, counter::CELL_SIZE, false),
+        (counter::VOLUME_MAX_RADIUS, counter::VOLUME_CELL_SIZE, true),
     ] {
         let max_radius = f32::from_bits(counters[max].swap(0, Relaxed));
         if max_radius > 0.0 {
-            counters[cells].store(cell_size(max_radius).to_bits(), Relaxed);
+            counters[cells].store(grid_cell_size(max_radius, volume).to_bits(), Relaxed);
         }
     }
     counters[counter::PASS].fetch_add(1, Relaxed);

@@ -5,12 +5,14 @@
 
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
+use cpu::kernels::{GatherQuery, VolumeQuery};
 use glam::Vec3;
 use render::buffers::{
     HASH_ENTRY_WORDS, Photon, PixelStats, SppmParams, VisiblePoint, counter, hash_word,
 };
-use render::hash::{cell_of, cell_size, entry_of};
-use render::packing::{surface_normal, unpack_normal};
+use render::hash::{cell_of, cell_size, entry_of, grid_cell_size, volume_query_cells};
+use render::packing::{surface_normal, unpack_normal, volume_photon_direction};
+use render::scattering::henyey_greenstein_phase;
 
 /// The counters and hash table of one pass, laid out as the backends keep them.
 struct Table {
@@ -346,13 +348,19 @@ fn assert_gather_estimate_unbiased(classes: u32) {
             sum_sq[k] += (v as f64).powi(2);
         }
     }
-    let n = TRIALS as f64;
     let expected = [
         full_flux.x as f64,
         full_flux.y as f64,
         full_flux.z as f64,
         full_count,
     ];
+    assert_means_match(TRIALS, sum, sum_sq, expected);
+}
+
+/// Each of flux r, g, b and the count: the mean over `trials` within 4 standard errors of the
+/// full gather's.
+fn assert_means_match(trials: u32, sum: [f64; 4], sum_sq: [f64; 4], expected: [f64; 4]) {
+    let n = trials as f64;
     for (k, name) in ["flux.r", "flux.g", "flux.b", "count"].iter().enumerate() {
         let mean = sum[k] / n;
         let variance = (sum_sq[k] / n - mean * mean) * n / (n - 1.0);
@@ -369,4 +377,79 @@ fn assert_gather_estimate_unbiased(classes: u32) {
             expected[k]
         );
     }
+}
+
+/// The same for a volume visible point, which reads the volume photons' finer grid cell by
+/// cell (`render::hash::volume_query_cells`) through a table of three entries, so that the
+/// ~20 cells its sphere reaches share them: each cell counts only the kept photon lying in it,
+/// and the estimate (flux times the phase function towards the eye, and the count) is still
+/// the full gather's, no photon counted twice.
+#[test]
+fn the_volume_gather_estimate_is_unbiased_where_cells_share_entries() {
+    const TRIALS: u32 = 60_000;
+    let radius = 0.3;
+    let cell = grid_cell_size(radius, true);
+    let table = Table::new(3, 5, cell_size(radius), 0.5);
+    table.counters[counter::VOLUME_CELL_SIZE].store(cell.to_bits(), Relaxed);
+    let position = Vec3::new(0.58, 0.97, 1.05) * cell;
+    let mut rng = SplitMix(7);
+    let photons: Vec<Photon> = (0..120)
+        .map(|i| {
+            if i % 11 == 4 {
+                return Photon::default();
+            }
+            let spread = if i % 4 == 3 { 4.0 } else { 1.3 };
+            let at = position + (rng.vec3() * 2.0 - Vec3::ONE) * spread * radius;
+            let direction = (rng.vec3() * 2.0 - Vec3::ONE + Vec3::new(0.0, 0.0, 0.01)).normalize();
+            Photon {
+                position: at.to_array(),
+                normal: volume_photon_direction(direction),
+                flux: (Vec3::new(0.2, 0.5, 1.0) + 2.0 * rng.vec3()).to_array(),
+                pad: 0,
+            }
+        })
+        .collect();
+    let query = GatherQuery {
+        position,
+        normal: Vec3::NEG_Z,
+        radius,
+        caustic_radius: radius,
+        cell_size: cell,
+        volume: Some(VolumeQuery {
+            direction: Vec3::Z,
+            anisotropy: 0.6,
+            radius,
+        }),
+    };
+
+    // The full gather, by the kernel's own test (distance) and weight (the phase function).
+    let (mut full_flux, mut full_count) = (Vec3::ZERO, 0.0);
+    for p in photons.iter().filter(|p| p.is_stored()) {
+        if (Vec3::from_array(p.position) - position).length_squared() < radius * radius {
+            let cos = -unpack_normal(p.normal).dot(Vec3::Z);
+            full_flux += henyey_greenstein_phase(0.6, cos) * Vec3::from_array(p.flux);
+            full_count += 1.0;
+        }
+    }
+    let read: Vec<_> = volume_query_cells(position, radius, cell).collect();
+    println!("{full_count} photons gathered in {} cells read", read.len());
+    assert!(full_count >= 10.0);
+    assert!(read.len() > 8, "the cells read share the three entries");
+
+    let order: Vec<usize> = (0..photons.len()).collect();
+    let (mut sum, mut sum_sq) = ([0f64; 4], [0f64; 4]);
+    for pass in 0..TRIALS {
+        table.build(pass, &photons, &order);
+        let found = cpu::kernels::stochastic_query(&table.params, &table.hash, &photons, &query);
+        let f = found.volume_flux;
+        for (k, v) in [f.x, f.y, f.z, found.volume_found as f32]
+            .into_iter()
+            .enumerate()
+        {
+            sum[k] += v as f64;
+            sum_sq[k] += (v as f64).powi(2);
+        }
+    }
+    let expected = [full_flux.x, full_flux.y, full_flux.z, full_count];
+    assert_means_match(TRIALS, sum, sum_sq, expected.map(f64::from));
 }

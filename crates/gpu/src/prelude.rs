@@ -147,6 +147,12 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             U32(counter::VOLUME_CELL_SIZE as u32),
         ),
         ("VOLUME_CELL_SALT", U32(render::hash::VOLUME_CELL_SALT)),
+        (
+            "VOLUME_CELL_DIVISIONS",
+            U32(render::hash::VOLUME_CELL_DIVISIONS),
+        ),
+        ("VOLUME_CELL_SHARE", F32(render::hash::VOLUME_CELL_SHARE)),
+        ("CELL_BOX_MARGIN", F32(render::hash::CELL_BOX_MARGIN)),
     ]
 }
 

@@ -65,6 +65,7 @@ const SPPM: [(&str, &str); 8] = [
     part!("kernels/sppm/gather.wgsl"),
 ];
 const SKY_MAP: &str = include_str!("../shaders/shared/sky_map.wgsl");
+const DENSITY_GRID: &str = include_str!("../shaders/shared/density_grid.wgsl");
 const DENSITY_STOCHASTIC: &str = include_str!("../shaders/shared/density_stochastic.wgsl");
 const DENSITY_FULL: &str = include_str!("../shaders/shared/density_full.wgsl");
 const DENSITY_KDTREE: &str = include_str!("../shaders/shared/density_kdtree.wgsl");
@@ -167,11 +168,15 @@ impl Module {
                 parts.extend_from_slice(&SHADING);
                 parts.push(("shared/sky_map.wgsl", SKY_MAP));
                 parts.extend_from_slice(&SPPM);
+                parts.push(("shared/density_grid.wgsl", DENSITY_GRID));
                 parts.push(("shared/density_stochastic.wgsl", DENSITY_STOCHASTIC));
                 return parts;
             }
             Module::SppmFullHash => {
-                return Module::Sppm.with_density(&[("shared/density_full.wgsl", DENSITY_FULL)]);
+                return Module::Sppm.with_density(&[
+                    ("shared/density_grid.wgsl", DENSITY_GRID),
+                    ("shared/density_full.wgsl", DENSITY_FULL),
+                ]);
             }
             Module::SppmKdTree => {
                 return Module::Sppm.with_density(&[
@@ -196,8 +201,8 @@ impl Module {
         scene.iter().chain(own).copied().collect()
     }
 
-    /// These parts with the stochastic hash's query replaced by `density` (files defining
-    /// `density_query`).
+    /// These parts with the stochastic hash's query (the grid's loops and its entries)
+    /// replaced by `density` (files defining `density_query`).
     fn with_density(
         self,
         density: &[(&'static str, &'static str)],
@@ -205,7 +210,12 @@ impl Module {
         let mut parts: Vec<_> = self
             .parts()
             .into_iter()
-            .filter(|&(name, _)| name != "shared/density_stochastic.wgsl")
+            .filter(|&(name, _)| {
+                !matches!(
+                    name,
+                    "shared/density_grid.wgsl" | "shared/density_stochastic.wgsl"
+                )
+            })
             .collect();
         parts.extend_from_slice(density);
         parts

@@ -9,7 +9,7 @@
 //!   bit for bit;
 //! - kd-tree: the gather over the tree uploaded from the GPU's photons equals the CPU's query
 //!   of the same tree;
-//! - both gathers in murky glass (`scene::testing::furnace_with_murky_glass`), where volume
+//! - the stochastic hash's gather, and both of those, in murky glass (`scene::testing::furnace_with_murky_glass`), where volume
 //!   visible points gather the volume photons.
 //!
 //! Runs on whatever adapter wgpu finds (lavapipe in CI), so the sizes are small.
@@ -18,7 +18,7 @@ use std::sync::atomic::AtomicU32;
 
 use bvh::{BuildOptions, PackedBvh};
 use cpu::density::{full_query, photon_entry};
-use cpu::kernels::{GatherQuery, GatherSum, gather_with};
+use cpu::kernels::{GatherQuery, GatherSum, gather_with, stochastic_query};
 use gpu::GpuContext;
 use gpu::sppm::GpuBackend;
 use render::buffers::{HASH_ENTRY_WORDS, Photon, PixelStats, SppmParams, VisiblePoint};
@@ -191,6 +191,33 @@ fn full_hash_matches_its_cpu_twin_with_f16_photons() {
 fn full_hash_matches_its_cpu_twin_in_murky_glass() {
     let volume_lit = full_hash_matches_its_cpu_twin(murky_furnace(), Precision::F32);
     assert!(volume_lit > 100, "{volume_lit} pixels met volume photons");
+}
+
+/// The stochastic hash's gather in murky glass on the GPU's own state: volume visible points
+/// read the volume photons' finer grid cell by cell (`render::hash::volume_query_cells`)
+/// through a table of 1,000 entries, where the cells they read share entries, each cell
+/// counting only the kept photon lying in it.
+#[test]
+fn stochastic_gather_matches_its_cpu_twin_in_murky_glass() {
+    let scene = murky_furnace();
+    let (mut sppm, settings) = render_scene(scene.clone(), Density::StochasticHash, Precision::F32);
+    let params = params_of(&scene, &settings);
+    // One kept photon a cell finds fewer than the lists: a pass first, so that a quarter of
+    // the pixels have met photons when the comparison starts.
+    pass(&mut sppm, Density::StochasticHash);
+    for p in 1..4 {
+        let (before, after) = pass(&mut sppm, Density::StochasticHash);
+        let counters = atomics(&before.counters);
+        let hash = atomics(&before.hash);
+        let twin = twin_gather(&before, &params, &counters, |q| {
+            stochastic_query(&params, &hash, &before.photons, q)
+        });
+        let volume_lit = assert_gather_matches(&format!("stochastic hash pass {p}"), &after, &twin);
+        assert!(
+            volume_lit > 100,
+            "pass {p}: {volume_lit} pixels met volume photons"
+        );
+    }
 }
 
 /// The kernels' parameters for `scene` under `settings`, as the backends are given them.

@@ -355,8 +355,9 @@ pub fn emitted_total(low: u32, high: u32) -> u64 {
 /// at `radius` and whose volume photons' at `volume_radius`.
 pub fn initial_counters(radius: f32, volume_radius: f32) -> [u32; counter::COUNT] {
     let mut counters = [0; counter::COUNT];
-    counters[counter::CELL_SIZE] = crate::hash::cell_size(radius).to_bits();
-    counters[counter::VOLUME_CELL_SIZE] = crate::hash::cell_size(volume_radius).to_bits();
+    counters[counter::CELL_SIZE] = crate::hash::grid_cell_size(radius, false).to_bits();
+    counters[counter::VOLUME_CELL_SIZE] =
+        crate::hash::grid_cell_size(volume_radius, true).to_bits();
     counters
 }
 

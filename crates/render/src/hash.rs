@@ -9,7 +9,9 @@
 //! radius starts larger (`scattering::VOLUME_RADIUS_SHARE`). One grid for both would size the
 //! surfaces' cells by the spheres, so that each kept photon would serve more surface
 //! gathers (with the stochastic hash, the surfaces' noise +23 % on `scenes/cornell-murky.gltf`
-//! at a volume share of 2.5: docs/BENCHMARKS.md, session 41).
+//! at a volume share of 2.5: docs/BENCHMARKS.md, session 41). The volume grid is also finer
+//! ([`VOLUME_CELL_DIVISIONS`]): its gathers read the cells their sphere reaches one by one
+//! ([`volume_query_cells`]).
 
 use bvh::bench_rays::pcg_hash;
 use glam::{IVec3, Vec3};
@@ -28,6 +30,39 @@ pub fn cell_size(max_radius: f32) -> f32 {
 /// The largest gather radius cells of `cell_size` serve (the inverse of [`cell_size`]).
 pub fn largest_radius(cell_size: f32) -> f32 {
     cell_size * (0.5 / CELL_SLACK)
+}
+
+/// Volume cells per gather diameter: the volume photons' grid is `VOLUME_CELL_DIVISIONS` times
+/// finer than the surfaces' (cells of side ≥ 2·R / divisions), so a gather sphere touches at
+/// most `divisions + 1` cells per axis and reads only those its boundary reaches. The
+/// stochastic hash keeps one photon a cell, weighted by the cell's count: the finer the cells,
+/// the fewer photons share that weight and the more of a sphere's neighbourhood it reads in
+/// kept photons. A sphere fills ~7 % of the 2 × 2 × 2 cells of side 2·R around it, a disc
+/// ~20 % of their section, so volume gathers were far noisier than the surfaces' (docs/
+/// BENCHMARKS.md, session 43).
+pub const VOLUME_CELL_DIVISIONS: u32 = 2;
+
+/// A volume cell's side over a surface cell's at the same radius: a product, not a quotient,
+/// so that both backends round it alike (WGSL's division may be inexact).
+pub const VOLUME_CELL_SHARE: f32 = 1.0 / VOLUME_CELL_DIVISIONS as f32;
+
+/// The cell side of a grid (the volume photons' where `volume`) for a largest gather radius.
+pub fn grid_cell_size(max_radius: f32, volume: bool) -> f32 {
+    if volume {
+        cell_size(max_radius) * VOLUME_CELL_SHARE
+    } else {
+        cell_size(max_radius)
+    }
+}
+
+/// The largest gather radius cells of `cell_size` serve in a grid (the inverse of
+/// [`grid_cell_size`]).
+pub fn grid_largest_radius(cell_size: f32, volume: bool) -> f32 {
+    if volume {
+        largest_radius(cell_size * VOLUME_CELL_DIVISIONS as f32)
+    } else {
+        largest_radius(cell_size)
+    }
 }
 
 /// The cell holding `position`. The grid is offset by half a cell so that no cell boundary
@@ -162,6 +197,41 @@ pub fn query_entries(
     (entries, count)
 }
 
+/// How far, in cell sides, [`cell_reaches`] grows a cell's box: far more than the rounding of
+/// `position / cell_size` wherever a grid's coordinates stay below 2¹⁷ cells.
+pub const CELL_BOX_MARGIN: f32 = 1.0 / 64.0;
+
+/// The volume photons' cells a gather sphere at `position` with `radius` reads, in the grid of
+/// `cell_size`: the cells of its bounding box (at most `VOLUME_CELL_DIVISIONS + 1` per axis)
+/// whose box the sphere reaches, x fastest, then y, then z. Two of them may share a table
+/// entry (a collision), so each counts only the photons of its own cell ([`cell_of`]): no
+/// photon counted twice, and no list of entries seen.
+pub fn volume_query_cells(
+    position: Vec3,
+    radius: f32,
+    cell_size: f32,
+) -> impl Iterator<Item = IVec3> {
+    let lo = cell_of(position - Vec3::splat(radius), cell_size);
+    let hi = cell_of(position + Vec3::splat(radius), cell_size)
+        .min(lo + IVec3::splat(VOLUME_CELL_DIVISIONS as i32));
+    (lo.z..=hi.z)
+        .flat_map(move |z| {
+            (lo.y..=hi.y).flat_map(move |y| (lo.x..=hi.x).map(move |x| IVec3::new(x, y, z)))
+        })
+        .filter(move |&cell| cell_reaches(cell, position, radius, cell_size))
+}
+
+/// Whether the sphere at `position` with `radius` may reach a photon of cell `cell` (the grid
+/// offset by half a cell, as [`cell_of`] places it): the cell's box grown by
+/// [`CELL_BOX_MARGIN`] of a side, so that a photon that [`cell_of`]'s rounding puts in the
+/// cell lies in it, and a cell skipped holds no photon within the radius on either backend.
+pub fn cell_reaches(cell: IVec3, position: Vec3, radius: f32, cell_size: f32) -> bool {
+    let low = (cell.as_vec3() - (0.5 + CELL_BOX_MARGIN)) * cell_size;
+    let high = (cell.as_vec3() + (0.5 + CELL_BOX_MARGIN)) * cell_size;
+    let nearest = position.clamp(low, high);
+    position.distance_squared(nearest) <= radius * radius
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -180,6 +250,42 @@ mod tests {
             let hi = cell_of(p + Vec3::splat(radius), cell);
             assert!((hi - lo).max_element() <= 1, "{p}");
         }
+    }
+
+    /// Every point within the radius lies in a cell the volume query reads, the cells are
+    /// distinct and at most `VOLUME_CELL_DIVISIONS + 1` per axis, and the query skips the
+    /// box's corner cells the sphere does not reach.
+    #[test]
+    fn volume_queries_read_every_cell_within_the_radius() {
+        let radius = 0.37;
+        let cell = grid_cell_size(radius, true);
+        assert_eq!(
+            grid_largest_radius(cell, true),
+            largest_radius(cell_size(radius))
+        );
+        let side = VOLUME_CELL_DIVISIONS as usize + 1;
+        let mut skipped = 0;
+        for i in 0..2000u32 {
+            let unit = |k: u32| pcg_hash(i * 8 + k) as f32 / u32::MAX as f32;
+            let p = Vec3::new(unit(0), unit(1), unit(2)) * 20.0 - 10.0;
+            let cells: Vec<IVec3> = volume_query_cells(p, radius, cell).collect();
+            let mut distinct = cells.clone();
+            distinct.sort_by_key(|c| c.to_array());
+            distinct.dedup();
+            assert_eq!(distinct.len(), cells.len());
+            let lo = cells.iter().fold(IVec3::MAX, |a, &c| a.min(c));
+            let hi = cells.iter().fold(IVec3::MIN, |a, &c| a.max(c));
+            assert!((hi - lo).max_element() < side as i32, "{p}");
+            skipped += side.pow(3) - cells.len();
+            // Points inside the sphere, on its surface and just off its axes.
+            let direction =
+                (Vec3::new(unit(3), unit(4), unit(5)) * 2.0 - 1.0).normalize_or(Vec3::X);
+            for t in [0.0, 0.5, 0.9, 0.9999, unit(6)] {
+                let q = p + direction * (radius * t);
+                assert!(cells.contains(&cell_of(q, cell)), "{p} {q}");
+            }
+        }
+        assert!(skipped > 2000, "{skipped} cells skipped");
     }
 
     #[test]

@@ -167,21 +167,16 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     }
 }
 
-// cpu::density::full_query_listed: every photon listed in each distinct entry the sphere touches.
-fn density_query(query: GatherQuery, cell_size: f32) -> GatherSum {
-    var sum = no_photons();
-    let touched = query_entries(query.position, reach(query), cell_size, query_salt(query));
-    for (var slot = 0u; slot < 8u; slot += 1u) {
-        let entry = query_entry(touched, slot);
-        if entry == NO_CELL {
-            continue;
-        }
-        let word = entry * HASH_ENTRY_WORDS;
-        let start = list_start(word);
-        let listed = atomicLoad(&hash[word + FULL_COUNT]);
-        for (var place = start; place < start + listed; place += 1u) {
-            add_if_near(&sum, query, unpack_photon(listed_photons[place]), 1u);
+// cpu::density::full_query_listed (the loops over entries and cells in density_grid.wgsl):
+// the photons entry `entry` lists (for a volume visible point those lying in `cell`).
+fn add_entry_photons(sum: ptr<function, GatherSum>, query: GatherQuery, entry: u32, cell: vec3<i32>, cell_size: f32) {
+    let word = entry * HASH_ENTRY_WORDS;
+    let start = list_start(word);
+    let listed = atomicLoad(&hash[word + FULL_COUNT]);
+    for (var place = start; place < start + listed; place += 1u) {
+        let photon = unpack_photon(listed_photons[place]);
+        if in_read_cell(query, photon, cell, cell_size) {
+            add_if_near(sum, query, photon, 1u);
         }
     }
-    return sum;
 }

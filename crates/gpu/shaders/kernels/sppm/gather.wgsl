@@ -231,7 +231,7 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     let cell_size = cell_size_of(false);
     let volume_cell_size = cell_size_of(true);
     // A radius larger than the cells allow shrinks to fit.
-    let largest = largest_radius(cell_size);
+    let largest = grid_largest_radius(cell_size, false);
     var changed = false;
     var indirect = fitted(Estimate(stats.tau, stats.photon_count, stats.radius), largest, AREA, &changed);
     var caustic = fitted(Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius), largest, AREA, &changed);
@@ -240,7 +240,7 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     if MURKY_GLASS {
         volume_tau = pixel_volume_tau[index].xyz;
     }
-    var volume = fitted(Estimate(volume_tau, stats.volume_count, stats.volume_radius), largest_radius(volume_cell_size), VOLUME, &changed);
+    var volume = fitted(Estimate(volume_tau, stats.volume_count, stats.volume_radius), grid_largest_radius(volume_cell_size, true), VOLUME, &changed);
     if any(point.weight != vec3<f32>(0.0)) {
         let query = gather_query(point, indirect.radius, caustic.radius, volume.radius);
         let sum = density_query(query, select(cell_size, volume_cell_size, query.volume));
@@ -281,11 +281,11 @@ fn finish_pass() {
     atomicAdd(&counters[COUNTER_EMITTED_HI], select(0u, 1u, sum < low));
     let max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
     if max_radius > 0.0 {
-        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(hash_cell_size(max_radius)));
+        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(grid_cell_size(max_radius, false)));
     }
     let volume_max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_VOLUME_MAX_RADIUS], 0u));
     if volume_max_radius > 0.0 {
-        atomicStore(&counters[COUNTER_VOLUME_CELL_SIZE], bitcast<u32>(hash_cell_size(volume_max_radius)));
+        atomicStore(&counters[COUNTER_VOLUME_CELL_SIZE], bitcast<u32>(grid_cell_size(volume_max_radius, true)));
     }
     atomicAdd(&counters[COUNTER_PASS], 1u);
 }

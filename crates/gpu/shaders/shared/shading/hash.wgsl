@@ -11,6 +11,17 @@ fn largest_radius(cell_size: f32) -> f32 {
     return cell_size * (0.5 / CELL_SLACK);
 }
 
+// render::hash::grid_cell_size: the volume photons' grid VOLUME_CELL_DIVISIONS times finer.
+fn grid_cell_size(max_radius: f32, volume: bool) -> f32 {
+    let size = hash_cell_size(max_radius);
+    return select(size, size * VOLUME_CELL_SHARE, volume);
+}
+
+// render::hash::grid_largest_radius: the inverse of grid_cell_size.
+fn grid_largest_radius(cell_size: f32, volume: bool) -> f32 {
+    return largest_radius(select(cell_size, cell_size * f32(VOLUME_CELL_DIVISIONS), volume));
+}
+
 // render::hash::cell_of: the grid offset by half a cell (no boundary on the plane 0).
 fn cell_of(position: vec3<f32>, cell_size: f32) -> vec3<i32> {
     return vec3<i32>(floor(position / cell_size + 0.5));
@@ -125,4 +136,26 @@ fn query_entry(query: QueryEntries, slot: u32) -> u32 {
         return query.low[slot];
     }
     return query.high[slot - 4u];
+}
+
+// render::hash::volume_query_cells' bounds: the cells of a volume gather sphere's box, at most
+// VOLUME_CELL_DIVISIONS + 1 per axis, from `lo` to `hi`.
+struct CellBox {
+    lo: vec3<i32>,
+    hi: vec3<i32>,
+}
+
+fn volume_cell_box(position: vec3<f32>, radius: f32, cell_size: f32) -> CellBox {
+    let lo = cell_of(position - vec3<f32>(radius), cell_size);
+    let hi = min(cell_of(position + vec3<f32>(radius), cell_size), lo + vec3<i32>(i32(VOLUME_CELL_DIVISIONS)));
+    return CellBox(lo, hi);
+}
+
+// render::hash::cell_reaches: whether the sphere reaches the cell's box, grown by
+// CELL_BOX_MARGIN of a side (rounding in cell_of), so the query skips the cell.
+fn cell_reaches(cell: vec3<i32>, position: vec3<f32>, radius: f32, cell_size: f32) -> bool {
+    let low = (vec3<f32>(cell) - (0.5 + CELL_BOX_MARGIN)) * cell_size;
+    let high = (vec3<f32>(cell) + (0.5 + CELL_BOX_MARGIN)) * cell_size;
+    let offset = position - clamp(position, low, high);
+    return dot(offset, offset) <= radius * radius;
 }

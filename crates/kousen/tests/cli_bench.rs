@@ -3,13 +3,13 @@
 
 use crate::common;
 
-use common::{assert_clean_error, kousen_quiet as kousen, shipped};
+use common::{assert_clean_error, kousen_quiet as kousen, shipped, succeeded};
 
 #[test]
 fn bench_traversal_json_keeps_the_contract_with_no_mismatches() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("traversal.json");
-    let output = kousen(&[
+    let output = succeeded(kousen(&[
         "bench",
         "traversal",
         &shipped("cornell-caustics.gltf"),
@@ -17,13 +17,8 @@ fn bench_traversal_json_keeps_the_contract_with_no_mismatches() {
         "48",
         "--json",
         json.to_str().unwrap(),
-    ]);
+    ]));
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&json).expect("JSON written")).expect("JSON");
     for key in [
@@ -66,7 +61,7 @@ fn bench_traversal_json_keeps_the_contract_with_no_mismatches() {
 
 #[test]
 fn bench_traversal_cpu_only_needs_no_adapter() {
-    let output = kousen(&[
+    let output = succeeded(kousen(&[
         "bench",
         "traversal",
         &shipped("cornell-box.gltf"),
@@ -76,9 +71,8 @@ fn bench_traversal_cpu_only_needs_no_adapter() {
         "diffuse",
         "--devices",
         "cpu",
-    ]);
+    ]));
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{stdout}");
     assert!(stdout.contains("gpu: none"), "{stdout}");
     let rows: Vec<&str> = stdout
         .lines()

@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use common::{assert_clean_error, kousen_quiet as kousen, shipped};
+use common::{assert_clean_error, kousen_quiet as kousen, shipped, succeeded};
 
 const METHODS: [&str; 5] = [
     "stochastic-64",
@@ -20,7 +20,7 @@ fn bench_density_json_keeps_the_contract() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("density.json");
     let images = dir.path().join("images");
-    let output = kousen(&[
+    let output = succeeded(kousen(&[
         "bench",
         "density",
         &shipped("cornell-caustics.gltf"),
@@ -38,13 +38,8 @@ fn bench_density_json_keeps_the_contract() {
         images.to_str().unwrap(),
         "--json",
         json.to_str().unwrap(),
-    ]);
+    ]));
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&json).expect("JSON written")).expect("JSON");
     for key in ["/adapter/name", "/adapter/driver", "/cpu_model", "/command"] {
@@ -114,7 +109,7 @@ fn bench_density_bad_input_fails_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
     // A reference of another size than the bench renders.
     let reference = dir.path().join("reference.pfm");
-    let output = kousen(&[
+    succeeded(kousen(&[
         "render",
         &shipped("cornell-box.gltf"),
         "-o",
@@ -127,8 +122,7 @@ fn bench_density_bad_input_fails_in_one_line() {
         "1",
         "--backend",
         "cpu",
-    ]);
-    assert!(output.status.success());
+    ]));
     assert_clean_error(
         &kousen(&[
             "bench",

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::{assert_clean_error, kousen_quiet as kousen, shipped};
+use common::{assert_clean_error, kousen_quiet as kousen, shipped, succeeded};
 
 const GENERATORS: [&str; 4] = ["pcg", "talk", "tea", "fract_sin"];
 
@@ -13,7 +13,7 @@ fn bench_rng_json_keeps_the_contract() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("rng.json");
     let images = dir.path().join("images");
-    let output = kousen(&[
+    let output = succeeded(kousen(&[
         "bench",
         "rng",
         &shipped("cornell-caustics.gltf"),
@@ -33,13 +33,8 @@ fn bench_rng_json_keeps_the_contract() {
         "2",
         "--json",
         json.to_str().unwrap(),
-    ]);
+    ]));
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&json).expect("JSON written")).expect("JSON");
     for key in [

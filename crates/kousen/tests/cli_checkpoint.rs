@@ -16,27 +16,19 @@ fn render(out: &Path, extra: &str) -> std::process::Output {
     kousen(&args)
 }
 
-fn succeeds(output: std::process::Output) {
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-}
-
 #[test]
 fn resumed_render_writes_the_uninterrupted_image() {
     let dir = tempfile::tempdir().unwrap();
     let path = |name: &str| dir.path().join(name);
     let checkpoint = path("render.ckpt");
     let ck = checkpoint.to_str().unwrap();
-    succeeds(render(&path("straight.pfm"), "--passes 7"));
-    succeeds(render(
+    succeeded(render(&path("straight.pfm"), "--passes 7"));
+    succeeded(render(
         &path("first.pfm"),
         &format!("--passes 4 --checkpoint {ck}"),
     ));
     let stats = path("stats.json");
-    succeeds(render(
+    succeeded(render(
         &path("continued.pfm"),
         &format!(
             "--passes 7 --resume {ck} --checkpoint {ck} --stats {}",
@@ -60,7 +52,7 @@ fn resumed_render_writes_the_uninterrupted_image() {
         "{rate} {paths} {seconds}"
     );
     // The checkpoint now holds all seven passes: resuming it for seven does no more work.
-    succeeds(render(
+    succeeded(render(
         &path("again.pfm"),
         &format!("--passes 7 --resume {ck}"),
     ));
@@ -72,7 +64,7 @@ fn checkpoint_that_does_not_fit_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let checkpoint = dir.path().join("render.ckpt");
     let ck = checkpoint.to_str().unwrap();
-    succeeds(render(
+    succeeded(render(
         &dir.path().join("a.pfm"),
         &format!("--passes 2 --checkpoint {ck}"),
     ));
@@ -186,7 +178,7 @@ fn ctrl_c_stops_the_render_and_saves_it() {
     );
     assert!(image.exists() && checkpoint.exists());
     let more = (passes + 2).to_string();
-    succeeds(render(
+    succeeded(render(
         &path("more.pfm"),
         &format!("--passes {more} --resume {}", checkpoint.display()),
     ));

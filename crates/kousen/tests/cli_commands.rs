@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use common::kousen;
+use common::{kousen, succeeded};
 use std::path::{Path, PathBuf};
 
 fn shipped(name: &str) -> PathBuf {
@@ -26,23 +26,13 @@ fn render_box(out: &Path, extra: &str) -> serde_json::Value {
         stats.to_str().unwrap(),
     ];
     args.extend(extra.split_whitespace());
-    let output = kousen(&args);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    succeeded(kousen(&args));
     serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap()
 }
 
 /// `kousen info SCENE --json`, which must succeed.
 fn info_json(scene: &Path) -> serde_json::Value {
-    let output = kousen(&["info", scene.to_str().unwrap(), "--json"]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let output = succeeded(kousen(&["info", scene.to_str().unwrap(), "--json"]));
     serde_json::from_slice(&output.stdout).expect("JSON")
 }
 
@@ -298,18 +288,13 @@ fn info_json_keeps_the_contract_for_scripts() {
 fn info_reports_split_triangles() {
     let scene = shipped("cornell-box.gltf");
     let packed = |percent: &str| {
-        let output = kousen(&[
+        let output = succeeded(kousen(&[
             "info",
             scene.to_str().unwrap(),
             "--json",
             "--split-percent",
             percent,
-        ]);
-        assert!(
-            output.status.success(),
-            "{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
+        ]));
         let info: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
         assert_eq!(info["bvh"]["split_percent"].as_u64(), percent.parse().ok());
         info["bvh"]["packed_triangles"]
@@ -344,18 +329,13 @@ fn split_triangles_render_the_same_image() {
     };
     let (unsplit, split) = (render("unsplit.pfm", "0"), render("split.pfm", "100"));
     let json = dir.path().join("diff.json");
-    let output = kousen(&[
+    succeeded(kousen(&[
         "diff",
         split.to_str().unwrap(),
         unsplit.to_str().unwrap(),
         "--json",
         json.to_str().unwrap(),
-    ]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    ]));
     let figures: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     let rel_mse = figures["rel_mse"].as_f64().expect("rel_mse");
@@ -601,12 +581,7 @@ fn render_components(scene: &str, extra: &str) -> Vec<(&'static str, f64)> {
         "--components",
     ];
     args.extend(extra.split_whitespace());
-    let output = kousen(&args);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    succeeded(kousen(&args));
     let image = read_pfm(&out);
     let parts: Vec<(&str, Vec<glam::Vec3>)> = ["direct", "indirect", "caustic", "volume"]
         .into_iter()

@@ -42,8 +42,7 @@ fn diff(a: &Path, b: &Path, extra: &[&str]) -> std::process::Output {
 
 /// The "name value" lines of a successful run.
 fn figures(output: &std::process::Output) -> BTreeMap<String, f64> {
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "kousen diff failed: {stderr}");
+    assert_succeeded(output);
     let stdout = String::from_utf8(output.stdout.clone()).unwrap();
     stdout
         .lines()

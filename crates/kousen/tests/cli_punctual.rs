@@ -94,11 +94,7 @@ fn block_radiance(
     out: &std::path::Path,
     range: std::ops::Range<usize>,
 ) -> f32 {
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    assert_succeeded(output);
     mean_red(&std::fs::read(out).unwrap(), 16, range)
 }
 
@@ -123,8 +119,7 @@ fn mean_red(pfm: &[u8], side: usize, range: std::ops::Range<usize>) -> f32 {
 #[test]
 fn info_counts_punctual_lights_by_kind() {
     let scene = shipped("cornell-spot.gltf");
-    let output = kousen(&["info", &scene, "--json"]);
-    assert!(output.status.success());
+    let output = succeeded(kousen(&["info", &scene, "--json"]));
     let info: Value = serde_json::from_slice(&output.stdout).expect("JSON");
     assert_eq!(
         info["punctual_lights"],

@@ -16,6 +16,22 @@ pub fn kousen(args: &[&str]) -> Output {
         .expect("the kousen binary runs")
 }
 
+/// Asserts the command succeeded, showing what it wrote where it did not; returns its output.
+pub fn succeeded(output: Output) -> Output {
+    assert_succeeded(&output);
+    output
+}
+
+/// Asserts the command succeeded, showing what it wrote where it did not.
+pub fn assert_succeeded(output: &Output) {
+    assert!(
+        output.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
 /// The path of a scene shipped in `scenes/`.
 pub fn shipped(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -1,7 +1,8 @@
 //! The progressive image on screen, straight from the SPPM statistics on the device: a
 //! full-screen triangle whose fragment shader (`shaders/kernels/display.wgsl`) resolves each
 //! pixel like `render::resolve::resolve_pixel`, applies the exposure and tone map of
-//! `render::tonemap::Look` ([`DisplayPass::set_tone_map`]: the clamp, or PBR Neutral) and,
+//! `render::tonemap::Look` ([`DisplayPass::set_tone_map`]: the clamp, or PBR Neutral), showing
+//! the parts of the radiance [`DisplayPass::set_parts`] selects (`render::resolve::Parts`), and,
 //! where the target format is not sRGB, the transfer of
 //! `render::tonemap::linear_to_srgb`. Nothing is read back to the host.
 //!
@@ -23,6 +24,7 @@
 //! `Sppm::pass` calls (the GPU backend submits a pass as a whole). Storage buffers are read in
 //! the fragment stage (two, read-only; WebGPU guarantees eight per stage).
 
+use render::resolve::Parts;
 use render::tonemap::{Look, ToneMap};
 use std::borrow::Cow;
 
@@ -33,7 +35,7 @@ use crate::readback::map_staging;
 use crate::shader::Module;
 use crate::{GpuContext, GpuError};
 
-/// The display shader's uniform (32 bytes), mirrored by `DisplayParams` in `display.wgsl`
+/// The display shader's uniform (48 bytes), mirrored by `DisplayParams` in `display.wgsl`
 /// (`tests/layout.rs` checks the offsets).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -52,6 +54,9 @@ pub struct DisplayParams {
     pub encode_srgb: u32,
     /// `render::tonemap::ToneMap::code`: 0 the clamp, 1 PBR Neutral.
     pub tone_map: u32,
+    /// `render::resolve::Parts::bits`: the parts of the radiance shown.
+    pub parts: u32,
+    pub pad: [u32; 3],
 }
 
 /// What the display reads: the backend's statistics and counters buffers (see
@@ -96,6 +101,8 @@ pub struct DisplayPass {
     ready: bool,
     /// How draws and captures map exposed radiance to [0, 1] ([`DisplayPass::set_tone_map`]).
     tone_map: ToneMap,
+    /// The parts of the radiance draws and captures show ([`DisplayPass::set_parts`]).
+    parts: Parts,
 }
 
 /// The formats [`DisplayPass::capture_as`] reads back: four 8-bit channels.
@@ -152,11 +159,12 @@ fn create_pipeline(
     })
 }
 
-/// The uniform's value for drawing `source` into a `target_size` viewport of `format`.
+/// The uniform's value for drawing the `parts` of `source` into a `target_size` viewport of
+/// `format`.
 fn params_for(
     source: &DisplaySource,
     eye_passes: u32,
-    look: Look,
+    (look, parts): (Look, Parts),
     target_size: (u32, u32),
     format: wgpu::TextureFormat,
 ) -> DisplayParams {
@@ -169,6 +177,8 @@ fn params_for(
         exposure: look.exposure,
         encode_srgb: u32::from(!format.is_srgb()),
         tone_map: look.tone_map.code(),
+        parts: parts.bits(),
+        pad: [0; 3],
     }
 }
 
@@ -216,6 +226,7 @@ impl DisplayPass {
             bound: None,
             ready: false,
             tone_map: ToneMap::Clamp,
+            parts: Parts::ALL,
         }
     }
 
@@ -225,11 +236,19 @@ impl DisplayPass {
         self.tone_map = tone_map;
     }
 
-    fn look(&self, exposure: f32) -> Look {
-        Look {
+    /// The parts of the radiance the draws and captures show from now on
+    /// (`render::resolve::Parts`; all to begin with).
+    pub fn set_parts(&mut self, parts: Parts) {
+        self.parts = parts;
+    }
+
+    /// The look and parts of a draw or capture at `exposure`.
+    fn look(&self, exposure: f32) -> (Look, Parts) {
+        let look = Look {
             exposure,
             tone_map: self.tone_map,
-        }
+        };
+        (look, self.parts)
     }
 
     /// The colour format [`DisplayPass::draw`] renders to.

@@ -20,7 +20,7 @@ use gpu::GpuContext;
 use gpu::display::{DisplayPass, DisplaySource};
 use gpu::sppm::GpuBackend;
 use render::buffers::PixelStats;
-use render::resolve::resolve_pixel;
+use render::resolve::{Parts, resolve_parts};
 use render::tonemap::{Look, ToneMap};
 use render::{Backend, Settings, Setup, Sppm};
 use scene::{Camera, Scene};
@@ -126,6 +126,16 @@ impl Render {
 
     /// [`Render::cpu_twin`] of the statistics as `change` leaves them.
     fn cpu_twin_of(&mut self, look: Look, change: impl Fn(&mut PixelStats)) -> Vec<u8> {
+        self.cpu_twin_showing(look, Parts::ALL, change)
+    }
+
+    /// [`Render::cpu_twin_of`] showing the parts of the radiance `parts` selects.
+    fn cpu_twin_showing(
+        &mut self,
+        look: Look,
+        parts: Parts,
+        change: impl Fn(&mut PixelStats),
+    ) -> Vec<u8> {
         let eye_passes = self.sppm.eye_passes();
         assert_eq!(eye_passes, PASSES / 2);
         let mut stats = self.sppm.backend().read_statistics().expect("statistics");
@@ -135,7 +145,7 @@ impl Render {
             .pixels
             .iter()
             .flat_map(|s| {
-                let l = resolve_pixel(s, eye_passes, stats.emitted_paths);
+                let l = resolve_parts(s, eye_passes, stats.emitted_paths, parts);
                 let [r, g, b] = look.srgb8(l);
                 [r, g, b, 255]
             })
@@ -232,6 +242,44 @@ fn murky_capture_matches_the_cpu_twin() {
             moved.count() > 20,
             "exposure {exposure}: the volume term shows nowhere"
         );
+    }
+}
+
+/// Each part of the radiance alone (`DisplayPass::set_parts`), and the direct light with the
+/// caustics, against the CPU twin's `render::resolve::resolve_parts`, in the murky box so
+/// that every part shows somewhere: each selection lights pixels, and differs from the whole
+/// image where it leaves parts out.
+#[test]
+fn captures_of_parts_match_the_cpu_twin() {
+    let mut render = Render::of(scene::testing::cornell_murky());
+    let mut display = render.display(wgpu::TextureFormat::Bgra8UnormSrgb);
+    let exposure = 2.0;
+    let whole = render.cpu_twin(Look::exposure(exposure));
+    let none = (0..4).fold(Parts::ALL, |parts, k| parts.with(k, false));
+    let selections = (0..4)
+        .map(|k| none.with(k, true))
+        .chain([none.with(0, true).with(2, true)]);
+    for parts in selections {
+        display.set_parts(parts);
+        let gpu = render.capture(&mut display, exposure, (WIDTH, HEIGHT), None);
+        let cpu = render.cpu_twin_showing(Look::exposure(exposure), parts, |_| {});
+        let what = format!("parts {}", parts.name());
+        let off = assert_within_one_step(&gpu, &cpu, &what);
+        assert!(
+            off <= MAX_OFF_BY_ONE,
+            "{what}: {off} of the channels one step off"
+        );
+        let lit = lit_share(&cpu);
+        let moved = (cpu.iter().zip(&whole))
+            .filter(|(a, b)| a.abs_diff(**b) > 1)
+            .count();
+        eprintln!(
+            "{what}: {:.1} % lit, {moved} channels off the whole image",
+            100.0 * lit
+        );
+        // The direct part alone is the lamp's few pixels: photons carry the rest here.
+        assert!(lit > 0.005, "{what}: only {lit} of the pixels lit");
+        assert!(moved > 20, "{what}: no different from the whole image");
     }
 }
 

@@ -603,6 +603,7 @@ fn display_params_layout_matches_rust() {
             ("exposure", offset_of!(DisplayParams, exposure)),
             ("encode_srgb", offset_of!(DisplayParams, encode_srgb)),
             ("tone_map", offset_of!(DisplayParams, tone_map)),
+            ("parts", offset_of!(DisplayParams, parts)),
         ],
     );
     // The statistics it reads are the SPPM kernels' struct.

@@ -364,13 +364,18 @@ impl<B: Backend> Sppm<B> {
 
     /// The image so far: every pixel's radiance.
     pub fn image(&mut self) -> Result<Image, RenderError> {
+        self.image_of(resolve::Parts::ALL)
+    }
+
+    /// The image so far in the parts of its radiance `parts` shows.
+    pub fn image_of(&mut self, parts: resolve::Parts) -> Result<Image, RenderError> {
         let stats = self.backend.read_statistics()?;
-        Ok(resolve::resolve(
+        Ok(resolve::resolve_shown(
             &stats.pixels,
-            self.settings.width,
-            self.settings.height,
+            (self.settings.width, self.settings.height),
             self.eye_passes,
             stats.emitted_paths,
+            parts,
         ))
     }
 

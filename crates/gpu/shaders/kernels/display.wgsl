@@ -18,6 +18,11 @@ struct DisplayParams {
     encode_srgb: u32,
     // render::tonemap::ToneMap::code: 0 the clamp, 1 PBR Neutral.
     tone_map: u32,
+    // render::resolve::Parts::bits: bit k shows part k (direct, indirect, caustic, volume).
+    parts: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> display: DisplayParams;
@@ -51,8 +56,8 @@ fn display_source_index(target_pixel: u32, target_size: u32, render_size: u32) -
     return min(scaled, render_size - 1u);
 }
 
-// render::resolve::resolve_pixel: direct / E + τ / (π R² N_emitted) for each class on
-// surfaces, τ / (4/3 π R³ N_emitted) for the volume photons.
+// render::resolve::resolve_parts: direct / E + τ / (π R² N_emitted) for each class on
+// surfaces, τ / (4/3 π R³ N_emitted) for the volume photons, each where display.parts shows it.
 fn display_resolve(stats: PixelStats, volume_tau: vec3<f32>) -> vec3<f32> {
     var direct = vec3<f32>(0.0);
     if display.eye_passes > 0u {
@@ -61,9 +66,15 @@ fn display_resolve(stats: PixelStats, volume_tau: vec3<f32>) -> vec3<f32> {
     let emitted = f32(display_counters[COUNTER_EMITTED_HI]) * 4294967296.0
         + f32(display_counters[COUNTER_EMITTED_LO]);
     let volume = 4.0 / 3.0 * PI * stats.volume_radius * stats.volume_radius * stats.volume_radius;
-    return direct + display_density(stats.tau, PI * stats.radius * stats.radius, emitted)
-        + display_density(stats.caustic_tau, PI * stats.caustic_radius * stats.caustic_radius, emitted)
-        + display_density(volume_tau, volume, emitted);
+    return display_part(0u, direct)
+        + display_part(1u, display_density(stats.tau, PI * stats.radius * stats.radius, emitted))
+        + display_part(2u, display_density(stats.caustic_tau, PI * stats.caustic_radius * stats.caustic_radius, emitted))
+        + display_part(3u, display_density(volume_tau, volume, emitted));
+}
+
+// Part `part` of the radiance where display.parts shows it, else 0.
+fn display_part(part: u32, radiance: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), radiance, (display.parts & (1u << part)) != 0u);
 }
 
 // τ over a disc's area or a sphere's volume (`measure`) and the emitted paths.

@@ -11,6 +11,7 @@ use anyhow::Context;
 use glam::Vec2;
 use gpu::GpuContext;
 use gpu::display::DisplayPass;
+use render::resolve::Parts;
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
@@ -386,13 +387,19 @@ impl App {
         self.message = Some(text);
     }
 
-    /// Writes the image so far as `<scene>-<passes>.exr` and `.png` in the working directory.
+    /// Writes the image so far as `<scene>-<passes>.exr` and `.png` in the working directory;
+    /// where the overlay shows only some parts of the radiance, those, named in the files
+    /// (`<scene>-<passes>-direct+caustic.exr`).
     fn save(&mut self) {
         let Some(session) = &mut self.session else {
             return;
         };
-        let stem = format!("{}-{:05}", session.name(), session.stats().passes);
-        let written = session.image().and_then(|image| {
+        let parts = self.overlay.parts;
+        let mut stem = format!("{}-{:05}", session.name(), session.stats().passes);
+        if parts != Parts::ALL {
+            stem = format!("{stem}-{}", parts.name());
+        }
+        let written = session.image_of(parts).and_then(|image| {
             for extension in ["exr", "png"] {
                 let path = PathBuf::from(format!("{stem}.{extension}"));
                 crate::image_io::Output::create_with(&path, Default::default())?
@@ -758,6 +765,7 @@ impl App {
                 self.session.as_ref().and_then(Session::display_source)
             {
                 gfx.display.set_tone_map(self.overlay.tone_map);
+                gfx.display.set_parts(self.overlay.parts);
                 gfx.display.draw(
                     device,
                     queue,
@@ -794,6 +802,7 @@ impl App {
             .context("no render to take a screenshot of")?;
         let size = (gfx.config.width, gfx.config.height);
         gfx.display.set_tone_map(self.overlay.tone_map);
+        gfx.display.set_parts(self.overlay.parts);
         let rgba = gfx.display.capture(
             &gfx.context,
             &source,

@@ -1,6 +1,7 @@
 //! The egui overlay: figures of the running render and its controls. It only reports what the
 //! user asked for; the app acts on it.
 
+use render::resolve::{COMPONENTS, Parts};
 use render::tonemap::{Look, ToneMap};
 
 use super::session::{RenderControls, SessionStats};
@@ -42,6 +43,9 @@ pub struct Overlay {
     pub exposure: f32,
     /// Applied by the display pass too (`--tonemap`, then the overlay's switch).
     pub tone_map: ToneMap,
+    /// The parts of the radiance shown and saved (`render::resolve::COMPONENTS`), all at
+    /// first; the display pass applies them, no restart.
+    pub parts: Parts,
     pub controls: RenderControls,
 }
 
@@ -54,6 +58,7 @@ impl Overlay {
             visible,
             exposure: look.exposure,
             tone_map: look.tone_map,
+            parts: Parts::ALL,
             controls,
         }
     }
@@ -148,6 +153,15 @@ impl Overlay {
             ui.label("tone map");
             for tone_map in [ToneMap::Clamp, ToneMap::Neutral] {
                 ui.radio_value(&mut self.tone_map, tone_map, tone_map.name());
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("show");
+            for (k, name) in COMPONENTS.iter().enumerate() {
+                let mut shown = self.parts.shows(k);
+                if ui.checkbox(&mut shown, *name).changed() {
+                    self.parts = self.parts.with(k, shown);
+                }
             }
         });
 

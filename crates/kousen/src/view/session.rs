@@ -283,9 +283,10 @@ impl Session {
     }
 
     /// The image so far, in linear radiance (reads the statistics back).
-    pub fn image(&mut self) -> anyhow::Result<render::Image> {
+    /// The image so far in the parts of its radiance `parts` shows.
+    pub fn image_of(&mut self, parts: render::resolve::Parts) -> anyhow::Result<render::Image> {
         let sppm = self.sppm.as_mut().context("no render is running")?;
-        Ok(sppm.image()?)
+        Ok(sppm.image_of(parts)?)
     }
 
     /// The backend's accumulation buffers for the display pass, and the eye passes so far.
@@ -331,7 +332,10 @@ mod tests {
         let camera = session.default_camera();
         session.restart(&camera, (32, 24), controls).unwrap();
         session.run_passes(3).unwrap();
-        session.image().unwrap().pixels
+        session
+            .image_of(render::resolve::Parts::ALL)
+            .unwrap()
+            .pixels
     }
 
     /// The overlay's sky turn restarts the render under the turned map exactly as a sky turned

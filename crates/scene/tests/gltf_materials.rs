@@ -1875,3 +1875,99 @@ fn no_tangent_is_made_across_a_mirror_seam() {
         );
     }
 }
+
+/// A quad whose TEXCOORD_0 is (x, y) and TEXCOORD_1 (1 − y, x) of each corner (absent where
+/// `second_set` is false), under `material`.
+fn quad_with_two_uv_sets(material: Value, second_set: bool) -> Scene {
+    let mut doc = doc_with_embedded_png();
+    doc.push("textures", json!({ "source": 0 }));
+    let material = doc.material(material);
+    let position = doc.vec3s(&QUAD);
+    let uv0 = doc.vec2s(&QUAD.map(|[x, y, _]| [x, y]));
+    let uv1 = doc.vec2s(&QUAD.map(|[x, y, _]| [1.0 - y, x]));
+    let indices = doc.indices(&QUAD_INDICES, 5123);
+    let mut attributes = json!({ "POSITION": position, "TEXCOORD_0": uv0 });
+    if second_set {
+        attributes["TEXCOORD_1"] = json!(uv1);
+    }
+    let primitive = json!({ "attributes": attributes, "indices": indices, "material": material });
+    let mesh = doc.push("meshes", json!({ "primitives": [primitive] }));
+    doc.instance(mesh);
+    doc.load_as(Layout::Glb).expect("loads")
+}
+
+/// Whether every vertex's coordinates are `uv` of its position.
+fn uvs_are(scene: &Scene, uv: impl Fn(Vec3) -> Vec2) -> bool {
+    let vertices = scene.triangles.iter().flat_map(|t| t.vertices);
+    vertices.clone().count() == 6
+        && vertices
+            .into_iter()
+            .all(|v| (v.uv - uv(v.position)).length() < 1e-6)
+}
+
+/// A material whose textures use TEXCOORD_1 (by `texCoord`, or by its texture transform's,
+/// which overrides it) gives its primitives' vertices that set; its other textures asking
+/// for TEXCOORD_0 read the same (kousen keeps one set a vertex), with a warning; a primitive
+/// without the set its material uses reads (0, 0), with a warning.
+#[test]
+fn a_material_s_textures_read_the_coordinate_set_they_name() {
+    let first = |p: Vec3| Vec2::new(p.x, p.y);
+    let second = |p: Vec3| Vec2::new(1.0 - p.y, p.x);
+    let base_on = |set: u32| json!({ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0, "texCoord": set } } });
+    let scene = quad_with_two_uv_sets(base_on(1), true);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert!(uvs_are(&scene, second));
+    let scene = quad_with_two_uv_sets(base_on(0), true);
+    assert!(uvs_are(&scene, first));
+
+    let overridden = json!({ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0,
+        "extensions": { "KHR_texture_transform": { "texCoord": 1 } } } } });
+    let scene = quad_with_two_uv_sets(overridden, true);
+    assert!(
+        uvs_are(&scene, second),
+        "the transform's texCoord overrides the slot's"
+    );
+
+    // Between the emissive texture and the normal map the emissive one decides; the normal
+    // map, on the other set, is warned about.
+    let mixed = json!({
+        "normalTexture": { "index": 0, "texCoord": 1 },
+        "emissiveTexture": { "index": 0, "texCoord": 0 },
+        "emissiveFactor": [1, 1, 1],
+    });
+    let scene = quad_with_two_uv_sets(mixed, true);
+    assert!(
+        uvs_are(&scene, first),
+        "the emissive texture comes first: set 0"
+    );
+    assert_warned(&scene, &["normalTexture uses TEXCOORD_1"]);
+    let mixed = json!({
+        "pbrMetallicRoughness": { "metallicRoughnessTexture": { "index": 0, "texCoord": 0 } },
+        "normalTexture": { "index": 0, "texCoord": 1 },
+    });
+    let scene = quad_with_two_uv_sets(mixed, true);
+    assert!(
+        uvs_are(&scene, second),
+        "the normal map comes before the metallic-roughness one"
+    );
+    assert_warned(
+        &scene,
+        &["metallicRoughnessTexture uses TEXCOORD_0", "use TEXCOORD_1"],
+    );
+
+    let scene = quad_with_two_uv_sets(base_on(1), false);
+    assert!(uvs_are(&scene, |_| Vec2::ZERO));
+    assert_warned(&scene, &["has no TEXCOORD_1"]);
+    let scene = quad_with_two_uv_sets(base_on(9), true);
+    assert!(uvs_are(&scene, |_| Vec2::ZERO));
+    assert_warned(&scene, &["only TEXCOORD_0 to TEXCOORD_7"]);
+}
+
+/// Asserts one of the scene's warnings mentions every one of `parts`.
+fn assert_warned(scene: &Scene, parts: &[&str]) {
+    assert!(
+        (scene.warnings.iter()).any(|w| parts.iter().all(|p| w.contains(p))),
+        "no warning mentions {parts:?}: {:?}",
+        scene.warnings
+    );
+}

@@ -144,6 +144,11 @@ pub(super) struct Materials {
     /// emissive one), once converted: applied to the texture coordinates of the primitives
     /// that use it, since kousen's materials keep no transform of their own.
     uv_transforms: Vec<Option<Affine2>>,
+    /// Each glTF material's texture-coordinate set ([`material_uv_set`]): the TEXCOORD_n its
+    /// primitives' vertices take, since kousen keeps one set a vertex.
+    uv_sets: Vec<usize>,
+    /// The set of the material being converted, for [`Materials::texture`]'s warning.
+    converting_uv_set: usize,
 }
 
 impl Materials {
@@ -154,7 +159,15 @@ impl Materials {
             images: vec![None; root.images.len()],
             linear_images: vec![None; root.images.len()],
             uv_transforms: vec![None; root.materials.len()],
+            uv_sets: vec![0; root.materials.len()],
+            converting_uv_set: 0,
         }
+    }
+
+    /// The texture-coordinate set of glTF material `index` (after [`Materials::id`] converted
+    /// it): TEXCOORD_0 for none or the default material.
+    pub fn uv_set(&self, index: Option<usize>) -> usize {
+        index.map_or(0, |i| self.uv_sets[i])
     }
 
     /// The texture-coordinate transform of glTF material `index` (after [`Materials::id`]
@@ -212,6 +225,16 @@ impl Materials {
             input,
             label: &label,
         };
+        let uv_set = material_uv_set(m);
+        self.uv_sets[index] = uv_set;
+        self.converting_uv_set = uv_set;
+        if uv_set >= super::meshes::MAX_UV_SETS {
+            builder.warn(format!(
+                "{label}: its textures use TEXCOORD_{uv_set}; only TEXCOORD_0 to TEXCOORD_{} are \
+                 read, so they read (0, 0)",
+                super::meshes::MAX_UV_SETS - 1
+            ));
+        }
         let pbr = &m.pbr_metallic_roughness;
         let base = pbr.base_color_factor.0;
         for (c, name) in base.iter().zip(["red", "green", "blue", "alpha"]) {
@@ -544,9 +567,11 @@ impl Materials {
             tex_coord,
             srgb,
         } = slot;
-        if tex_coord != 0 {
+        let material_set = self.converting_uv_set;
+        if tex_coord != material_set {
             builder.warn(format!(
-                "{label}: {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is read"
+                "{label}: {slot} uses TEXCOORD_{tex_coord} where the material's other textures \
+                 use TEXCOORD_{material_set}; it reads those (kousen keeps one set a vertex)"
             ));
         }
         let root = input.root;
@@ -587,7 +612,8 @@ struct TextureSlot {
     /// The slot's name in the glTF file, for messages.
     name: &'static str,
     texture: usize,
-    tex_coord: u32,
+    /// The texture-coordinate set it reads (`info_uv_set`).
+    tex_coord: usize,
     /// Colour (decoded from sRGB) or data (linear).
     srgb: bool,
 }
@@ -597,7 +623,7 @@ impl TextureSlot {
         TextureSlot {
             name,
             texture: info.index.value(),
-            tex_coord: info.tex_coord,
+            tex_coord: info_uv_set(info),
             srgb: true,
         }
     }
@@ -607,7 +633,7 @@ impl TextureSlot {
         TextureSlot {
             name,
             texture: info.index.value(),
-            tex_coord: info.tex_coord,
+            tex_coord: info_uv_set(info),
             srgb: false,
         }
     }
@@ -616,7 +642,7 @@ impl TextureSlot {
         TextureSlot {
             name: "normalTexture",
             texture: normal.index.value(),
-            tex_coord: normal.tex_coord,
+            tex_coord: normal.tex_coord as usize,
             srgb: false,
         }
     }
@@ -722,27 +748,38 @@ fn transform_of(t: &json::extensions::texture::TextureTransform) -> Affine2 {
     )
 }
 
+/// The texture-coordinate set a texture reference reads: its `texCoord`, or its
+/// `KHR_texture_transform`'s where that names one (the extension's overrides).
+fn info_uv_set(info: &json::texture::Info) -> usize {
+    let transform = (info.extensions.as_ref()).and_then(|e| e.texture_transform.as_ref());
+    transform
+        .and_then(|t| t.tex_coord)
+        .unwrap_or(info.tex_coord) as usize
+}
+
+/// A material's one texture-coordinate set (kousen keeps one a vertex): that of its base
+/// colour texture, else of its emissive texture, normal map or metallic-roughness texture,
+/// in that order; TEXCOORD_0 where it has none of them. Its other textures read the same set
+/// (with a warning where they ask for another).
+fn material_uv_set(m: &json::Material) -> usize {
+    let pbr = &m.pbr_metallic_roughness;
+    let normal = (m.normal_texture.as_ref()).map(|n| n.tex_coord as usize);
+    (pbr.base_color_texture.as_ref().map(info_uv_set))
+        .or(m.emissive_texture.as_ref().map(info_uv_set))
+        .or(normal)
+        .or(pbr.metallic_roughness_texture.as_ref().map(info_uv_set))
+        .unwrap_or(0)
+}
+
 /// The material's one texture-coordinate transform: the base colour texture's, else the
 /// emissive texture's; a warning where the two differ (kousen keeps one set of coordinates a
-/// vertex) or where the transform asks for another coordinate set than TEXCOORD_0.
+/// vertex).
 fn uv_transform(
     base: Option<&json::texture::Info>,
     emissive: Option<&json::texture::Info>,
     label: &str,
     builder: &mut SceneBuilder,
 ) -> Option<Affine2> {
-    for (info, slot) in [(base, "baseColorTexture"), (emissive, "emissiveTexture")] {
-        let texcoord = info
-            .and_then(|i| i.extensions.as_ref())
-            .and_then(|e| e.texture_transform.as_ref())
-            .and_then(|t| t.tex_coord)
-            .filter(|&n| n != 0);
-        if let Some(n) = texcoord {
-            builder.warn(format!(
-                "{label}: {slot}'s KHR_texture_transform uses TEXCOORD_{n}; only TEXCOORD_0 is read"
-            ));
-        }
-    }
     let (base, emissive) = (
         base.and_then(slot_transform),
         emissive.and_then(slot_transform),

@@ -24,13 +24,19 @@ pub(super) struct Mesh {
     pub warnings: Vec<String>,
 }
 
+/// The texture-coordinate sets read (TEXCOORD_0 to TEXCOORD_7): a material's textures that
+/// ask for a later one read none (`materials`' warning says so).
+pub(super) const MAX_UV_SETS: usize = 8;
+
 /// A triangle primitive in its mesh's space, every index checked against `positions`.
 pub(super) struct Primitive {
     /// Its index in the mesh's `primitives`, for messages.
     pub index: usize,
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
-    uvs: Option<Vec<Vec2>>,
+    /// TEXCOORD_n at index n, each where the primitive has it: its material's textures read
+    /// one of them ([`Primitive::instantiate`]'s `uv_set`).
+    uv_sets: Vec<Option<Vec<Vec2>>>,
     /// TANGENT, read only where NORMAL is given (glTF: without normals, tangents are ignored).
     tangents: Option<Vec<Vec4>>,
     triangles: Vec<[u32; 3]>,
@@ -142,7 +148,7 @@ fn decode_primitive(
     let Attributes {
         positions,
         normals,
-        uvs,
+        uv_sets,
         tangents,
     } = read_attributes(input, primitive, label)?;
     let corners = match primitive.indices {
@@ -163,7 +169,7 @@ fn decode_primitive(
         index,
         positions,
         normals,
-        uvs,
+        uv_sets,
         tangents,
         triangles: Vec::new(),
         material,
@@ -175,12 +181,12 @@ fn decode_primitive(
 struct Attributes {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
-    uvs: Option<Vec<Vec2>>,
+    uv_sets: Vec<Option<Vec<Vec2>>>,
     tangents: Option<Vec<Vec4>>,
 }
 
-/// POSITION, NORMAL, TEXCOORD_0 and TANGENT (where NORMAL is given), all of the same length,
-/// below 2^32 vertices.
+/// POSITION, NORMAL, every TEXCOORD_n and TANGENT (where NORMAL is given), all of the same
+/// length, below 2^32 vertices.
 fn read_attributes(
     input: &Input,
     primitive: &json::mesh::Primitive,
@@ -215,11 +221,25 @@ fn read_attributes(
     if let Some(n) = &normals {
         check_count("NORMAL", n.len())?;
     }
-    let uvs = attribute(Attribute::TexCoords(0))
-        .map(|a| accessors::read_texcoords(input, a, &role("TEXCOORD_0")))
-        .transpose()?;
-    if let Some(uv) = &uvs {
-        check_count("TEXCOORD_0", uv.len())?;
+    let set_count = (primitive.attributes.keys())
+        .filter_map(|key| match key {
+            Checked::Valid(Attribute::TexCoords(n)) if (*n as usize) < MAX_UV_SETS => {
+                Some(*n as usize + 1)
+            }
+            _ => None,
+        })
+        .max()
+        .unwrap_or(0);
+    let mut uv_sets = Vec::new();
+    for n in 0..set_count {
+        let name = format!("TEXCOORD_{n}");
+        let uvs = attribute(Attribute::TexCoords(n as u32))
+            .map(|a| accessors::read_texcoords(input, a, &role(&name)))
+            .transpose()?;
+        if let Some(uv) = &uvs {
+            check_count(&name, uv.len())?;
+        }
+        uv_sets.push(uvs);
     }
     let tangents = attribute(Attribute::Tangents)
         .filter(|_| normals.is_some())
@@ -231,7 +251,7 @@ fn read_attributes(
     Ok(Attributes {
         positions,
         normals,
-        uvs,
+        uv_sets,
         tangents,
     })
 }
@@ -275,14 +295,20 @@ impl Primitive {
     /// material's `KHR_texture_transform`, applied to the texture coordinates here. Where the
     /// material `reads_frame` (a normal map or brushing) and the file gives no tangents, they
     /// are made from the texture coordinates ([`generated_tangents`]).
+    /// Whether the primitive has TEXCOORD_`set`.
+    pub fn has_uv_set(&self, set: usize) -> bool {
+        self.uv_sets.get(set).is_some_and(Option::is_some)
+    }
+
     pub fn instantiate(
         &self,
         world: &Affine3A,
         material: u32,
-        uv_transform: Option<Affine2>,
+        (uv_set, uv_transform): (usize, Option<Affine2>),
         reads_frame: bool,
         builder: &mut SceneBuilder,
     ) -> Result<(), SceneError> {
+        let set_uvs = self.uv_sets.get(uv_set).and_then(Option::as_ref);
         let linear = Mat3::from(world.matrix3);
         let mirrored = linear.determinant() < 0.0;
         let positions: Vec<Vec3> = self
@@ -305,13 +331,13 @@ impl Primitive {
             }
             None => smooth_normals(&positions, &triangles),
         };
-        let uvs: Vec<Vec2> = match &self.uvs {
+        let uvs: Vec<Vec2> = match set_uvs {
             Some(uvs) => (uvs.iter())
                 .map(|&uv| uv_transform.map_or(uv, |t| t.transform_point2(uv)))
                 .collect(),
             None => vec![Vec2::ZERO; positions.len()],
         };
-        let generated = (reads_frame && self.tangents.is_none() && self.uvs.is_some())
+        let generated = (reads_frame && self.tangents.is_none() && set_uvs.is_some())
             .then(|| generated_tangents(&positions, &normals, &uvs, &triangles));
         let vertex = |i: u32| {
             let i = i as usize;

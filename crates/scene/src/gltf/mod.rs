@@ -2,7 +2,9 @@
 //!
 //! What is read: the default scene's node hierarchy (`scene`, else the first scene, else every
 //! root node) with matrix or TRS transforms; every TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN
-//! primitive with POSITION, NORMAL (smoothed, area-weighted, when absent) and TEXCOORD_0,
+//! primitive with POSITION, NORMAL (smoothed, area-weighted, when absent) and the texture
+//! coordinates its material's textures use (one set a material: TEXCOORD_0 to TEXCOORD_7, that
+//! of its base colour texture, else of its emissive, normal or metallic-roughness texture),
 //! indexed by u8/u16/u32 or not at all; perspective cameras in traversal order; materials as
 //! [`materials`] describes; point, spot and directional lights on nodes
 //! (`KHR_lights_punctual`): at the node's world origin, shining down its world −Z, with
@@ -345,11 +347,25 @@ impl Loader<'_> {
         for primitive in &mesh.primitives {
             let material = materials.id(input, builder, primitive.material)?;
             let uv_transform = materials.uv_transform(primitive.material);
+            let uv_set = materials.uv_set(primitive.material);
+            if uv_set != 0 && !primitive.has_uv_set(uv_set) {
+                builder.warn(format!(
+                    "mesh {index} primitive {} has no TEXCOORD_{uv_set}, which its material's \
+                     textures use: they read (0, 0)",
+                    primitive.index
+                ));
+            }
             *triangles_placed += primitive.triangle_count();
             let reads_frame = crate::blend_members(builder.materials(), material)
                 .any(|m| builder.materials()[m as usize].reads_tangent_frame());
             primitive
-                .instantiate(world, material, uv_transform, reads_frame, builder)
+                .instantiate(
+                    world,
+                    material,
+                    (uv_set, uv_transform),
+                    reads_frame,
+                    builder,
+                )
                 .context(|| format!("mesh {index} primitive {} (node {node})", primitive.index))?;
         }
         Ok(())

@@ -389,15 +389,9 @@ impl Materials {
             return Ok(None);
         };
         const COAT: &str = "KHR_materials_clearcoat";
-        let data = |name| layer_slot::<json::texture::Info>(check, m, COAT, name, "texture");
-        if let Some(info) = data("clearcoatTexture")? {
-            let slot = TextureSlot::data(&info, "clearcoatTexture");
-            coat.weight_texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
-        if let Some(info) = data("clearcoatRoughnessTexture")? {
-            let slot = TextureSlot::data(&info, "clearcoatRoughnessTexture");
-            coat.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
+        let mut data = |name| self.layer_texture(input, builder, check, (m, COAT, name), DATA);
+        coat.weight_texture = data("clearcoatTexture")?;
+        coat.roughness_texture = data("clearcoatRoughnessTexture")?;
         let name = "clearcoatNormalTexture";
         if let Some(normal) =
             layer_slot::<json::material::NormalTexture>(check, m, COAT, name, "normal texture")?
@@ -427,15 +421,10 @@ impl Materials {
         let Some(mut sheen) = sheen(check, m)? else {
             return Ok(None);
         };
-        let info = |name| layer_slot::<json::texture::Info>(check, m, SHEEN, name, "texture");
-        if let Some(info) = info("sheenColorTexture")? {
-            let slot = TextureSlot::colour(&info, "sheenColorTexture");
-            sheen.color_texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
-        if let Some(info) = info("sheenRoughnessTexture")? {
-            let slot = TextureSlot::data(&info, "sheenRoughnessTexture");
-            sheen.roughness_texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
+        let mut texture =
+            |name, srgb| self.layer_texture(input, builder, check, (m, SHEEN, name), srgb);
+        sheen.color_texture = texture("sheenColorTexture", COLOUR)?;
+        sheen.roughness_texture = texture("sheenRoughnessTexture", DATA)?;
         Ok(Some(sheen))
     }
 
@@ -457,15 +446,10 @@ impl Materials {
         let volume = (m.extensions.as_ref()).and_then(|e| e.volume.as_ref());
         let thickness = volume.map_or(0.0, |v| v.thickness_factor.0);
         transmission.volume = check.non_negative(thickness, "thicknessFactor")? > 0.0;
-        let info = |name| layer_slot::<json::texture::Info>(check, m, DIFFUSE, name, "texture");
-        if let Some(info) = info("diffuseTransmissionTexture")? {
-            let slot = TextureSlot::data(&info, "diffuseTransmissionTexture");
-            transmission.texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
-        if let Some(info) = info("diffuseTransmissionColorTexture")? {
-            let slot = TextureSlot::colour(&info, "diffuseTransmissionColorTexture");
-            transmission.color_texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
+        let mut texture =
+            |name, srgb| self.layer_texture(input, builder, check, (m, DIFFUSE, name), srgb);
+        transmission.texture = texture("diffuseTransmissionTexture", DATA)?;
+        transmission.color_texture = texture("diffuseTransmissionColorTexture", COLOUR)?;
         Ok(Some(transmission))
     }
 
@@ -481,17 +465,8 @@ impl Materials {
         let Some(mut anisotropy) = anisotropy(check, m)? else {
             return Ok(None);
         };
-        let info = layer_slot::<json::texture::Info>(
-            check,
-            m,
-            ANISOTROPY,
-            "anisotropyTexture",
-            "texture",
-        )?;
-        if let Some(info) = info {
-            let slot = TextureSlot::data(&info, "anisotropyTexture");
-            anisotropy.texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
+        let slot = (m, ANISOTROPY, "anisotropyTexture");
+        anisotropy.texture = self.layer_texture(input, builder, check, slot, DATA)?;
         if m.pbr_metallic_roughness.metallic_factor.0 < 1.0 {
             builder.warn(format!(
                 "{}: {ANISOTROPY} brushes the metal's lobe only (the dielectric's coat and \
@@ -540,16 +515,34 @@ impl Materials {
             ));
             return Ok(None);
         }
-        let info = |name| layer_slot::<json::texture::Info>(check, m, IRIDESCENCE, name, "texture");
-        if let Some(info) = info("iridescenceTexture")? {
-            let slot = TextureSlot::data(&info, "iridescenceTexture");
-            film.texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
-        if let Some(info) = info("iridescenceThicknessTexture")? {
-            let slot = TextureSlot::data(&info, "iridescenceThicknessTexture");
-            film.thickness_texture = Some(self.texture(input, builder, slot, check.label)?);
-        }
+        let mut data =
+            |name| self.layer_texture(input, builder, check, (m, IRIDESCENCE, name), DATA);
+        film.texture = data("iridescenceTexture")?;
+        film.thickness_texture = data("iridescenceThicknessTexture")?;
         Ok(Some(film))
+    }
+
+    /// The texture an extension of material `m` names in its field `name` (the `slot`:
+    /// material, extension, field), decoded as sRGB colour (`srgb`, [`COLOUR`]) or linear data
+    /// ([`DATA`]); `None` where the field is absent.
+    fn layer_texture(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        (m, extension, name): (&json::Material, &str, &'static str),
+        srgb: bool,
+    ) -> Result<Option<TextureId>, SceneError> {
+        let Some(info) = layer_slot::<json::texture::Info>(check, m, extension, name, "texture")?
+        else {
+            return Ok(None);
+        };
+        let slot = if srgb {
+            TextureSlot::colour(&info, name)
+        } else {
+            TextureSlot::data(&info, name)
+        };
+        self.texture(input, builder, slot, check.label).map(Some)
     }
 
     /// The builder's id for the image behind a texture slot, decoding it on first use (colour
@@ -606,6 +599,10 @@ impl Materials {
         Ok(id)
     }
 }
+
+/// [`Materials::layer_texture`]'s decoding: sRGB colour, or linear data.
+const COLOUR: bool = true;
+const DATA: bool = false;
 
 /// What [`Materials::texture`] needs of a material's texture reference.
 struct TextureSlot {

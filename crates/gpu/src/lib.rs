@@ -117,3 +117,19 @@ pub enum GpuError {
     #[error("GPU device error: {0}")]
     Device(String),
 }
+
+impl GpuError {
+    /// Whether the work is larger than the device's limits allow (not that the device failed):
+    /// the CPU backend may take it instead.
+    pub fn is_limit(&self) -> bool {
+        matches!(
+            self,
+            GpuError::BufferTooLarge { .. }
+                | GpuError::RenderBufferTooLarge { .. }
+                | GpuError::TexelsTooLarge { .. }
+                | GpuError::TooFewStorageBuffers { .. }
+                | GpuError::TexturesTooLarge { .. }
+                | GpuError::TooManyRays(_)
+        )
+    }
+}

@@ -721,7 +721,11 @@ fn pass_encoder<'a>(
 }
 
 fn device_error(e: GpuError) -> BackendError {
-    BackendError::Device(e.to_string())
+    if e.is_limit() {
+        BackendError::DoesNotFit(e.to_string())
+    } else {
+        BackendError::Device(e.to_string())
+    }
 }
 
 /// Words of a pixel's statistics in the `pixel_stats` buffer, and of its volume τ in

@@ -118,7 +118,7 @@ fn sppm_photons_over_a_lowered_binding_limit_are_refused_in_words() {
     assert!(
         matches!(
             error,
-            render::RenderError::Backend(render::BackendError::Device(_))
+            render::RenderError::Backend(render::BackendError::DoesNotFit(_))
         ),
         "{error:?}"
     );

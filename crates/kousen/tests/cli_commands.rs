@@ -654,3 +654,39 @@ fn components_of_a_path_traced_render_are_refused() {
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(left.is_empty(), "files left: {left:?}");
 }
+
+/// `--backend auto` on an adapter the render does not fit (lavapipe named with `--adapter`,
+/// and more photon slots than its 128 MiB storage binding holds) renders on the CPU backend,
+/// saying why in one line; `--backend gpu` refuses in one line, leaving no image. Without a
+/// lavapipe adapter auto takes the CPU backend for that reason instead.
+#[test]
+fn auto_backend_falls_back_to_the_cpu_where_the_render_does_not_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fallback.png");
+    let oversize = "--width 8 --height 8 --passes 1 --photons 2500000 --adapter llvmpipe";
+    let scene = shipped("cornell-box.gltf");
+    let run = |backend: &str, out: &Path| {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(oversize.split_whitespace());
+        args.extend(["--backend", backend]);
+        common::kousen_quiet(&args)
+    };
+    let output = succeeded(run("auto", &out));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("rendering on the CPU backend"), "{stderr}");
+    if !stderr.contains("no GPU adapter") {
+        assert!(
+            stderr.contains("does not fit the GPU adapter") && stderr.contains("photon_slots"),
+            "{stderr}"
+        );
+        let refused = dir.path().join("refused.png");
+        common::assert_clean_error(&run("gpu", &refused), "photon_slots");
+        assert!(!refused.exists());
+    }
+    assert!(image::open(&out).is_ok(), "the fallback wrote its image");
+}

@@ -89,9 +89,13 @@ impl Snapshot {
 
 #[derive(Debug, thiserror::Error)]
 pub enum BackendError {
-    /// The device or its driver failed, or the render does not fit it (said in words).
+    /// The device or its driver failed (said in words).
     #[error("{0}")]
     Device(String),
+    /// The render does not fit the device's limits (said in words, with what would make it
+    /// fit): another backend may take it.
+    #[error("{0}")]
+    DoesNotFit(String),
 }
 
 pub trait Backend {

@@ -165,7 +165,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         String::new()
     };
-    let mut continuation = Continuation {
+    let continuation = Continuation {
         resume,
         fingerprint,
         stop,
@@ -239,42 +239,74 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             }
         },
     };
-    if let Some(context) = gpu_context {
-        if let Some(note) = gpu::limits::fit_sky_map(&mut scene.lights, &context.limits) {
-            eprintln!("kousen: {note}");
-            if !continuation.fingerprint.is_empty() {
-                continuation.fingerprint =
-                    checkpoint_file::fingerprint(&bvh, &camera, &scene.lights);
+    let mut job = Job {
+        budget,
+        output,
+        continuation,
+    };
+    let bvh = match gpu_context {
+        None => bvh,
+        Some(context) => {
+            // Auto renders on the CPU backend where the render does not fit the adapter's
+            // limits, with the scene as it was before the GPU's sky-map fitting.
+            let fallback = (args.backend == BackendChoice::Auto).then(|| {
+                (
+                    bvh.clone(),
+                    scene.lights.clone(),
+                    job.continuation.fingerprint.clone(),
+                )
+            });
+            if let Some(note) = gpu::limits::fit_sky_map(&mut scene.lights, &context.limits) {
+                eprintln!("kousen: {note}");
+                if !job.continuation.fingerprint.is_empty() {
+                    job.continuation.fingerprint =
+                        checkpoint_file::fingerprint(&bvh, &camera, &scene.lights);
+                }
+            }
+            let cpu_device = context.is_cpu_device();
+            let eye_every: fn(u64, u32) -> u32 = if cpu_device {
+                eye_every_on_cpu_cores
+            } else {
+                |_, _| render::settings::DEFAULT_EYE_EVERY
+            };
+            let settings = settings(cpu_device, eye_every);
+            let cpu_before = thread_cpu_seconds();
+            let started = match gpu::sppm::GpuBackend::new(context, &scene, bvh) {
+                Ok(backend) => Sppm::new(backend, &scene, &camera, settings.clone())
+                    .map_err(|e| (does_not_fit(&e), anyhow::Error::from(e))),
+                Err(e) => Err((e.is_limit(), e.into())),
+            };
+            match (started, fallback) {
+                (Ok(sppm), _) => {
+                    let started = (sppm, cpu_before);
+                    return finish(args, (&scene, &camera), started, job);
+                }
+                (Err((true, error)), Some((bvh, lights, fingerprint))) => {
+                    eprintln!(
+                        "kousen: the render does not fit the GPU adapter ({error:#}); rendering on the CPU backend"
+                    );
+                    scene.lights = lights;
+                    job.continuation.fingerprint = fingerprint;
+                    bvh
+                }
+                (Err((_, error)), _) => return Err(error),
             }
         }
-        let cpu_device = context.is_cpu_device();
-        let eye_every: fn(u64, u32) -> u32 = if cpu_device {
-            eye_every_on_cpu_cores
-        } else {
-            |_, _| render::settings::DEFAULT_EYE_EVERY
-        };
-        let backend = gpu::sppm::GpuBackend::new(context, &scene, bvh)?;
-        finish(
-            args,
-            (&scene, &camera),
-            settings(cpu_device, eye_every),
-            backend,
-            budget,
-            output,
-            continuation,
-        )
-    } else {
-        let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
-        finish(
-            args,
-            (&scene, &camera),
-            settings(true, eye_every_on_cpu_cores),
-            backend,
-            budget,
-            output,
-            continuation,
-        )
-    }
+    };
+    let backend = cpu::CpuBackend::new(cpu::SceneData::new(&scene, bvh));
+    let cpu_before = thread_cpu_seconds();
+    let settings = settings(true, eye_every_on_cpu_cores);
+    let sppm = Sppm::new(backend, &scene, &camera, settings)?;
+    let started = (sppm, cpu_before);
+    finish(args, (&scene, &camera), started, job)
+}
+
+/// Whether a render could not start because it does not fit the backend's device.
+fn does_not_fit(error: &render::RenderError) -> bool {
+    matches!(
+        error,
+        render::RenderError::Backend(render::BackendError::DoesNotFit(_))
+    )
 }
 
 /// Where a render's image goes and, with --components, its parts (`render::resolve::COMPONENTS`).
@@ -314,17 +346,30 @@ struct Continuation<'a> {
     stop: Arc<AtomicBool>,
 }
 
+/// What a render is asked to do beyond its scene and settings: its budget, its outputs and how
+/// it continues and stops.
+struct Job<'a> {
+    budget: Budget,
+    output: Outputs,
+    continuation: Continuation<'a>,
+}
+
+/// Runs a started render (`started`: it, and the driving thread's CPU time before it was
+/// set up) and writes what it made.
 fn finish<B: Backend>(
     args: &RenderArgs,
     (scene, camera): (&scene::Scene, &scene::Camera),
-    settings: Settings,
-    backend: B,
-    budget: Budget,
-    output: Outputs,
-    continuation: Continuation,
+    (mut sppm, cpu_before): (Sppm<B>, f64),
+    job: Job,
 ) -> anyhow::Result<()> {
-    let backend_name = backend.name();
-    let adapter = backend.adapter();
+    let Job {
+        budget,
+        output,
+        continuation,
+    } = job;
+    let settings = sppm.settings().clone();
+    let backend_name = sppm.backend().name();
+    let adapter = sppm.backend().adapter();
     log::info!(
         "SPPM on the {backend_name} backend ({adapter}): {}×{}, {} photon slots",
         settings.width,
@@ -332,8 +377,6 @@ fn finish<B: Backend>(
         settings.photons
     );
     let recorded = Recorded::new(backend_name, &settings);
-    let cpu_before = thread_cpu_seconds();
-    let mut sppm = Sppm::new(backend, scene, camera, settings.clone())?;
     let (mut seconds_before, mut resumed_passes, mut resumed_paths) = (0.0, 0, 0);
     if let Some((path, loaded)) = &continuation.resume {
         checkpoint_file::check_fits(path, &loaded.header, &recorded, &continuation.fingerprint)?;

@@ -3,7 +3,7 @@
 # (/work/.library/device), so that a session lent a GPU spends its few device minutes measuring.
 #
 #   scripts/gpu_bench.sh pack            # here: release binary, shared scenes, Vulkan loader
-#   device run, carry [".gl", ".device"]:  bash scripts/gpu_bench.sh run [all|traversal|render]
+#   device run, carry [".gl", ".device"]:  bash scripts/gpu_bench.sh run [all|traversal|render|density]
 #
 # `pack` fills two git-ignored folders that travel with the call: `.device/` (the stripped
 # release binary and the shared scenes, compressed: `../shared` beside the checkout does not
@@ -11,7 +11,10 @@
 # `run` unpacks them on the device machine, writes every JSON, image and log and packs them
 # into $OUT/results.tar.gz (the tool brings back at most 8 files), and prints a short summary
 # last. `all` takes about 5 minutes on an H200 machine (16 cores);
-# `traversal` and `render` split it in two calls if one runs long.
+# `traversal` and `render` split it in two calls if one runs long. `density` (not in `all`,
+# about 3 minutes) compares the GPU's estimators at equal time in murky glass: the stochastic
+# hash (the GPU default) against full lists, each against a longer full-lists render
+# (docs/BENCHMARKS.md §3, session 43: which one a GPU should default to there).
 #
 # Locally (no $OUT), `run` writes under out/gpu-bench and uses lavapipe: a dry run of the whole
 # thing, with KOUSEN_BENCH_QUICK=1 for small sizes.
@@ -70,8 +73,10 @@ run() {
 
     # Sizes: the issues' own, or small ones for a dry run on lavapipe.
     local size=1024 slots=1048576 caustic_time=20 sponza_time=30 metal_time=60 runs=5
+    local murky_time=20 murky_reference_time=120
     if [ -n "${KOUSEN_BENCH_QUICK:-}" ]; then
         size=128 slots=16384 caustic_time=2 sponza_time=3 metal_time=3
+        murky_time=2 murky_reference_time=4
     fi
     {
         date -u
@@ -125,6 +130,20 @@ run() {
             --eye-every 10 --alpha 0.7 --hash-ratio 1 --max-depth 10 --time "$metal_time" \
             --backend gpu --stats "$results/render-cornell-metal.json"
     fi
+    if [ "$stage" = density ]; then
+        local murky=(scenes/cornell-murky.gltf --width 512 --height 512 --backend gpu)
+        step "$kousen" render "${murky[@]}" -o "$results/murky-reference.pfm" --density full \
+            --seed 99 --time "$murky_reference_time" --stats "$results/render-murky-reference.json"
+        for density in stochastic full; do
+            step "$kousen" render "${murky[@]}" -o "$results/murky-$density.pfm" \
+                --density "$density" --seed 1 --time "$murky_time" \
+                --stats "$results/render-murky-$density.json"
+            step "$kousen" diff "$results/murky-$density.pfm" "$results/murky-reference.pfm" \
+                --window 120,328,128,96 --json "$results/diff-murky-$density-ball.json"
+            step "$kousen" diff "$results/murky-$density.pfm" "$results/murky-reference.pfm" \
+                --json "$results/diff-murky-$density.json"
+        done
+    fi
     tar -C "$work" -czf "${OUT:-$work}/results.tar.gz" results
     summary "$results"
 }
@@ -162,6 +181,9 @@ if os.path.exists(path):
         print("  %-18s %-4s %-6s %8.3f Mpaths/s %9.1f Mpaths/min" % (
             r["scene"], r["device"], r["scheme"], r["photon_paths_per_s"] * 1e-6,
             r["photon_paths_per_min"] * 1e-6))
+for path in sorted(glob.glob(os.path.join(results, "diff-*.json"))):
+    d = json.load(open(path))
+    print("%s: relMSE %.3g, mean ratio %.4f" % (os.path.basename(path), d["rel_mse"], d["mean_ratio"]))
 for path in sorted(glob.glob(os.path.join(results, "render-*.json"))):
     s = json.load(open(path))
     mem = sum(s.get("memory_bytes", {}).values())
@@ -176,7 +198,7 @@ case "${1:-}" in
 pack) pack ;;
 run) run ;;
 *)
-    echo "usage: scripts/gpu_bench.sh pack | run [all|traversal|render]" >&2
+    echo "usage: scripts/gpu_bench.sh pack | run [all|traversal|render|density]" >&2
     exit 2
     ;;
 esac

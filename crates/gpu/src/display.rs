@@ -56,7 +56,9 @@ pub struct DisplayParams {
     pub tone_map: u32,
     /// `render::resolve::Parts::bits`: the parts of the radiance shown.
     pub parts: u32,
-    pub pad: [u32; 3],
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// What the display reads: the backend's statistics and counters buffers (see
@@ -178,7 +180,7 @@ fn params_for(
         encode_srgb: u32::from(!format.is_srgb()),
         tone_map: look.tone_map.code(),
         parts: parts.bits(),
-        pad: [0; 3],
+        ..DisplayParams::default()
     }
 }
 

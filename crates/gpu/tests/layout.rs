@@ -604,6 +604,9 @@ fn display_params_layout_matches_rust() {
             ("encode_srgb", offset_of!(DisplayParams, encode_srgb)),
             ("tone_map", offset_of!(DisplayParams, tone_map)),
             ("parts", offset_of!(DisplayParams, parts)),
+            ("pad0", offset_of!(DisplayParams, pad0)),
+            ("pad1", offset_of!(DisplayParams, pad1)),
+            ("pad2", offset_of!(DisplayParams, pad2)),
         ],
     );
     // The statistics it reads are the SPPM kernels' struct.

@@ -277,7 +277,7 @@ mod tests {
             let hi = cells.iter().fold(IVec3::MIN, |a, &c| a.max(c));
             assert!((hi - lo).max_element() < side as i32, "{p}");
             skipped += side.pow(3) - cells.len();
-            // Points inside the sphere, on its surface and just off its axes.
+            // Points along a random direction from the centre to just inside the surface.
             let direction =
                 (Vec3::new(unit(3), unit(4), unit(5)) * 2.0 - 1.0).normalize_or(Vec3::X);
             for t in [0.0, 0.5, 0.9, 0.9999, unit(6)] {

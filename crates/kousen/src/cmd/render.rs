@@ -277,7 +277,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 Err(e) => Err((e.is_limit(), e.into())),
             };
             match (started, fallback) {
-                (Ok(sppm), _) => {
+                (Ok(sppm), fallback) => {
+                    // The copies kept for the CPU (a BVH, a sky map) need not last the render.
+                    drop(fallback);
                     let started = (sppm, cpu_before);
                     return finish(args, (&scene, &camera), started, job);
                 }

@@ -28,8 +28,9 @@ pub enum Command {
     ///
     /// Mouse: left drag orbits, middle or shift + left drag pans, the wheel zooms, right drag
     /// looks around; W A S D move, Q E down and up. Keys: Space pause, R restart, S save
-    /// (EXR and PNG), F1 hide the overlay. Drop a .gltf, .glb or .obj file on the window to
-    /// open it.
+    /// (EXR and PNG), F1 hide the overlay, 1-4 show or hide the direct, indirect, caustic
+    /// and volume parts of the radiance, 0 show all. Drop a .gltf, .glb or .obj file on the
+    /// window to open it.
     #[command(verbatim_doc_comment)]
     View(ViewArgs),
     /// Measure speed, variants side by side in one run.

@@ -357,7 +357,13 @@ impl App {
                     KeyCode::KeyR => self.act(Action::Restart),
                     KeyCode::KeyS => self.act(Action::Save),
                     KeyCode::F1 => self.overlay.visible = !self.overlay.visible,
-                    _ => {}
+                    KeyCode::Digit0 => self.overlay.parts = Parts::ALL,
+                    _ => {
+                        if let Some(part) = part_key(code) {
+                            let parts = self.overlay.parts;
+                            self.overlay.parts = parts.with(part, !parts.shows(part));
+                        }
+                    }
                 }
             }
             _ => {}
@@ -961,6 +967,17 @@ fn is_release(event: &WindowEvent) -> bool {
         WindowEvent::ModifiersChanged(_) => true,
         _ => false,
     }
+}
+
+/// The part of the radiance (`render::resolve::COMPONENTS`) keys 1 to 4 show or hide.
+fn part_key(code: KeyCode) -> Option<usize> {
+    Some(match code {
+        KeyCode::Digit1 => 0,
+        KeyCode::Digit2 => 1,
+        KeyCode::Digit3 => 2,
+        KeyCode::Digit4 => 3,
+        _ => return None,
+    })
 }
 
 fn fly_key(code: KeyCode) -> Option<FlyKey> {

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use rayon::prelude::*;
 use render::buffers::{HASH_ENTRY_WORDS, Photon, SppmParams, vec3};
 use render::density::{SCAN_BLOCK, full_word};
-use render::hash::{cell_of, entry_of, grid_salt, query_entries, volume_query_cells};
+use render::hash::{lies_in, query_entries, volume_query_entries};
 
 use crate::kernels::{self, GatherQuery, GatherSum};
 
@@ -163,10 +163,11 @@ fn full_query_with<'a>(
     if query.volume.is_some() {
         // The volume photons' finer grid, cell by cell: each photon counted in its own cell
         // only, where two cells share an entry (`render::hash::volume_query_cells`).
-        for cell in volume_query_cells(query.position, query.reach(), query.cell_size) {
-            for place in listed_in(entry_of(cell, grid_salt(true), params.hash_size)) {
+        let (position, radius, cell_size) = (query.position, query.reach(), query.cell_size);
+        for (cell, entry) in volume_query_entries(position, radius, cell_size, params.hash_size) {
+            for place in listed_in(entry) {
                 let photon = photon_at(place);
-                if cell_of(vec3(photon.position), query.cell_size) == cell {
+                if lies_in(vec3(photon.position), cell, cell_size) {
                     sum.add_if_near(query, photon, 1);
                 }
             }

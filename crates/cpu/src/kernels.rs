@@ -17,7 +17,7 @@ use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
 use render::hash::{
     cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
-    grid_salt, photon_class, priority, query_entries, volume_query_cells,
+    grid_salt, lies_in, photon_class, priority, query_entries, volume_query_entries,
 };
 use render::iridescence::{Film, lobe_film_weight, metal_tint};
 use render::lens::camera_ray;
@@ -1444,10 +1444,10 @@ pub fn stochastic_query(
 ) -> GatherSum {
     let mut sum = GatherSum::default();
     if query.volume.is_some() {
-        for cell in volume_query_cells(query.position, query.reach(), query.cell_size) {
-            let entry = entry_of(cell, grid_salt(true), params.hash_size);
+        let (position, radius, cell_size) = (query.position, query.reach(), query.cell_size);
+        for (cell, entry) in volume_query_entries(position, radius, cell_size, params.hash_size) {
             add_kept_photons(&mut sum, params, hash, photons, query, entry, |photon| {
-                cell_of(vec3(photon.position), query.cell_size) == cell
+                lies_in(vec3(photon.position), cell, cell_size)
             });
         }
         return sum;

@@ -221,6 +221,24 @@ pub fn volume_query_cells(
         .filter(move |&cell| cell_reaches(cell, position, radius, cell_size))
 }
 
+/// [`volume_query_cells`], each with its entry in the volume photons' grid, for a table of
+/// `table_size` entries.
+pub fn volume_query_entries(
+    position: Vec3,
+    radius: f32,
+    cell_size: f32,
+    table_size: u32,
+) -> impl Iterator<Item = (IVec3, u32)> {
+    volume_query_cells(position, radius, cell_size)
+        .map(move |cell| (cell, entry_of(cell, VOLUME_CELL_SALT, table_size)))
+}
+
+/// Whether a photon at `position` counts where a volume query reads `cell`: it lies in that
+/// cell ([`cell_of`]), so cells sharing an entry count it once.
+pub fn lies_in(position: Vec3, cell: IVec3, cell_size: f32) -> bool {
+    cell_of(position, cell_size) == cell
+}
+
 /// Whether the sphere at `position` with `radius` may reach a photon of cell `cell` (the grid
 /// offset by half a cell, as [`cell_of`] places it): the cell's box grown by
 /// [`CELL_BOX_MARGIN`] of a side, so that a photon that [`cell_of`]'s rounding puts in the

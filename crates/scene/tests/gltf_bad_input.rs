@@ -207,12 +207,25 @@ fn wrong_accessor_types_are_refused() {
     assert_mentions(&vec2_positions, &["expected VEC3 of FLOAT, found VEC2"]);
     let bad_stride = error_after(|d| d.json["bufferViews"][0]["byteStride"] = json!(2));
     assert_mentions(&bad_stride, &["byteStride 2"]);
-    let sparse = error_after(|d| {
-        d.json["accessors"][0]["sparse"] = json!({ "count": 1,
-            "indices": { "bufferView": 1, "componentType": UNSIGNED_SHORT },
-            "values": { "bufferView": 0 } });
-    });
-    assert_mentions(&sparse, &["sparse"]);
+    // Sparse indices are unsigned integers, and their views hold `count` of them.
+    let sparse = |indices_type: u32, count: usize| {
+        error_after(|d| {
+            d.json["accessors"][0]["sparse"] = json!({ "count": count,
+                "indices": { "bufferView": 1, "componentType": indices_type },
+                "values": { "bufferView": 0 } });
+        })
+    };
+    assert_mentions(
+        &sparse(FLOAT, 1),
+        &["accessor 0 (POSITION", "sparse indices", "componentType"],
+    );
+    assert_mentions(
+        &sparse(UNSIGNED_SHORT, 1000),
+        &[
+            "sparse indices: 1000 elements of 2 bytes",
+            "overrun bufferView 1",
+        ],
+    );
     // TANGENT must be VEC4 of FLOAT, one per vertex (read where NORMAL is given).
     let with_tangent = |d: &mut Doc, ty: &str, count: usize| {
         let normal = d.vec3s(&[[0.0, 0.0, 1.0]; 4]);

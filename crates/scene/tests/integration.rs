@@ -16,6 +16,7 @@ mod gltf_containers;
 mod gltf_geometry;
 mod gltf_lights;
 mod gltf_materials;
+mod gltf_skins;
 mod obj_bad_input;
 mod obj_geometry;
 mod obj_materials;

@@ -1,12 +1,13 @@
 //! Accessors: typed, strided arrays inside buffer views, read here by hand (little-endian)
 //! after every bound has been checked: the type and component type the semantic allows,
 //! `byteOffset + stride·(count−1) + element size ≤ bufferView.byteLength`, finite values.
-//! Sparse accessors and accessors without a buffer view (all zeros) are not supported.
-//! Where a file uses `KHR_mesh_quantization`, positions, normals and texture coordinates may
+//! An accessor without a buffer view holds zeros; a sparse one replaces the elements its
+//! indices name (each checked below its count) by its values: how exporters such as Blender
+//! write morph targets, which move a few vertices. Where a file uses `KHR_mesh_quantization`, positions, normals and texture coordinates may
 //! also be integers (dequantized here; the nodes' transforms scale them), as that extension
 //! allows.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use ::gltf::json;
 use json::accessor::{ComponentType, Type};
@@ -38,6 +39,15 @@ pub(super) enum Semantic {
     InstanceRotation,
     /// TANGENT: VEC4 of FLOAT (quantized: also of normalized BYTE or SHORT).
     Tangent,
+    /// A morph target's POSITION, NORMAL or TANGENT displacements: VEC3 of FLOAT (quantized:
+    /// also of BYTE or SHORT, normalized or not).
+    Displacement,
+    /// JOINTS_n: VEC4 of UNSIGNED_BYTE / UNSIGNED_SHORT.
+    Joints,
+    /// WEIGHTS_n: VEC4 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT.
+    Weights,
+    /// A skin's inverseBindMatrices: MAT4 of FLOAT.
+    Matrix,
 }
 
 impl Semantic {
@@ -74,6 +84,16 @@ impl Semantic {
                     && (component == F32
                         || (quantized && normalized && matches!(component, I8 | I16)))
             }
+            Semantic::Displacement => {
+                ty == Type::Vec3
+                    && (component == F32 || (quantized && matches!(component, I8 | I16)))
+            }
+            Semantic::Joints => ty == Type::Vec4 && matches!(component, U8 | U16),
+            Semantic::Weights => {
+                ty == Type::Vec4
+                    && (component == F32 || (normalized && matches!(component, U8 | U16)))
+            }
+            Semantic::Matrix => ty == Type::Mat4 && component == F32,
         }
     }
 
@@ -96,6 +116,11 @@ impl Semantic {
                 "VEC4 of FLOAT or of normalized BYTE/SHORT"
             }
             (Semantic::Tangent, false) => "VEC4 of FLOAT",
+            (Semantic::Displacement, false) => "VEC3 of FLOAT",
+            (Semantic::Displacement, true) => "VEC3 of FLOAT, BYTE or SHORT",
+            (Semantic::Joints, _) => "VEC4 of UNSIGNED_BYTE/UNSIGNED_SHORT",
+            (Semantic::Weights, _) => "VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT",
+            (Semantic::Matrix, _) => "MAT4 of FLOAT",
         }
     }
 }
@@ -142,14 +167,52 @@ impl Elements<'_> {
         }
     }
 
-    /// Element `i` of a SCALAR unsigned-integer accessor.
-    fn unsigned(&self, i: usize) -> u32 {
+    /// Component `k` of element `i` of an unsigned-integer accessor.
+    fn unsigned(&self, i: usize, k: usize) -> u32 {
         let e = self.get(i);
         match self.component {
-            ComponentType::U8 => e[0] as u32,
-            ComponentType::U16 => u16::from_le_bytes([e[0], e[1]]) as u32,
-            _ => u32::from_le_bytes([e[0], e[1], e[2], e[3]]),
+            ComponentType::U8 => e[k] as u32,
+            ComponentType::U16 => u16::from_le_bytes([e[2 * k], e[2 * k + 1]]) as u32,
+            _ => u32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]),
         }
+    }
+}
+
+/// A checked accessor: its elements (zeros where it has no buffer view) and, where it is
+/// sparse, the elements replacing some of them.
+struct Accessor<'a> {
+    base: Elements<'a>,
+    sparse: Option<Sparse<'a>>,
+}
+
+/// A sparse accessor's substitutions: element `indices[j]` is `values[j]`.
+struct Sparse<'a> {
+    indices: Elements<'a>,
+    values: Elements<'a>,
+}
+
+impl Accessor<'_> {
+    /// Every element read by `read`, the sparse substitutions made; an index at or past the
+    /// count is an error.
+    fn read_all<T>(
+        &self,
+        input: &Input,
+        read: impl Fn(&Elements, usize) -> T,
+    ) -> Result<Vec<T>, SceneError> {
+        let count = self.base.count;
+        let mut values: Vec<T> = (0..count).map(|i| read(&self.base, i)).collect();
+        if let Some(sparse) = &self.sparse {
+            for j in 0..sparse.indices.count {
+                let target = sparse.indices.unsigned(j, 0) as usize;
+                let Some(value) = values.get_mut(target) else {
+                    return Err(input.error(format!(
+                        "sparse index {target} out of range for {count} elements"
+                    )));
+                };
+                *value = read(&sparse.values, j);
+            }
+        }
+        Ok(values)
     }
 }
 
@@ -161,48 +224,52 @@ pub(super) fn count(
     semantic: Semantic,
     role: &str,
 ) -> Result<usize, SceneError> {
-    let elements =
-        elements(input, index, semantic).context(|| format!("accessor {index} ({role})"))?;
-    Ok(elements.count)
+    let accessor =
+        accessor(input, index, semantic).context(|| format!("accessor {index} ({role})"))?;
+    Ok(accessor.base.count)
 }
 
-/// Reads a VEC3 accessor (POSITION, NORMAL, an instance's TRANSLATION or SCALE). `role` says
-/// where it is used, for errors. Non-finite positions and instance vectors are an error;
-/// non-finite normals are left to the builder, which replaces them by the geometric normal.
+/// Reads a VEC3 accessor (POSITION, NORMAL, a morph target's displacements, an instance's
+/// TRANSLATION or SCALE). `role` says where it is used, for errors. Non-finite positions,
+/// displacements and instance vectors are an error; non-finite normals are left to the
+/// builder, which replaces them by the geometric normal.
 pub(super) fn read_vec3(
     input: &Input,
     index: usize,
     semantic: Semantic,
     role: &str,
 ) -> Result<Vec<Vec3>, SceneError> {
-    let must_be_finite = matches!(semantic, Semantic::Position | Semantic::InstanceVector);
+    let must_be_finite = matches!(
+        semantic,
+        Semantic::Position | Semantic::InstanceVector | Semantic::Displacement
+    );
     read_finite(
         input,
         index,
         semantic,
         role,
         must_be_finite,
-        "a non-finite position",
+        "a non-finite position or displacement",
     )
 }
 
 /// Reads an `EXT_mesh_gpu_instancing` ROTATION accessor as quaternions (x, y, z, w), every
-/// component finite, or a TANGENT accessor, whose non-finite tangents the mesh drops (its
-/// vertex then takes the triangle's texture frame).
+/// component finite; a WEIGHTS accessor, every weight finite; or a TANGENT accessor, whose
+/// non-finite tangents the mesh drops (its vertex then takes the triangle's texture frame).
 pub(super) fn read_vec4(
     input: &Input,
     index: usize,
     semantic: Semantic,
     role: &str,
 ) -> Result<Vec<Vec4>, SceneError> {
-    let must_be_finite = semantic == Semantic::InstanceRotation;
+    let must_be_finite = matches!(semantic, Semantic::InstanceRotation | Semantic::Weights);
     read_finite(
         input,
         index,
         semantic,
         role,
         must_be_finite,
-        "a non-finite rotation",
+        "a non-finite rotation or weight",
     )
 }
 
@@ -221,6 +288,38 @@ pub(super) fn read_texcoords(
         true,
         "a non-finite texture coordinate",
     )
+}
+
+/// Reads a skin's inverseBindMatrices (column-major); every element must be finite.
+pub(super) fn read_matrices(
+    input: &Input,
+    index: usize,
+    role: &str,
+) -> Result<Vec<Mat4>, SceneError> {
+    let context = || format!("accessor {index} ({role})");
+    let accessor = accessor(input, index, Semantic::Matrix).context(context)?;
+    let matrices = accessor
+        .read_all(input, |e, i| {
+            Mat4::from_cols_array(&std::array::from_fn(|k| e.float(i, k)))
+        })
+        .context(context)?;
+    if let Some(i) = matrices.iter().position(|m| !m.is_finite()) {
+        return Err(input.error(format!("{}: matrix {i} is not finite", context())));
+    }
+    Ok(matrices)
+}
+
+/// Reads a JOINTS_n accessor: four joint indices a vertex (into its skin's `joints`).
+pub(super) fn read_joints(
+    input: &Input,
+    index: usize,
+    role: &str,
+) -> Result<Vec<[u32; 4]>, SceneError> {
+    let context = || format!("accessor {index} ({role})");
+    let accessor = accessor(input, index, Semantic::Joints).context(context)?;
+    accessor
+        .read_all(input, |e, i| std::array::from_fn(|k| e.unsigned(i, k)))
+        .context(context)
 }
 
 /// A vector of floats read from an accessor, `N` components an element.
@@ -267,14 +366,13 @@ fn read_finite<V: FloatVector>(
     what: &str,
 ) -> Result<Vec<V>, SceneError> {
     let context = || format!("accessor {index} ({role})");
-    let elements = elements(input, index, semantic).context(context)?;
-    let mut values = Vec::with_capacity(elements.count);
-    for i in 0..elements.count {
-        let v = V::from_components(|k| elements.float(i, k));
-        if must_be_finite && !v.is_finite() {
-            return Err(input.error(format!("{}: vertex {i} has {what} {v}", context())));
-        }
-        values.push(v);
+    let accessor = accessor(input, index, semantic).context(context)?;
+    let values = accessor
+        .read_all(input, |e, i| V::from_components(|k| e.float(i, k)))
+        .context(context)?;
+    let non_finite = values.iter().enumerate().find(|(_, v)| !v.is_finite());
+    if let (true, Some((i, v))) = (must_be_finite, non_finite) {
+        return Err(input.error(format!("{}: vertex {i} has {what} {v}", context())));
     }
     Ok(values)
 }
@@ -287,69 +385,186 @@ pub(super) fn read_indices(
     vertex_count: usize,
 ) -> Result<Vec<u32>, SceneError> {
     let context = || format!("accessor {index} ({role})");
-    let elements = elements(input, index, Semantic::Indices).context(context)?;
-    let mut values = Vec::with_capacity(elements.count);
-    for i in 0..elements.count {
-        let value = elements.unsigned(i);
-        if value as usize >= vertex_count {
-            return Err(input.error(format!(
-                "{}: index {value} out of range for {vertex_count} vertices",
-                context()
-            )));
-        }
-        values.push(value);
+    let accessor = accessor(input, index, Semantic::Indices).context(context)?;
+    let values = accessor
+        .read_all(input, |e, i| e.unsigned(i, 0))
+        .context(context)?;
+    if let Some(value) = values.iter().find(|&&v| v as usize >= vertex_count) {
+        return Err(input.error(format!(
+            "{}: index {value} out of range for {vertex_count} vertices",
+            context()
+        )));
     }
     Ok(values)
 }
 
-/// Checks accessor `index` for `semantic` and locates its elements.
-fn elements<'a>(
+/// The bytes an accessor without a buffer view reads: zeros, one element long (its stride is
+/// 0), as long as the largest element (MAT4 of FLOAT).
+static ZEROS: [u8; 64] = [0; 64];
+
+/// Checks accessor `index` for `semantic` and locates its elements and sparse substitutions.
+fn accessor<'a>(
     input: &'a Input,
     index: usize,
     semantic: Semantic,
-) -> Result<Elements<'a>, SceneError> {
+) -> Result<Accessor<'a>, SceneError> {
     let Some(accessor) = input.root.accessors.get(index) else {
         return Err(input.error(format!(
             "does not exist ({} accessors)",
             input.root.accessors.len()
         )));
     };
-    if accessor.sparse.is_some() {
-        return Err(input.unsupported("sparse accessors are not supported"));
-    }
-    let Some(view_index) = accessor.buffer_view else {
-        return Err(
-            input.unsupported("accessors without a bufferView (all zeros) are not supported")
-        );
-    };
     let (ty, component) = kind(input, accessor, semantic)?;
-    let view = input.buffers.view(view_index.value())?;
     let element_size = ty.multiplicity() * component.size();
-    let stride = view.stride.unwrap_or(element_size);
-    let offset = accessor.byte_offset.map_or(0, |o| o.0);
     let count = accessor.count.0;
-    let needed = match count {
-        0 => Some(offset),
-        n => (stride as u64)
-            .checked_mul(n - 1)
-            .and_then(|s| s.checked_add(offset))
-            .and_then(|s| s.checked_add(element_size as u64)),
-    };
-    let view_length = view.bytes.len() as u64;
-    match needed {
-        Some(needed) if needed <= view_length => Ok(Elements {
-            bytes: &view.bytes[offset as usize..],
-            stride,
+    let normalized = accessor.normalized;
+    let base = match accessor.buffer_view {
+        Some(view_index) => {
+            let view_index = view_index.value();
+            let view = input.buffers.view(view_index)?;
+            let offset = accessor.byte_offset.map_or(0, |o| o.0);
+            let stride = view.stride.unwrap_or(element_size);
+            let placed = Placed {
+                count,
+                element_size,
+                stride,
+                offset,
+            };
+            let bytes = placed.within(view.bytes).ok_or_else(|| {
+                let length = view.bytes.len();
+                input.error(format!(
+                    "{placed}, overrun bufferView {view_index} of {length} bytes"
+                ))
+            })?;
+            Elements {
+                bytes,
+                stride,
+                count: count as usize,
+                element_size,
+                component,
+                normalized,
+            }
+        }
+        None => Elements {
+            bytes: &ZEROS[..element_size],
+            stride: 0,
             count: count as usize,
             element_size,
             component,
-            normalized: accessor.normalized,
-        }),
-        _ => Err(input.error(format!(
-            "{count} elements of {element_size} bytes, {stride} apart from offset {offset}, \
-             overrun bufferView {} of {view_length} bytes",
-            view_index.value()
-        ))),
+            normalized,
+        },
+    };
+    let sparse = match &accessor.sparse {
+        None => None,
+        Some(sparse) => Some(sparse_substitutions(
+            input,
+            sparse,
+            element_size,
+            (component, normalized),
+        )?),
+    };
+    Ok(Accessor { base, sparse })
+}
+
+/// A sparse accessor's indices and values, each tightly packed in its buffer view.
+fn sparse_substitutions<'a>(
+    input: &'a Input,
+    sparse: &json::accessor::sparse::Sparse,
+    element_size: usize,
+    (component, normalized): (ComponentType, bool),
+) -> Result<Sparse<'a>, SceneError> {
+    let count = sparse.count.0;
+    let Checked::Valid(index_type) = sparse.indices.component_type else {
+        return Err(input.error("sparse indices: invalid componentType"));
+    };
+    let index_type = index_type.0;
+    if !matches!(
+        index_type,
+        ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+    ) {
+        return Err(input.error(format!(
+            "sparse indices: expected UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT, found {}",
+            component_name(index_type)
+        )));
+    }
+    let packed = |what: &str, view_index: usize, offset: u64, size: usize| {
+        let view = input.buffers.view(view_index)?;
+        let placed = Placed {
+            count,
+            element_size: size,
+            stride: size,
+            offset,
+        };
+        placed.within(view.bytes).ok_or_else(|| {
+            let length = view.bytes.len();
+            input.error(format!(
+                "sparse {what}: {placed}, overrun bufferView {view_index} of {length} bytes"
+            ))
+        })
+    };
+    let index_size = index_type.size();
+    let indices = packed(
+        "indices",
+        sparse.indices.buffer_view.value(),
+        sparse.indices.byte_offset.0,
+        index_size,
+    )?;
+    let values = packed(
+        "values",
+        sparse.values.buffer_view.value(),
+        sparse.values.byte_offset.0,
+        element_size,
+    )?;
+    let elements = |bytes, element_size, component, normalized| Elements {
+        bytes,
+        stride: element_size,
+        count: count as usize,
+        element_size,
+        component,
+        normalized,
+    };
+    Ok(Sparse {
+        indices: elements(indices, index_size, index_type, false),
+        values: elements(values, element_size, component, normalized),
+    })
+}
+
+/// Where `count` elements of `element_size` bytes lie, `stride` apart from `offset`.
+struct Placed {
+    count: u64,
+    element_size: usize,
+    stride: usize,
+    offset: u64,
+}
+
+impl Placed {
+    /// The bytes from the first element on, if the last ends within `view`.
+    fn within<'v>(&self, view: &'v [u8]) -> Option<&'v [u8]> {
+        let needed = match self.count {
+            0 => Some(self.offset),
+            n => (self.stride as u64)
+                .checked_mul(n - 1)
+                .and_then(|s| s.checked_add(self.offset))
+                .and_then(|s| s.checked_add(self.element_size as u64)),
+        };
+        needed
+            .filter(|&needed| needed <= view.len() as u64)
+            .map(|_| &view[self.offset as usize..])
+    }
+}
+
+impl std::fmt::Display for Placed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let Placed {
+            count,
+            element_size,
+            stride,
+            offset,
+        } = self;
+        write!(
+            f,
+            "{count} elements of {element_size} bytes, {stride} apart from offset {offset}"
+        )
     }
 }
 

@@ -1,10 +1,11 @@
 //! Mesh primitives: decoded and checked once per mesh, then placed in the world once per node
-//! that uses the mesh. Triangle lists, strips and fans become triangles; points and lines are
-//! skipped (the caller warns).
+//! that uses the mesh, in that node's pose: its morph targets' weights, and its skin's joints
+//! where it has one (`skins`). Triangle lists, strips and fans become triangles; points and
+//! lines are skipped (the caller warns).
 
 use std::borrow::Cow;
 
-use glam::{Affine2, Affine3A, Mat3, Vec2, Vec3, Vec4};
+use glam::{Affine2, Affine3A, Mat3, Mat3A, Vec2, Vec3, Vec3A, Vec4};
 
 use ::gltf::json;
 use json::mesh::{Mode, Semantic as Attribute};
@@ -22,6 +23,9 @@ pub(super) struct Mesh {
     pub skipped_primitives: usize,
     /// Things ignored, for the scene's warnings.
     pub warnings: Vec<String>,
+    /// The morph targets' weights where the node showing the mesh gives none (glTF
+    /// `mesh.weights`; none: all zero).
+    pub weights: Vec<f32>,
 }
 
 /// The texture-coordinate sets read (TEXCOORD_0 to TEXCOORD_7): a material's textures that
@@ -42,6 +46,44 @@ pub(super) struct Primitive {
     triangles: Vec<[u32; 3]>,
     /// The glTF material (checked to exist); `None` asks for the default material.
     pub material: Option<usize>,
+    /// Morph targets, in order: each node's (or the mesh's) weights blend them in.
+    targets: Vec<MorphTarget>,
+    /// JOINTS_n with WEIGHTS_n, each set four joints of a vertex's skin and their weights.
+    influences: Vec<Influences>,
+}
+
+/// A morph target's displacements of each vertex, of the attributes it moves.
+struct MorphTarget {
+    positions: Option<Vec<Vec3>>,
+    normals: Option<Vec<Vec3>>,
+    tangents: Option<Vec<Vec3>>,
+}
+
+/// One JOINTS_n / WEIGHTS_n pair: four joints a vertex (indices into its skin's joints), and
+/// their weights.
+struct Influences {
+    joints: Vec<[u32; 4]>,
+    weights: Vec<Vec4>,
+}
+
+/// How a node places its mesh: by its world transform, or, where it has a skin, by the skin's
+/// joints (each a joint's world transform times its inverse bind matrix, `skins`), blended
+/// per vertex by its weights. A skinned primitive without joints and weights, or a vertex
+/// whose weights are all zero, is placed by the node's world transform.
+#[derive(Clone, Copy)]
+pub(super) enum Placement<'a> {
+    Rigid(&'a Affine3A),
+    Skinned {
+        joints: &'a [Affine3A],
+        node_world: &'a Affine3A,
+    },
+}
+
+/// A placement and the morph targets' weights: what a node does to the mesh it shows.
+#[derive(Clone, Copy)]
+pub(super) struct Pose<'a> {
+    pub placement: Placement<'a>,
+    pub weights: &'a [f32],
 }
 
 /// Decodes mesh `index`, which must exist.
@@ -50,6 +92,7 @@ pub(super) fn decode(input: &Input, index: usize) -> Result<Mesh, SceneError> {
         primitives: Vec::new(),
         skipped_primitives: 0,
         warnings: Vec::new(),
+        weights: input.root.meshes[index].weights.clone().unwrap_or_default(),
     };
     for (p, primitive) in input.root.meshes[index].primitives.iter().enumerate() {
         let label = format!("mesh {index} primitive {p}");
@@ -57,10 +100,6 @@ pub(super) fn decode(input: &Input, index: usize) -> Result<Mesh, SceneError> {
             mesh.skipped_primitives += 1;
             continue;
         };
-        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
-            mesh.warnings
-                .push(format!("{label}: morph targets are ignored"));
-        }
         let decoded = decode_primitive(input, primitive, p, &label)?;
         let (triangles, leftover) = assemble(mode, &decoded.corners);
         if leftover > 0 {
@@ -150,7 +189,9 @@ fn decode_primitive(
         normals,
         uv_sets,
         tangents,
+        influences,
     } = read_attributes(input, primitive, label)?;
+    let targets = read_targets(input, primitive, label, positions.len())?;
     let corners = match primitive.indices {
         Some(i) => {
             let role = format!("indices of {label}");
@@ -173,6 +214,8 @@ fn decode_primitive(
         tangents,
         triangles: Vec::new(),
         material,
+        targets,
+        influences,
     };
     Ok(Decoded { primitive, corners })
 }
@@ -183,10 +226,11 @@ struct Attributes {
     normals: Option<Vec<Vec3>>,
     uv_sets: Vec<Option<Vec<Vec2>>>,
     tangents: Option<Vec<Vec4>>,
+    influences: Vec<Influences>,
 }
 
-/// POSITION, NORMAL, every TEXCOORD_n and TANGENT (where NORMAL is given), all of the same
-/// length, below 2^32 vertices.
+/// POSITION, NORMAL, every TEXCOORD_n, TANGENT (where NORMAL is given) and every JOINTS_n
+/// with its WEIGHTS_n, all of the same length, below 2^32 vertices.
 fn read_attributes(
     input: &Input,
     primitive: &json::mesh::Primitive,
@@ -248,12 +292,61 @@ fn read_attributes(
     if let Some(t) = &tangents {
         check_count("TANGENT", t.len())?;
     }
+    let mut influences = Vec::new();
+    for n in 0.. {
+        let (joints, weights) = (Attribute::Joints(n), Attribute::Weights(n));
+        let (Some(joints), Some(weights)) = (attribute(joints), attribute(weights)) else {
+            break;
+        };
+        let joints = accessors::read_joints(input, joints, &role(&format!("JOINTS_{n}")))?;
+        check_count(&format!("JOINTS_{n}"), joints.len())?;
+        let name = format!("WEIGHTS_{n}");
+        let weights = accessors::read_vec4(input, weights, Semantic::Weights, &role(&name))?;
+        check_count(&name, weights.len())?;
+        influences.push(Influences { joints, weights });
+    }
     Ok(Attributes {
         positions,
         normals,
         uv_sets,
         tangents,
+        influences,
     })
+}
+
+/// The primitive's morph targets, each displacement of the same length as POSITION.
+fn read_targets(
+    input: &Input,
+    primitive: &json::mesh::Primitive,
+    label: &str,
+    vertex_count: usize,
+) -> Result<Vec<MorphTarget>, SceneError> {
+    let targets = primitive.targets.as_deref().unwrap_or_default();
+    let mut read = Vec::with_capacity(targets.len());
+    for (t, target) in targets.iter().enumerate() {
+        let displacements = |accessor: Option<json::Index<json::Accessor>>, what: &str| {
+            let Some(accessor) = accessor else {
+                return Ok(None);
+            };
+            let role = format!("morph target {t} {what} of {label}");
+            let values =
+                accessors::read_vec3(input, accessor.value(), Semantic::Displacement, &role)?;
+            if values.len() != vertex_count {
+                return Err(input.error(format!(
+                    "{label}: morph target {t} {what} has {} elements but POSITION has \
+                     {vertex_count}",
+                    values.len()
+                )));
+            }
+            Ok(Some(values))
+        };
+        read.push(MorphTarget {
+            positions: displacements(target.positions, "POSITION")?,
+            normals: displacements(target.normals, "NORMAL")?,
+            tangents: displacements(target.tangents, "TANGENT")?,
+        });
+    }
+    Ok(read)
 }
 
 /// Triangles from a list, strip or fan (glTF 2.0 §3.7.2.1 orders), and the count of corners
@@ -288,47 +381,70 @@ impl Primitive {
         self.triangles.len()
     }
 
-    /// Adds the primitive's triangles, placed by `world`, to `builder`. Positions go through
-    /// `world`, normals through its inverse transpose (then renormalised); a mirroring
-    /// `world` swaps two vertices of each triangle so its front face stays the front face.
-    /// Missing normals are smoothed over the placed triangles. `uv_transform` is the
-    /// material's `KHR_texture_transform`, applied to the texture coordinates here. Where the
-    /// material `reads_frame` (a normal map or brushing) and the file gives no tangents, they
-    /// are made from the texture coordinates ([`generated_tangents`]).
     /// Whether the primitive has TEXCOORD_`set`.
     pub fn has_uv_set(&self, set: usize) -> bool {
         self.uv_sets.get(set).is_some_and(Option::is_some)
     }
 
+    /// The largest joint index a vertex gives a positive weight, if any: it must name one of
+    /// the skin's joints.
+    pub fn largest_joint(&self) -> Option<u32> {
+        (self.influences.iter())
+            .flat_map(|set| set.joints.iter().zip(&set.weights))
+            .flat_map(|(joints, weights)| (0..4).filter(|&k| weights[k] > 0.0).map(|k| joints[k]))
+            .max()
+    }
+
+    /// How many morph targets it has.
+    pub fn target_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// Adds the primitive's triangles, in `pose`, to `builder`: the morph targets blended in
+    /// first, then each vertex placed by its transform (the node's, or its skin's joints
+    /// blended). Positions go through the transform, normals through its inverse transpose
+    /// (then renormalised), tangents through its linear part; a triangle whose transform
+    /// mirrors (at two of its vertices, for a skin) has two vertices swapped so its front face
+    /// stays the front face. Missing normals are smoothed over the placed triangles.
+    /// `uv_transform` is the material's `KHR_texture_transform`, applied to the texture
+    /// coordinates here. Where the material `reads_frame` (a normal map or brushing) and the
+    /// file gives no tangents, they are made from the texture coordinates
+    /// ([`generated_tangents`]).
     pub fn instantiate(
         &self,
-        world: &Affine3A,
+        pose: Pose,
         material: u32,
         (uv_set, uv_transform): (usize, Option<Affine2>),
         reads_frame: bool,
         builder: &mut SceneBuilder,
     ) -> Result<(), SceneError> {
         let set_uvs = self.uv_sets.get(uv_set).and_then(Option::as_ref);
-        let linear = Mat3::from(world.matrix3);
-        let mirrored = linear.determinant() < 0.0;
-        let positions: Vec<Vec3> = self
-            .positions
-            .iter()
-            .map(|&p| world.transform_point3(p))
+        let morphed = self.morphed(pose.weights);
+        let frames = self.vertex_frames(pose.placement);
+        let positions: Vec<Vec3> = (morphed.positions.iter().enumerate())
+            .map(|(i, &p)| frames.get(i).transform.transform_point3(p))
             .collect();
-        let triangles: Cow<[[u32; 3]]> = if mirrored {
-            Cow::Owned(self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect())
-        } else {
-            Cow::Borrowed(&self.triangles)
-        };
-        let normals = match &self.normals {
-            Some(normals) => {
-                let normal_matrix = normal_matrix(linear, mirrored);
-                normals
-                    .iter()
-                    .map(|&n| (normal_matrix * n).normalize_or_zero())
-                    .collect()
+        let triangles: Cow<[[u32; 3]]> = match &frames {
+            VertexFrames::One(frame) if frame.mirrored => {
+                Cow::Owned(self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect())
             }
+            VertexFrames::One(_) => Cow::Borrowed(&self.triangles),
+            VertexFrames::Each(frames) => Cow::Owned(
+                (self.triangles.iter())
+                    .map(|&[a, b, c]| {
+                        let mirrored = [a, b, c]
+                            .iter()
+                            .filter(|&&v| frames[v as usize].mirrored)
+                            .count();
+                        if mirrored >= 2 { [a, c, b] } else { [a, b, c] }
+                    })
+                    .collect(),
+            ),
+        };
+        let normals = match &morphed.normals {
+            Some(normals) => (normals.iter().enumerate())
+                .map(|(i, &n)| (frames.get(i).normal_matrix * n).normalize_or_zero())
+                .collect(),
             None => smooth_normals(&positions, &triangles),
         };
         let uvs: Vec<Vec2> = match set_uvs {
@@ -337,12 +453,15 @@ impl Primitive {
                 .collect(),
             None => vec![Vec2::ZERO; positions.len()],
         };
-        let generated = (reads_frame && self.tangents.is_none() && set_uvs.is_some())
+        let generated = (reads_frame && morphed.tangents.is_none() && set_uvs.is_some())
             .then(|| generated_tangents(&positions, &normals, &uvs, &triangles));
         let vertex = |i: u32| {
             let i = i as usize;
-            let tangent = match (&self.tangents, &generated) {
-                (Some(file), _) => placed_tangent(file[i], linear, mirrored),
+            let tangent = match (&morphed.tangents, &generated) {
+                (Some(file), _) => {
+                    let frame = frames.get(i);
+                    placed_tangent(file[i], frame.linear, frame.mirrored)
+                }
                 (None, Some(made)) => made[i],
                 (None, None) => Vec4::ZERO,
             };
@@ -360,6 +479,119 @@ impl Primitive {
             })?;
         }
         Ok(())
+    }
+
+    /// The vertices' positions, normals and tangents with the morph targets blended in by
+    /// `weights` (glTF: attribute + Σ weight · displacement; a target past the weights given
+    /// weighs nothing).
+    fn morphed(&self, weights: &[f32]) -> Morphed<'_> {
+        let mut morphed = Morphed {
+            positions: Cow::Borrowed(&self.positions),
+            normals: self.normals.as_deref().map(Cow::Borrowed),
+            tangents: self.tangents.as_deref().map(Cow::Borrowed),
+        };
+        for (target, &weight) in self.targets.iter().zip(weights) {
+            if weight == 0.0 {
+                continue;
+            }
+            let add = |values: &mut [Vec3], displacements: &[Vec3]| {
+                for (v, &d) in values.iter_mut().zip(displacements) {
+                    *v += weight * d;
+                }
+            };
+            if let Some(d) = &target.positions {
+                add(morphed.positions.to_mut(), d);
+            }
+            if let (Some(normals), Some(d)) = (&mut morphed.normals, &target.normals) {
+                add(normals.to_mut(), d);
+            }
+            if let (Some(tangents), Some(d)) = (&mut morphed.tangents, &target.tangents) {
+                for (t, &d) in tangents.to_mut().iter_mut().zip(d) {
+                    *t += (weight * d).extend(0.0);
+                }
+            }
+        }
+        morphed
+    }
+
+    /// Each vertex's transform: the node's, or its skin's joints blended by its weights.
+    fn vertex_frames(&self, placement: Placement) -> VertexFrames {
+        match placement {
+            Placement::Rigid(world) => VertexFrames::One(Frame::new(*world)),
+            Placement::Skinned { node_world, .. } if self.influences.is_empty() => {
+                VertexFrames::One(Frame::new(*node_world))
+            }
+            Placement::Skinned { joints, node_world } => VertexFrames::Each(
+                (0..self.positions.len())
+                    .map(|i| Frame::new(self.skinned(i, joints).unwrap_or(*node_world)))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Vertex `i`'s joints blended by its weights (normalised to sum to one, as glTF asks of
+    /// them), `None` where they are all zero. Every joint with a positive weight must exist
+    /// ([`Primitive::largest_joint`]).
+    fn skinned(&self, i: usize, joints: &[Affine3A]) -> Option<Affine3A> {
+        let (mut matrix, mut translation, mut total) = (Mat3A::ZERO, Vec3A::ZERO, 0.0);
+        for set in &self.influences {
+            for k in 0..4 {
+                let weight = set.weights[i][k];
+                if weight > 0.0 {
+                    let joint = &joints[set.joints[i][k] as usize];
+                    matrix += joint.matrix3 * weight;
+                    translation += joint.translation * weight;
+                    total += weight;
+                }
+            }
+        }
+        (total > 0.0).then(|| Affine3A {
+            matrix3: matrix * (1.0 / total),
+            translation: translation * (1.0 / total),
+        })
+    }
+}
+
+/// A primitive's attributes after its morph targets.
+struct Morphed<'a> {
+    positions: Cow<'a, [Vec3]>,
+    normals: Option<Cow<'a, [Vec3]>>,
+    tangents: Option<Cow<'a, [Vec4]>>,
+}
+
+/// A vertex's transform, with what placing normals and tangents needs of it.
+struct Frame {
+    transform: Affine3A,
+    linear: Mat3,
+    mirrored: bool,
+    normal_matrix: Mat3,
+}
+
+impl Frame {
+    fn new(transform: Affine3A) -> Frame {
+        let linear = Mat3::from(transform.matrix3);
+        let mirrored = linear.determinant() < 0.0;
+        Frame {
+            transform,
+            linear,
+            mirrored,
+            normal_matrix: normal_matrix(linear, mirrored),
+        }
+    }
+}
+
+/// One frame for all of a primitive's vertices, or one each (a skin).
+enum VertexFrames {
+    One(Frame),
+    Each(Vec<Frame>),
+}
+
+impl VertexFrames {
+    fn get(&self, i: usize) -> &Frame {
+        match self {
+            VertexFrames::One(frame) => frame,
+            VertexFrames::Each(frames) => &frames[i],
+        }
     }
 }
 

@@ -5,17 +5,19 @@
 //! primitive with POSITION, NORMAL (smoothed, area-weighted, when absent) and the texture
 //! coordinates its material's textures use (one set a material: TEXCOORD_0 to TEXCOORD_7, that
 //! of its base colour texture, else of its emissive, normal or metallic-roughness texture),
-//! indexed by u8/u16/u32 or not at all; perspective cameras in traversal order; materials as
-//! [`materials`] describes; point, spot and directional lights on nodes
-//! (`KHR_lights_punctual`): at the node's world origin, shining down its world −Z, with
+//! indexed by u8/u16/u32 or not at all; morph targets, weighted by the node's `weights` or
+//! the mesh's; skins, in the pose the nodes give their joints (`skins`; animations are not
+//! read); accessors without a buffer view (zeros) and sparse ones; perspective cameras in
+//! traversal order; materials as [`materials`] describes; point, spot and directional lights
+//! on nodes (`KHR_lights_punctual`): at the node's world origin, shining down its world −Z, with
 //! intensity = `color` (in [0, 1]) × `intensity` (≥ 0; candela, or lux for directional ones)
 //! and a spot's cone angles `0 ≤ innerConeAngle < outerConeAngle ≤ π/2`; the extensions in
 //! [`SUPPORTED_EXTENSIONS`]. Skipped with a warning: point and line primitives, orthographic
 //! cameras, spot and directional lights whose node's transform leaves no direction (a zero
-//! scale), skins and morph targets, and every optional extension not supported. Ignored with
-//! one warning: lights' `range` (kousen's lights fall off with the inverse square of distance,
-//! however far). Refused: a required extension not supported, sparse accessors, URIs other
-//! than relative paths and data URIs.
+//! scale), and every optional extension not supported. Ignored with one warning: lights'
+//! `range` (kousen's lights fall off with the inverse square of distance, however far),
+//! instances (`EXT_mesh_gpu_instancing`) of a skinned mesh. Refused: a required extension not
+//! supported, URIs other than relative paths and data URIs.
 //!
 //! Files come from anywhere (DESIGN.md, "Loader robustness"). The `gltf` crate is used only to
 //! deserialise the JSON; its validation and readers are not (its validation indexes arrays
@@ -34,10 +36,12 @@ mod lights;
 pub mod materials;
 mod meshes;
 mod nodes;
+mod skins;
 mod uri;
 
 use std::fmt::Display;
 use std::path::Path;
+use std::rc::Rc;
 
 use glam::Affine3A;
 
@@ -46,7 +50,7 @@ use ::gltf::json;
 use crate::{Scene, SceneBuilder, SceneError};
 use buffers::Buffers;
 use materials::Materials;
-use meshes::Mesh;
+use meshes::{Mesh, Placement, Pose};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
 pub const SUPPORTED_EXTENSIONS: [&str; 16] = [
@@ -102,10 +106,12 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         builder,
         materials: Materials::new(root),
         meshes: root.meshes.iter().map(|_| None).collect(),
+        skins: root.skins.iter().map(|_| None).collect(),
+        worlds: None,
         triangles_placed: 0,
         skipped_primitives: 0,
-        warned_skins: false,
         warned_light_range: false,
+        warnings_given: Vec::new(),
     };
     nodes::walk(&input, &roots, |index, world| loader.visit(index, world))?;
     loader.finish()
@@ -272,6 +278,14 @@ fn missing_mesh(input: &Input, node: usize, mesh: usize) -> SceneError {
     ))
 }
 
+/// Gives `warning` unless `given` holds it already.
+fn warn_once(given: &mut Vec<&'static str>, builder: &mut SceneBuilder, warning: &'static str) {
+    if !given.contains(&warning) {
+        given.push(warning);
+        builder.warn(warning);
+    }
+}
+
 /// Walks the nodes into the builder.
 struct Loader<'a> {
     input: &'a Input<'a>,
@@ -279,12 +293,17 @@ struct Loader<'a> {
     materials: Materials,
     /// Each glTF mesh, once decoded.
     meshes: Vec<Option<Mesh>>,
+    /// Each skin's joint transforms, once made.
+    skins: Vec<Option<Rc<[Affine3A]>>>,
+    /// Every node's world transform, made when the first skin needs its joints'.
+    worlds: Option<Vec<Affine3A>>,
     /// Triangles placed so far, degenerate ones included.
     triangles_placed: usize,
     skipped_primitives: usize,
-    warned_skins: bool,
     /// Whether the warning that lights' `range` is ignored was given.
     warned_light_range: bool,
+    /// Warnings given once a file, already given.
+    warnings_given: Vec<&'static str>,
 }
 
 impl Loader<'_> {
@@ -302,25 +321,76 @@ impl Loader<'_> {
             let warned = &mut self.warned_light_range;
             lights::place(self.input, &mut self.builder, index, light, world, warned)?;
         }
-        if let Some(mesh) = node.mesh {
-            match instancing::instances(self.input, index)? {
-                Some(instances) => {
-                    for instance in instances {
-                        self.mesh(index, mesh.value(), &(*world * instance))?;
-                    }
-                }
-                None => self.mesh(index, mesh.value(), world)?,
+        let Some(mesh) = node.mesh else {
+            return Ok(());
+        };
+        let weights = node.weights.as_deref();
+        if let Some(skin) = node.skin {
+            let skin = skin.value();
+            let joints = self.skin_joints(index, skin)?;
+            if instancing::instances(self.input, index)?.is_some() {
+                warn_once(
+                    &mut self.warnings_given,
+                    &mut self.builder,
+                    "instances of a skinned mesh are ignored: it is drawn once, where its \
+                     joints hold it",
+                );
             }
+            let placement = Placement::Skinned {
+                joints: &joints,
+                node_world: world,
+            };
+            return self.mesh(index, mesh.value(), placement, weights, Some(skin));
         }
-        if node.skin.is_some() && !self.warned_skins {
-            self.warned_skins = true;
-            self.builder
-                .warn("skins are ignored: skinned meshes are drawn as their nodes place them");
+        match instancing::instances(self.input, index)? {
+            Some(instances) => {
+                for instance in instances {
+                    let placed = *world * instance;
+                    self.mesh(
+                        index,
+                        mesh.value(),
+                        Placement::Rigid(&placed),
+                        weights,
+                        None,
+                    )?;
+                }
+            }
+            None => self.mesh(index, mesh.value(), Placement::Rigid(world), weights, None)?,
         }
         Ok(())
     }
 
-    fn mesh(&mut self, node: usize, index: usize, world: &Affine3A) -> Result<(), SceneError> {
+    /// Skin `skin`'s joint transforms (node `node` shows a mesh with it), made once.
+    fn skin_joints(&mut self, node: usize, skin: usize) -> Result<Rc<[Affine3A]>, SceneError> {
+        let Some(slot) = self.skins.get(skin) else {
+            return Err(self.input.error(format!(
+                "node {node}: skin {skin} does not exist ({} skins)",
+                self.skins.len()
+            )));
+        };
+        if let Some(joints) = slot {
+            return Ok(joints.clone());
+        }
+        if self.worlds.is_none() {
+            self.worlds = Some(nodes::world_transforms(self.input)?);
+        }
+        let worlds = self.worlds.as_deref().unwrap_or_default();
+        let joints: Rc<[Affine3A]> = skins::joint_transforms(self.input, skin, worlds)?.into();
+        self.skins[skin] = Some(joints.clone());
+        Ok(joints)
+    }
+
+    /// Places mesh `index` as node `node` shows it: by `placement`, its morph targets weighted
+    /// by the node's `weights` (else the mesh's); `skin` names the skin a skinned placement's
+    /// joints come from, for messages.
+    fn mesh(
+        &mut self,
+        node: usize,
+        index: usize,
+        placement: Placement,
+        weights: Option<&[f32]>,
+        skin: Option<usize>,
+    ) -> Result<(), SceneError> {
         let Self {
             input,
             builder,
@@ -328,6 +398,7 @@ impl Loader<'_> {
             meshes,
             triangles_placed,
             skipped_primitives,
+            warnings_given,
             ..
         } = self;
         let Some(slot) = meshes.get_mut(index) else {
@@ -344,7 +415,36 @@ impl Loader<'_> {
         let Some(mesh) = slot.as_ref() else {
             return Ok(());
         };
+        let weights = weights.unwrap_or(&mesh.weights);
         for primitive in &mesh.primitives {
+            let targets = primitive.target_count();
+            if targets > 0 && weights.len() != targets {
+                warn_once(
+                    warnings_given,
+                    builder,
+                    "a mesh's morph target weights do not match its targets in number: \
+                     the targets past the weights weigh nothing",
+                );
+            }
+            if let (Placement::Skinned { joints, .. }, Some(skin)) = (placement, skin) {
+                if let Some(joint) = primitive.largest_joint() {
+                    if joint as usize >= joints.len() {
+                        return Err(input.error(format!(
+                            "node {node}: mesh {index} primitive {} names joint {joint} of skin \
+                             {skin}, which has {} joints",
+                            primitive.index,
+                            joints.len()
+                        )));
+                    }
+                } else {
+                    warn_once(
+                        warnings_given,
+                        builder,
+                        "a skinned mesh's primitive has no JOINTS_0 and WEIGHTS_0: it is \
+                         placed by its node's transform",
+                    );
+                }
+            }
             let material = materials.id(input, builder, primitive.material)?;
             let uv_transform = materials.uv_transform(primitive.material);
             let uv_set = materials.uv_set(primitive.material);
@@ -360,7 +460,7 @@ impl Loader<'_> {
                 .any(|m| builder.materials()[m as usize].reads_tangent_frame());
             primitive
                 .instantiate(
-                    world,
+                    Pose { placement, weights },
                     material,
                     (uv_set, uv_transform),
                     reads_frame,

@@ -121,6 +121,21 @@ pub(super) fn walk(
     Ok(())
 }
 
+/// Every node's world transform, whether or not the scene drawn shows it (a skin's joints may
+/// lie anywhere in the hierarchy). The graph must have passed [`scene_roots`].
+pub(super) fn world_transforms(input: &Input) -> Result<Vec<Affine3A>, SceneError> {
+    let parents = parents(input)?;
+    let roots: Vec<usize> = (0..parents.len())
+        .filter(|&i| parents[i] == NO_PARENT)
+        .collect();
+    let mut worlds = vec![Affine3A::IDENTITY; parents.len()];
+    walk(input, &roots, |index, world| {
+        worlds[index] = *world;
+        Ok(())
+    })?;
+    Ok(worlds)
+}
+
 /// Every node below `roots`, in the order [`walk`] visits them.
 pub(super) fn in_walk_order(input: &Input, roots: &[usize]) -> Vec<usize> {
     let nodes = &input.root.nodes;

@@ -585,6 +585,10 @@ fn sky_lit_plane(sky: f32) -> Scene {
 struct TopView {
     half_view: f32,
     side: u32,
+    /// Seen by an orthographic camera (`scene::Projection`) of half height `half_view`: its
+    /// pixels' centres see the same points, along parallel rays (from higher up, and with a
+    /// field of view that would show another patch were its rays a perspective camera's).
+    orthographic: bool,
 }
 
 impl TopView {
@@ -592,10 +596,26 @@ impl TopView {
     const HEIGHT: f32 = 0.5;
 
     fn new(half_view: f32, side: u32) -> TopView {
-        TopView { half_view, side }
+        TopView {
+            half_view,
+            side,
+            orthographic: false,
+        }
+    }
+
+    fn orthographic(half_view: f32, side: u32) -> TopView {
+        TopView {
+            orthographic: true,
+            ..TopView::new(half_view, side)
+        }
     }
 
     fn camera(&self) -> Camera {
+        if self.orthographic {
+            let eye = Vec3::new(0.0, 4.0 * Self::HEIGHT, 0.0);
+            let camera = Camera::look_at(eye, Vec3::ZERO, Vec3::NEG_Z, 1.0).unwrap();
+            return camera.orthographic(self.half_view).unwrap();
+        }
         Camera::look_at(
             Vec3::new(0.0, Self::HEIGHT, 0.0),
             Vec3::ZERO,
@@ -1170,6 +1190,16 @@ fn sampled_direct_light_matches_every_analytic_case() {
         below_light(x, z, h, intensity, |_| 1.0)
     };
     assert_matches("sampled, point light", &image, expected, 0.01, 0.005);
+    // The same seen straight down by an orthographic camera: each pixel the same spot.
+    let orthographic = TopView::orthographic(view.half_view, view.side);
+    let image = sampled(&testing::punctual_plane(&[point]), &orthographic);
+    assert_matches(
+        "sampled, point light, orthographic",
+        &image,
+        expected,
+        0.01,
+        0.005,
+    );
 
     let (cos_inner, cos_outer) = (20f32.to_radians().cos(), 35f32.to_radians().cos());
     let spot = PunctualLight {

@@ -541,8 +541,8 @@ fn sppm_types_layout_matches_render_buffers() {
                 offset_of!(SppmParams, aperture_rotation),
             ),
             ("light_candidates", offset_of!(SppmParams, light_candidates)),
+            ("orthographic", offset_of!(SppmParams, orthographic)),
             ("pad4", offset_of!(SppmParams, pad2)),
-            ("pad5", offset_of!(SppmParams, pad2) + 4),
         ],
     );
 }

@@ -782,6 +782,17 @@ fn every_kernel_matches_its_twin_through_a_thin_lens() {
     }
 }
 
+/// The same seen by an orthographic camera (`scene::Projection`, `render::lens::camera_ray`):
+/// every eye path leaves its own film point, along the view.
+#[test]
+fn every_kernel_matches_its_twin_through_an_orthographic_camera() {
+    let mut scene = scene::testing::cornell_caustics();
+    let half_height = 0.45 * scene.bounds().extent().y;
+    let camera = scene.cameras[0].clone().orthographic(half_height);
+    scene.cameras[0] = camera.expect("an orthographic camera");
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same with a glass marble under the tinted water (`scene::testing::cornell_marble`):
 /// indices relative to the water (`render::nesting`, uploaded as the CPU backend holds them),
 /// and paths leaving the marble in the water again (`GpuMaterial::exterior`).

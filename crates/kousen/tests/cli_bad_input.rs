@@ -281,6 +281,63 @@ fn render_refuses_bad_lenses_and_leaves_no_file() {
     }
 }
 
+/// An orthographic glTF camera 2 above the glowing quad looking down, its film a quarter of
+/// the quad's side about its centre: every pixel sees the quad (a perspective camera there
+/// would see past its edges). It has no lens: `--aperture-radius` is refused in one line.
+#[test]
+fn render_sees_through_an_orthographic_camera_which_has_no_lens() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = lit_quad_scene(dir.path());
+    let mut document: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&scene).unwrap()).unwrap();
+    document["cameras"] = json!([{ "type": "orthographic",
+        "orthographic": { "xmag": 0.25, "ymag": 0.25, "znear": 0.01, "zfar": 10 } }]);
+    let down = [
+        -std::f32::consts::FRAC_1_SQRT_2,
+        0.0,
+        0.0,
+        std::f32::consts::FRAC_1_SQRT_2,
+    ];
+    document["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "camera": 0, "translation": [0.5, 2, 0.5], "rotation": down }));
+    document["scenes"][0]["nodes"] = json!([0, 1]);
+    let scene = write(
+        dir.path(),
+        "lit.gltf",
+        &serde_json::to_vec(&document).unwrap(),
+    );
+    let out = dir.path().join("out.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(["--backend", "cpu", "--passes", "2", "--width", "16"]);
+        args.extend(extra);
+        kousen(&args)
+    };
+    assert_clean_error(
+        &render(&["--aperture-radius", "0.1"]),
+        "orthographic and has no lens",
+    );
+    assert_no_files_but(dir.path(), &["lit.gltf"]);
+    assert_succeeded(&render(&[]));
+    let image = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(
+        image.dimensions(),
+        (16, 16),
+        "xmag / ymag sets the aspect ratio"
+    );
+    assert!(
+        image.pixels().all(|p| p.0.iter().all(|&c| c >= 250)),
+        "a pixel missed the quad"
+    );
+}
+
 #[test]
 fn render_refuses_a_camera_index_out_of_range() {
     let dir = tempfile::tempdir().unwrap();

@@ -225,10 +225,12 @@ pub struct SppmParams {
     pub width: u32,
     pub forward: [f32; 3],
     pub height: u32,
-    /// Camera right × tan(yfov/2) × aspect: film x = ±1 lies at forward ± this.
+    /// The film's half extents (`scene::Camera::film_half_extents`): for a perspective camera
+    /// right × tan(yfov/2) × aspect, so film x = ±1 lies at forward ± this; for an
+    /// orthographic one right × half height × aspect, across the film about the eye.
     pub right: [f32; 3],
     pub slot_count: u32,
-    /// Camera up × tan(yfov/2).
+    /// Up × tan(yfov/2), or up × half height.
     pub up: [f32; 3],
     /// Entries in the stochastic hash table.
     pub hash_size: u32,
@@ -286,7 +288,11 @@ pub struct SppmParams {
     /// Light samples drawn per light sample at a visible point whose only lobe is Lambertian,
     /// one kept ([`crate::resampling`]); 0 or 1: the plain sample.
     pub light_candidates: u32,
-    pub pad2: [u32; 2],
+    /// 1 for an orthographic camera (`scene::Projection`): its rays leave the film point
+    /// `eye + sx·right + sy·up` along `forward` ([`crate::lens::camera_ray`]), `right` and
+    /// `up` the film's half extents; 0 for a perspective one.
+    pub orthographic: u32,
+    pub pad2: u32,
 }
 
 impl Default for SppmParams {

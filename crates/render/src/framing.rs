@@ -69,9 +69,9 @@ pub fn front_share(bvh: &PackedBvh, camera: &Camera) -> f32 {
         for i in 0..n {
             let sx = (i as f32 + 0.5) / n as f32 * 2.0 - 1.0;
             let sy = 1.0 - (j as f32 + 0.5) / n as f32 * 2.0;
-            let direction = camera.direction(sx, sy, 1.0);
+            let (origin, direction) = camera.ray(sx, sy, 1.0);
             let ray = Ray {
-                origin: camera.eye,
+                origin,
                 direction,
                 t_max: f32::INFINITY,
             };

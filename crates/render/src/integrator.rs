@@ -108,9 +108,10 @@ pub fn initial_radius_in_footprints(
         for i in 0..RADIUS_PROBES {
             let sx = (i as f32 + 0.5) / RADIUS_PROBES as f32 * 2.0 - 1.0;
             let sy = 1.0 - (j as f32 + 0.5) / RADIUS_PROBES as f32 * 2.0;
+            let (origin, direction) = camera.ray(sx, sy, aspect);
             let ray = bvh::Ray {
-                origin: camera.eye,
-                direction: camera.direction(sx, sy, aspect),
+                origin,
+                direction,
                 t_max: f32::INFINITY,
             };
             if let Some(hit) = bvh::closest_hit_mtbvh(bvh, &ray) {
@@ -139,16 +140,16 @@ pub fn params_with(
     lights: u32,
     locator: &MediumLocator,
 ) -> SppmParams {
-    let tan_half = (0.5 * camera.yfov).tan();
     let aspect = settings.width as f32 / settings.height as f32;
+    let (right, up) = camera.film_half_extents(aspect);
     SppmParams {
         eye: camera.eye.to_array(),
         width: settings.width,
         forward: camera.forward.to_array(),
         height: settings.height,
-        right: (camera.right() * tan_half * aspect).to_array(),
+        right: right.to_array(),
         slot_count: settings.photons,
-        up: (camera.up * tan_half).to_array(),
+        up: up.to_array(),
         hash_size: settings.hash_size(),
         alpha: settings.alpha,
         max_depth: settings.max_depth,
@@ -187,7 +188,8 @@ pub fn params_with(
         aperture_blades: camera.lens.blades,
         aperture_rotation: camera.lens.rotation,
         light_candidates: settings.light_candidates_for(scene),
-        pad2: [0; 2],
+        orthographic: camera.is_orthographic() as u32,
+        pad2: 0,
     }
 }
 
@@ -420,7 +422,8 @@ impl<B: Backend> Sppm<B> {
 }
 
 /// Camera ray direction through film point (sx, sy) ∈ [−1, 1]², +y up, as the eye kernels
-/// make it.
+/// make it (a perspective camera's; an orthographic one's rays all go along the view,
+/// `crate::lens::camera_ray`).
 pub fn camera_direction(params: &SppmParams, sx: f32, sy: f32) -> Vec3 {
     (Vec3::from_array(params.forward)
         + sx * Vec3::from_array(params.right)

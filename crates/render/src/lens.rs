@@ -5,7 +5,8 @@
 //! plane in focus, `focus_distance` ahead of the eye: what lies on that plane is sharp, and a
 //! point at depth d spreads over a disk of radius `radius · |1/focus − 1/d|` on the film plane
 //! one unit ahead of the eye (the pinhole's image scale), or over the polygon scaled alike.
-//! Radius 0 is the pinhole, ray for ray, so pinhole renders do not change.
+//! Radius 0 is the pinhole, ray for ray, so pinhole renders do not change. An orthographic
+//! camera has no lens (`kousen render` refuses one): its rays leave the film along the view.
 //!
 //! Each first camera path of a pixel takes its lens point from [`crate::rng::pixel_lens`]
 //! (a low-discrepancy sequence independent of the jitter's); the extra paths of pixels
@@ -21,10 +22,14 @@ use crate::sampling::aperture_point;
 /// (+y up) that leaves the lens at the point `lens` ∈ [0, 1)² maps to.
 pub fn camera_ray(params: &SppmParams, sx: f32, sy: f32, lens: [f32; 2]) -> (Vec3, Vec3) {
     let eye = Vec3::from_array(params.eye);
+    let (right, up) = (Vec3::from_array(params.right), Vec3::from_array(params.up));
+    if params.orthographic != 0 {
+        let forward = Vec3::from_array(params.forward).normalize();
+        return (eye + sx * right + sy * up, forward);
+    }
     if params.lens_radius <= 0.0 {
         return (eye, camera_direction(params, sx, sy));
     }
-    let (right, up) = (Vec3::from_array(params.right), Vec3::from_array(params.up));
     let through = Vec3::from_array(params.forward) + sx * right + sy * up;
     let lens_disk = [right.normalize(), up.normalize()];
     let lens_shape = scene::Lens {
@@ -44,13 +49,13 @@ pub fn camera_lens_ray(
     aspect: f32,
     lens: [f32; 2],
 ) -> (Vec3, Vec3) {
-    if camera.lens.is_pinhole() {
-        return (camera.eye, camera.direction(sx, sy, aspect));
+    if camera.lens.is_pinhole() || camera.is_orthographic() {
+        return camera.ray(sx, sy, aspect);
     }
-    let tan_half = (0.5 * camera.yfov).tan();
-    let (right, up) = (camera.right(), camera.up);
-    let through = camera.forward + sx * tan_half * aspect * right + sy * tan_half * up;
-    thin_lens_ray(camera.eye, through, [right, up], camera.lens, lens)
+    let (right, up) = camera.film_half_extents(aspect);
+    let through = camera.forward + sx * right + sy * up;
+    let lens_disk = [camera.right(), camera.up];
+    thin_lens_ray(camera.eye, through, lens_disk, camera.lens, lens)
 }
 
 /// The ray from the point of the lens disk (spanned by unit `right` and `up` about `eye`)
@@ -84,9 +89,9 @@ pub fn depth_along_view(
     (sx, sy): (f32, f32),
     aspect: f32,
 ) -> Option<f32> {
-    let direction = camera.direction(sx, sy, aspect);
+    let (origin, direction) = camera.ray(sx, sy, aspect);
     let ray = bvh::Ray {
-        origin: camera.eye,
+        origin,
         direction,
         t_max: f32::INFINITY,
     };
@@ -147,6 +152,35 @@ mod tests {
         }
         let mean = squared_radii / (3 * n * n) as f64;
         assert!((mean / (0.25f64 * 0.25 / 2.0) - 1.0).abs() < 1e-3, "{mean}");
+    }
+
+    /// An orthographic camera's rays leave the film point `eye + sx·right + sy·up` (its half
+    /// extents) along the view, whatever the lens, as the camera itself makes them.
+    #[test]
+    fn orthographic_rays_leave_the_film_along_the_view() {
+        let camera = scene::Camera::look_at(Vec3::ONE, Vec3::ZERO, Vec3::Y, 0.7)
+            .unwrap()
+            .orthographic(2.0)
+            .unwrap();
+        let aspect = 1.5;
+        let (right, up) = camera.film_half_extents(aspect);
+        assert!((right.length() - 3.0).abs() < 1e-6 && (up.length() - 2.0).abs() < 1e-6);
+        let params = SppmParams {
+            eye: camera.eye.to_array(),
+            forward: camera.forward.to_array(),
+            right: right.to_array(),
+            up: up.to_array(),
+            orthographic: 1,
+            ..params(0.25, 4.0)
+        };
+        for (sx, sy, u) in [(0.0, 0.0, [0.5, 0.5]), (-0.7, 0.3, [0.1, 0.9])] {
+            let (origin, direction) = camera_ray(&params, sx, sy, u);
+            assert!(direction.abs_diff_eq(camera.forward, 1e-6));
+            let film = camera.eye + sx * right + sy * up;
+            assert!(origin.abs_diff_eq(film, 1e-6), "{origin} {film}");
+            let (o2, d2) = camera_lens_ray(&camera, (sx, sy), aspect, u);
+            assert!(o2.abs_diff_eq(origin, 1e-6) && d2.abs_diff_eq(direction, 1e-6));
+        }
     }
 
     /// The path tracer's rays from a `scene::Camera` are the kernels' from its params.

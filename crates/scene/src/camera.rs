@@ -1,5 +1,6 @@
 //! Cameras: from a file, from a look-at, or framed around a bounding box; pinholes, or thin
-//! lenses that blur what lies off their plane of focus ([`Lens`]).
+//! lenses that blur what lies off their plane of focus ([`Lens`]); perspective, or
+//! orthographic ([`Projection`]).
 
 use glam::{Mat4, Vec3};
 
@@ -60,6 +61,19 @@ impl Lens {
     }
 }
 
+/// How a camera's rays leave its film.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Projection {
+    /// From the eye, spread over the vertical field of view `Camera::yfov`.
+    #[default]
+    Perspective,
+    /// Parallel, along the view, from the film: a rectangle about the eye across the view,
+    /// `half_height` above and below it (glTF's `ymag`) and as wide as the image's aspect
+    /// ratio makes it. Things keep their size however far away (plans, elevations,
+    /// isometric views).
+    Orthographic { half_height: f32 },
+}
+
 /// A camera. `forward`, `up` and `right()` form an orthonormal, right-handed frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -69,8 +83,10 @@ pub struct Camera {
     pub forward: Vec3,
     /// Unit, orthogonal to `forward`.
     pub up: Vec3,
-    /// Vertical field of view in radians, in (0, π).
+    /// Vertical field of view in radians, in (0, π) (a perspective camera's).
     pub yfov: f32,
+    /// Perspective unless the file says otherwise.
+    pub projection: Projection,
     /// Width / height, when the file states one.
     pub aspect_ratio: Option<f32>,
     /// A pinhole unless given one (`kousen render --aperture-radius`).
@@ -99,9 +115,23 @@ impl Camera {
             forward,
             up: right.cross(forward),
             yfov,
+            projection: Projection::Perspective,
             aspect_ratio: None,
             lens: Lens::PINHOLE,
         })
+    }
+
+    /// This camera made orthographic, its film `half_height` above and below the eye;
+    /// `None` unless that is finite and > 0.
+    pub fn orthographic(self, half_height: f32) -> Option<Camera> {
+        (half_height.is_finite() && half_height > 0.0).then_some(Camera {
+            projection: Projection::Orthographic { half_height },
+            ..self
+        })
+    }
+
+    pub fn is_orthographic(&self) -> bool {
+        matches!(self.projection, Projection::Orthographic { .. })
     }
 
     /// A glTF camera: it looks down its node's −Z with +Y up. `None` if the matrix has no
@@ -158,11 +188,37 @@ impl Camera {
         self.forward.cross(self.up)
     }
 
-    /// Unit direction through the film point (`sx`, `sy`) in [−1, 1]², +y up, for an image of
-    /// the given aspect ratio (width / height).
+    /// The film's half extents across the view, right and up, for an image of the given
+    /// aspect ratio (width / height): on the plane one unit ahead of the eye for a perspective
+    /// camera (film x = ±1 lies at forward ± right times the first), on the film itself for an
+    /// orthographic one.
+    pub fn film_half_extents(&self, aspect_ratio: f32) -> (Vec3, Vec3) {
+        let half_height = match self.projection {
+            Projection::Perspective => (0.5 * self.yfov).tan(),
+            Projection::Orthographic { half_height } => half_height,
+        };
+        (
+            self.right() * (half_height * aspect_ratio),
+            self.up * half_height,
+        )
+    }
+
+    /// The origin and unit direction of the pinhole ray through the film point (`sx`, `sy`)
+    /// in [−1, 1]², +y up, for an image of the given aspect ratio (width / height): from the
+    /// eye for a perspective camera, from the film point along the view for an orthographic
+    /// one.
+    pub fn ray(&self, sx: f32, sy: f32, aspect_ratio: f32) -> (Vec3, Vec3) {
+        let (right, up) = self.film_half_extents(aspect_ratio);
+        match self.projection {
+            Projection::Perspective => {
+                (self.eye, (self.forward + sx * right + sy * up).normalize())
+            }
+            Projection::Orthographic { .. } => (self.eye + sx * right + sy * up, self.forward),
+        }
+    }
+
+    /// The unit direction of [`Camera::ray`].
     pub fn direction(&self, sx: f32, sy: f32, aspect_ratio: f32) -> Vec3 {
-        let tan_half = (0.5 * self.yfov).tan();
-        (self.forward + sx * tan_half * aspect_ratio * self.right() + sy * tan_half * self.up)
-            .normalize()
+        self.ray(sx, sy, aspect_ratio).1
     }
 }

@@ -23,7 +23,7 @@ pub mod testing;
 pub mod textures;
 
 pub use builder::SceneBuilder;
-pub use camera::{Camera, Lens};
+pub use camera::{Camera, Lens, Projection};
 pub use error::SceneError;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{

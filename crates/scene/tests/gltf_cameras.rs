@@ -1,4 +1,4 @@
-//! glTF cameras: placement by their nodes, order, selection, orthographic ones skipped.
+//! glTF cameras: placement by their nodes, order, selection, perspective and orthographic.
 
 use crate::gltf_support;
 
@@ -66,20 +66,49 @@ fn a_scaled_parent_leaves_a_unit_camera_frame() {
     assert!(c.forward.abs_diff_eq(Vec3::NEG_Z, EPS));
 }
 
+fn orthographic(xmag: f32, ymag: f32) -> serde_json::Value {
+    json!({ "type": "orthographic",
+        "orthographic": { "xmag": xmag, "ymag": ymag, "znear": 0, "zfar": 10 } })
+}
+
 #[test]
-fn orthographic_cameras_are_skipped_with_a_warning() {
+fn an_orthographic_camera_keeps_its_film_size_and_its_nodes_frame() {
     let mut doc = quad_doc(None);
-    let ortho = json!({ "type": "orthographic", "orthographic": { "xmag": 1, "ymag": 1, "znear": 0, "zfar": 10 } });
-    let camera = doc.push("cameras", ortho);
-    let node = doc.node(json!({ "camera": camera }));
+    let camera = doc.push("cameras", orthographic(3.0, 2.0));
+    // Scaled and turned a quarter about +y: the view turns to −x, the film keeps its size.
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let node = doc.node(json!({
+        "camera": camera, "translation": [0, 1, 5], "rotation": [0, s, 0, s], "scale": [4, 4, 4],
+    }));
     doc.add_root(node);
     let scene = doc.load().expect("loads");
-    assert!(scene.cameras.is_empty());
-    assert!(
-        scene.warnings.iter().any(|w| w.contains("orthographic")),
-        "{:?}",
-        scene.warnings
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let c = scene.camera(None).expect("a camera");
+    assert_eq!(
+        c.projection,
+        scene::Projection::Orthographic { half_height: 2.0 }
     );
+    assert_eq!(c.aspect_ratio, Some(1.5));
+    assert!(c.eye.abs_diff_eq(Vec3::new(0.0, 1.0, 5.0), EPS));
+    assert!(c.forward.abs_diff_eq(Vec3::NEG_X, EPS));
+    // Its rays leave the film, 2 above and 3 to the right of the eye at the corner, along
+    // the view.
+    let (origin, direction) = c.ray(1.0, 1.0, 1.5);
+    assert!(direction.abs_diff_eq(Vec3::NEG_X, EPS));
+    assert!(
+        origin.abs_diff_eq(c.eye + 3.0 * c.right() + 2.0 * c.up, EPS),
+        "{origin}"
+    );
+    for (xmag, ymag) in [(0.0, 1.0), (1.0, -2.0)] {
+        let mut doc = quad_doc(None);
+        let camera = doc.push("cameras", orthographic(xmag, ymag));
+        let node = doc.node(json!({ "camera": camera }));
+        doc.add_root(node);
+        assert_mentions(
+            &error_of(doc.load()),
+            &["camera 0", "xmag", "must be finite and > 0"],
+        );
+    }
 }
 
 #[test]

@@ -101,8 +101,9 @@ struct SppmParams {
     aperture_rotation: f32,
     // render::buffers::SppmParams::light_candidates (render::resampling).
     light_candidates: u32,
+    // render::buffers::SppmParams::orthographic (render::lens::camera_ray).
+    orthographic: u32,
     pad4: u32,
-    pad5: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

@@ -585,6 +585,12 @@ pub fn with_lens(
         }
         return Ok(camera);
     };
+    if camera.is_orthographic() {
+        bail!(
+            "--aperture-radius: camera \"{}\" is orthographic and has no lens (depth of field needs a perspective camera)",
+            camera.name
+        );
+    }
     let focus_distance = match (args.focus_distance, &args.focus_pixel) {
         (Some(distance), _) => distance,
         (None, Some(pixel)) => {

@@ -97,6 +97,9 @@ struct Pose {
 pub struct CameraController {
     pose: Pose,
     yfov: f32,
+    /// For an orthographic camera, its film's half height per unit of distance to the pivot:
+    /// zooming in shrinks the view as it would a perspective camera's.
+    orthographic_scale: Option<f32>,
     world_up: Vec3,
     /// Horizontal direction at yaw 0.
     yaw_zero: Vec3,
@@ -135,6 +138,7 @@ impl CameraController {
                 pitch: 0.0,
             },
             yfov: camera.yfov,
+            orthographic_scale: None,
             world_up,
             yaw_zero,
             yaw_quarter: world_up.cross(yaw_zero),
@@ -147,19 +151,33 @@ impl CameraController {
     }
 
     /// The current view, named "view", with no aspect ratio of its own (the window's applies),
-    /// a pinhole (the overlay's lens applies, `RenderControls::lens`).
+    /// a pinhole (the overlay's lens applies, `RenderControls::lens`), of the projection of the
+    /// camera it last jumped to.
     pub fn camera(&self) -> Camera {
         let forward = self.forward();
         let right = self.right();
+        let projection = match self.orthographic_scale {
+            Some(scale) => scene::Projection::Orthographic {
+                half_height: scale * self.pose.distance,
+            },
+            None => scene::Projection::Perspective,
+        };
         Camera {
             name: "view".to_string(),
             eye: self.eye(),
             forward,
             up: right.cross(forward).normalize(),
             yfov: self.yfov,
+            projection,
             aspect_ratio: None,
             lens: scene::Lens::PINHOLE,
         }
+    }
+
+    /// Half the height the view shows at the pivot's distance, per unit of that distance.
+    fn half_height_per_distance(&self) -> f32 {
+        self.orthographic_scale
+            .unwrap_or_else(|| (0.5 * self.yfov).tan())
     }
 
     /// Jumps to `camera` (e.g. a glTF camera picked in the UI), keeping the world up axis and
@@ -184,6 +202,10 @@ impl CameraController {
         let depth = (self.scene_center - camera.eye).dot(forward);
         let distance = depth.max(MIN_PIVOT_FRACTION * self.scene_size);
         self.yfov = camera.yfov;
+        self.orthographic_scale = match camera.projection {
+            scene::Projection::Orthographic { half_height } => Some(half_height / distance),
+            scene::Projection::Perspective => None,
+        };
         self.pose = Pose {
             // Along the (possibly clamped) view direction, so that the eye stays put.
             pivot: camera.eye + self.forward_for(yaw, pitch) * distance,
@@ -222,7 +244,7 @@ impl CameraController {
                 }
             }
             DragMode::Pan => {
-                let visible_height = 2.0 * old.distance * (0.5 * self.yfov).tan();
+                let visible_height = 2.0 * old.distance * self.half_height_per_distance();
                 let world_per_pixel = visible_height / viewport_height.max(1.0);
                 let up = self.right().cross(self.forward());
                 // Dragging right moves the scene right, so the camera left; y grows downward.
@@ -592,6 +614,29 @@ mod tests {
         assert_close(c.camera().eye, start_camera().eye, 1e-5);
     }
 
+    /// An orthographic camera stays one, its film as tall as the file says at first, and
+    /// zooming shrinks the film with the distance to the pivot, as a perspective view shrinks
+    /// what it shows; panning moves the pivot by the film's own scale.
+    #[test]
+    fn an_orthographic_camera_zooms_by_its_film() {
+        let start = start_camera().orthographic(1.5).unwrap();
+        let mut c = CameraController::new(&start, bounds());
+        let half_height = |c: &CameraController| match c.camera().projection {
+            scene::Projection::Orthographic { half_height } => half_height,
+            scene::Projection::Perspective => panic!("the view turned perspective"),
+        };
+        assert!((half_height(&c) - 1.5).abs() < 1e-5);
+        assert!(c.zoom(2.0));
+        let expected = 1.5 * ZOOM_FACTOR_PER_LINE.powi(2);
+        assert!((half_height(&c) - expected).abs() < 1e-5);
+        // Dragging by the viewport's height pans by the film's height.
+        let pivot = c.pivot();
+        assert!(c.drag(DragMode::Pan, Vec2::new(0.0, 600.0), 600.0));
+        assert!((c.pivot().distance(pivot) - 2.0 * expected).abs() < 1e-4);
+        c.set_camera(&start_camera());
+        assert_eq!(c.camera().projection, scene::Projection::Perspective);
+    }
+
     #[test]
     fn zoom_never_reaches_or_passes_the_pivot() {
         let mut c = controller();
@@ -775,6 +820,7 @@ mod tests {
                 forward: Vec3::NEG_Y,
                 up,
                 yfov: 0.8,
+                projection: scene::Projection::Perspective,
                 aspect_ratio: None,
                 lens: scene::Lens::PINHOLE,
             };
@@ -803,6 +849,7 @@ mod tests {
             forward: Vec3::Y,
             up: Vec3::X,
             yfov: 0.8,
+            projection: scene::Projection::Perspective,
             aspect_ratio: None,
             lens: scene::Lens::PINHOLE,
         };

@@ -132,7 +132,11 @@ pub fn encode(scene: &Scene, stem: &str) -> Encoded {
         .collect();
     let mut nodes = vec![json!({ "name": stem, "mesh": 0 })];
     let near = znear(scene);
-    let cameras: Vec<Value> = scene.cameras.iter().map(|c| perspective(c, near)).collect();
+    let cameras: Vec<Value> = scene
+        .cameras
+        .iter()
+        .map(|c| camera_object(c, near))
+        .collect();
     nodes.extend(
         scene
             .cameras
@@ -642,7 +646,15 @@ fn znear(scene: &Scene) -> f32 {
     10f64.powf((diagonal * 1e-3).log10().floor()) as f32
 }
 
-fn perspective(camera: &Camera, znear: f32) -> Value {
+/// A glTF camera: perspective, or orthographic (its film's half extents as `xmag`/`ymag`, the
+/// far plane a million near planes away, which glTF asks for).
+fn camera_object(camera: &Camera, znear: f32) -> Value {
+    if let scene::Projection::Orthographic { half_height } = camera.projection {
+        let xmag = half_height * camera.aspect_ratio.unwrap_or(1.0);
+        let orthographic = json!({ "xmag": number(xmag), "ymag": number(half_height),
+            "znear": number(znear), "zfar": number(znear * 1e6) });
+        return json!({ "name": camera.name, "type": "orthographic", "orthographic": orthographic });
+    }
     let mut perspective = json!({ "yfov": number(camera.yfov), "znear": number(znear) });
     if let Some(aspect) = camera.aspect_ratio {
         perspective["aspectRatio"] = number(aspect);

@@ -1,5 +1,6 @@
-//! Cameras on nodes: perspective ones become [`Camera`]s, in node traversal order, looking
-//! down their node's −Z with +Y up; orthographic ones are skipped with a warning.
+//! Cameras on nodes become [`Camera`]s, in node traversal order, looking down their node's −Z
+//! with +Y up: perspective ones, and orthographic ones, whose film is `ymag` above and below
+//! the node's origin and whose `xmag / ymag` is their aspect ratio.
 
 use glam::{Affine3A, Mat4};
 
@@ -8,6 +9,7 @@ use json::camera::Type;
 use json::validation::Checked;
 
 use super::Input;
+use crate::camera::DEFAULT_YFOV_DEGREES;
 use crate::{Camera, SceneBuilder, SceneError};
 
 /// Adds camera `index`, placed by node `node`'s `world` transform, to `builder`.
@@ -26,17 +28,16 @@ pub(super) fn place(
         )));
     };
     let label = format!("camera {index} (node {node})");
-    let perspective = match (camera.type_, &camera.perspective) {
-        (Checked::Valid(Type::Perspective), Some(perspective)) => perspective,
-        (Checked::Valid(Type::Orthographic), _) => {
-            builder.warn(format!(
-                "{label} is orthographic; skipped (perspective only)"
-            ));
-            return Ok(());
+    let placed = match (camera.type_, &camera.perspective, &camera.orthographic) {
+        (Checked::Valid(Type::Perspective), Some(perspective), _) => {
+            perspective_camera(input, &label, perspective, world)?
+        }
+        (Checked::Valid(Type::Orthographic), _, Some(orthographic)) => {
+            orthographic_camera(input, &label, orthographic, world)?
         }
         _ => {
             return Err(input.error(format!(
-                "{label}: invalid type, or no perspective properties"
+                "{label}: invalid type, or no properties for its type"
             )));
         }
     };
@@ -44,7 +45,7 @@ pub(super) fn place(
         .name
         .clone()
         .or_else(|| root.nodes[node].name.clone());
-    match perspective_camera(input, &label, perspective, world)? {
+    match placed {
         Some(c) => builder.add_camera(c.named(name.unwrap_or_else(|| format!("camera {index}")))),
         None => builder.warn(format!(
             "{label}: its node's transform has no usable frame; skipped"
@@ -71,4 +72,29 @@ fn perspective_camera(
     }
     let camera = Camera::from_world_matrix(Mat4::from(*world), yfov);
     Ok(camera.map(|c| Camera { aspect_ratio, ..c }))
+}
+
+/// An orthographic camera placed by `world` (its frame only: a node's scale leaves a camera's
+/// view as it is, as for perspective ones); `None` if `world` has no usable frame. Its film's
+/// half height is `ymag`, its aspect ratio `xmag / ymag`; both must be finite and positive
+/// (glTF forbids zero and discourages negative ones, which would mirror the image).
+fn orthographic_camera(
+    input: &Input,
+    label: &str,
+    orthographic: &json::camera::Orthographic,
+    world: &Affine3A,
+) -> Result<Option<Camera>, SceneError> {
+    let (xmag, ymag) = (orthographic.xmag, orthographic.ymag);
+    let positive = |m: f32| m.is_finite() && m > 0.0;
+    if !(positive(xmag) && positive(ymag)) {
+        return Err(input.error(format!(
+            "{label}: xmag {xmag} and ymag {ymag} must be finite and > 0"
+        )));
+    }
+    let camera = Camera::from_world_matrix(Mat4::from(*world), DEFAULT_YFOV_DEGREES.to_radians())
+        .and_then(|c| c.orthographic(ymag));
+    Ok(camera.map(|c| Camera {
+        aspect_ratio: Some(xmag / ymag),
+        ..c
+    }))
 }

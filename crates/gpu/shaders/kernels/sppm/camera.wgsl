@@ -36,13 +36,17 @@ fn aperture_point(u1: f32, u2: f32, blades: u32, rotation: f32) -> vec2<f32> {
 }
 
 // render::lens::camera_ray: the origin and unit direction of the camera ray through film point
-// (sx, sy) that leaves the lens at the point `lens` maps to; the pinhole's ray at radius 0.
+// (sx, sy) that leaves the lens at the point `lens` maps to; the pinhole's ray at radius 0; an
+// orthographic camera's from the film point along the view.
 struct CameraRay {
     origin: vec3<f32>,
     direction: vec3<f32>,
 }
 
 fn camera_ray(sx: f32, sy: f32, lens: vec2<f32>) -> CameraRay {
+    if params.orthographic != 0u {
+        return CameraRay(params.eye + sx * params.right + sy * params.up, normalize(params.forward));
+    }
     let through = params.forward + sx * params.right + sy * params.up;
     if params.lens_radius <= 0.0 {
         return CameraRay(params.eye, normalize(through));

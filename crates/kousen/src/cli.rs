@@ -593,9 +593,34 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
+    pub animation: AnimationArgs,
+    #[command(flatten)]
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
+}
+
+/// A moment of a glTF file's animation to pose the scene by (a character mid-stride, a door
+/// half open, a shape key half way); without it, the scene as its nodes place things.
+#[derive(Args, Clone, Default)]
+pub struct AnimationArgs {
+    /// Pose the scene as its animation shows it this many seconds in (glTF; the first
+    /// animation unless --animation names another): one frame of a sequence, say.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub animation_time: Option<f32>,
+    /// The animation --animation-time samples: its index or its name.
+    #[arg(long, value_name = "INDEX|NAME", requires = "animation_time")]
+    pub animation: Option<String>,
+}
+
+impl AnimationArgs {
+    /// The moment asked for, if any.
+    pub fn time(&self) -> Option<scene::AnimationTime> {
+        self.animation_time.map(|seconds| scene::AnimationTime {
+            animation: self.animation.clone(),
+            seconds,
+        })
+    }
 }
 
 /// The gather radii and how they shrink, for `kousen render` and `kousen view` alike.
@@ -701,6 +726,8 @@ pub struct ViewArgs {
     pub quit_after: Option<f64>,
     #[command(flatten)]
     pub camera: CameraArgs,
+    #[command(flatten)]
+    pub animation: AnimationArgs,
     #[command(flatten)]
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
@@ -873,6 +900,8 @@ pub struct InfoArgs {
     /// Print JSON (a contract for scripts) instead of a table.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub animation: AnimationArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
 }

@@ -309,17 +309,7 @@ fn render_sees_through_an_orthographic_camera_which_has_no_lens() {
         &serde_json::to_vec(&document).unwrap(),
     );
     let out = dir.path().join("out.png");
-    let render = |extra: &[&str]| {
-        let mut args = vec![
-            "render",
-            scene.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        args.extend(["--backend", "cpu", "--passes", "2", "--width", "16"]);
-        args.extend(extra);
-        kousen(&args)
-    };
+    let render = |extra: &[&str]| render_small(&scene, &out, extra);
     assert_clean_error(
         &render(&["--aperture-radius", "0.1"]),
         "orthographic and has no lens",
@@ -336,6 +326,64 @@ fn render_sees_through_an_orthographic_camera_which_has_no_lens() {
         image.pixels().all(|p| p.0.iter().all(|&c| c >= 250)),
         "a pixel missed the quad"
     );
+}
+
+/// `--animation-time` poses the scene by its animation (here one lifting the glowing quad from
+/// y = 0 to 3 over a second): `info` sees it half way up; a name that names no animation, or
+/// a file without animations, is refused in one line, leaving no file.
+#[test]
+fn animation_times_pose_the_scene_or_are_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let still = lit_quad_scene(dir.path());
+    let mut document: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&still).unwrap()).unwrap();
+    let keys: Vec<u8> = [0.0f32, 1.0, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    document["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "byteLength": keys.len(), "uri": data_uri(&keys) }));
+    let views = document["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({ "buffer": 1, "byteOffset": 0, "byteLength": 8 }));
+    views.push(json!({ "buffer": 1, "byteOffset": 8, "byteLength": 24 }));
+    let (times_view, values_view) = (views.len() - 2, views.len() - 1);
+    let accessors = document["accessors"].as_array_mut().unwrap();
+    accessors.push(
+        json!({ "bufferView": times_view, "componentType": 5126, "count": 2,
+        "type": "SCALAR", "min": [0.0], "max": [1.0] }),
+    );
+    accessors.push(
+        json!({ "bufferView": values_view, "componentType": 5126, "count": 2,
+        "type": "VEC3" }),
+    );
+    let (times, values) = (accessors.len() - 2, accessors.len() - 1);
+    document["animations"] = json!([{ "name": "lift",
+        "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
+        "samplers": [{ "input": times, "output": values }] }]);
+    let lifted = write(
+        dir.path(),
+        "lift.gltf",
+        &serde_json::to_vec(&document).unwrap(),
+    );
+    let info = |scene: &std::path::Path, extra: &[&str]| {
+        let mut args = vec!["info", scene.to_str().unwrap(), "--json"];
+        args.extend(extra);
+        kousen(&args)
+    };
+    let output = succeeded(info(
+        &lifted,
+        &["--animation-time", "0.5", "--animation", "lift"],
+    ));
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(json["bounds"]["min"][1], json!(1.5), "{}", json["bounds"]);
+    let out = dir.path().join("out.png");
+    let render = |scene: &std::path::Path, extra: &[&str]| render_small(scene, &out, extra);
+    let wrong = render(&lifted, &["--animation-time", "0.5", "--animation", "walk"]);
+    assert_clean_error(&wrong, "no animation \"walk\" (the file has 0 \"lift\")");
+    assert_clean_error(&render(&still, &["--animation-time", "1"]), "no animations");
+    assert_no_files_but(dir.path(), &["lift.gltf", "lit.gltf"]);
 }
 
 #[test]

@@ -50,28 +50,6 @@ fn point_lit_quad(dir: &std::path::Path) -> std::path::PathBuf {
     )
 }
 
-/// `kousen render SCENE -o OUT` at 16², 8 passes on the CPU, with `more` arguments.
-fn render_small(
-    scene: &std::path::Path,
-    out: &std::path::Path,
-    more: &[&str],
-) -> std::process::Output {
-    let mut args = vec![
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "16",
-        "--passes",
-        "8",
-        "--backend",
-        "cpu",
-    ];
-    args.extend_from_slice(more);
-    kousen_quiet(&args)
-}
-
 #[test]
 fn a_point_light_alone_lights_a_scene() {
     let dir = tempfile::tempdir().unwrap();

@@ -25,6 +25,7 @@ pub mod textures;
 pub use builder::SceneBuilder;
 pub use camera::{Camera, Lens, Projection};
 pub use error::SceneError;
+pub use gltf::AnimationTime;
 pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
 pub use material::{
     AlphaMode, Anisotropy, Blend, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission,
@@ -41,12 +42,22 @@ use std::path::Path;
 
 /// Loads a scene, choosing the loader by the file's extension (`.gltf`, `.glb`, `.obj`).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_at(path, None)
+}
+
+/// [`load`], posed as a glTF file's animation shows the scene at a moment where `animation`
+/// says so (an OBJ file has no animations: refused).
+pub fn load_at(path: &Path, animation: Option<&AnimationTime>) -> Result<Scene, SceneError> {
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("gltf") | Some("glb") => gltf::load(path),
+        Some("gltf") | Some("glb") => gltf::load_at(path, animation),
+        Some("obj") if animation.is_some() => Err(SceneError::format(
+            path,
+            "an OBJ file has no animations to pose the scene by",
+        )),
         Some("obj") => obj::load(path),
         _ => Err(SceneError::format(
             path,

@@ -10,6 +10,7 @@ mod gltf_writer;
 #[allow(dead_code)] // each test module uses a different part
 mod sky_writer;
 
+mod gltf_animations;
 mod gltf_bad_input;
 mod gltf_cameras;
 mod gltf_containers;

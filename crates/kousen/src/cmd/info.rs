@@ -254,7 +254,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
 
 fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
     let started = Instant::now();
-    let scene = scene::load(&args.scene)?;
+    let scene = scene::load_at(&args.scene, args.animation.time().as_ref())?;
     let load_ms = millis(started);
 
     check_bvh_limits(&scene)?;

@@ -459,7 +459,8 @@ impl App {
                 let bvh_args = self.bvh_args;
                 let added_lights = self.added_lights.clone();
                 std::thread::spawn(move || {
-                    let loaded = load_scene(&owned, bvh_args, &added_lights);
+                    // A dropped file shows as its nodes place things.
+                    let loaded = load_scene(&owned, bvh_args, &added_lights, None);
                     let _ = send.send(loaded.map(|l| Dropped::Scene(Box::new(l))));
                 });
             }

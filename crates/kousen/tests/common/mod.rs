@@ -53,6 +53,28 @@ pub fn kousen_quiet(args: &[&str]) -> Output {
         .expect("the kousen binary runs")
 }
 
+/// `kousen render SCENE -o OUT` at 16², 8 passes on the CPU, with `more` arguments.
+pub fn render_small(
+    scene: &std::path::Path,
+    out: &std::path::Path,
+    more: &[&str],
+) -> std::process::Output {
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "16",
+        "--passes",
+        "8",
+        "--backend",
+        "cpu",
+    ];
+    args.extend_from_slice(more);
+    kousen_quiet(&args)
+}
+
 /// Asserts a clean failure: non-zero exit, one line on stderr that starts with "kousen: error:"
 /// and mentions `needle`, no panic.
 pub fn assert_clean_error(output: &Output, needle: &str) {

@@ -48,6 +48,15 @@ pub(super) enum Semantic {
     Weights,
     /// A skin's inverseBindMatrices: MAT4 of FLOAT.
     Matrix,
+    /// An animation sampler's input: SCALAR of FLOAT (seconds).
+    KeyTimes,
+    /// An animation sampler's translations or scales: VEC3 of FLOAT.
+    KeyVectors,
+    /// Its rotations: VEC4 of FLOAT, or of normalized BYTE, UNSIGNED_BYTE, SHORT or
+    /// UNSIGNED_SHORT.
+    KeyRotations,
+    /// Its morph target weights: SCALAR of FLOAT, or of those normalized integers.
+    KeyWeights,
 }
 
 impl Semantic {
@@ -94,6 +103,14 @@ impl Semantic {
                     && (component == F32 || (normalized && matches!(component, U8 | U16)))
             }
             Semantic::Matrix => ty == Type::Mat4 && component == F32,
+            Semantic::KeyTimes => ty == Type::Scalar && component == F32,
+            Semantic::KeyVectors => ty == Type::Vec3 && component == F32,
+            Semantic::KeyRotations => {
+                ty == Type::Vec4 && (component == F32 || (normalized && small))
+            }
+            Semantic::KeyWeights => {
+                ty == Type::Scalar && (component == F32 || (normalized && small))
+            }
         }
     }
 
@@ -121,6 +138,10 @@ impl Semantic {
             (Semantic::Joints, _) => "VEC4 of UNSIGNED_BYTE/UNSIGNED_SHORT",
             (Semantic::Weights, _) => "VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT",
             (Semantic::Matrix, _) => "MAT4 of FLOAT",
+            (Semantic::KeyTimes, _) => "SCALAR of FLOAT",
+            (Semantic::KeyVectors, _) => "VEC3 of FLOAT",
+            (Semantic::KeyRotations, _) => "VEC4 of FLOAT or of normalized integers",
+            (Semantic::KeyWeights, _) => "SCALAR of FLOAT or of normalized integers",
         }
     }
 }
@@ -183,6 +204,8 @@ impl Elements<'_> {
 struct Accessor<'a> {
     base: Elements<'a>,
     sparse: Option<Sparse<'a>>,
+    /// Components an element.
+    width: usize,
 }
 
 /// A sparse accessor's substitutions: element `indices[j]` is `values[j]`.
@@ -307,6 +330,33 @@ pub(super) fn read_matrices(
         return Err(input.error(format!("{}: matrix {i} is not finite", context())));
     }
     Ok(matrices)
+}
+
+/// Reads a float accessor of any width as one flat list, every value finite, with its width
+/// (components an element): animation keyframe times and values.
+pub(super) fn read_floats(
+    input: &Input,
+    index: usize,
+    semantic: Semantic,
+    role: &str,
+) -> Result<(Vec<f32>, usize), SceneError> {
+    let context = || format!("accessor {index} ({role})");
+    let accessor = accessor(input, index, semantic).context(context)?;
+    let width = accessor.width;
+    let elements = accessor
+        .read_all(input, |e, i| {
+            (0..width).map(|k| e.float(i, k)).collect::<Vec<f32>>()
+        })
+        .context(context)?;
+    let values: Vec<f32> = elements.into_iter().flatten().collect();
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(input.error(format!(
+            "{}: element {} is not finite",
+            context(),
+            i / width.max(1)
+        )));
+    }
+    Ok((values, width))
 }
 
 /// Reads a JOINTS_n accessor: four joint indices a vertex (into its skin's `joints`).
@@ -463,7 +513,11 @@ fn accessor<'a>(
             (component, normalized),
         )?),
     };
-    Ok(Accessor { base, sparse })
+    Ok(Accessor {
+        base,
+        sparse,
+        width: ty.multiplicity(),
+    })
 }
 
 /// A sparse accessor's indices and values, each tightly packed in its buffer view.

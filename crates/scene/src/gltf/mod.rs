@@ -6,9 +6,9 @@
 //! coordinates its material's textures use (one set a material: TEXCOORD_0 to TEXCOORD_7, that
 //! of its base colour texture, else of its emissive, normal or metallic-roughness texture),
 //! indexed by u8/u16/u32 or not at all; morph targets, weighted by the node's `weights` or
-//! the mesh's; skins, in the pose the nodes give their joints (`skins`; animations are not
-//! read); accessors without a buffer view (zeros) and sparse ones; perspective cameras in
-//! traversal order; materials as [`materials`] describes; point, spot and directional lights
+//! the mesh's; skins, in the pose the nodes give their joints (`skins`); animations, sampled
+//! at a moment where [`load_at`] is asked to (`animation`); accessors without a buffer view
+//! (zeros) and sparse ones; perspective and orthographic cameras in traversal order; materials as [`materials`] describes; point, spot and directional lights
 //! on nodes (`KHR_lights_punctual`): at the node's world origin, shining down its world −Z, with
 //! intensity = `color` (in [0, 1]) × `intensity` (≥ 0; candela, or lux for directional ones)
 //! and a spot's cone angles `0 ≤ innerConeAngle < outerConeAngle ≤ π/2`; the extensions in
@@ -28,6 +28,7 @@
 //! saying what is wrong where.
 
 mod accessors;
+mod animation;
 mod buffers;
 mod cameras;
 mod container;
@@ -48,6 +49,7 @@ use glam::Affine3A;
 use ::gltf::json;
 
 use crate::{Scene, SceneBuilder, SceneError};
+pub use animation::AnimationTime;
 use buffers::Buffers;
 use materials::Materials;
 use meshes::{Mesh, Placement, Pose};
@@ -89,16 +91,27 @@ pub const MAX_TRIANGLES: usize = 1 << 26;
 
 /// Loads a `.gltf` or `.glb` file (told apart by their content).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_at(path, None)
+}
+
+/// [`load`], posed as `animation` shows the scene at its moment where given
+/// ([`AnimationTime`]), else as its nodes place things.
+pub fn load_at(path: &Path, animation: Option<&AnimationTime>) -> Result<Scene, SceneError> {
     let container = container::read(path)?;
     let root = &container.root;
     check_version(path, &root.asset)?;
     let mut builder = SceneBuilder::new(path);
     check_extensions(&mut builder, root)?;
-    let input = Input {
+    let mut input = Input {
         path,
         root,
         buffers: Buffers::new(path, root, container.bin_chunk()),
+        pose: animation::Pose::default(),
     };
+    if let Some(time) = animation {
+        nodes::scene_roots(&input)?;
+        input.pose = animation::pose_at(&input, time)?;
+    }
     let roots = nodes::scene_roots(&input)?;
     check_budget(&input, &roots)?;
     let mut loader = Loader {
@@ -123,6 +136,8 @@ pub(super) struct Input<'a> {
     path: &'a Path,
     root: &'a json::Root,
     buffers: Buffers<'a>,
+    /// What the chosen animation sets on the nodes (nothing without one).
+    pose: animation::Pose,
 }
 
 impl Input<'_> {
@@ -324,7 +339,12 @@ impl Loader<'_> {
         let Some(mesh) = node.mesh else {
             return Ok(());
         };
-        let weights = node.weights.as_deref();
+        let animated = self
+            .input
+            .pose
+            .node(index)
+            .and_then(|p| p.weights.as_deref());
+        let weights = animated.or(node.weights.as_deref());
         if let Some(skin) = node.skin {
             let skin = skin.value();
             let joints = self.skin_joints(index, skin)?;

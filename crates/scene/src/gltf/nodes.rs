@@ -155,7 +155,8 @@ pub(super) fn in_walk_order(input: &Input, roots: &[usize]) -> Vec<usize> {
     order
 }
 
-/// A node's transform relative to its parent: `matrix` if given, else T·R·S.
+/// A node's transform relative to its parent: `matrix` if given, else T·R·S, each of T, R and
+/// S as the chosen animation sets it where it does.
 fn local_transform(
     input: &Input,
     index: usize,
@@ -178,9 +179,16 @@ fn local_transform(
             m.w_axis.truncate(),
         ));
     }
-    let translation = Vec3::from_array(node.translation.unwrap_or([0.0; 3]));
-    let scale = Vec3::from_array(node.scale.unwrap_or([1.0; 3]));
-    let rotation = Vec4::from_array(node.rotation.unwrap_or_default().0);
+    // What an animation sets at its moment replaces the node's own (`animation`).
+    let posed = input.pose.node(index);
+    let translation = (posed.and_then(|p| p.translation))
+        .unwrap_or_else(|| Vec3::from_array(node.translation.unwrap_or([0.0; 3])));
+    let scale = (posed.and_then(|p| p.scale))
+        .unwrap_or_else(|| Vec3::from_array(node.scale.unwrap_or([1.0; 3])));
+    let rotation = (posed.and_then(|p| p.rotation)).map_or_else(
+        || Vec4::from_array(node.rotation.unwrap_or_default().0),
+        Vec4::from,
+    );
     if !translation.is_finite() || !scale.is_finite() || !rotation.is_finite() {
         return Err(error("translation, rotation or scale is not finite"));
     }

@@ -378,6 +378,10 @@ fn animation_times_pose_the_scene_or_are_refused_in_one_line() {
     ));
     let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     assert_eq!(json["bounds"]["min"][1], json!(1.5), "{}", json["bounds"]);
+    assert_eq!(
+        json["animations"],
+        json!([{ "name": "lift", "seconds": 1.0 }])
+    );
     let out = dir.path().join("out.png");
     let render = |scene: &std::path::Path, extra: &[&str]| render_small(scene, &out, extra);
     let wrong = render(&lifted, &["--animation-time", "0.5", "--animation", "walk"]);

@@ -179,6 +179,11 @@ impl SceneBuilder {
         self.scene.cameras.push(camera);
     }
 
+    /// Lists one of the file's animations (`Scene::animations`).
+    pub fn add_animation(&mut self, clip: crate::AnimationClip) {
+        self.scene.animations.push(clip);
+    }
+
     /// Adds a light without area. Its intensity must be finite and not negative, a spot's or
     /// directional light's direction finite and not zero (it is made unit length), a spot's
     /// cone cosines ordered `0 ≤ cos_outer < cos_inner ≤ 1`.

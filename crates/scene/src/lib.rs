@@ -34,7 +34,7 @@ pub use material::{
     blend_members, brushed_metal_surface, coated_surface, dispersion_from_abbe, glass_surface,
     metal_surface, single_scatter_albedo,
 };
-pub use model::{Bounds, Scene, Triangle, Vertex};
+pub use model::{AnimationClip, Bounds, Scene, Triangle, Vertex};
 pub use sky_map::SkyMap;
 pub use textures::{Texels, Texture, TextureId};
 

@@ -115,6 +115,16 @@ pub struct Scene {
     pub degenerate_dropped: usize,
     /// Things the loader ignored, in words (unsupported optional extensions, say).
     pub warnings: Vec<String>,
+    /// The file's animations (glTF), which `crate::load_at` can pose the scene by.
+    pub animations: Vec<AnimationClip>,
+}
+
+/// One of a file's animations: its name, if it has one, and its length (its last keyframe's
+/// time, in seconds).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AnimationClip {
+    pub name: Option<String>,
+    pub seconds: f32,
 }
 
 impl Scene {

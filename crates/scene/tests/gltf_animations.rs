@@ -6,7 +6,7 @@ use crate::gltf_support;
 
 use glam::{Quat, Vec3};
 use gltf_support::*;
-use scene::{AnimationTime, Scene, SceneError};
+use scene::{AnimationClip, AnimationTime, Scene, SceneError};
 use serde_json::{Value, json};
 
 const EPS: f32 = 1e-5;
@@ -94,7 +94,13 @@ fn a_chosen_animation_moves_its_node_at_the_moment_asked() {
             animation(doc, "hop", "translation", hop, "STEP"),
         ]
     });
-    assert_close(first_vertex(&doc.load().unwrap()), Vec3::new(0.0, 0.0, 5.0));
+    let still = doc.load().unwrap();
+    assert_close(first_vertex(&still), Vec3::new(0.0, 0.0, 5.0));
+    let clip = |name: &str, seconds: f32| AnimationClip {
+        name: Some(name.to_owned()),
+        seconds,
+    };
+    assert_eq!(still.animations, [clip("slide", 2.0), clip("hop", 1.0)]);
     let at = |animation: Option<&str>, seconds: f32| {
         first_vertex(&load_at(&doc, animation, seconds).unwrap())
     };

@@ -56,6 +56,8 @@ struct Info {
     inside_solids: Vec<InsideSolid>,
     textures: usize,
     cameras: usize,
+    /// The file's animations (glTF): what `--animation-time` and `--animation` choose from.
+    animations: Vec<AnimationInfo>,
     emissive_triangles: usize,
     /// glTF `KHR_lights_punctual` lights by kind.
     punctual_lights: PunctualInfo,
@@ -66,6 +68,27 @@ struct Info {
     bvh: BvhInfo,
     memory: MemoryInfo,
     warnings: Vec<String>,
+}
+
+/// The animations as the table lists them: index, name where there is one, length.
+fn animations_line(animations: &[AnimationInfo]) -> String {
+    if animations.is_empty() {
+        return "none".to_string();
+    }
+    let clips: Vec<String> = (animations.iter().enumerate())
+        .map(|(i, clip)| match &clip.name {
+            Some(name) => format!("{i} \"{name}\" ({:.2} s)", clip.seconds),
+            None => format!("{i} ({:.2} s)", clip.seconds),
+        })
+        .collect();
+    clips.join(", ")
+}
+
+#[derive(Serialize)]
+struct AnimationInfo {
+    name: Option<String>,
+    /// Its last keyframe's time.
+    seconds: f32,
 }
 
 #[derive(Serialize)]
@@ -313,6 +336,12 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
+        animations: (scene.animations.iter())
+            .map(|clip| AnimationInfo {
+                name: clip.name.clone(),
+                seconds: clip.seconds,
+            })
+            .collect(),
         emissive_triangles: scene.lights.triangles.len(),
         punctual_lights: PunctualInfo::count(&scene.lights),
         light_power: scene.lights.total_power_scalar(),
@@ -480,6 +509,7 @@ fn print_table(info: &Info) {
         ),
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),
+        ("animations", animations_line(&info.animations)),
         ("emissive triangles", info.emissive_triangles.to_string()),
         (
             "punctual lights",

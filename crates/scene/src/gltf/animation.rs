@@ -15,7 +15,7 @@ use json::validation::Checked;
 
 use super::accessors::{self, Semantic};
 use super::{Context, Input};
-use crate::SceneError;
+use crate::{AnimationClip, SceneError};
 
 /// Which animation to sample, and when.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,6 +46,27 @@ impl Pose {
     pub fn node(&self, index: usize) -> Option<&NodePose> {
         self.nodes.get(index)
     }
+}
+
+/// The file's animations, each with its length: the latest keyframe time among its samplers
+/// (a sampler whose times cannot be read counts for nothing here; posing by it says why).
+pub(super) fn clips(input: &Input) -> Vec<AnimationClip> {
+    (input.root.animations.iter())
+        .map(|animation| {
+            let last_time = |sampler: &json::animation::Sampler| {
+                let index = sampler.input.value();
+                let times = accessors::read_floats(input, index, Semantic::KeyTimes, "input");
+                times.ok().and_then(|(times, _)| times.last().copied())
+            };
+            let seconds = (animation.samplers.iter())
+                .filter_map(last_time)
+                .fold(0.0, f32::max);
+            AnimationClip {
+                name: animation.name.clone(),
+                seconds,
+            }
+        })
+        .collect()
 }
 
 /// The pose of the animation `time` names at its moment. Refused in one line: a file without

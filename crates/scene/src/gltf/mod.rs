@@ -112,6 +112,9 @@ pub fn load_at(path: &Path, animation: Option<&AnimationTime>) -> Result<Scene, 
         nodes::scene_roots(&input)?;
         input.pose = animation::pose_at(&input, time)?;
     }
+    for clip in animation::clips(&input) {
+        builder.add_animation(clip);
+    }
     let roots = nodes::scene_roots(&input)?;
     check_budget(&input, &roots)?;
     let mut loader = Loader {

@@ -593,17 +593,18 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
-    pub animation: AnimationArgs,
+    pub load: LoadArgs,
     #[command(flatten)]
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
 }
 
-/// A moment of a glTF file's animation to pose the scene by (a character mid-stride, a door
-/// half open, a shape key half way); without it, the scene as its nodes place things.
+/// What of a glTF file to load beyond its default: a moment of its animation to pose the scene
+/// by (a character mid-stride, a door half open, a shape key half way; without it, the scene
+/// as its nodes place things), a material variant to dress it in.
 #[derive(Args, Clone, Default)]
-pub struct AnimationArgs {
+pub struct LoadArgs {
     /// Pose the scene as its animation shows it this many seconds in (glTF; the first
     /// animation unless --animation names another): one frame of a sequence, say.
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
@@ -611,15 +612,22 @@ pub struct AnimationArgs {
     /// The animation --animation-time samples: its index or its name.
     #[arg(long, value_name = "INDEX|NAME", requires = "animation_time")]
     pub animation: Option<String>,
+    /// The material variant to render (glTF `KHR_materials_variants`: a product's colours, say):
+    /// its index or its name; `kousen info` lists them.
+    #[arg(long, value_name = "INDEX|NAME")]
+    pub variant: Option<String>,
 }
 
-impl AnimationArgs {
-    /// The moment asked for, if any.
-    pub fn time(&self) -> Option<scene::AnimationTime> {
-        self.animation_time.map(|seconds| scene::AnimationTime {
-            animation: self.animation.clone(),
-            seconds,
-        })
+impl LoadArgs {
+    /// The scene crate's options for these.
+    pub fn options(&self) -> scene::LoadOptions {
+        scene::LoadOptions {
+            animation: self.animation_time.map(|seconds| scene::AnimationTime {
+                animation: self.animation.clone(),
+                seconds,
+            }),
+            variant: self.variant.clone(),
+        }
     }
 }
 
@@ -727,7 +735,7 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
-    pub animation: AnimationArgs,
+    pub load: LoadArgs,
     #[command(flatten)]
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
@@ -901,7 +909,7 @@ pub struct InfoArgs {
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
-    pub animation: AnimationArgs,
+    pub load: LoadArgs,
     #[command(flatten)]
     pub bvh: BvhArgs,
 }

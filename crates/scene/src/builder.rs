@@ -179,6 +179,11 @@ impl SceneBuilder {
         self.scene.cameras.push(camera);
     }
 
+    /// Names the file's material variants (`Scene::variants`).
+    pub fn set_variants(&mut self, names: Vec<String>) {
+        self.scene.variants = names;
+    }
+
     /// Lists one of the file's animations (`Scene::animations`).
     pub fn add_animation(&mut self, clip: crate::AnimationClip) {
         self.scene.animations.push(clip);

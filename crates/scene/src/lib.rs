@@ -42,21 +42,31 @@ use std::path::Path;
 
 /// Loads a scene, choosing the loader by the file's extension (`.gltf`, `.glb`, `.obj`).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    load_at(path, None)
+    load_with(path, &LoadOptions::default())
 }
 
-/// [`load`], posed as a glTF file's animation shows the scene at a moment where `animation`
-/// says so (an OBJ file has no animations: refused).
-pub fn load_at(path: &Path, animation: Option<&AnimationTime>) -> Result<Scene, SceneError> {
+/// What of a glTF file to load beyond its default: a moment of one of its animations, one of
+/// its material variants.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadOptions {
+    /// Pose the scene as this animation shows it then (`gltf::AnimationTime`).
+    pub animation: Option<AnimationTime>,
+    /// Dress it in this variant (`KHR_materials_variants`): its index or name.
+    pub variant: Option<String>,
+}
+
+/// [`load`] with `options` (an OBJ file has neither animations nor variants: asking for one
+/// is refused).
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("gltf") | Some("glb") => gltf::load_at(path, animation),
-        Some("obj") if animation.is_some() => Err(SceneError::format(
+        Some("gltf") | Some("glb") => gltf::load_with(path, options),
+        Some("obj") if options != &LoadOptions::default() => Err(SceneError::format(
             path,
-            "an OBJ file has no animations to pose the scene by",
+            "an OBJ file has no animations or material variants to choose from",
         )),
         Some("obj") => obj::load(path),
         _ => Err(SceneError::format(

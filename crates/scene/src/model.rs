@@ -115,8 +115,11 @@ pub struct Scene {
     pub degenerate_dropped: usize,
     /// Things the loader ignored, in words (unsupported optional extensions, say).
     pub warnings: Vec<String>,
-    /// The file's animations (glTF), which `crate::load_at` can pose the scene by.
+    /// The file's animations (glTF), which `crate::load_with` can pose the scene by.
     pub animations: Vec<AnimationClip>,
+    /// The names of the file's material variants (glTF `KHR_materials_variants`), which
+    /// `crate::load_with` can dress the scene in.
+    pub variants: Vec<String>,
 }
 
 /// One of a file's animations: its name, if it has one, and its length (its last keyframe's

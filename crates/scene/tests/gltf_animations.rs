@@ -1,4 +1,4 @@
-//! glTF animations sampled at a moment (`scene::gltf::load_at`): each channel of the chosen
+//! glTF animations sampled at a moment (`scene::gltf::load_with`): each channel of the chosen
 //! animation sets its node's translation, rotation, scale or morph weights as its sampler has
 //! it then.
 
@@ -6,7 +6,7 @@ use crate::gltf_support;
 
 use glam::{Quat, Vec3};
 use gltf_support::*;
-use scene::{AnimationClip, AnimationTime, Scene, SceneError};
+use scene::{AnimationClip, AnimationTime, LoadOptions, Scene, SceneError};
 use serde_json::{Value, json};
 
 const EPS: f32 = 1e-5;
@@ -57,11 +57,14 @@ fn animation(
 
 fn load_at(doc: &Doc, animation: Option<&str>, seconds: f32) -> Result<Scene, SceneError> {
     let dir = tempfile::tempdir().expect("tempdir");
-    let time = AnimationTime {
-        animation: animation.map(str::to_owned),
-        seconds,
+    let options = LoadOptions {
+        animation: Some(AnimationTime {
+            animation: animation.map(str::to_owned),
+            seconds,
+        }),
+        ..LoadOptions::default()
     };
-    scene::gltf::load_at(&doc.write(dir.path(), Layout::DataUri), Some(&time))
+    scene::gltf::load_with(&doc.write(dir.path(), Layout::DataUri), &options)
 }
 
 fn first_vertex(scene: &Scene) -> Vec3 {

@@ -18,6 +18,7 @@ mod gltf_geometry;
 mod gltf_lights;
 mod gltf_materials;
 mod gltf_skins;
+mod gltf_variants;
 mod obj_bad_input;
 mod obj_geometry;
 mod obj_materials;

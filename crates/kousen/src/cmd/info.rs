@@ -58,6 +58,9 @@ struct Info {
     cameras: usize,
     /// The file's animations (glTF): what `--animation-time` and `--animation` choose from.
     animations: Vec<AnimationInfo>,
+    /// The file's material variants (glTF `KHR_materials_variants`), by name: what
+    /// `--variant` chooses from.
+    variants: Vec<String>,
     emissive_triangles: usize,
     /// glTF `KHR_lights_punctual` lights by kind.
     punctual_lights: PunctualInfo,
@@ -68,6 +71,17 @@ struct Info {
     bvh: BvhInfo,
     memory: MemoryInfo,
     warnings: Vec<String>,
+}
+
+/// The material variants as the table lists them: index and name.
+fn variants_line(variants: &[String]) -> String {
+    if variants.is_empty() {
+        return "none".to_string();
+    }
+    let named: Vec<String> = (variants.iter().enumerate())
+        .map(|(i, name)| format!("{i} \"{name}\""))
+        .collect();
+    named.join(", ")
 }
 
 /// The animations as the table lists them: index, name where there is one, length.
@@ -277,7 +291,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
 
 fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
     let started = Instant::now();
-    let scene = scene::load_at(&args.scene, args.animation.time().as_ref())?;
+    let scene = scene::load_with(&args.scene, &args.load.options())?;
     let load_ms = millis(started);
 
     check_bvh_limits(&scene)?;
@@ -342,6 +356,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
                 seconds: clip.seconds,
             })
             .collect(),
+        variants: scene.variants.clone(),
         emissive_triangles: scene.lights.triangles.len(),
         punctual_lights: PunctualInfo::count(&scene.lights),
         light_power: scene.lights.total_power_scalar(),
@@ -510,6 +525,7 @@ fn print_table(info: &Info) {
         ("textures", info.textures.to_string()),
         ("cameras", info.cameras.to_string()),
         ("animations", animations_line(&info.animations)),
+        ("material variants", variants_line(&info.variants)),
         ("emissive triangles", info.emissive_triangles.to_string()),
         (
             "punctual lights",

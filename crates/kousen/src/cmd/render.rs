@@ -130,7 +130,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         image: output,
         components,
     };
-    let mut scene = scene::load_at(&args.scene, args.animation.time().as_ref())?;
+    let mut scene = scene::load_with(&args.scene, &args.load.options())?;
     args.added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(

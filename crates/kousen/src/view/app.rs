@@ -459,8 +459,9 @@ impl App {
                 let bvh_args = self.bvh_args;
                 let added_lights = self.added_lights.clone();
                 std::thread::spawn(move || {
-                    // A dropped file shows as its nodes place things.
-                    let loaded = load_scene(&owned, bvh_args, &added_lights, None);
+                    // A dropped file shows as its nodes place things, in its own materials.
+                    let options = scene::LoadOptions::default();
+                    let loaded = load_scene(&owned, bvh_args, &added_lights, &options);
                     let _ = send.send(loaded.map(|l| Dropped::Scene(Box::new(l))));
                 });
             }

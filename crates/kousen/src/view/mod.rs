@@ -15,13 +15,8 @@ use crate::cli::ViewArgs;
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     // Bad arguments and scenes fail before a window opens.
     app::check_arguments(args)?;
-    let animation = args.animation.time();
-    let loaded = session::load_scene(
-        &args.scene,
-        args.bvh,
-        &args.added_lights,
-        animation.as_ref(),
-    )?;
+    let options = args.load.options();
+    let loaded = session::load_scene(&args.scene, args.bvh, &args.added_lights, &options)?;
     let camera = crate::cmd::render::choose_camera(&loaded.scene, &args.camera)?
         .unwrap_or_else(|| render::framing::framed_view(&loaded.bvh, loaded.scene.bounds()));
     let size = (args.width, args.height);

@@ -19,15 +19,15 @@ pub struct LoadedScene {
     pub bvh: bvh::PackedBvh,
 }
 
-/// Reads a scene the viewer can render (with `added_lights` added, posed at `animation`'s
-/// moment where given): a known format with at least one light.
+/// Reads a scene the viewer can render (with `added_lights` added, loaded with `options`: a
+/// moment of its animation, a material variant): a known format with at least one light.
 pub fn load_scene(
     path: &Path,
     bvh_args: BvhArgs,
     added_lights: &AddedLightArgs,
-    animation: Option<&scene::AnimationTime>,
+    options: &scene::LoadOptions,
 ) -> anyhow::Result<LoadedScene> {
-    let mut scene = scene::load_at(path, animation)?;
+    let mut scene = scene::load_with(path, options)?;
     added_lights.add_to(&mut scene)?;
     if scene.lights.is_empty() {
         bail!(

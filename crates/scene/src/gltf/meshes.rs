@@ -199,7 +199,12 @@ fn decode_primitive(
         }
         None => (0..positions.len() as u32).collect(),
     };
-    let material = primitive.material.map(|m| m.value());
+    let own = primitive.material.map(|m| m.value());
+    let mapped = match input.variant {
+        Some(variant) => super::variants::mapped_material(input, primitive, variant, label)?,
+        None => None,
+    };
+    let material = mapped.or(own);
     if let Some(m) = material.filter(|&m| m >= input.root.materials.len()) {
         return Err(input.error(format!(
             "{label}: material {m} does not exist ({} materials)",

@@ -7,7 +7,8 @@
 //! of its base colour texture, else of its emissive, normal or metallic-roughness texture),
 //! indexed by u8/u16/u32 or not at all; morph targets, weighted by the node's `weights` or
 //! the mesh's; skins, in the pose the nodes give their joints (`skins`); animations, sampled
-//! at a moment where [`load_at`] is asked to (`animation`); accessors without a buffer view
+//! at a moment where [`load_with`] is asked to (`animation`); material variants
+//! (`KHR_materials_variants`, `variants`), the one asked for; accessors without a buffer view
 //! (zeros) and sparse ones; perspective and orthographic cameras in traversal order; materials as [`materials`] describes; point, spot and directional lights
 //! on nodes (`KHR_lights_punctual`): at the node's world origin, shining down its world −Z, with
 //! intensity = `color` (in [0, 1]) × `intensity` (≥ 0; candela, or lux for directional ones)
@@ -39,6 +40,7 @@ mod meshes;
 mod nodes;
 mod skins;
 mod uri;
+mod variants;
 
 use std::fmt::Display;
 use std::path::Path;
@@ -48,14 +50,14 @@ use glam::Affine3A;
 
 use ::gltf::json;
 
-use crate::{Scene, SceneBuilder, SceneError};
+use crate::{LoadOptions, Scene, SceneBuilder, SceneError};
 pub use animation::AnimationTime;
 use buffers::Buffers;
 use materials::Materials;
 use meshes::{Mesh, Placement, Pose};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 16] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 17] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_anisotropy",
@@ -68,6 +70,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 16] = [
     "KHR_materials_iridescence",
     "KHR_materials_sheen",
     "KHR_materials_unlit",
+    "KHR_materials_variants",
     "KHR_materials_volume",
     "KHR_materials_volume_scatter",
     "KHR_mesh_quantization",
@@ -91,12 +94,13 @@ pub const MAX_TRIANGLES: usize = 1 << 26;
 
 /// Loads a `.gltf` or `.glb` file (told apart by their content).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    load_at(path, None)
+    load_with(path, &LoadOptions::default())
 }
 
-/// [`load`], posed as `animation` shows the scene at its moment where given
-/// ([`AnimationTime`]), else as its nodes place things.
-pub fn load_at(path: &Path, animation: Option<&AnimationTime>) -> Result<Scene, SceneError> {
+/// [`load`], posed as `options.animation` shows the scene at its moment where given
+/// ([`AnimationTime`]), else as its nodes place things, and dressed in `options.variant`
+/// where given.
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let container = container::read(path)?;
     let root = &container.root;
     check_version(path, &root.asset)?;
@@ -107,14 +111,20 @@ pub fn load_at(path: &Path, animation: Option<&AnimationTime>) -> Result<Scene, 
         root,
         buffers: Buffers::new(path, root, container.bin_chunk()),
         pose: animation::Pose::default(),
+        variant: None,
     };
-    if let Some(time) = animation {
+    if let Some(time) = &options.animation {
         nodes::scene_roots(&input)?;
         input.pose = animation::pose_at(&input, time)?;
     }
     for clip in animation::clips(&input) {
         builder.add_animation(clip);
     }
+    let variant_names = variants::names(&input)?;
+    if let Some(choice) = &options.variant {
+        input.variant = Some(variants::chosen(&input, &variant_names, choice)?);
+    }
+    builder.set_variants(variant_names);
     let roots = nodes::scene_roots(&input)?;
     check_budget(&input, &roots)?;
     let mut loader = Loader {
@@ -141,6 +151,8 @@ pub(super) struct Input<'a> {
     buffers: Buffers<'a>,
     /// What the chosen animation sets on the nodes (nothing without one).
     pose: animation::Pose,
+    /// The material variant chosen (`KHR_materials_variants`), by index.
+    variant: Option<usize>,
 }
 
 impl Input<'_> {

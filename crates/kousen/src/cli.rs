@@ -559,6 +559,12 @@ pub struct RenderArgs {
     /// surfaces, the volume photons in murky glass. They sum to the image.
     #[arg(long)]
     pub components: bool,
+    /// Also save the image so far at these moments, each a pass count (64: once 64 passes
+    /// are done) or seconds of rendering (30s), beside OUT and named by it (out-64.exr,
+    /// out-30s.exr): one render's convergence. --stats lists how far it had come at each;
+    /// their writing is left out of the render's time.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = crate::cmd::intermediates::parse_save_at)]
+    pub save_at: Vec<render::SaveAt>,
     /// Save the render's state to FILE every minute and at the end, to continue it later
     /// with --resume (may be the same file).
     #[arg(long, value_name = "FILE")]

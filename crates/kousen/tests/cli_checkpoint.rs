@@ -206,3 +206,66 @@ fn ctrl_c_stops_a_path_traced_render_and_saves_it() {
     );
     assert!(bytes.len() > 40 * 32 * 12, "{} bytes", bytes.len());
 }
+
+/// `--save-at`: the images saved on the way are those of renders stopped there, byte for
+/// byte, and saving them changes nothing after; a resumed render saves only the moments
+/// still ahead of it; `--stats` says how far the render had come at each.
+#[test]
+fn images_saved_on_the_way_are_those_of_shorter_renders() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name);
+    let read = |name: &str| std::fs::read(path(name)).unwrap();
+    for passes in [4, 6, 7] {
+        succeeded(render(
+            &path(&format!("plain-{passes}.pfm")),
+            &format!("--passes {passes}"),
+        ));
+    }
+    let stats = path("stats.json");
+    let stats_arg = format!("--stats {}", stats.display());
+    succeeded(render(
+        &path("along.pfm"),
+        &format!("--passes 7 --save-at 4,7 {stats_arg}"),
+    ));
+    assert_eq!(read("along-4.pfm"), read("plain-4.pfm"));
+    assert_eq!(read("along-7.pfm"), read("plain-7.pfm"));
+    assert_eq!(read("along.pfm"), read("plain-7.pfm"));
+    let stats: serde_json::Value = serde_json::from_slice(&read("stats.json")).unwrap();
+    let saved = stats["saved_images"].as_array().unwrap();
+    let passes: Vec<u64> = saved
+        .iter()
+        .map(|s| s["passes"].as_u64().unwrap())
+        .collect();
+    assert_eq!(passes, [4, 7]);
+    assert!(saved[0]["file"].as_str().unwrap().ends_with("along-4.pfm"));
+
+    let ck = path("render.ckpt");
+    let ck = ck.to_str().unwrap();
+    succeeded(render(
+        &path("first.pfm"),
+        &format!("--passes 4 --checkpoint {ck}"),
+    ));
+    succeeded(render(
+        &path("continued.pfm"),
+        &format!("--passes 7 --resume {ck} --save-at 2,6"),
+    ));
+    assert!(
+        !path("continued-2.pfm").exists(),
+        "a moment behind the resumed render was saved"
+    );
+    assert_eq!(read("continued-6.pfm"), read("plain-6.pfm"));
+
+    // A moment past the end, or for the path tracer, is refused before any file is made.
+    let late = render(&path("late.pfm"), "--passes 7 --save-at 3,9");
+    assert_clean_error(&late, "--save-at 9: past the render's end");
+    let traced = render(
+        &path("late.pfm"),
+        "--passes 7 --save-at 3 --integrator path",
+    );
+    assert_clean_error(&traced, "--save-at is for SPPM renders");
+    let made: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
+    assert!(
+        made.iter()
+            .all(|f| !f.file_name().to_string_lossy().starts_with("late"))
+    );
+}

@@ -33,6 +33,9 @@ pub enum RenderError {
     /// A checkpoint does not fit this render, or could not be written (said in words).
     #[error("{0}")]
     Checkpoint(String),
+    /// An image of the render so far could not be written (said in words).
+    #[error("{0}")]
+    Intermediate(String),
 }
 
 /// A render stopped between passes: enough to continue it exactly ([`Sppm::restore`]).
@@ -43,12 +46,47 @@ pub struct Checkpoint {
     pub state: crate::backend::Snapshot,
 }
 
-/// Where [`Sppm::run_with_checkpoints`] hands its checkpoints: every this long, to this
-/// function (an error in words stops the render).
+/// Where [`Sppm::run_with`] hands its checkpoints: every this long, to this function (an
+/// error in words stops the render).
 pub type CheckpointSink<'a> = (
     Duration,
     &'a mut dyn FnMut(&Checkpoint) -> Result<(), String>,
 );
+
+/// When [`Sppm::run_with`] hands over the image so far: once this many passes are done (a
+/// restored render's included), or once this run has rendered this long.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SaveAt {
+    Passes(u32),
+    Seconds(f64),
+}
+
+/// The image of a render so far, and how far it had come.
+#[derive(Debug)]
+pub struct Intermediate<'a> {
+    pub at: SaveAt,
+    pub image: &'a Image,
+    pub passes: u32,
+    pub eye_passes: u32,
+    pub photon_paths: u64,
+    /// This run's rendering time so far (images handed over before not counted).
+    pub seconds: f64,
+}
+
+/// Where [`Sppm::run_with`] hands images of the render so far: at each of these moments, to
+/// this function (an error in words stops the render). Their reading and writing is left out
+/// of the render's clock, so that `--time` and the seconds reported count rendering only.
+pub type IntermediateSink<'a> = (
+    Vec<SaveAt>,
+    &'a mut dyn FnMut(&Intermediate) -> Result<(), String>,
+);
+
+/// What [`Sppm::run_with`] does between passes besides rendering.
+#[derive(Default)]
+pub struct RunHooks<'a> {
+    pub checkpoints: Option<CheckpointSink<'a>>,
+    pub intermediates: Option<IntermediateSink<'a>>,
+}
 
 /// Where a render stands, for progress bars and logs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -250,7 +288,7 @@ impl<B: Backend> Sppm<B> {
         })
     }
 
-    /// Ends [`Sppm::run`] and [`Sppm::run_with_checkpoints`] after the pass in flight once
+    /// Ends [`Sppm::run`] and [`Sppm::run_with`] after the pass in flight once
     /// `flag` is set (by a Ctrl-C handler), as if the budget were spent: the image and the
     /// last checkpoint are whole.
     pub fn stop_when_set(&mut self, flag: Arc<AtomicBool>) {
@@ -303,30 +341,44 @@ impl<B: Backend> Sppm<B> {
         budget: Budget,
         progress: &mut dyn FnMut(&Progress),
     ) -> Result<Rendered, RenderError> {
-        self.run_with_checkpoints(budget, progress, None)
+        self.run_with(budget, progress, RunHooks::default())
     }
 
-    /// [`Sppm::run`], handing a [`Checkpoint`] to `save` every `interval` of rendering
-    /// (between passes); an error from `save` stops the render.
-    pub fn run_with_checkpoints(
+    /// [`Sppm::run`], handing a [`Checkpoint`] to `hooks.checkpoints` every interval of
+    /// rendering and the image so far to `hooks.intermediates` at each of its moments (both
+    /// between passes); an error from either stops the render.
+    pub fn run_with(
         &mut self,
         budget: Budget,
         progress: &mut dyn FnMut(&Progress),
-        mut checkpoints: Option<CheckpointSink>,
+        hooks: RunHooks,
     ) -> Result<Rendered, RenderError> {
+        let RunHooks {
+            mut checkpoints,
+            mut intermediates,
+        } = hooks;
         let started = Instant::now();
+        // Time spent handing over intermediate images, left out of the render's clock.
+        let mut handing_over = Duration::ZERO;
+        let rendering = |handing_over: Duration| started.elapsed().saturating_sub(handing_over);
         let mut last_report = started;
         let mut last_checkpoint = started;
         loop {
             let done = match budget {
                 Budget::Passes(n) => self.passes >= n,
-                Budget::Time(t) => started.elapsed() >= t,
+                Budget::Time(t) => rendering(handing_over) >= t,
             };
             let stopped = self.stop.as_ref().is_some_and(|flag| flag.load(Relaxed));
             if done || stopped {
                 break;
             }
             self.pass();
+            if let Some((moments, save)) = intermediates.as_mut() {
+                let since = Instant::now();
+                let seconds = rendering(handing_over).as_secs_f64();
+                self.hand_over_due(moments, &mut **save, seconds)?;
+                handing_over += since.elapsed();
+            }
             if let Some((interval, save)) = checkpoints.as_mut()
                 && last_checkpoint.elapsed() >= *interval
             {
@@ -339,20 +391,20 @@ impl<B: Backend> Sppm<B> {
                     passes: self.passes,
                     eye_passes: self.eye_passes,
                     photon_paths: self.backend.emitted_paths()?,
-                    elapsed: started.elapsed(),
+                    elapsed: rendering(handing_over),
                     budget,
                 });
             }
         }
         self.backend.synchronize()?;
-        let seconds = started.elapsed().as_secs_f64();
+        let seconds = rendering(handing_over).as_secs_f64();
         let image = self.image()?;
         let photon_paths = self.backend.emitted_paths()?;
         progress(&Progress {
             passes: self.passes,
             eye_passes: self.eye_passes,
             photon_paths,
-            elapsed: started.elapsed(),
+            elapsed: rendering(handing_over),
             budget,
         });
         Ok(Rendered {
@@ -362,6 +414,39 @@ impl<B: Backend> Sppm<B> {
             photon_paths,
             seconds,
         })
+    }
+
+    /// Hands the image so far to `save` for each of `moments` reached, after `seconds` of
+    /// rendering, and drops them from the list (one image serves all reached at once).
+    fn hand_over_due(
+        &mut self,
+        moments: &mut Vec<SaveAt>,
+        save: &mut dyn FnMut(&Intermediate) -> Result<(), String>,
+        seconds: f64,
+    ) -> Result<(), RenderError> {
+        let reached = |at: &SaveAt| match *at {
+            SaveAt::Passes(n) => self.passes >= n,
+            SaveAt::Seconds(s) => seconds >= s,
+        };
+        let due: Vec<SaveAt> = moments.iter().copied().filter(reached).collect();
+        if due.is_empty() {
+            return Ok(());
+        }
+        moments.retain(|at| !reached(at));
+        let image = self.image()?;
+        let photon_paths = self.backend.emitted_paths()?;
+        for at in due {
+            save(&Intermediate {
+                at,
+                image: &image,
+                passes: self.passes,
+                eye_passes: self.eye_passes,
+                photon_paths,
+                seconds,
+            })
+            .map_err(RenderError::Intermediate)?;
+        }
+        Ok(())
     }
 
     /// The image so far: every pixel's radiance.

@@ -44,5 +44,7 @@ pub mod volume_boundary;
 pub use backend::{Backend, BackendError, PhotonTracing, Setup, Snapshot, Statistics};
 pub use density::Density;
 pub use image::Image;
-pub use integrator::{Checkpoint, Progress, RenderError, Rendered, Sppm};
+pub use integrator::{
+    Checkpoint, Intermediate, Progress, RenderError, Rendered, RunHooks, SaveAt, Sppm,
+};
 pub use settings::{Budget, Settings};

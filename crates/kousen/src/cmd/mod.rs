@@ -3,6 +3,7 @@
 mod bench;
 mod diff;
 pub mod info;
+pub mod intermediates;
 mod path_render;
 pub mod render;
 

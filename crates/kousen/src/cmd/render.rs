@@ -8,9 +8,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
 use glam::Vec3;
-use render::{Backend, Budget, Progress, Rendered, Settings, Sppm};
+use render::{Backend, Budget, Progress, Rendered, RunHooks, Settings, Sppm};
 use serde::Serialize;
 
+use super::intermediates::Intermediates;
 use crate::checkpoint_file::{self, Header, Recorded};
 use crate::cli::{Backend as BackendChoice, CameraArgs, GlossyLightChoice, Integrator, RenderArgs};
 use crate::image_io::Output;
@@ -72,6 +73,9 @@ struct Stats {
     mean_radiance: [f32; 3],
     /// Bytes allocated by the backend, by kind.
     memory_bytes: std::collections::BTreeMap<&'static str, u64>,
+    /// --save-at's images, each with how far the render had come (absent without it).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    saved_images: Vec<super::intermediates::SavedImage>,
     /// The camera's thin lens (`--aperture-radius`, `--focus-distance` or where the image's
     /// centre focused it); null for a pinhole.
     lens: Option<LensStats>,
@@ -126,9 +130,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.integrator == Integrator::Path && args.components {
         bail!("--components is for SPPM renders, not --integrator path (its image has no parts)");
     }
+    if args.integrator == Integrator::Path && !args.save_at.is_empty() {
+        bail!("--save-at is for SPPM renders, not --integrator path");
+    }
+    let intermediates =
+        Intermediates::create(&args.output, &args.save_at, args.exr_precision, budget)?;
     let output = Outputs {
         image: output,
         components,
+        intermediates,
     };
     let mut scene = scene::load_with(&args.scene, &args.load.options())?;
     args.added_lights.add_to(&mut scene)?;
@@ -311,10 +321,13 @@ fn does_not_fit(error: &render::RenderError) -> bool {
     )
 }
 
-/// Where a render's image goes and, with --components, its parts (`render::resolve::COMPONENTS`).
+/// Where a render's image goes and, with --components, its parts (`render::resolve::COMPONENTS`),
+/// and with --save-at the images on the way.
 struct Outputs {
     image: Output,
     components: Option<Vec<Output>>,
+    /// --save-at's images of the render so far.
+    intermediates: Intermediates,
 }
 
 /// The files of --components: `out.direct.exr` and so on beside `out.exr`.
@@ -366,7 +379,7 @@ fn finish<B: Backend>(
 ) -> anyhow::Result<()> {
     let Job {
         budget,
-        output,
+        mut output,
         continuation,
     } = job;
     let settings = sppm.settings().clone();
@@ -386,6 +399,7 @@ fn finish<B: Backend>(
         (seconds_before, resumed_passes) = (loaded.header.seconds, loaded.checkpoint.passes);
         resumed_paths = sppm.backend().emitted_paths()?;
         log::info!("continuing {} from pass {resumed_passes}", path.display());
+        output.intermediates.skip_passed(resumed_passes);
     }
     let header = |seconds: f64| Header {
         scene: args.scene.display().to_string(),
@@ -400,21 +414,21 @@ fn finish<B: Backend>(
     sppm.stop_when_set(continuation.stop.clone());
     let mut bar = ProgressBar::new(budget);
     let run_started = Instant::now();
-    let rendered: Rendered = match &args.checkpoint {
-        Some(path) => {
-            let mut save = |checkpoint: &render::Checkpoint| {
-                let seconds = seconds_before + run_started.elapsed().as_secs_f64();
-                checkpoint_file::write(path, header(seconds), checkpoint)
-                    .map_err(|e| format!("{e:#}"))
-            };
-            sppm.run_with_checkpoints(
-                budget,
-                &mut |p: &Progress| bar.update(p),
-                Some((CHECKPOINT_INTERVAL, &mut save)),
-            )?
-        }
-        None => sppm.run(budget, &mut |p: &Progress| bar.update(p))?,
+    let mut save_checkpoint = |checkpoint: &render::Checkpoint| {
+        let seconds = seconds_before + run_started.elapsed().as_secs_f64();
+        let path = args.checkpoint.as_deref().unwrap_or(Path::new(""));
+        checkpoint_file::write(path, header(seconds), checkpoint).map_err(|e| format!("{e:#}"))
     };
+    let moments = output.intermediates.moments();
+    let intermediates = &mut output.intermediates;
+    let mut save_image = |image: &render::Intermediate| intermediates.save(image, args.look());
+    let hooks = RunHooks {
+        checkpoints: (args.checkpoint.is_some())
+            .then_some((CHECKPOINT_INTERVAL, &mut save_checkpoint as _)),
+        intermediates: (!moments.is_empty()).then_some((moments, &mut save_image as _)),
+    };
+    let rendered: Rendered = sppm.run_with(budget, &mut |p: &Progress| bar.update(p), hooks)?;
+    output.intermediates.warn_unreached();
     bar.finish();
     if let Some(path) = &args.checkpoint {
         let seconds = seconds_before + rendered.seconds;
@@ -467,6 +481,7 @@ fn finish<B: Backend>(
             resumed_passes,
             mean_radiance: rendered.image.mean().to_array(),
             memory_bytes: sppm.backend().memory().into_iter().collect(),
+            saved_images: std::mem::take(&mut output.intermediates.saved),
             lens: (!camera.lens.is_pinhole()).then_some(LensStats {
                 aperture_radius: camera.lens.radius,
                 focus_distance: camera.lens.focus_distance,

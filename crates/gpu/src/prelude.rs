@@ -102,6 +102,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("LENS_STEP_X", U32(rng::LENS_STEP[0])),
         ("LENS_STEP_Y", U32(rng::LENS_STEP[1])),
         ("CLASS_MARK_SHIFT", U32(render::hash::CLASS_MARK_SHIFT)),
+        ("HUE_CLASSES", U32(render::hash::HUE_CLASSES)),
         ("WAVELENGTH_SHIFT", U32(render::medium::WAVELENGTH_SHIFT)),
         ("MEDIUM_MASK", U32(render::medium::MEDIUM_MASK)),
         ("WAVELENGTH_LEVELS", U32(dispersion::WAVELENGTH_LEVELS)),

@@ -101,21 +101,43 @@ pub fn entry_of(cell: IVec3, salt: u32, table_size: u32) -> u32 {
     h % table_size
 }
 
-/// Classes of photons the stochastic hash keeps apart where a scene disperses: photons that
-/// carry every colour channel (class 0), and those with a channel of zero, by their brightest
-/// channel (1 red, 2 green, 3 blue): what dispersive glass leaves (a wavelength's colour has a
-/// zero channel, `crate::dispersion::spectral_rgb`). One photon kept for a cell of both kinds
-/// made the cell's whole estimate one hue's for the pass whenever a dispersed photon won: a
-/// correlated colour error (±10 % a channel in the dispersive furnace at 64 and 256 passes
-/// alike). Each class has its own table of `hash_size` entries, so a cell's photons of each
-/// class keep one of their own, weighted by their own count. Any classing keeps the estimate
-/// unbiased; this one only decides which photons share a table.
-pub const PHOTON_CLASSES: u32 = 4;
+/// Hue classes of photons the stochastic hash keeps apart where a scene disperses: photons
+/// that carry every colour channel (hue 0), and those with a channel of zero, by their
+/// brightest channel (1 red, 2 green, 3 blue): what dispersive glass leaves (a wavelength's
+/// colour has a zero channel, `crate::dispersion::spectral_rgb`). One photon kept for a cell
+/// of both kinds made the cell's whole estimate one hue's for the pass whenever a dispersed
+/// photon won: a correlated colour error (±10 % a channel in the dispersive furnace at 64 and
+/// 256 passes alike).
+pub const HUE_CLASSES: u32 = 4;
 
-/// The class of a photon of `flux` (`PHOTON_CLASSES`) among `classes` (1: one class for all).
-pub fn photon_class(flux: [f32; 3], classes: u32) -> u32 {
+/// The stochastic hash also keeps caustic photons apart from the others (surfaces' statistics
+/// gather the two apart, `crate::buffers::PixelStats`): where one photon is kept for a cell of
+/// both kinds, a caustic photon that wins stands for all the cell's photons in the caustic
+/// estimate and an indirect one in the other, so a cell with few caustic photons among many
+/// others adds their count to the caustic estimate now and then. Kept apart, each kind keeps
+/// one of its own, weighted by its own count (docs/BENCHMARKS.md §3, session 44: the caustic
+/// part's error at equal passes −30 % on cornell-caustics). Each class has its own table of
+/// `hash_size` entries; any classing keeps the estimate unbiased, this one only decides which
+/// photons share a table. The most classes: each hue, caustic or not.
+pub const PHOTON_CLASSES: u32 = 2 * HUE_CLASSES;
+
+/// The class of a photon of `flux`, `caustic` or not, among `classes` ([`classes_for`]: 1 all
+/// in one; 2 caustic or not; 4 by hue; 8 by hue, then caustic or not).
+pub fn photon_class(flux: [f32; 3], caustic: bool, classes: u32) -> u32 {
+    let hues = if classes >= HUE_CLASSES {
+        HUE_CLASSES
+    } else {
+        1
+    };
+    let hue = if hues > 1 { hue_class(flux) } else { 0 };
+    let kinds = classes / hues;
+    hue + if kinds > 1 && caustic { hues } else { 0 }
+}
+
+/// The hue class of a photon of `flux` ([`HUE_CLASSES`]).
+fn hue_class(flux: [f32; 3]) -> u32 {
     let [r, g, b] = flux;
-    if classes <= 1 || r.min(g).min(b) > 0.0 {
+    if r.min(g).min(b) > 0.0 {
         return 0;
     }
     // The brightest channel, the first of equals.
@@ -137,8 +159,8 @@ pub fn class_entry(entry: u32, class: u32, table_size: u32) -> u32 {
 /// Where photons are kept in classes, a class-0 entry's count word keeps the count below this
 /// bit and above it one mark per other class, set where that class's entry of the same index
 /// holds photons: the gather reads only the classes marked (most cells have no photon of
-/// one hue). Renders with classes keep fewer photon slots than 2²⁹ ([`classes_for`]).
-pub const CLASS_MARK_SHIFT: u32 = 29;
+/// one hue). Renders with classes keep fewer photon slots than 2²⁵ ([`classes_for`]).
+pub const CLASS_MARK_SHIFT: u32 = 32 - (PHOTON_CLASSES - 1);
 
 /// The count in a count word of a table of `classes` classes (the marks cleared).
 pub fn entry_count(word: u32, classes: u32) -> u32 {
@@ -149,16 +171,20 @@ pub fn entry_count(word: u32, classes: u32) -> u32 {
     }
 }
 
-/// The mark in a class-0 count word saying class `class` (1–3) has photons at that entry.
+/// The mark in a class-0 count word saying class `class` (1–7) has photons at that entry.
 pub fn class_mark(class: u32) -> u32 {
     1 << (CLASS_MARK_SHIFT + class - 1)
 }
 
 /// The photon classes of a render with `slots` photon slots of a scene where glass does or
-/// does not `disperse`: [`PHOTON_CLASSES`] where it does and the counts fit below the marks.
-pub fn classes_for(disperses: bool, slots: u32) -> u32 {
-    if disperses && slots < 1 << CLASS_MARK_SHIFT {
-        PHOTON_CLASSES
+/// does not `disperse`, gathering by the `stochastic` hash or not ([`photon_class`]): hues
+/// where glass disperses, and for the stochastic hash caustic photons apart; 1 where the
+/// counts would not fit below the marks.
+pub fn classes_for(disperses: bool, stochastic: bool, slots: u32) -> u32 {
+    let hues = if disperses { HUE_CLASSES } else { 1 };
+    let kinds = if stochastic { 2 } else { 1 };
+    if slots < 1 << CLASS_MARK_SHIFT {
+        hues * kinds
     } else {
         1
     }
@@ -253,6 +279,28 @@ pub fn cell_reaches(cell: IVec3, position: Vec3, radius: f32, cell_size: f32) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Classes: hues where glass disperses, caustic photons apart for the stochastic hash,
+    /// both at once after the hues; all in one where counts would reach the marks.
+    #[test]
+    fn photons_are_classed_by_hue_and_kind() {
+        let (white, red) = ([1.0, 1.0, 1.0], [0.8, 0.0, 0.1]);
+        assert_eq!(classes_for(false, false, 1 << 20), 1);
+        assert_eq!(classes_for(false, true, 1 << 20), 2);
+        assert_eq!(classes_for(true, false, 1 << 20), HUE_CLASSES);
+        assert_eq!(classes_for(true, true, 1 << 20), PHOTON_CLASSES);
+        assert_eq!(classes_for(true, true, 1 << CLASS_MARK_SHIFT), 1);
+        for caustic in [false, true] {
+            assert_eq!(photon_class(red, caustic, 1), 0);
+            assert_eq!(photon_class(red, caustic, HUE_CLASSES), 1);
+        }
+        assert_eq!(photon_class(white, true, 2), 1);
+        assert_eq!(photon_class(red, false, 2), 0);
+        assert_eq!(photon_class(red, true, PHOTON_CLASSES), 1 + HUE_CLASSES);
+        assert_eq!(photon_class(white, false, PHOTON_CLASSES), 0);
+        // The last class's mark is the word's top bit.
+        assert_eq!(class_mark(PHOTON_CLASSES - 1), 1 << 31);
+    }
 
     #[test]
     fn a_sphere_touches_at_most_two_cells_per_axis() {

@@ -218,6 +218,7 @@ pub fn params_with(
         camera_medium: locator.medium_at(camera.eye),
         photon_classes: crate::hash::classes_for(
             scene.materials.iter().any(|m| m.dispersion > 0.0),
+            settings.density == crate::Density::StochasticHash,
             settings.photons,
         ),
         lens_radius: camera.lens.radius,

@@ -21,7 +21,9 @@ fn photon_key(index: u32) -> PhotonKey {
     if !any(photon.flux != vec3<f32>(0.0)) {
         return PhotonKey(0u, 0u, 0u, 0u, false);
     }
-    let photon_table = photon_class(photon.flux);
+    // A volume photon's word holds a direction, not a class: it counts as not caustic.
+    let caustic = is_caustic(photon.normal) && !is_volume(photon.normal);
+    let photon_table = photon_class(photon.flux, caustic);
     let entry = photon_entry_of(photon);
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
     let priority = stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;

@@ -32,10 +32,23 @@ fn hash_classes() -> u32 {
     return max(params.photon_classes, 1u);
 }
 
-// render::hash::photon_class: where the scene keeps classes apart, 1–3 for a photon with a
-// channel of zero (its brightest channel, the first of equals), 0 otherwise.
-fn photon_class(flux: vec3<f32>) -> u32 {
-    if hash_classes() <= 1u || min(min(flux.x, flux.y), flux.z) > 0.0 {
+// render::hash::photon_class: by hue where the classes hold hues, then caustic or not where
+// they hold both kinds.
+fn photon_class(flux: vec3<f32>, caustic: bool) -> u32 {
+    let classes = hash_classes();
+    let hues = select(1u, HUE_CLASSES, classes >= HUE_CLASSES);
+    var hue = 0u;
+    if hues > 1u {
+        hue = hue_class(flux);
+    }
+    let kinds = classes / hues;
+    return hue + select(0u, hues, kinds > 1u && caustic);
+}
+
+// render::hash::hue_class: 1–3 for a photon with a channel of zero (its brightest channel, the
+// first of equals), 0 otherwise.
+fn hue_class(flux: vec3<f32>) -> u32 {
+    if min(min(flux.x, flux.y), flux.z) > 0.0 {
         return 0u;
     }
     if flux.x >= flux.y && flux.x >= flux.z {

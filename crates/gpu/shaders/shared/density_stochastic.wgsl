@@ -9,30 +9,25 @@
 fn add_entry_photons(sum: ptr<function, GatherSum>, query: GatherQuery, entry: u32, cell: vec3<i32>, cell_size: f32) {
     let classes = hash_classes();
     let word = entry * HASH_ENTRY_WORDS;
-    // Class 0's count, and where glass disperses the other classes' marks above it.
+    // Class 0's count, and where photons are classed the other classes' marks above it.
     let count_word = atomicLoad(&hash[word + HASH_COUNT]);
-    var in_entry = count_word;
-    if DISPERSION {
-        in_entry = class_entry_count(count_word, classes);
-    }
+    let in_entry = class_entry_count(count_word, classes);
     if in_entry != 0u {
         let photon = load_photon(atomicLoad(&hash[word + HASH_WINNER]));
         if in_read_cell(query, photon, cell, cell_size) {
             add_if_near(sum, query, photon, in_entry);
         }
     }
-    if DISPERSION {
-        for (var table = 1u; table < classes; table += 1u) {
-            if (count_word & class_mark(table)) == 0u {
-                continue;
-            }
-            let class_word = (table * params.hash_size + entry) * HASH_ENTRY_WORDS;
-            let in_class = class_entry_count(atomicLoad(&hash[class_word + HASH_COUNT]), classes);
-            if in_class != 0u {
-                let photon = load_photon(atomicLoad(&hash[class_word + HASH_WINNER]));
-                if in_read_cell(query, photon, cell, cell_size) {
-                    add_if_near(sum, query, photon, in_class);
-                }
+    for (var table = 1u; table < classes; table += 1u) {
+        if (count_word & class_mark(table)) == 0u {
+            continue;
+        }
+        let class_word = (table * params.hash_size + entry) * HASH_ENTRY_WORDS;
+        let in_class = class_entry_count(atomicLoad(&hash[class_word + HASH_COUNT]), classes);
+        if in_class != 0u {
+            let photon = load_photon(atomicLoad(&hash[class_word + HASH_WINNER]));
+            if in_read_cell(query, photon, cell, cell_size) {
+                add_if_near(sum, query, photon, in_class);
             }
         }
     }

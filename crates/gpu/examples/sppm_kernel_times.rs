@@ -3,7 +3,8 @@
 //! [talk|render] [CANDIDATES]`, timing five passes after WARMUP whole passes (default 1; later passes
 //! gather with smaller, more varied radii). `talk` (the default): the stochastic hash and
 //! photon-gathered direct light; `render`: what `kousen render` runs on CPU-type adapters at
-//! glslppm's α (full per-cell lists, sampled direct light, α 0.7 for both photon classes).
+//! glslppm's α (full per-cell lists, sampled direct light, α 0.7 for both photon classes);
+//! `gpu`: what `kousen render` runs on a GPU (the stochastic hash, sampled direct light).
 //! CANDIDATES: light candidates per Lambertian light sample (`render::resampling`).
 
 use std::time::Instant;
@@ -33,7 +34,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             caustic_radius_share: render::settings::MEASURED_CAUSTIC_RADIUS_SHARE,
             ..talk
         },
-        other => return Err(format!("unknown settings {other:?} (talk or render)").into()),
+        "gpu" => render::Settings {
+            direct: render::direct::DirectLight::Sampled,
+            caustic_radius_share: render::settings::MEASURED_CAUSTIC_RADIUS_SHARE,
+            ..talk
+        },
+        other => return Err(format!("unknown settings {other:?} (talk, render or gpu)").into()),
     };
     let mut sppm = render::Sppm::new(backend, &scene, &camera, settings)?;
     for _ in 0..warmup {

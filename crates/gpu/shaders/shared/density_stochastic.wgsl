@@ -18,10 +18,12 @@ fn add_entry_photons(sum: ptr<function, GatherSum>, query: GatherQuery, entry: u
             add_if_near(sum, query, photon, in_entry);
         }
     }
-    for (var table = 1u; table < classes; table += 1u) {
-        if (count_word & class_mark(table)) == 0u {
-            continue;
-        }
+    // The marked classes only, lowest first (as the twin's loop meets them): most entries have
+    // none, and lavapipe runs a loop over every class lane by lane.
+    var marks = select(0u, count_word >> CLASS_MARK_SHIFT, classes > 1u);
+    while marks != 0u {
+        let table = firstTrailingBit(marks) + 1u;
+        marks &= marks - 1u;
         let class_word = (table * params.hash_size + entry) * HASH_ENTRY_WORDS;
         let in_class = class_entry_count(atomicLoad(&hash[class_word + HASH_COUNT]), classes);
         if in_class != 0u {

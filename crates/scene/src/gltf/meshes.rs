@@ -81,7 +81,7 @@ pub(super) enum Placement<'a> {
 
 /// A placement and the morph targets' weights: what a node does to the mesh it shows.
 #[derive(Clone, Copy)]
-pub(super) struct Pose<'a> {
+pub(super) struct MeshPose<'a> {
     pub placement: Placement<'a>,
     pub weights: &'a [f32],
 }
@@ -417,7 +417,7 @@ impl Primitive {
     /// ([`generated_tangents`]).
     pub fn instantiate(
         &self,
-        pose: Pose,
+        pose: MeshPose,
         material: u32,
         (uv_set, uv_transform): (usize, Option<Affine2>),
         reads_frame: bool,

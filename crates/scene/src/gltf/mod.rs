@@ -54,7 +54,7 @@ use crate::{LoadOptions, Scene, SceneBuilder, SceneError};
 pub use animation::AnimationTime;
 use buffers::Buffers;
 use materials::Materials;
-use meshes::{Mesh, Placement, Pose};
+use meshes::{Mesh, MeshPose, Placement};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
 pub const SUPPORTED_EXTENSIONS: [&str; 17] = [
@@ -495,7 +495,7 @@ impl Loader<'_> {
                 .any(|m| builder.materials()[m as usize].reads_tangent_frame());
             primitive
                 .instantiate(
-                    Pose { placement, weights },
+                    MeshPose { placement, weights },
                     material,
                     (uv_set, uv_transform),
                     reads_frame,

@@ -1291,9 +1291,12 @@ fn photon_key(
     if !photon.is_stored() {
         return None;
     }
-    // A volume photon's word holds a direction, not a class: it counts as not caustic.
-    let caustic = is_caustic(photon.normal) && !is_volume(photon.normal);
-    let class = photon_class(photon.flux, caustic, params.hash_classes());
+    // A volume photon's word has no caustic class (`render::packing::volume_photon_direction`).
+    let class = photon_class(
+        photon.flux,
+        is_caustic(photon.normal),
+        params.hash_classes(),
+    );
     let entry = photon_entry(params, counters, photon);
     let pass = counters[counter::PASS].load(Relaxed);
     Some(PhotonKey {

@@ -40,12 +40,7 @@ fn spelled(at: SaveAt) -> String {
 
 /// `out.exr` with the moment after its stem: `out-64.exr`.
 fn path_at(output: &Path, at: SaveAt) -> PathBuf {
-    let stem = output.file_stem().unwrap_or_default().to_string_lossy();
-    let name = match output.extension() {
-        Some(extension) => format!("{stem}-{}.{}", spelled(at), extension.to_string_lossy()),
-        None => format!("{stem}-{}", spelled(at)),
-    };
-    output.with_file_name(name)
+    super::render::beside(output, &format!("-{}", spelled(at)))
 }
 
 /// How far a render had come when an image was saved, for --stats.

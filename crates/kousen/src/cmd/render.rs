@@ -343,10 +343,15 @@ fn component_outputs(
 
 /// `out.exr` with `name` before its extension: `out.NAME.exr`.
 fn component_path(output: &Path, name: &str) -> PathBuf {
+    beside(output, &format!(".{name}"))
+}
+
+/// `out.exr` with `suffix` after its stem (`out<suffix>.exr`), beside it.
+pub(super) fn beside(output: &Path, suffix: &str) -> PathBuf {
     let stem = output.file_stem().unwrap_or_default().to_string_lossy();
     let file = match output.extension() {
-        Some(extension) => format!("{stem}.{name}.{}", extension.to_string_lossy()),
-        None => format!("{stem}.{name}"),
+        Some(extension) => format!("{stem}{suffix}.{}", extension.to_string_lossy()),
+        None => format!("{stem}{suffix}"),
     };
     output.with_file_name(file)
 }
@@ -414,17 +419,17 @@ fn finish<B: Backend>(
     sppm.stop_when_set(continuation.stop.clone());
     let mut bar = ProgressBar::new(budget);
     let run_started = Instant::now();
-    let mut save_checkpoint = |checkpoint: &render::Checkpoint| {
-        let seconds = seconds_before + run_started.elapsed().as_secs_f64();
-        let path = args.checkpoint.as_deref().unwrap_or(Path::new(""));
-        checkpoint_file::write(path, header(seconds), checkpoint).map_err(|e| format!("{e:#}"))
-    };
+    let mut save_checkpoint = args.checkpoint.as_deref().map(|path| {
+        move |checkpoint: &render::Checkpoint| {
+            let seconds = seconds_before + run_started.elapsed().as_secs_f64();
+            checkpoint_file::write(path, header(seconds), checkpoint).map_err(|e| format!("{e:#}"))
+        }
+    });
     let moments = output.intermediates.moments();
     let intermediates = &mut output.intermediates;
     let mut save_image = |image: &render::Intermediate| intermediates.save(image, args.look());
     let hooks = RunHooks {
-        checkpoints: (args.checkpoint.is_some())
-            .then_some((CHECKPOINT_INTERVAL, &mut save_checkpoint as _)),
+        checkpoints: (save_checkpoint.as_mut()).map(|save| (CHECKPOINT_INTERVAL, save as _)),
         intermediates: (!moments.is_empty()).then_some((moments, &mut save_image as _)),
     };
     let rendered: Rendered = sppm.run_with(budget, &mut |p: &Progress| bar.update(p), hooks)?;

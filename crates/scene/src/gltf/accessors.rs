@@ -420,8 +420,11 @@ fn read_finite<V: FloatVector>(
     let values = accessor
         .read_all(input, |e, i| V::from_components(|k| e.float(i, k)))
         .context(context)?;
-    let non_finite = values.iter().enumerate().find(|(_, v)| !v.is_finite());
-    if let (true, Some((i, v))) = (must_be_finite, non_finite) {
+    // Looked for only where it matters (normals and tangents may hold non-finite values).
+    let non_finite = (must_be_finite)
+        .then(|| values.iter().enumerate().find(|(_, v)| !v.is_finite()))
+        .flatten();
+    if let Some((i, v)) = non_finite {
         return Err(input.error(format!("{}: vertex {i} has {what} {v}", context())));
     }
     Ok(values)

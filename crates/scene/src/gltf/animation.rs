@@ -82,16 +82,10 @@ pub(super) fn pose_at(input: &Input, time: &AnimationTime) -> Result<Pose, Scene
     }
     let index = match &time.animation {
         None => 0,
-        Some(choice) => choice
-            .parse::<usize>()
-            .ok()
-            .filter(|&i| i < animations.len())
-            .or_else(|| {
-                animations
-                    .iter()
-                    .position(|a| a.name.as_deref() == Some(choice.as_str()))
-            })
-            .ok_or_else(|| input.error(no_such_animation(choice, animations)))?,
+        Some(choice) => {
+            let names: Vec<Option<&str>> = animations.iter().map(|a| a.name.as_deref()).collect();
+            super::index_or_name("animation", choice, &names).map_err(|e| input.error(e))?
+        }
     };
     let Some(animation) = animations.get(index) else {
         return Err(input.error("the file has no animations to pose the scene by"));
@@ -105,23 +99,6 @@ pub(super) fn pose_at(input: &Input, time: &AnimationTime) -> Result<Pose, Scene
         sample_channel(input, animation, channel, time.seconds, &mut pose).context(context)?;
     }
     Ok(pose)
-}
-
-/// The error for an animation choice that names none, listing what there is.
-fn no_such_animation(choice: &str, animations: &[json::Animation]) -> String {
-    let names: Vec<String> = (animations.iter().enumerate())
-        .map(|(i, a)| match &a.name {
-            Some(name) => format!("{i} \"{name}\""),
-            None => i.to_string(),
-        })
-        .collect();
-    match names.is_empty() {
-        true => format!("no animation \"{choice}\": the file has none"),
-        false => format!(
-            "no animation \"{choice}\" (the file has {})",
-            names.join(", ")
-        ),
-    }
 }
 
 /// Sets what `channel` animates on its node to its value at `seconds`.

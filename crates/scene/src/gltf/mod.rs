@@ -308,6 +308,28 @@ fn missing_mesh(input: &Input, node: usize, mesh: usize) -> SceneError {
     ))
 }
 
+/// The index of the item `choice` names among items of `names` (each its name, if it has
+/// one): by index, else by name; else a line saying there is no such `what`, listing them.
+fn index_or_name(what: &str, choice: &str, names: &[Option<&str>]) -> Result<usize, String> {
+    let by_index = choice.parse::<usize>().ok().filter(|&i| i < names.len());
+    if let Some(index) = by_index.or_else(|| names.iter().position(|n| *n == Some(choice))) {
+        return Ok(index);
+    }
+    let listed: Vec<String> = (names.iter().enumerate())
+        .map(|(i, name)| match name {
+            Some(name) => format!("{i} \"{name}\""),
+            None => i.to_string(),
+        })
+        .collect();
+    Err(match listed.is_empty() {
+        true => format!("no {what} \"{choice}\": the file has none"),
+        false => format!(
+            "no {what} \"{choice}\" (the file has {})",
+            listed.join(", ")
+        ),
+    })
+}
+
 /// Gives `warning` unless `given` holds it already.
 fn warn_once(given: &mut Vec<&'static str>, builder: &mut SceneBuilder, warning: &'static str) {
     if !given.contains(&warning) {

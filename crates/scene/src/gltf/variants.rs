@@ -33,20 +33,8 @@ pub(super) fn names(input: &Input) -> Result<Vec<String>, SceneError> {
 
 /// The index of the variant `choice` names, by index or by name, among `names`.
 pub(super) fn chosen(input: &Input, names: &[String], choice: &str) -> Result<usize, SceneError> {
-    let by_index = choice.parse::<usize>().ok().filter(|&i| i < names.len());
-    if let Some(index) = by_index.or_else(|| names.iter().position(|n| n == choice)) {
-        return Ok(index);
-    }
-    let listed: Vec<String> = (names.iter().enumerate())
-        .map(|(i, name)| format!("{i} \"{name}\""))
-        .collect();
-    Err(input.error(match listed.is_empty() {
-        true => format!("no material variant \"{choice}\": the file has none"),
-        false => format!(
-            "no material variant \"{choice}\" (the file has {})",
-            listed.join(", ")
-        ),
-    }))
+    let names: Vec<Option<&str>> = names.iter().map(|n| Some(n.as_str())).collect();
+    super::index_or_name("material variant", choice, &names).map_err(|e| input.error(e))
 }
 
 /// The material `primitive` wears in variant `variant`, where one of its mappings names that

@@ -21,9 +21,8 @@ fn photon_key(index: u32) -> PhotonKey {
     if !any(photon.flux != vec3<f32>(0.0)) {
         return PhotonKey(0u, 0u, 0u, 0u, false);
     }
-    // A volume photon's word holds a direction, not a class: it counts as not caustic.
-    let caustic = is_caustic(photon.normal) && !is_volume(photon.normal);
-    let photon_table = photon_class(photon.flux, caustic);
+    // A volume photon's word has no caustic class (render::packing::volume_photon_direction).
+    let photon_table = photon_class(photon.flux, is_caustic(photon.normal));
     let entry = photon_entry_of(photon);
     let pass_index = atomicLoad(&counters[COUNTER_PASS]);
     let priority = stream_key(params.seed, HASH_STREAM, pass_index, index) | 1u;

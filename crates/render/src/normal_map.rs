@@ -9,8 +9,8 @@
 //! exporters fill with MikkTSpace's, the frame maps are baked against) the frame is theirs,
 //! interpolated across the triangle as the normal is: X the tangent made perpendicular to the
 //! normal, Y = w · normal × X. The glTF loader makes tangents where a file has none for a
-//! material that reads a frame (from the texture coordinates, angle-weighted at each vertex;
-//! glTF asks for MikkTSpace's, which also split vertices at mirror seams). Elsewhere (OBJ
+//! material that reads a frame (from the texture coordinates, angle-weighted at each vertex and
+//! split at mirror seams, as glTF's MikkTSpace does). Elsewhere (OBJ
 //! meshes, scenes built in code, a vertex whose tangent vanished) the frame is each
 //! triangle's own, from its texture-coordinate gradients.
 

@@ -414,7 +414,7 @@ impl Primitive {
     /// `uv_transform` is the material's `KHR_texture_transform`, applied to the texture
     /// coordinates here. Where the material `reads_frame` (a normal map or brushing) and the
     /// file gives no tangents, they are made from the texture coordinates
-    /// ([`generated_tangents`]).
+    /// ([`GeneratedTangents`]).
     pub fn instantiate(
         &self,
         pose: MeshPose,
@@ -459,15 +459,15 @@ impl Primitive {
             None => vec![Vec2::ZERO; positions.len()],
         };
         let generated = (reads_frame && morphed.tangents.is_none() && set_uvs.is_some())
-            .then(|| generated_tangents(&positions, &normals, &uvs, &triangles));
-        let vertex = |i: u32| {
+            .then(|| GeneratedTangents::new(&positions, &normals, &uvs, &triangles));
+        let vertex = |triangle: usize, i: u32| {
             let i = i as usize;
             let tangent = match (&morphed.tangents, &generated) {
                 (Some(file), _) => {
                     let frame = frames.get(i);
                     placed_tangent(file[i], frame.linear, frame.mirrored)
                 }
-                (None, Some(made)) => made[i],
+                (None, Some(made)) => made.at_corner(triangle, i),
                 (None, None) => Vec4::ZERO,
             };
             Vertex {
@@ -477,9 +477,9 @@ impl Primitive {
                 tangent,
             }
         };
-        for &[a, b, c] in triangles.iter() {
+        for (t, &[a, b, c]) in triangles.iter().enumerate() {
             builder.add_triangle(Triangle {
-                vertices: [vertex(a), vertex(b), vertex(c)],
+                vertices: [vertex(t, a), vertex(t, b), vertex(t, c)],
                 material,
             })?;
         }
@@ -605,56 +605,84 @@ impl VertexFrames {
 /// top, `render::normal_map::texture_frame`'s), weighted by the corner's angle, summed; the
 /// tangent is the u-direction made perpendicular to the vertex normal, its handedness the
 /// one that puts w · normal × tangent towards the summed top. Smooth across triangles where
-/// the coordinates are. Where a vertex's triangles disagree on the handedness (a mirror seam
-/// through shared vertices, which MikkTSpace splits) or its sum vanishes, it gets none, and
-/// the triangles there take their own texture frames.
-pub(super) fn generated_tangents(
-    positions: &[Vec3],
-    normals: &[Vec3],
-    uvs: &[Vec2],
-    triangles: &[[u32; 3]],
-) -> Vec<Vec4> {
-    let mut along = vec![Vec3::ZERO; positions.len()];
-    let mut top = vec![Vec3::ZERO; positions.len()];
-    // Bit 0: a triangle with coordinates turning counter-clockwise meets the vertex; bit 1:
-    // one turning clockwise (mirrored).
-    let mut turns = vec![0u8; positions.len()];
-    for &corners in triangles {
-        let [a, b, c] = corners.map(|i| i as usize);
-        let (e1, e2) = (positions[b] - positions[a], positions[c] - positions[a]);
-        let (d1, d2) = (uvs[b] - uvs[a], uvs[c] - uvs[a]);
-        let determinant = d1.x * d2.y - d2.x * d1.y;
-        if determinant == 0.0 || !determinant.is_finite() {
-            continue;
-        }
-        let sign = determinant.signum();
-        let along_u = (sign * (e1 * d2.y - e2 * d1.y)).normalize_or_zero();
-        let towards_top = (-sign * (e2 * d1.x - e1 * d2.x)).normalize_or_zero();
-        for (k, &i) in [a, b, c].iter().enumerate() {
-            let p = |j: usize| positions[[a, b, c][(k + j) % 3]];
-            let angle = (p(1) - p(0)).angle_between(p(2) - p(0));
-            if angle.is_finite() {
-                along[i] += angle * along_u;
-                top[i] += angle * towards_top;
-                turns[i] |= if sign > 0.0 { 1 } else { 2 };
+/// the coordinates are. As MikkTSpace does, a vertex is split at a mirror seam: the triangles
+/// whose coordinates turn counter-clockwise and those whose turn clockwise each sum their own
+/// frame there, so both sides of the seam stay smooth up to it. A vertex whose sum vanishes
+/// gets none, and its triangles take their own texture frames there.
+pub(super) struct GeneratedTangents {
+    /// Per vertex, the tangent its counter-clockwise triangles share, then its clockwise
+    /// ones' (zero where it has none of that turn).
+    by_turn: Vec<[Vec4; 2]>,
+    /// Per triangle, which of its vertices' two tangents it takes: 0 counter-clockwise, 1
+    /// clockwise; a triangle of degenerate coordinates takes whichever its vertex has,
+    /// counter-clockwise first (`None`).
+    turn: Vec<Option<u8>>,
+}
+
+impl GeneratedTangents {
+    pub(super) fn new(
+        positions: &[Vec3],
+        normals: &[Vec3],
+        uvs: &[Vec2],
+        triangles: &[[u32; 3]],
+    ) -> GeneratedTangents {
+        let mut along = vec![[Vec3::ZERO; 2]; positions.len()];
+        let mut top = vec![[Vec3::ZERO; 2]; positions.len()];
+        let mut turn = Vec::with_capacity(triangles.len());
+        for &corners in triangles {
+            let [a, b, c] = corners.map(|i| i as usize);
+            let (e1, e2) = (positions[b] - positions[a], positions[c] - positions[a]);
+            let (d1, d2) = (uvs[b] - uvs[a], uvs[c] - uvs[a]);
+            let determinant = d1.x * d2.y - d2.x * d1.y;
+            if determinant == 0.0 || !determinant.is_finite() {
+                turn.push(None);
+                continue;
             }
+            let sign = determinant.signum();
+            let side = usize::from(sign < 0.0);
+            turn.push(Some(side as u8));
+            let along_u = (sign * (e1 * d2.y - e2 * d1.y)).normalize_or_zero();
+            let towards_top = (-sign * (e2 * d1.x - e1 * d2.x)).normalize_or_zero();
+            for (k, &i) in [a, b, c].iter().enumerate() {
+                let p = |j: usize| positions[[a, b, c][(k + j) % 3]];
+                let angle = (p(1) - p(0)).angle_between(p(2) - p(0));
+                if angle.is_finite() {
+                    along[i][side] += angle * along_u;
+                    top[i][side] += angle * towards_top;
+                }
+            }
+        }
+        let by_turn = (0..positions.len())
+            .map(|i| [0, 1].map(|side| vertex_tangent(normals[i], along[i][side], top[i][side])))
+            .collect();
+        GeneratedTangents { by_turn, turn }
+    }
+
+    /// The tangent of `vertex` as a corner of `triangle` (zero: none).
+    pub(super) fn at_corner(&self, triangle: usize, vertex: usize) -> Vec4 {
+        let [ccw, cw] = self.by_turn[vertex];
+        match self.turn[triangle] {
+            Some(side) => self.by_turn[vertex][side as usize],
+            None if ccw != Vec4::ZERO => ccw,
+            None => cw,
         }
     }
-    (0..positions.len())
-        .map(|i| {
-            let n = normals[i];
-            let tangent = (along[i] - n * n.dot(along[i])).normalize_or_zero();
-            if tangent == Vec3::ZERO || turns[i] == 3 {
-                return Vec4::ZERO;
-            }
-            let handedness = if n.cross(tangent).dot(top[i]) < 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
-            tangent.extend(handedness)
-        })
-        .collect()
+}
+
+/// The tangent of a vertex of normal `n` from its triangles' summed u-direction `along` and
+/// image top `top`: `along` made perpendicular to `n`, the handedness putting w · n × tangent
+/// towards `top`; zero where `along` vanishes there.
+fn vertex_tangent(n: Vec3, along: Vec3, top: Vec3) -> Vec4 {
+    let tangent = (along - n * n.dot(along)).normalize_or_zero();
+    if tangent == Vec3::ZERO {
+        return Vec4::ZERO;
+    }
+    let handedness = if n.cross(tangent).dot(top) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    tangent.extend(handedness)
 }
 
 /// A TANGENT placed by the linear part `m` of a node's transform: its direction through `m`,

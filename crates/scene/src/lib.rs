@@ -55,6 +55,22 @@ pub struct LoadOptions {
     pub variant: Option<String>,
 }
 
+impl LoadOptions {
+    /// The index, among `scene`'s animations, of the one these options pose it by (`None`:
+    /// unposed, or no such animation).
+    pub fn animation_index(&self, scene: &Scene) -> Option<usize> {
+        let choice = self.animation.as_ref()?.animation.as_deref().unwrap_or("0");
+        let names: Vec<Option<&str>> = scene.animations.iter().map(|a| a.name.as_deref()).collect();
+        gltf::index_or_name("animation", choice, &names).ok()
+    }
+
+    /// The index, among `scene`'s material variants, of the one these options dress it in.
+    pub fn variant_index(&self, scene: &Scene) -> Option<usize> {
+        let names: Vec<Option<&str>> = scene.variants.iter().map(|v| Some(v.as_str())).collect();
+        gltf::index_or_name("material variant", self.variant.as_deref()?, &names).ok()
+    }
+}
+
 /// [`load`] with `options` (an OBJ file has neither animations nor variants: asking for one
 /// is refused).
 pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {

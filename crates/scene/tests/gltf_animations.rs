@@ -113,6 +113,21 @@ fn a_chosen_animation_moves_its_node_at_the_moment_asked() {
     assert_close(at(Some("slide"), -1.0), Vec3::ZERO);
     assert_close(at(Some("hop"), 0.99), Vec3::ZERO);
     assert_close(at(Some("1"), 1.0), Vec3::new(0.0, 3.0, 0.0));
+
+    // Which clip options pose the scene by, as the view's overlay shows it: by index or name,
+    // the first where none is named, none unposed or for a name the file lacks.
+    let posed_by = |animation: Option<&str>| LoadOptions {
+        animation: Some(AnimationTime {
+            animation: animation.map(str::to_owned),
+            seconds: 0.5,
+        }),
+        ..LoadOptions::default()
+    };
+    assert_eq!(posed_by(None).animation_index(&still), Some(0));
+    assert_eq!(posed_by(Some("hop")).animation_index(&still), Some(1));
+    assert_eq!(posed_by(Some("1")).animation_index(&still), Some(1));
+    assert_eq!(posed_by(Some("walk")).animation_index(&still), None);
+    assert_eq!(LoadOptions::default().animation_index(&still), None);
 }
 
 /// Rotations blend along the great arc, and a scale keyed alone leaves the node's translation.

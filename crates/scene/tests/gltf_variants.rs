@@ -53,6 +53,14 @@ fn a_primitive_wears_what_the_chosen_variant_maps_it_to() {
     assert_eq!(worn(&load_variant(&doc, Some("blue")).unwrap()), "blue");
     assert_eq!(worn(&load_variant(&doc, Some("2")).unwrap()), "red");
     assert_eq!(worn(&load_variant(&doc, Some("bare")).unwrap()), "plain");
+    let dressed_in = |variant: &str| LoadOptions {
+        variant: Some(variant.to_owned()),
+        ..LoadOptions::default()
+    };
+    assert_eq!(dressed_in("crimson").variant_index(&plain), Some(2));
+    assert_eq!(dressed_in("3").variant_index(&plain), Some(3));
+    assert_eq!(dressed_in("green").variant_index(&plain), None);
+    assert_eq!(LoadOptions::default().variant_index(&plain), None);
     assert_mentions(
         &error_of(load_variant(&doc, Some("green"))),
         &["no material variant \"green\" (the file has 0 \"red\", 1 \"blue\""],

@@ -21,6 +21,7 @@ use winit::window::{Window, WindowId};
 use super::camera_control::{CameraController, FlyKey, drag_mode};
 use super::frame_budget::{FrameBudget, TARGET_FRAME, initial_photons};
 use super::overlay::{Action, Overlay, OverlayInfo};
+use super::scene_choice::SceneChoice;
 use super::schedule::{Schedule, Timed};
 use super::session::{LoadedScene, RenderControls, Session, load_scene};
 use crate::cli::{AddedLightArgs, BvhArgs, ViewArgs};
@@ -60,6 +61,16 @@ fn dropped_kind(path: &Path) -> Option<DroppedKind> {
 enum Dropped {
     Scene(Box<LoadedScene>),
     SkyMap(scene::SkyMap),
+}
+
+/// Why the scene shown is being read again; its view, lens and title stay.
+#[derive(Debug)]
+enum Reload {
+    /// Without its sky map (the overlay's "remove"): the map and turn it had, put back if that
+    /// fails (a scene with no light of its own).
+    WithoutSkyMap { map: Option<PathBuf>, turn: f32 },
+    /// As the overlay's scene choice asks (another animation moment or material variant).
+    Choice,
 }
 
 /// The window and what draws into it, made once the event loop has resumed.
@@ -102,9 +113,11 @@ pub struct App {
     session: Option<Session>,
     /// A dropped file being read on another thread.
     loading: Option<(PathBuf, mpsc::Receiver<anyhow::Result<Dropped>>)>,
-    /// While the scene is read again without its sky map (the overlay's "remove"): the map and
-    /// turn it had, put back if that fails (a scene with no light of its own).
-    removing_sky_map: Option<(Option<PathBuf>, f32)>,
+    /// Why the scene shown is being read again, while it is (`loading` holds the read).
+    reloading: Option<Reload>,
+    /// The animation moment and material variant of the scene shown (the overlay's choice may
+    /// be ahead of it while the file is read again).
+    shown_choice: SceneChoice,
     controller: Option<CameraController>,
     budget: FrameBudget,
     overlay: Overlay,
@@ -142,6 +155,7 @@ impl App {
         camera: scene::Camera,
     ) -> anyhow::Result<App> {
         let (schedule, controls) = check_arguments(args)?;
+        let choice = SceneChoice::of(&loaded.scene, &args.load.options());
         let now = Instant::now();
         Ok(App {
             instance,
@@ -158,7 +172,8 @@ impl App {
             gfx: None,
             session: None,
             loading: None,
-            removing_sky_map: None,
+            reloading: None,
+            shown_choice: choice,
             controller: None,
             budget: FrameBudget::new(TARGET_FRAME),
             overlay: Overlay::new(
@@ -168,6 +183,7 @@ impl App {
                     tone_map: args.tonemap.tone_map(),
                 },
                 controls,
+                choice,
             ),
             mouse: Mouse::default(),
             modifiers: ModifiersState::empty(),
@@ -289,6 +305,9 @@ impl App {
                         let camera = controller.camera();
                         let lens = &mut self.overlay.controls.lens;
                         match session.depth_at(&camera, film, size.x / size.y) {
+                            _ if camera.is_orthographic() => {
+                                self.message = Some("an orthographic view has no lens".into())
+                            }
                             Some(depth) => {
                                 lens.focus_distance = depth;
                                 self.restart |= !lens.is_pinhole();
@@ -377,6 +396,14 @@ impl App {
             Action::Restart | Action::ControlsChanged => self.restart = true,
             Action::Save => self.save(),
             Action::RemoveSkyMap => self.remove_sky_map(),
+            Action::SceneChoiceChanged => {
+                // A removal of the sky map under way goes on in the new choice.
+                let reason = match self.reloading.take() {
+                    Some(removal @ Reload::WithoutSkyMap { .. }) => removal,
+                    _ => Reload::Choice,
+                };
+                self.reload(reason);
+            }
             Action::SelectCamera(i) => {
                 let camera = self.session.as_ref().and_then(|s| s.scene.camera(Some(i)));
                 if let (Some(camera), Some(controller)) = (camera, &mut self.controller) {
@@ -422,10 +449,7 @@ impl App {
     /// Reads the scene shown again without its sky map (nor later scenes get it), keeping the
     /// view; the map stays if the scene has no light without it.
     fn remove_sky_map(&mut self) {
-        let Some(path) = self.session.as_ref().map(|s| s.path.clone()) else {
-            return;
-        };
-        if self.removing_sky_map.is_some() {
+        if matches!(self.reloading, Some(Reload::WithoutSkyMap { .. })) {
             return; // already being removed
         }
         if self.added_lights.sky_map.is_none() {
@@ -434,42 +458,67 @@ impl App {
         }
         let map = self.added_lights.sky_map.take();
         let turn = self.overlay.controls.sky_rotation.take().unwrap_or(0.0);
-        self.open_dropped(&path);
-        self.removing_sky_map = Some((map, turn));
+        self.reload(Reload::WithoutSkyMap { map, turn });
     }
 
-    /// Puts back the sky map a removal took away (it failed, or another file was dropped).
-    fn keep_sky_map(&mut self) {
-        if let Some((map, turn)) = self.removing_sky_map.take() {
-            self.added_lights.sky_map = map;
-            self.overlay.controls.sky_rotation = Some(turn);
+    /// Reads the scene shown again, in the overlay's scene choice and without the lights
+    /// taken away, on another thread (the scene stays until it is ready).
+    fn reload(&mut self, reason: Reload) {
+        let Some(path) = self.session.as_ref().map(|s| s.path.clone()) else {
+            return;
+        };
+        let receive = self.read_scene(&path, self.overlay.scene_choice.options());
+        self.notify(format!("reading {} again …", path.display()));
+        self.loading = Some((path, receive));
+        self.reloading = Some(reason);
+    }
+
+    /// Gives up a reading again (it failed, or another file was dropped): a sky map it took
+    /// away comes back, and the overlay's choice returns to the scene shown.
+    fn abandon_reload(&mut self) {
+        if let Some(reason) = self.reloading.take() {
+            if let Reload::WithoutSkyMap { map, turn } = reason {
+                self.added_lights.sky_map = map;
+                self.overlay.controls.sky_rotation = Some(turn);
+            }
+            self.overlay.scene_choice = self.shown_choice;
         }
+    }
+
+    /// Reads the scene at `path` with `options` on another thread.
+    fn read_scene(
+        &self,
+        path: &Path,
+        options: scene::LoadOptions,
+    ) -> mpsc::Receiver<anyhow::Result<Dropped>> {
+        let (send, receive) = mpsc::channel();
+        let (owned, bvh_args, added_lights) =
+            (path.to_owned(), self.bvh_args, self.added_lights.clone());
+        std::thread::spawn(move || {
+            let loaded = load_scene(&owned, bvh_args, &added_lights, &options);
+            // The receiver may be gone if another file was dropped meanwhile.
+            let _ = send.send(loaded.map(|l| Dropped::Scene(Box::new(l))));
+        });
+        receive
     }
 
     /// A dropped file: read it on another thread; the current scene stays until it is ready.
     /// A scene opens; an image (.hdr, .exr, .pfm, .png) becomes the sky map, of this scene and
     /// of those opened after it.
     fn open_dropped(&mut self, path: &Path) {
-        self.keep_sky_map();
-        let (send, receive) = mpsc::channel();
-        let owned = path.to_owned();
-        // The receiver may be gone if another file was dropped meanwhile.
-        match dropped_kind(path) {
-            Some(DroppedKind::Scene) => {
-                let bvh_args = self.bvh_args;
-                let added_lights = self.added_lights.clone();
-                std::thread::spawn(move || {
-                    // A dropped file shows as its nodes place things, in its own materials.
-                    let options = scene::LoadOptions::default();
-                    let loaded = load_scene(&owned, bvh_args, &added_lights, &options);
-                    let _ = send.send(loaded.map(|l| Dropped::Scene(Box::new(l))));
-                });
-            }
+        self.abandon_reload();
+        let receive = match dropped_kind(path) {
+            // A dropped file shows as its nodes place things, in its own materials.
+            Some(DroppedKind::Scene) => self.read_scene(path, scene::LoadOptions::default()),
             Some(DroppedKind::SkyMap) => {
+                let (send, receive) = mpsc::channel();
+                let owned = path.to_owned();
                 std::thread::spawn(move || {
                     let map = crate::image_io::read_sky_map(&owned);
+                    // The receiver may be gone if another file was dropped meanwhile.
                     let _ = send.send(map.map(Dropped::SkyMap));
                 });
+                receive
             }
             None => {
                 self.notify(format!(
@@ -478,7 +527,7 @@ impl App {
                 ));
                 return;
             }
-        }
+        };
         self.notify(format!("loading {} …", path.display()));
         self.loading = Some((path.to_owned(), receive));
     }
@@ -515,21 +564,32 @@ impl App {
                     .map(|s| (s, false))
             }
         });
-        let removing = self.removing_sky_map.is_some();
-        match opened {
-            Ok((session, _)) if removing => {
-                // The same scene without its map: the view, lens and title stay.
-                self.removing_sky_map = None;
-                self.added_lights.sky_rotate = 0.0;
+        match (opened, self.reloading.is_some()) {
+            (Ok((session, _)), true) => {
+                // The same scene read again: the view, lens and title stay.
+                let notice = match self.reloading.take() {
+                    Some(Reload::WithoutSkyMap { .. }) => {
+                        self.added_lights.sky_rotate = 0.0;
+                        format!("removed the sky map from {}", path.display())
+                    }
+                    _ => format!(
+                        "showing {}: {}",
+                        path.display(),
+                        self.overlay.scene_choice.describe(&session.scene)
+                    ),
+                };
+                self.shown_choice = self.overlay.scene_choice;
                 self.session = Some(session);
-                self.notify(format!("removed the sky map from {}", path.display()));
+                self.notify(notice);
                 self.restart = true;
             }
-            Ok((session, new_scene)) => {
+            (Ok((session, new_scene)), false) => {
                 if new_scene {
                     let camera = session.default_camera();
                     self.controller = Some(CameraController::new(&camera, session.scene.bounds()));
                     self.overlay.controls.lens = session.starting_lens(&camera);
+                    self.overlay.scene_choice = SceneChoice::default();
+                    self.shown_choice = SceneChoice::default();
                     self.title = window_title(&path);
                     gfx.window.set_title(&self.title);
                 } else {
@@ -544,11 +604,15 @@ impl App {
                 self.notify(format!("opened {}", path.display()));
                 self.restart = true;
             }
-            Err(e) if removing => {
-                self.keep_sky_map();
-                self.notify(format!("the sky map stays: {e:#}"));
+            (Err(e), true) => {
+                let notice = match self.reloading {
+                    Some(Reload::WithoutSkyMap { .. }) => format!("the sky map stays: {e:#}"),
+                    _ => format!("cannot show {} so: {e:#}", path.display()),
+                };
+                self.abandon_reload();
+                self.notify(notice);
             }
-            Err(e) => self.notify(format!("cannot open {}: {e:#}", path.display())),
+            (Err(e), false) => self.notify(format!("cannot open {}: {e:#}", path.display())),
         }
     }
 
@@ -727,6 +791,11 @@ impl App {
             cameras: &cameras,
             message: self.message.as_deref(),
             scene_size: self.session.as_ref().map_or(1.0, Session::scene_size),
+            shown: self.session.as_ref().map(|s| &s.scene),
+            orthographic: self
+                .controller
+                .as_ref()
+                .is_some_and(|c| c.camera().is_orthographic()),
         };
         let input = gfx.egui_state.take_egui_input(&gfx.window);
         let overlay = &mut self.overlay;

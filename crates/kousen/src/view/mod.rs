@@ -4,6 +4,7 @@ mod app;
 pub mod camera_control;
 pub mod frame_budget;
 mod overlay;
+mod scene_choice;
 mod schedule;
 mod screenshot;
 mod session;

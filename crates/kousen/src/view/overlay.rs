@@ -4,6 +4,7 @@
 use render::resolve::{COMPONENTS, Parts};
 use render::tonemap::{Look, ToneMap};
 
+use super::scene_choice::SceneChoice;
 use super::session::{RenderControls, SessionStats};
 
 /// What the overlay shows besides its own controls.
@@ -22,6 +23,10 @@ pub struct OverlayInfo<'a> {
     pub message: Option<&'a str>,
     /// The scene's bounding-box diagonal: the lens sliders' scale.
     pub scene_size: f32,
+    /// The scene shown: the animations and material variants it offers.
+    pub shown: Option<&'a scene::Scene>,
+    /// Whether the view is orthographic (a lens has nothing to do then).
+    pub orthographic: bool,
 }
 
 /// A request from the overlay.
@@ -35,6 +40,8 @@ pub enum Action {
     ControlsChanged,
     /// Light the scene without its sky map again (and the scenes opened after).
     RemoveSkyMap,
+    /// `Overlay::scene_choice` changed: read the file again so.
+    SceneChoiceChanged,
 }
 
 pub struct Overlay {
@@ -47,19 +54,28 @@ pub struct Overlay {
     /// first; the display pass applies them, no restart.
     pub parts: Parts,
     pub controls: RenderControls,
+    /// The animation moment and material variant asked for (the scene shown may still be
+    /// being read so).
+    pub scene_choice: SceneChoice,
 }
 
 /// Photon slots per pass offered: 2^10 … 2^22.
 const PHOTONS_LOG2: std::ops::RangeInclusive<u32> = 10..=22;
 
 impl Overlay {
-    pub fn new(visible: bool, look: Look, controls: RenderControls) -> Overlay {
+    pub fn new(
+        visible: bool,
+        look: Look,
+        controls: RenderControls,
+        scene_choice: SceneChoice,
+    ) -> Overlay {
         Overlay {
             visible,
             exposure: look.exposure,
             tone_map: look.tone_map,
             parts: Parts::ALL,
             controls,
+            scene_choice,
         }
     }
 
@@ -187,14 +203,61 @@ impl Overlay {
         if photons.changed() {
             self.controls.photons = 1 << log2;
         }
-        // Restart once the slider is let go, not at every step of a drag.
-        let settled = |r: &egui::Response| r.changed() && !r.dragged() || r.drag_stopped();
         if [&photons, &alpha, &eye_every, &candidates]
             .into_iter()
             .any(settled)
         {
             actions.push(Action::ControlsChanged);
         }
+        if !info.orthographic {
+            self.lens_ui(ui, info, actions);
+        }
+        if let Some(degrees) = &mut self.controls.sky_rotation {
+            let turn = ui.add(
+                egui::Slider::new(degrees, -180.0..=180.0)
+                    .text("sky map turn (°)")
+                    .step_by(1.0),
+            );
+            if settled(&turn) {
+                actions.push(Action::ControlsChanged);
+            }
+            if ui.button("remove the sky map").clicked() {
+                actions.push(Action::RemoveSkyMap);
+            }
+        }
+        if let Some(scene) = info.shown
+            && self.scene_choice.ui(ui, scene)
+        {
+            actions.push(Action::SceneChoiceChanged);
+        }
+
+        if !info.cameras.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.label("camera");
+                for (i, name) in info.cameras.iter().enumerate() {
+                    if ui.button(name).clicked() {
+                        actions.push(Action::SelectCamera(i));
+                    }
+                }
+            });
+        }
+        ui.horizontal(|ui| {
+            let pause = if info.paused { "resume" } else { "pause" };
+            if ui.button(format!("{pause} (Space)")).clicked() {
+                actions.push(Action::TogglePause);
+            }
+            if ui.button("restart (R)").clicked() {
+                actions.push(Action::Restart);
+            }
+            if ui.button("save EXR + PNG (S)").clicked() {
+                actions.push(Action::Save);
+            }
+        });
+        ui.small("drag: orbit · shift/middle: pan · wheel: zoom · right + WASD QE: fly · F1: hide");
+    }
+
+    /// The thin lens's sliders: aperture, then (once it is open) blades and focus.
+    fn lens_ui(&mut self, ui: &mut egui::Ui, info: &OverlayInfo, actions: &mut Vec<Action>) {
         let lens = &mut self.controls.lens;
         let size = info.scene_size.max(f32::MIN_POSITIVE);
         let aperture = ui.add(
@@ -228,42 +291,11 @@ impl Overlay {
                 actions.push(Action::ControlsChanged);
             }
         }
-        if let Some(degrees) = &mut self.controls.sky_rotation {
-            let turn = ui.add(
-                egui::Slider::new(degrees, -180.0..=180.0)
-                    .text("sky map turn (°)")
-                    .step_by(1.0),
-            );
-            if settled(&turn) {
-                actions.push(Action::ControlsChanged);
-            }
-            if ui.button("remove the sky map").clicked() {
-                actions.push(Action::RemoveSkyMap);
-            }
-        }
-
-        if !info.cameras.is_empty() {
-            ui.horizontal_wrapped(|ui| {
-                ui.label("camera");
-                for (i, name) in info.cameras.iter().enumerate() {
-                    if ui.button(name).clicked() {
-                        actions.push(Action::SelectCamera(i));
-                    }
-                }
-            });
-        }
-        ui.horizontal(|ui| {
-            let pause = if info.paused { "resume" } else { "pause" };
-            if ui.button(format!("{pause} (Space)")).clicked() {
-                actions.push(Action::TogglePause);
-            }
-            if ui.button("restart (R)").clicked() {
-                actions.push(Action::Restart);
-            }
-            if ui.button("save EXR + PNG (S)").clicked() {
-                actions.push(Action::Save);
-            }
-        });
-        ui.small("drag: orbit · shift/middle: pan · wheel: zoom · right + WASD QE: fly · F1: hide");
     }
+}
+
+/// Whether a slider's change should restart the render: once it is let go, not at every step
+/// of a drag.
+pub fn settled(r: &egui::Response) -> bool {
+    r.changed() && !r.dragged() || r.drag_stopped()
 }

@@ -310,7 +310,11 @@ fn missing_mesh(input: &Input, node: usize, mesh: usize) -> SceneError {
 
 /// The index of the item `choice` names among items of `names` (each its name, if it has
 /// one): by index, else by name; else a line saying there is no such `what`, listing them.
-fn index_or_name(what: &str, choice: &str, names: &[Option<&str>]) -> Result<usize, String> {
+pub(crate) fn index_or_name(
+    what: &str,
+    choice: &str,
+    names: &[Option<&str>],
+) -> Result<usize, String> {
     let by_index = choice.parse::<usize>().ok().filter(|&i| i < names.len());
     if let Some(index) = by_index.or_else(|| names.iter().position(|n| *n == Some(choice))) {
         return Ok(index);

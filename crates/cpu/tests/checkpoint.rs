@@ -56,3 +56,36 @@ fn checkpoint_of_another_size_is_refused() {
     assert!(message.contains("slots"), "{message}");
     assert!(!message.contains('\n'), "{message}");
 }
+
+/// Checkpoints handed over during a run (`Sppm::run_with`) come with the run's rendering time
+/// so far, and the time their sink takes is left out of the render's clock, as the
+/// intermediate images' is: a sink that sleeps 80 ms at each of 4 passes leaves the rendered
+/// seconds at least 0.3 s short of the wall time, and each checkpoint's seconds within them.
+#[test]
+fn handing_over_checkpoints_is_left_out_of_the_render_clock() {
+    let mut sppm = start(&Settings::new(20, 16, 2048));
+    let pause = std::time::Duration::from_millis(80);
+    let mut handed: Vec<(u32, f64)> = Vec::new();
+    let mut save = |checkpoint: &Checkpoint, seconds: f64| {
+        handed.push((checkpoint.passes, seconds));
+        std::thread::sleep(pause);
+        Ok(())
+    };
+    let hooks = render::RunHooks {
+        checkpoints: Some((std::time::Duration::ZERO, &mut save)),
+        intermediates: None,
+    };
+    let started = std::time::Instant::now();
+    let rendered = sppm
+        .run_with(Budget::Passes(4), &mut |_| {}, hooks)
+        .unwrap();
+    let wall = started.elapsed().as_secs_f64();
+    assert_eq!(handed.iter().map(|h| h.0).collect::<Vec<_>>(), [1, 2, 3, 4]);
+    assert!(
+        wall - rendered.seconds >= 4.0 * pause.as_secs_f64() - 1e-3,
+        "rendered {} s of {wall} s",
+        rendered.seconds
+    );
+    assert!(handed.windows(2).all(|w| w[0].1 <= w[1].1), "{handed:?}");
+    assert!(handed.iter().all(|h| h.1 <= rendered.seconds), "{handed:?}");
+}

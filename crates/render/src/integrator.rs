@@ -46,11 +46,12 @@ pub struct Checkpoint {
     pub state: crate::backend::Snapshot,
 }
 
-/// Where [`Sppm::run_with`] hands its checkpoints: every this long, to this function (an
-/// error in words stops the render).
+/// Where [`Sppm::run_with`] hands its checkpoints: every this long, to this function, with
+/// this run's rendering time so far in seconds (an error in words stops the render). Like the
+/// intermediate images, their reading and writing is left out of the render's clock.
 pub type CheckpointSink<'a> = (
     Duration,
-    &'a mut dyn FnMut(&Checkpoint) -> Result<(), String>,
+    &'a mut dyn FnMut(&Checkpoint, f64) -> Result<(), String>,
 );
 
 /// When [`Sppm::run_with`] hands over the image so far: once this many passes are done (a
@@ -359,7 +360,8 @@ impl<B: Backend> Sppm<B> {
             mut intermediates,
         } = hooks;
         let started = Instant::now();
-        // Time spent handing over intermediate images, left out of the render's clock.
+        // Time spent handing over intermediate images and checkpoints, left out of the
+        // render's clock.
         let mut handing_over = Duration::ZERO;
         let rendering = |handing_over: Duration| started.elapsed().saturating_sub(handing_over);
         let mut last_report = started;
@@ -383,8 +385,11 @@ impl<B: Backend> Sppm<B> {
             if let Some((interval, save)) = checkpoints.as_mut()
                 && last_checkpoint.elapsed() >= *interval
             {
-                last_checkpoint = Instant::now();
-                save(&self.checkpoint()?).map_err(RenderError::Checkpoint)?;
+                let since = Instant::now();
+                last_checkpoint = since;
+                let seconds = rendering(handing_over).as_secs_f64();
+                save(&self.checkpoint()?, seconds).map_err(RenderError::Checkpoint)?;
+                handing_over += since.elapsed();
             }
             if last_report.elapsed() >= PROGRESS_INTERVAL {
                 last_report = Instant::now();

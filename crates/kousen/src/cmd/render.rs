@@ -418,11 +418,10 @@ fn finish<B: Backend>(
     };
     sppm.stop_when_set(continuation.stop.clone());
     let mut bar = ProgressBar::new(budget);
-    let run_started = Instant::now();
     let mut save_checkpoint = args.checkpoint.as_deref().map(|path| {
-        move |checkpoint: &render::Checkpoint| {
-            let seconds = seconds_before + run_started.elapsed().as_secs_f64();
-            checkpoint_file::write(path, header(seconds), checkpoint).map_err(|e| format!("{e:#}"))
+        move |checkpoint: &render::Checkpoint, seconds: f64| {
+            let header = header(seconds_before + seconds);
+            checkpoint_file::write(path, header, checkpoint).map_err(|e| format!("{e:#}"))
         }
     });
     let moments = output.intermediates.moments();

@@ -30,6 +30,7 @@ use render::packing::{
     is_caustic, is_volume, photon_normal, surface_normal, unpack_normal, unpack_volume_point,
     volume_photon_direction, volume_point_direction,
 };
+use render::radius_histogram::{RADIUS_BUCKETS, radius_bucket, served_radius};
 use render::random::StreamRng;
 use render::resampling::resample_light;
 use render::rng::{
@@ -1506,7 +1507,7 @@ fn add_kept_photons(
 
 /// Gather and update with any density method: `query` finds the photons around the visible
 /// point; the statistics update is the same for all. Lit pixels then offer their radius to the
-/// pass's maximum.
+/// pass's maximum and histogram.
 pub fn gather_with(
     counters: &[AtomicU32],
     params: &SppmParams,
@@ -1515,13 +1516,15 @@ pub fn gather_with(
     query: impl FnOnce(&GatherQuery) -> GatherSum,
 ) -> PixelStats {
     let (stats, lit) = gather_update(counters, params, visible_point, stats, query);
-    lit.offer(counters);
+    LitSummary::default()
+        .add(lit, served_largest(counters))
+        .offer(counters);
     stats
 }
 
-/// The bits of the largest radii that have met photons (0 for none), on surfaces and of the
-/// volume photons, each sizing its own grid's cells next pass (`render::hash`). Positive floats
-/// order as their bits do.
+/// One pixel's radii that have met photons, as bits (0 for none; positive floats order as
+/// their bits do): the larger of its indirect and caustic radii on surfaces, and its volume
+/// photons' radius, each sizing its own grid's cells next pass (`render::hash`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LitRadii {
     pub surfaces: u32,
@@ -1536,12 +1539,60 @@ impl LitRadii {
             volume: self.volume.max(other.volume),
         }
     }
+}
 
-    /// Offers them to the pass's maxima ([`finish_pass`] sizes the cells by them).
-    pub fn offer(self, counters: &[AtomicU32]) {
-        counters[counter::MAX_RADIUS].fetch_max(self.surfaces, Relaxed);
-        counters[counter::VOLUME_MAX_RADIUS].fetch_max(self.volume, Relaxed);
+/// Many pixels' [`LitRadii`]: the largest of each, and the surface radii counted by bucket
+/// (`render::radius_histogram`), which [`finish_pass`] sizes the next cells by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LitSummary {
+    pub largest: LitRadii,
+    pub histogram: [u32; RADIUS_BUCKETS],
+}
+
+impl Default for LitSummary {
+    fn default() -> LitSummary {
+        LitSummary {
+            largest: LitRadii::default(),
+            histogram: [0; RADIUS_BUCKETS],
+        }
     }
+}
+
+impl LitSummary {
+    /// With one pixel's radii, `served` being the largest radius this pass's cells serve.
+    pub fn add(mut self, lit: LitRadii, served: f32) -> LitSummary {
+        self.largest = self.largest.max(lit);
+        if lit.surfaces != 0 {
+            self.histogram[radius_bucket(f32::from_bits(lit.surfaces), served) as usize] += 1;
+        }
+        self
+    }
+
+    /// Both summaries' pixels.
+    pub fn merge(mut self, other: LitSummary) -> LitSummary {
+        self.largest = self.largest.max(other.largest);
+        for (count, more) in self.histogram.iter_mut().zip(other.histogram) {
+            *count += more;
+        }
+        self
+    }
+
+    /// Offers them to the pass's maxima and histogram (one atomic a word, as the kernels'
+    /// pixels each offer theirs).
+    pub fn offer(self, counters: &[AtomicU32]) {
+        counters[counter::MAX_RADIUS].fetch_max(self.largest.surfaces, Relaxed);
+        counters[counter::VOLUME_MAX_RADIUS].fetch_max(self.largest.volume, Relaxed);
+        for (bucket, &count) in self.histogram.iter().enumerate() {
+            if count > 0 {
+                counters[counter::RADIUS_HISTOGRAM + bucket].fetch_add(count, Relaxed);
+            }
+        }
+    }
+}
+
+/// The largest radius this pass's surface cells serve.
+pub fn served_largest(counters: &[AtomicU32]) -> f32 {
+    grid_largest_radius(cell_size_of(counters, false), false)
 }
 
 /// [`gather_with`] without its atomics: the new statistics, and the radii that have met
@@ -1679,22 +1730,32 @@ fn update(
 }
 
 /// Closes a pass (one invocation): folds this pass's emitted paths into the 64-bit total,
-/// sets the next pass's cell sizes from the largest radii, and advances the pass counter.
-pub fn finish_pass(counters: &[AtomicU32]) {
+/// sets the next pass's cell sizes from the lit radii (the surfaces' for all but
+/// `params.shrunk_tenths` of them, `render::radius_histogram`; the volume photons' largest),
+/// and advances the pass counter.
+pub fn finish_pass(params: &SppmParams, counters: &[AtomicU32]) {
     let emitted = counters[counter::EMITTED_PASS].swap(0, Relaxed);
     let low = counters[counter::EMITTED_LO].load(Relaxed);
     let (sum, carry) = low.overflowing_add(emitted);
     counters[counter::EMITTED_LO].store(sum, Relaxed);
     counters[counter::EMITTED_HI].fetch_add(carry as u32, Relaxed);
     // No pixel has met a photon yet: the cells stay as they are. Each grid by its own radii.
-    for (max, cells, volume) in [
-        (counter::MAX_RADIUS, counter::CELL_SIZE, false),
-        (counter::VOLUME_MAX_RADIUS, counter::VOLUME_CELL_SIZE, true),
-    ] {
-        let max_radius = f32::from_bits(counters[max].swap(0, Relaxed));
-        if max_radius > 0.0 {
-            counters[cells].store(grid_cell_size(max_radius, volume).to_bits(), Relaxed);
-        }
+    let histogram: [u32; RADIUS_BUCKETS] =
+        std::array::from_fn(|b| counters[counter::RADIUS_HISTOGRAM + b].swap(0, Relaxed));
+    let largest_lit = f32::from_bits(counters[counter::MAX_RADIUS].swap(0, Relaxed));
+    let served = served_radius(
+        &histogram,
+        params.shrunk_tenths,
+        served_largest(counters),
+        largest_lit,
+    );
+    if let Some(radius) = served {
+        counters[counter::CELL_SIZE].store(grid_cell_size(radius, false).to_bits(), Relaxed);
+    }
+    let volume_radius = f32::from_bits(counters[counter::VOLUME_MAX_RADIUS].swap(0, Relaxed));
+    if volume_radius > 0.0 {
+        let cells = grid_cell_size(volume_radius, true);
+        counters[counter::VOLUME_CELL_SIZE].store(cells.to_bits(), Relaxed);
     }
     counters[counter::PASS].fetch_add(1, Relaxed);
 }

@@ -311,20 +311,21 @@ impl Backend for CpuBackend {
             }),
             (Density::StochasticHash, _) => kernels::stochastic_query(params, hash, photons, query),
         };
-        // The pass's largest lit radii, reduced per thread and offered once (as with the
-        // emitted paths: no shared atomic per pixel).
+        // The pass's lit radii, summed per thread and offered once (as with the emitted
+        // paths: no shared atomic per pixel).
+        let served = kernels::served_largest(counters);
         state
             .pixels
             .par_iter_mut()
             .zip(state.visible_points.par_iter())
-            .map(|(stats, point)| {
+            .fold(kernels::LitSummary::default, |summary, (stats, point)| {
                 let (next, lit) = kernels::gather_update(counters, params, point, *stats, query);
                 *stats = next;
-                lit
+                summary.add(lit, served)
             })
-            .reduce(kernels::LitRadii::default, kernels::LitRadii::max)
+            .reduce(kernels::LitSummary::default, kernels::LitSummary::merge)
             .offer(counters);
-        kernels::finish_pass(counters);
+        kernels::finish_pass(params, counters);
     }
 
     fn synchronize(&mut self) -> Result<(), BackendError> {
@@ -411,7 +412,7 @@ impl Backend for CpuBackend {
 
 impl PhotonTracing for CpuBackend {
     fn finish_pass(&mut self) {
-        kernels::finish_pass(&self.state.counters);
+        kernels::finish_pass(&self.state.params, &self.state.counters);
     }
 
     fn photon_trace_naive(&mut self) {

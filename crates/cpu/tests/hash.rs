@@ -461,3 +461,64 @@ fn the_volume_gather_estimate_is_unbiased_where_cells_share_entries() {
     let expected = [full_flux.x, full_flux.y, full_flux.z, full_count];
     assert_means_match(TRIALS, sum, sum_sq, expected.map(f64::from));
 }
+
+/// The cells of the next pass (`finish_pass`, `render::radius_histogram`): with none shrunk,
+/// sized for the largest lit radius exactly; with two tenths shrunk (the stochastic hash),
+/// for a radius no more than an eighth of an octave above the one that eight tenths of the
+/// lit radii do not exceed, so that at most two tenths (and their bucket) lie above it.
+#[test]
+fn the_next_cells_serve_all_lit_radii_or_all_but_the_largest_tenths() {
+    let largest = 10.0f32;
+    // 1,000 lit radii spread over three octaves below the largest, in a scrambled order.
+    let radii: Vec<f32> = (0..1000u32)
+        .map(|i| {
+            let u = (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32;
+            largest * (-3.0 * u).exp2()
+        })
+        .collect();
+    for shrunk_tenths in [0, 2] {
+        let table = Table::new(64, 1, cell_size(largest), 2.0 / 3.0);
+        let params = SppmParams {
+            shrunk_tenths,
+            ..table.params
+        };
+        let served = cpu::kernels::served_largest(&table.counters);
+        // Offered in two summaries, as two threads would.
+        let (first, second) = radii.split_at(400);
+        let summary = |part: &[f32]| {
+            part.iter()
+                .fold(cpu::kernels::LitSummary::default(), |s, &r| {
+                    let lit = cpu::kernels::LitRadii {
+                        surfaces: r.to_bits(),
+                        volume: 0,
+                    };
+                    s.add(lit, served)
+                })
+        };
+        summary(first).merge(summary(second)).offer(&table.counters);
+        cpu::kernels::finish_pass(&params, &table.counters);
+        let cell = f32::from_bits(table.counters[counter::CELL_SIZE].load(Relaxed));
+        assert!(
+            (counter::RADIUS_HISTOGRAM..counter::COUNT)
+                .all(|i| table.counters[i].load(Relaxed) == 0),
+            "the histogram is cleared for the next pass"
+        );
+        let mut sorted = radii.clone();
+        sorted.sort_by(f32::total_cmp);
+        let largest_lit = sorted[999];
+        if shrunk_tenths == 0 {
+            assert_eq!(cell, cell_size(largest_lit));
+            continue;
+        }
+        let eight_tenths = sorted[799];
+        assert!(cell >= cell_size(eight_tenths), "{cell}");
+        let bucket_above = eight_tenths * 2f32.powf(1.0 / 8.0) * 1.0001;
+        assert!(cell <= cell_size(bucket_above), "{cell}");
+        let above = sorted.iter().filter(|&&r| cell_size(r) > cell).count();
+        assert!(above <= 200, "{above} radii above the cells");
+        assert!(
+            cell < 0.9 * cell_size(largest_lit),
+            "the largest tenths shrink"
+        );
+    }
+}

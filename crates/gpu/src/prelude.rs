@@ -140,6 +140,14 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("COUNTER_MAX_RADIUS", U32(counter::MAX_RADIUS as u32)),
         ("COUNTER_CELL_SIZE", U32(counter::CELL_SIZE as u32)),
         (
+            "COUNTER_RADIUS_HISTOGRAM",
+            U32(counter::RADIUS_HISTOGRAM as u32),
+        ),
+        (
+            "RADIUS_BUCKETS",
+            U32(render::radius_histogram::RADIUS_BUCKETS as u32),
+        ),
+        (
             "COUNTER_VOLUME_MAX_RADIUS",
             U32(counter::VOLUME_MAX_RADIUS as u32),
         ),

@@ -542,7 +542,7 @@ fn sppm_types_layout_matches_render_buffers() {
             ),
             ("light_candidates", offset_of!(SppmParams, light_candidates)),
             ("orthographic", offset_of!(SppmParams, orthographic)),
-            ("pad4", offset_of!(SppmParams, pad2)),
+            ("shrunk_tenths", offset_of!(SppmParams, shrunk_tenths)),
         ],
     );
 }

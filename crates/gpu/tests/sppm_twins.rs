@@ -1655,7 +1655,7 @@ fn every_kernel_matches_its_twin_with(
             |g, c| stats_errors_within(g, c, direct_tolerance),
         )
         .assert_at_most(MAX_DIVERGED);
-        kernels::finish_pass(&twin_counters);
+        kernels::finish_pass(&params, &twin_counters);
         assert_eq!(
             counters,
             loads(&twin_counters),

@@ -292,7 +292,10 @@ pub struct SppmParams {
     /// `eye + sx·right + sy·up` along `forward` ([`crate::lens::camera_ray`]), `right` and
     /// `up` the film's half extents; 0 for a perspective one.
     pub orthographic: u32,
-    pub pad2: u32,
+    /// Tenths of the lit pixels whose radii may lie above the one the next pass's surface
+    /// cells are sized for, shrinking to fit ([`crate::radius_histogram`]): 2 for the
+    /// stochastic hash, 0 (cells for the largest radius) for full lists and the kd-tree.
+    pub shrunk_tenths: u32,
 }
 
 impl Default for SppmParams {
@@ -332,8 +335,8 @@ pub mod counter {
     pub const EMITTED_HI: usize = 2;
     /// Paths emitted by the pass in flight (folded into the total by `finish_pass`).
     pub const EMITTED_PASS: usize = 3;
-    /// Bits of the largest radius, after this pass's update, of the pixels that have met photons
-    /// (f32, positive, so u32 order; 0: none has).
+    /// Bits of the largest surface radius (indirect or caustic), after this pass's update, of
+    /// the pixels that have met photons (f32, positive, so u32 order; 0: none has).
     pub const MAX_RADIUS: usize = 4;
     /// Bits of the hash cell size for this pass (f32).
     pub const CELL_SIZE: usize = 5;
@@ -341,7 +344,10 @@ pub mod counter {
     /// radius that has met photons, and their cells' size.
     pub const VOLUME_MAX_RADIUS: usize = 6;
     pub const VOLUME_CELL_SIZE: usize = 7;
-    pub const COUNT: usize = 8;
+    /// The pass's lit surface radii counted by bucket (`crate::radius_histogram`), then
+    /// read and cleared by `finish_pass`.
+    pub const RADIUS_HISTOGRAM: usize = 8;
+    pub const COUNT: usize = RADIUS_HISTOGRAM + crate::radius_histogram::RADIUS_BUCKETS;
 }
 
 /// Words per hash entry: the kept photon's priority, the cell's photon count, the kept photon.

@@ -229,7 +229,10 @@ pub fn params_with(
         aperture_rotation: camera.lens.rotation,
         light_candidates: settings.light_candidates_for(scene),
         orthographic: camera.is_orthographic() as u32,
-        pad2: 0,
+        shrunk_tenths: match settings.density {
+            crate::Density::StochasticHash => crate::radius_histogram::STOCHASTIC_SHRUNK_TENTHS,
+            _ => 0,
+        },
     }
 }
 

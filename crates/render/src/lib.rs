@@ -27,6 +27,7 @@ pub mod normal_map;
 pub mod optics;
 pub mod packing;
 pub mod plastic;
+pub mod radius_histogram;
 pub mod random;
 pub mod resampling;
 pub mod resolve;

@@ -103,7 +103,8 @@ struct SppmParams {
     light_candidates: u32,
     // render::buffers::SppmParams::orthographic (render::lens::camera_ray).
     orthographic: u32,
-    pad4: u32,
+    // render::buffers::SppmParams::shrunk_tenths (render::radius_histogram).
+    shrunk_tenths: u32,
 }
 
 // render::half_storage::HalfPoint: a photon or visible point in f16 (16 bytes).

@@ -202,21 +202,33 @@ fn fitted(e: Estimate, largest: f32, dimensions: u32, changed: ptr<function, boo
     return e;
 }
 
-// `e` updated with `found` photons of weighted flux `flux` where there are any, and offered
-// to the pass's largest lit radius where it has met photons; `changed` set where it was
-// updated.
+// `e` updated with `found` photons of weighted flux `flux` where there are any; `changed` set
+// where it was.
 fn updated(e: Estimate, found: u32, flux: vec3<f32>, alpha: f32, dimensions: u32, changed: ptr<function, bool>) -> Estimate {
-    var next = e;
     if found > 0u {
-        next = update(e, found, flux, alpha, dimensions);
         *changed = true;
+        return update(e, found, flux, alpha, dimensions);
     }
-    if next.count > 0.0 {
-        // Each grid's cells are sized by its own gathers' radii (render::hash).
-        let largest = select(COUNTER_MAX_RADIUS, COUNTER_VOLUME_MAX_RADIUS, dimensions == VOLUME);
-        atomicMax(&counters[largest], bitcast<u32>(next.radius));
-    }
-    return next;
+    return e;
+}
+
+// The bits of `e`'s radius where it has met photons, else 0 (cpu::kernels::LitRadii).
+fn lit_bits(e: Estimate) -> u32 {
+    return select(0u, bitcast<u32>(e.radius), e.count > 0.0);
+}
+
+// render::radius_histogram::radius_bucket: eighths of an octave below `largest`.
+fn radius_bucket(radius: f32, largest: f32) -> u32 {
+    let key = bitcast<u32>(largest) >> 20u;
+    let radius_key = bitcast<u32>(radius) >> 20u;
+    return min(select(0u, key - radius_key, key > radius_key), RADIUS_BUCKETS - 1u);
+}
+
+// render::radius_histogram::bucket_top.
+fn bucket_top(bucket: u32, largest: f32) -> f32 {
+    let key = bitcast<u32>(largest) >> 20u;
+    let top_key = select(0u, key - bucket, key > bucket);
+    return min(bitcast<f32>(((top_key + 1u) << 20u) - 1u), largest);
 }
 
 // cpu::kernels::gather_with: the update is the same for every density method; the module's
@@ -254,6 +266,18 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
             volume_flux /= share_inside(point.pad, volume.radius);
         }
         volume = updated(volume, sum.volume_found, volume_flux, params.alpha, VOLUME, &changed);
+        // Lit radii size each grid's next cells (render::hash): the surfaces' by the pass's
+        // histogram and largest, the volume photons' by their largest.
+        let surfaces = max(lit_bits(indirect), lit_bits(caustic));
+        if surfaces != 0u {
+            atomicMax(&counters[COUNTER_MAX_RADIUS], surfaces);
+            let bucket = radius_bucket(bitcast<f32>(surfaces), largest);
+            atomicAdd(&counters[COUNTER_RADIUS_HISTOGRAM + bucket], 1u);
+        }
+        let volume_bits = lit_bits(volume);
+        if volume_bits != 0u {
+            atomicMax(&counters[COUNTER_VOLUME_MAX_RADIUS], volume_bits);
+        }
     }
     if changed {
         stats.tau = indirect.tau;
@@ -280,9 +304,31 @@ fn finish_pass() {
     let sum = low + emitted;
     atomicStore(&counters[COUNTER_EMITTED_LO], sum);
     atomicAdd(&counters[COUNTER_EMITTED_HI], select(0u, 1u, sum < low));
-    let max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
-    if max_radius > 0.0 {
-        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(grid_cell_size(max_radius, false)));
+    // render::radius_histogram::served_radius: the surfaces' cells serve all but
+    // `shrunk_tenths` of the lit radii (the largest, where that is 0).
+    var total = 0u;
+    for (var b = 0u; b < RADIUS_BUCKETS; b++) {
+        total += atomicLoad(&counters[COUNTER_RADIUS_HISTOGRAM + b]);
+    }
+    let largest_lit = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
+    if total > 0u && largest_lit > 0.0 {
+        // The count allowed above, as the twin's u64 product: total × tenths / 10 exactly.
+        let tenths = min(params.shrunk_tenths, 10u);
+        let above = (total / 10u) * tenths + ((total % 10u) * tenths) / 10u;
+        var counted = 0u;
+        var bucket = RADIUS_BUCKETS - 1u;
+        for (var b = 0u; b < RADIUS_BUCKETS; b++) {
+            counted += atomicLoad(&counters[COUNTER_RADIUS_HISTOGRAM + b]);
+            if counted > above {
+                bucket = b;
+                break;
+            }
+        }
+        let served = min(bucket_top(bucket, grid_largest_radius(cell_size_of(false), false)), largest_lit);
+        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(grid_cell_size(served, false)));
+    }
+    for (var b = 0u; b < RADIUS_BUCKETS; b++) {
+        atomicStore(&counters[COUNTER_RADIUS_HISTOGRAM + b], 0u);
     }
     let volume_max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_VOLUME_MAX_RADIUS], 0u));
     if volume_max_radius > 0.0 {

@@ -516,7 +516,7 @@ pub enum Integrator {
     Path,
 }
 
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct RenderArgs {
     /// A .gltf, .glb or .obj file.
     pub scene: PathBuf,
@@ -600,6 +600,14 @@ pub struct RenderArgs {
     pub camera: CameraArgs,
     #[command(flatten)]
     pub load: LoadArgs,
+    /// Render a glTF animation frame by frame: frames FIRST-LAST (or one frame N), frame n
+    /// posed n / --fps seconds into the animation (--animation chooses which), each a whole
+    /// render (--passes or --time each) written beside OUT with its number: out-0001.png.
+    #[arg(long, value_name = "FIRST-LAST", value_parser = crate::cmd::frames::parse_frames, group = "moment")]
+    pub frames: Option<crate::cmd::frames::FrameRange>,
+    /// Frames per second of --frames.
+    #[arg(long, value_name = "N", default_value_t = 24.0, requires = "frames")]
+    pub fps: f32,
     #[command(flatten)]
     pub added_lights: AddedLightArgs,
     #[command(flatten)]
@@ -613,10 +621,16 @@ pub struct RenderArgs {
 pub struct LoadArgs {
     /// Pose the scene as its animation shows it this many seconds in (glTF; the first
     /// animation unless --animation names another): one frame of a sequence, say.
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        allow_negative_numbers = true,
+        group = "moment"
+    )]
     pub animation_time: Option<f32>,
-    /// The animation --animation-time samples: its index or its name.
-    #[arg(long, value_name = "INDEX|NAME", requires = "animation_time")]
+    /// The animation --animation-time (or `kousen render --frames`) samples: its index or its
+    /// name.
+    #[arg(long, value_name = "INDEX|NAME", requires = "moment")]
     pub animation: Option<String>,
     /// The material variant to render (glTF `KHR_materials_variants`: a product's colours, say):
     /// its index or its name; `kousen info` lists them.

@@ -328,13 +328,13 @@ fn render_sees_through_an_orthographic_camera_which_has_no_lens() {
     );
 }
 
-/// `--animation-time` poses the scene by its animation (here one lifting the glowing quad from
-/// y = 0 to 3 over a second): `info` sees it half way up; a name that names no animation, or
-/// a file without animations, is refused in one line, leaving no file.
-#[test]
-fn animation_times_pose_the_scene_or_are_refused_in_one_line() {
-    let dir = tempfile::tempdir().unwrap();
-    let still = lit_quad_scene(dir.path());
+/// [`lit_quad_scene`] with an animation "lift" raising the glowing quad from y = 0 to 3 over a
+/// second, written as `lift.gltf`; `edit` changes the document first.
+fn lifted_quad_scene(
+    dir: &std::path::Path,
+    edit: impl FnOnce(&mut serde_json::Value),
+) -> std::path::PathBuf {
+    let still = lit_quad_scene(dir);
     let mut document: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&still).unwrap()).unwrap();
     let keys: Vec<u8> = [0.0f32, 1.0, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0]
@@ -362,11 +362,18 @@ fn animation_times_pose_the_scene_or_are_refused_in_one_line() {
     document["animations"] = json!([{ "name": "lift",
         "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
         "samplers": [{ "input": times, "output": values }] }]);
-    let lifted = write(
-        dir.path(),
-        "lift.gltf",
-        &serde_json::to_vec(&document).unwrap(),
-    );
+    edit(&mut document);
+    write(dir, "lift.gltf", &serde_json::to_vec(&document).unwrap())
+}
+
+/// `--animation-time` poses the scene by its animation (here one lifting the glowing quad from
+/// y = 0 to 3 over a second): `info` sees it half way up; a name that names no animation, or
+/// a file without animations, is refused in one line, leaving no file.
+#[test]
+fn animation_times_pose_the_scene_or_are_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let lifted = lifted_quad_scene(dir.path(), |_| {});
+    let still = dir.path().join("lit.gltf");
     let info = |scene: &std::path::Path, extra: &[&str]| {
         let mut args = vec!["info", scene.to_str().unwrap(), "--json"];
         args.extend(extra);
@@ -388,6 +395,99 @@ fn animation_times_pose_the_scene_or_are_refused_in_one_line() {
     assert_clean_error(&wrong, "no animation \"walk\" (the file has 0 \"lift\")");
     assert_clean_error(&render(&still, &["--animation-time", "1"]), "no animations");
     assert_no_files_but(dir.path(), &["lift.gltf", "lit.gltf"]);
+}
+
+/// `--frames 1-2 --fps 2` renders the lifted quad at 0.5 s and 1 s, seen from a camera above
+/// it looking down: `seq-0001.png` is byte for byte the render with `--animation-time 0.5`
+/// (the glowing quad fills the view), `seq-0002.png` the one at 1 s (the quad has risen past
+/// the camera: black), each with its own `--stats`; bad frame lists and a checkpoint are
+/// refused in one line, leaving no file.
+#[test]
+fn frames_render_an_animation_frame_by_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let lifted = lifted_quad_scene(dir.path(), |document| {
+        document["cameras"] = json!([{ "type": "perspective",
+            "perspective": { "yfov": 0.8, "znear": 0.01 } }]);
+        // At (0.5, 2, 0.5), turned −90° about x: looking down −y onto the quad.
+        let camera = json!({ "camera": 0, "translation": [0.5, 2.0, 0.5],
+            "rotation": [-std::f32::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f32::consts::FRAC_1_SQRT_2] });
+        document["nodes"].as_array_mut().unwrap().push(camera);
+        document["scenes"][0]["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!(1));
+    });
+    let sequence = dir.path().join("seq.png");
+    let stats = dir.path().join("seq.json");
+    let stats_arg = ["--stats", stats.to_str().unwrap()];
+    let frames = ["--frames", "1-2", "--fps", "2"];
+    assert_succeeded(&render_small(
+        &lifted,
+        &sequence,
+        &[&frames[..], &stats_arg].concat(),
+    ));
+    let single = dir.path().join("single.png");
+    assert_succeeded(&render_small(
+        &lifted,
+        &single,
+        &["--animation-time", "0.5"],
+    ));
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("seq-0001.png"), read("single.png"));
+    assert_ne!(read("seq-0001.png"), read("seq-0002.png"));
+    let radiance = |name: &str| {
+        let json: serde_json::Value = serde_json::from_slice(&read(name)).unwrap();
+        json["mean_radiance"][0].as_f64().unwrap()
+    };
+    assert!(
+        radiance("seq-0001.json") > 0.5,
+        "the quad fills the view at 0.5 s"
+    );
+    assert_eq!(radiance("seq-0002.json"), 0.0, "and has left it at 1 s");
+    assert_no_files_but(
+        dir.path(),
+        &[
+            "lift.gltf",
+            "lit.gltf",
+            "seq-0001.json",
+            "seq-0001.png",
+            "seq-0002.json",
+            "seq-0002.png",
+            "single.png",
+        ],
+    );
+
+    let out = dir.path().join("bad.png");
+    let refused = |more: &[&str], words: &str| {
+        assert_clean_error(&render_small(&lifted, &out, more), words);
+    };
+    // Malformed or conflicting frames are usage errors from the argument parser (exit 2).
+    for (more, words) in [
+        (&["--frames", "3-1"][..], "comes before"),
+        (&["--frames", "1-x"], "not a frame number"),
+        (
+            &["--frames", "1-2", "--animation-time", "1"],
+            "cannot be used with",
+        ),
+        (&["--fps", "30"], "--frames"),
+    ] {
+        let output = render_small(&lifted, &out, more);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{more:?}: {stderr}");
+        assert!(stderr.contains(words), "{more:?}: {stderr}");
+    }
+    let checkpoint = dir.path().join("bad.ckpt");
+    refused(
+        &[
+            "--frames",
+            "1-2",
+            "--checkpoint",
+            checkpoint.to_str().unwrap(),
+        ],
+        "--checkpoint and --resume are for one image",
+    );
+    refused(&["--frames", "0", "--fps", "0"], "--fps must be a positive");
+    assert!(!out.exists() && !checkpoint.exists());
 }
 
 #[test]

@@ -2,6 +2,7 @@
 
 mod bench;
 mod diff;
+pub mod frames;
 pub mod info;
 pub mod intermediates;
 mod path_render;

@@ -107,9 +107,17 @@ fn eye_every_on_cpu_cores(pixels: u64, slots: u32) -> u32 {
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let budget = budget(args)?;
     // Installed first, so that a Ctrl-C while the scene loads already counts.
     let stop = stop_on_ctrl_c();
+    match args.frames {
+        Some(frames) => super::frames::run(args, frames, stop),
+        None => run_until(args, stop),
+    }
+}
+
+/// One image of `args`, the render ending early once `stop` is set.
+pub(super) fn run_until(args: &RenderArgs, stop: Arc<AtomicBool>) -> anyhow::Result<()> {
+    let budget = budget(args)?;
     // Fail on a bad output or checkpoint path, or an unreadable checkpoint, before any work.
     let output = Output::create_with(&args.output, args.exr_precision)?;
     let components = args

@@ -78,7 +78,7 @@ impl Snapshot {
         for ((name, words), want) in self.parts().into_iter().zip(expected) {
             if words.len() != want {
                 return Err(BackendError::Device(format!(
-                    "the checkpoint's {name} hold {} words, this render's {want}: it was made with other settings or another backend",
+                    "the checkpoint's {name} hold {} words, this render's {want}: it was made with other settings, another backend or another version of kousen",
                     words.len()
                 )));
             }

@@ -608,6 +608,10 @@ pub struct RenderArgs {
     /// Frames per second of --frames.
     #[arg(long, value_name = "N", default_value_t = 24.0, requires = "frames")]
     pub fps: f32,
+    /// With --frames: leave out the frames whose image is already there (a sequence stopped
+    /// part way goes on where it stopped).
+    #[arg(long, requires = "frames")]
+    pub skip_existing: bool,
     #[command(flatten)]
     pub added_lights: AddedLightArgs,
     #[command(flatten)]

@@ -444,6 +444,15 @@ fn frames_render_an_animation_frame_by_frame() {
         "the quad fills the view at 0.5 s"
     );
     assert_eq!(radiance("seq-0002.json"), 0.0, "and has left it at 1 s");
+    // --skip-existing renders only the frames missing: frame 2's image, removed, comes back
+    // as it was; frame 1's, replaced by another file, stays that file.
+    let second = read("seq-0002.png");
+    std::fs::remove_file(dir.path().join("seq-0002.png")).unwrap();
+    std::fs::write(dir.path().join("seq-0001.png"), b"kept").unwrap();
+    let skipping = [&frames[..], &stats_arg, &["--skip-existing"]].concat();
+    assert_succeeded(&render_small(&lifted, &sequence, &skipping));
+    assert_eq!(read("seq-0002.png"), second);
+    assert_eq!(read("seq-0001.png"), b"kept");
     assert_no_files_but(
         dir.path(),
         &[

@@ -60,16 +60,25 @@ pub fn run(args: &RenderArgs, frames: FrameRange, stop: Arc<AtomicBool>) -> anyh
     }
     if args.checkpoint.is_some() || args.resume.is_some() {
         bail!(
-            "--checkpoint and --resume are for one image, not --frames (a sequence stopped part way continues with --frames from the next frame)"
+            "--checkpoint and --resume are for one image, not --frames (a sequence stopped part way goes on with --skip-existing)"
         );
     }
     let count = frames.last - frames.first + 1;
     for (k, frame) in (frames.first..=frames.last).enumerate() {
         let seconds = frame as f32 / args.fps;
+        let output = frames.path_of(&args.output, frame);
+        // Images are written whole or not at all, so one that is there is finished.
+        if args.skip_existing && output.exists() {
+            eprintln!(
+                "kousen: frame {frame}: {} is there, left out",
+                output.display()
+            );
+            continue;
+        }
         let mut one = args.clone();
         one.frames = None;
         one.load.animation_time = Some(seconds);
-        one.output = frames.path_of(&args.output, frame);
+        one.output = output;
         one.stats = (args.stats.as_deref()).map(|stats| frames.path_of(stats, frame));
         eprintln!(
             "kousen: frame {frame} ({} of {count}, {seconds:.3} s) → {}",

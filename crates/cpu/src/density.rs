@@ -222,7 +222,7 @@ mod tests {
             hash_size: 300,
             ..SppmParams::default()
         };
-        let counters: Vec<AtomicU32> = initial_counters(0.05, 0.05)
+        let counters: Vec<AtomicU32> = initial_counters(0.05, 0.05, 0.05)
             .into_iter()
             .map(AtomicU32::new)
             .collect();
@@ -281,6 +281,7 @@ mod tests {
                 radius: 0.05,
                 caustic_radius: 0.03,
                 cell_size,
+                caustic_cell_size: cell_size,
             };
             let sum = full_query(&params, &hash, &offsets, &order, &photons, &query);
             assert_eq!(

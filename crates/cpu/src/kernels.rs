@@ -15,6 +15,7 @@ use render::clearcoat::clearcoat_transmittance;
 use render::direct::{shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
+use render::hash::{caustic_apart, class_is_caustic};
 use render::hash::{
     cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
     grid_salt, lies_in, photon_class, priority, query_entries, volume_query_entries,
@@ -1309,11 +1310,22 @@ fn photon_key(
 }
 
 /// The class-0 table entry of a stored photon's cell this pass: in the volume photons' grid for
-/// a volume photon (`render::hash`), else in the surfaces'.
+/// a volume photon (`render::hash`), in the caustic photons' for a caustic one where they are
+/// kept apart (`render::hash::caustic_apart`), else in the surfaces'.
 pub fn photon_entry(params: &SppmParams, counters: &[AtomicU32], photon: &Photon) -> u32 {
     let volume = is_volume(photon.normal);
-    let cell = cell_of(vec3(photon.position), cell_size_of(counters, volume));
+    let cell_size = if caustic_apart(params.hash_classes()) && is_caustic(photon.normal) {
+        caustic_cell_size_of(counters)
+    } else {
+        cell_size_of(counters, volume)
+    };
+    let cell = cell_of(vec3(photon.position), cell_size);
     entry_of(cell, grid_salt(volume), params.hash_size)
+}
+
+/// This pass's cell size of the caustic photons' own grid.
+fn caustic_cell_size_of(counters: &[AtomicU32]) -> f32 {
+    f32::from_bits(counters[counter::CAUSTIC_CELL_SIZE].load(Relaxed))
 }
 
 /// This pass's cell size of the volume photons' grid (`volume`) or the surfaces'.
@@ -1353,6 +1365,9 @@ pub struct GatherQuery {
     pub caustic_radius: f32,
     /// The size of the cells it reads: the volume photons' grid's for a volume visible point.
     pub cell_size: f32,
+    /// The size of the caustic photons' own cells, where they have them
+    /// (`render::hash::caustic_apart`).
+    pub caustic_cell_size: f32,
     /// For a visible point inside murky glass, what it gathers instead: the volume photons.
     pub volume: Option<VolumeQuery>,
 }
@@ -1452,40 +1467,94 @@ pub fn stochastic_query(
     if query.volume.is_some() {
         let (position, radius, cell_size) = (query.position, query.reach(), query.cell_size);
         for (cell, entry) in volume_query_entries(position, radius, cell_size, params.hash_size) {
-            add_kept_photons(&mut sum, params, hash, photons, query, entry, |photon| {
-                lies_in(vec3(photon.position), cell, cell_size)
-            });
+            let in_cell = |photon: &Photon| lies_in(vec3(photon.position), cell, cell_size);
+            add_kept_photons(
+                &mut sum,
+                (params, hash, photons),
+                query,
+                entry,
+                (Kinds::All, in_cell),
+            );
         }
         return sum;
     }
-    let (entries, count) = query_entries(
-        query.position,
-        query.reach(),
-        query.grid(),
-        params.hash_size,
-    );
-    for &entry in &entries[..count] {
-        add_kept_photons(&mut sum, params, hash, photons, query, entry, |_| true);
+    if !caustic_apart(params.hash_classes()) {
+        let (entries, count) = query_entries(
+            query.position,
+            query.reach(),
+            query.grid(),
+            params.hash_size,
+        );
+        for &entry in &entries[..count] {
+            add_kept_photons(
+                &mut sum,
+                (params, hash, photons),
+                query,
+                entry,
+                (Kinds::All, |_| true),
+            );
+        }
+        return sum;
+    }
+    // The other photons in the surfaces' grid, the caustic ones in their own.
+    let salt = grid_salt(false);
+    for (radius, cell_size, kinds) in [
+        (query.radius, query.cell_size, Kinds::NotCaustic),
+        (
+            query.caustic_radius,
+            query.caustic_cell_size,
+            Kinds::Caustic,
+        ),
+    ] {
+        let (entries, count) =
+            query_entries(query.position, radius, (cell_size, salt), params.hash_size);
+        for &entry in &entries[..count] {
+            add_kept_photons(
+                &mut sum,
+                (params, hash, photons),
+                query,
+                entry,
+                (kinds, |_| true),
+            );
+        }
     }
     sum
 }
 
+/// Which photon classes a read of a table entry takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kinds {
+    All,
+    /// Those of the surfaces' grid where caustic photons have their own.
+    NotCaustic,
+    Caustic,
+}
+
+impl Kinds {
+    fn take(self, class: u32, classes: u32) -> bool {
+        match self {
+            Kinds::All => true,
+            Kinds::NotCaustic => !class_is_caustic(class, classes),
+            Kinds::Caustic => class_is_caustic(class, classes),
+        }
+    }
+}
+
 /// Adds the photons table entry `entry` keeps, in class 0's table and in each other class's its
-/// count word marks, each weighted by its class's count there, where `counts` accepts it.
+/// count word marks, each weighted by its class's count there, of the classes `kinds` takes
+/// and where `counts` accepts the photon.
 fn add_kept_photons(
     sum: &mut GatherSum,
-    params: &SppmParams,
-    hash: &[AtomicU32],
-    photons: &[Photon],
+    (params, hash, photons): (&SppmParams, &[AtomicU32], &[Photon]),
     query: &GatherQuery,
     entry: u32,
-    counts: impl Fn(&Photon) -> bool,
+    (kinds, counts): (Kinds, impl Fn(&Photon) -> bool),
 ) {
     let classes = params.hash_classes();
     // Class 0's count, and the other classes' marks above it.
     let count_word = hash[entry as usize * HASH_ENTRY_WORDS + hash_word::COUNT].load(Relaxed);
     for class in 0..classes {
-        if class > 0 && count_word & class_mark(class) == 0 {
+        if class > 0 && count_word & class_mark(class) == 0 || !kinds.take(class, classes) {
             continue;
         }
         let word = class_entry(entry, class, params.hash_size) as usize * HASH_ENTRY_WORDS;
@@ -1523,11 +1592,14 @@ pub fn gather_with(
 }
 
 /// One pixel's radii that have met photons, as bits (0 for none; positive floats order as
-/// their bits do): the larger of its indirect and caustic radii on surfaces, and its volume
-/// photons' radius, each sizing its own grid's cells next pass (`render::hash`).
+/// their bits do), each sizing its own grid's cells next pass (`render::hash`): on surfaces
+/// its indirect radius, and its caustic radius where caustic photons have their own grid
+/// (`render::hash::caustic_apart`; else the larger of the two on surfaces); its volume
+/// photons' radius.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LitRadii {
     pub surfaces: u32,
+    pub caustic: u32,
     pub volume: u32,
 }
 
@@ -1536,17 +1608,19 @@ impl LitRadii {
     pub fn max(self, other: LitRadii) -> LitRadii {
         LitRadii {
             surfaces: self.surfaces.max(other.surfaces),
+            caustic: self.caustic.max(other.caustic),
             volume: self.volume.max(other.volume),
         }
     }
 }
 
-/// Many pixels' [`LitRadii`]: the largest of each, and the surface radii counted by bucket
-/// (`render::radius_histogram`), which [`finish_pass`] sizes the next cells by.
+/// Many pixels' [`LitRadii`]: the largest of each, and the surface and caustic radii counted
+/// by bucket (`render::radius_histogram`), which [`finish_pass`] sizes the next cells by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LitSummary {
     pub largest: LitRadii,
     pub histogram: [u32; RADIUS_BUCKETS],
+    pub caustic_histogram: [u32; RADIUS_BUCKETS],
 }
 
 impl Default for LitSummary {
@@ -1554,16 +1628,22 @@ impl Default for LitSummary {
         LitSummary {
             largest: LitRadii::default(),
             histogram: [0; RADIUS_BUCKETS],
+            caustic_histogram: [0; RADIUS_BUCKETS],
         }
     }
 }
 
 impl LitSummary {
-    /// With one pixel's radii, `served` being the largest radius this pass's cells serve.
-    pub fn add(mut self, lit: LitRadii, served: f32) -> LitSummary {
+    /// With one pixel's radii, `served` being the largest radii this pass's surface and
+    /// caustic cells serve ([`served_largest`]).
+    pub fn add(mut self, lit: LitRadii, served: (f32, f32)) -> LitSummary {
         self.largest = self.largest.max(lit);
         if lit.surfaces != 0 {
-            self.histogram[radius_bucket(f32::from_bits(lit.surfaces), served) as usize] += 1;
+            self.histogram[radius_bucket(f32::from_bits(lit.surfaces), served.0) as usize] += 1;
+        }
+        if lit.caustic != 0 {
+            let bucket = radius_bucket(f32::from_bits(lit.caustic), served.1);
+            self.caustic_histogram[bucket as usize] += 1;
         }
         self
     }
@@ -1574,25 +1654,41 @@ impl LitSummary {
         for (count, more) in self.histogram.iter_mut().zip(other.histogram) {
             *count += more;
         }
+        for (count, more) in self
+            .caustic_histogram
+            .iter_mut()
+            .zip(other.caustic_histogram)
+        {
+            *count += more;
+        }
         self
     }
 
-    /// Offers them to the pass's maxima and histogram (one atomic a word, as the kernels'
+    /// Offers them to the pass's maxima and histograms (one atomic a word, as the kernels'
     /// pixels each offer theirs).
     pub fn offer(self, counters: &[AtomicU32]) {
         counters[counter::MAX_RADIUS].fetch_max(self.largest.surfaces, Relaxed);
+        counters[counter::CAUSTIC_MAX_RADIUS].fetch_max(self.largest.caustic, Relaxed);
         counters[counter::VOLUME_MAX_RADIUS].fetch_max(self.largest.volume, Relaxed);
-        for (bucket, &count) in self.histogram.iter().enumerate() {
-            if count > 0 {
-                counters[counter::RADIUS_HISTOGRAM + bucket].fetch_add(count, Relaxed);
+        for (start, histogram) in [
+            (counter::RADIUS_HISTOGRAM, &self.histogram),
+            (counter::CAUSTIC_RADIUS_HISTOGRAM, &self.caustic_histogram),
+        ] {
+            for (bucket, &count) in histogram.iter().enumerate() {
+                if count > 0 {
+                    counters[start + bucket].fetch_add(count, Relaxed);
+                }
             }
         }
     }
 }
 
-/// The largest radius this pass's surface cells serve.
-pub fn served_largest(counters: &[AtomicU32]) -> f32 {
-    grid_largest_radius(cell_size_of(counters, false), false)
+/// The largest radii this pass's surface cells and caustic cells serve.
+pub fn served_largest(counters: &[AtomicU32]) -> (f32, f32) {
+    (
+        grid_largest_radius(cell_size_of(counters, false), false),
+        grid_largest_radius(caustic_cell_size_of(counters), false),
+    )
 }
 
 /// [`gather_with`] without its atomics: the new statistics, and the radii that have met
@@ -1606,6 +1702,8 @@ pub fn gather_update(
 ) -> (PixelStats, LitRadii) {
     let cell_size = cell_size_of(counters, false);
     let volume_cell_size = cell_size_of(counters, true);
+    let caustic_cell_size = caustic_cell_size_of(counters);
+    let apart = caustic_apart(params.hash_classes());
     // A pixel whose radius is larger than the cells allow (one that has not met a photon
     // while the lit pixels shrank the cells) shrinks to fit, its flux scaled with the area.
     let largest = grid_largest_radius(cell_size, false);
@@ -1613,7 +1711,11 @@ pub fn gather_update(
     shrink_to_fit(
         &mut stats.caustic_tau,
         &mut stats.caustic_radius,
-        largest,
+        if apart {
+            grid_largest_radius(caustic_cell_size, false)
+        } else {
+            largest
+        },
         AREA,
     );
     shrink_to_fit(
@@ -1646,6 +1748,7 @@ pub fn gather_update(
         } else {
             cell_size
         },
+        caustic_cell_size,
         volume,
     });
     let weight = vec3(visible_point.weight);
@@ -1678,9 +1781,15 @@ pub fn gather_update(
     // initial radius for ever, and one photon kept per cell would then serve ever more
     // pixels.
     let lit = |count: f32, radius: f32| if count > 0.0 { radius.to_bits() } else { 0 };
+    let indirect = lit(stats.photon_count, stats.radius);
+    let caustic = lit(stats.caustic_count, stats.caustic_radius);
     let lit_radii = LitRadii {
-        surfaces: lit(stats.photon_count, stats.radius)
-            .max(lit(stats.caustic_count, stats.caustic_radius)),
+        surfaces: if apart {
+            indirect
+        } else {
+            indirect.max(caustic)
+        },
+        caustic: if apart { caustic } else { 0 },
         volume: lit(stats.volume_count, stats.volume_radius),
     };
     (stats, lit_radii)
@@ -1740,17 +1849,28 @@ pub fn finish_pass(params: &SppmParams, counters: &[AtomicU32]) {
     counters[counter::EMITTED_LO].store(sum, Relaxed);
     counters[counter::EMITTED_HI].fetch_add(carry as u32, Relaxed);
     // No pixel has met a photon yet: the cells stay as they are. Each grid by its own radii.
-    let histogram: [u32; RADIUS_BUCKETS] =
-        std::array::from_fn(|b| counters[counter::RADIUS_HISTOGRAM + b].swap(0, Relaxed));
-    let largest_lit = f32::from_bits(counters[counter::MAX_RADIUS].swap(0, Relaxed));
-    let served = served_radius(
-        &histogram,
-        params.shrunk_tenths,
-        served_largest(counters),
-        largest_lit,
-    );
-    if let Some(radius) = served {
-        counters[counter::CELL_SIZE].store(grid_cell_size(radius, false).to_bits(), Relaxed);
+    let largest = served_largest(counters);
+    for (histogram, max, cells, largest) in [
+        (
+            counter::RADIUS_HISTOGRAM,
+            counter::MAX_RADIUS,
+            counter::CELL_SIZE,
+            largest.0,
+        ),
+        (
+            counter::CAUSTIC_RADIUS_HISTOGRAM,
+            counter::CAUSTIC_MAX_RADIUS,
+            counter::CAUSTIC_CELL_SIZE,
+            largest.1,
+        ),
+    ] {
+        let counts: [u32; RADIUS_BUCKETS] =
+            std::array::from_fn(|b| counters[histogram + b].swap(0, Relaxed));
+        let largest_lit = f32::from_bits(counters[max].swap(0, Relaxed));
+        let served = served_radius(&counts, params.shrunk_tenths, largest, largest_lit);
+        if let Some(radius) = served {
+            counters[cells].store(grid_cell_size(radius, false).to_bits(), Relaxed);
+        }
     }
     let volume_radius = f32::from_bits(counters[counter::VOLUME_MAX_RADIUS].swap(0, Relaxed));
     if volume_radius > 0.0 {

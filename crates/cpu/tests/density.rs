@@ -161,6 +161,7 @@ fn full_hash_and_kd_tree_find_exactly_the_photons_in_the_sphere() {
             radius,
             caustic_radius,
             cell_size: full.cell_size,
+            caustic_cell_size: full.cell_size,
         };
         let listed = full_query(
             &full.params,

@@ -30,6 +30,8 @@ impl Table {
     fn with_classes(hash_size: u32, seed: u32, cell: f32, alpha: f32, classes: u32) -> Table {
         let counters: Vec<AtomicU32> = (0..counter::COUNT).map(|_| AtomicU32::new(0)).collect();
         counters[counter::CELL_SIZE].store(cell.to_bits(), Relaxed);
+        // Caustic photons, where classes keep them apart, in a grid of their own: here alike.
+        counters[counter::CAUSTIC_CELL_SIZE].store(cell.to_bits(), Relaxed);
         Table {
             params: SppmParams {
                 hash_size,
@@ -423,6 +425,7 @@ fn the_volume_gather_estimate_is_unbiased_where_cells_share_entries() {
         radius,
         caustic_radius: radius,
         cell_size: cell,
+        caustic_cell_size: cell,
         volume: Some(VolumeQuery {
             direction: Vec3::Z,
             anisotropy: 0.6,
@@ -488,8 +491,11 @@ fn the_next_cells_serve_all_lit_radii_or_all_but_the_largest_tenths() {
         let summary = |part: &[f32]| {
             part.iter()
                 .fold(cpu::kernels::LitSummary::default(), |s, &r| {
+                    // The caustic photons' own grid, whose cells start alike, takes the
+                    // same radii and must come to the same size.
                     let lit = cpu::kernels::LitRadii {
                         surfaces: r.to_bits(),
+                        caustic: r.to_bits(),
                         volume: 0,
                     };
                     s.add(lit, served)
@@ -498,11 +504,15 @@ fn the_next_cells_serve_all_lit_radii_or_all_but_the_largest_tenths() {
         summary(first).merge(summary(second)).offer(&table.counters);
         cpu::kernels::finish_pass(&params, &table.counters);
         let cell = f32::from_bits(table.counters[counter::CELL_SIZE].load(Relaxed));
-        assert!(
-            (counter::RADIUS_HISTOGRAM..counter::COUNT)
-                .all(|i| table.counters[i].load(Relaxed) == 0),
-            "the histogram is cleared for the next pass"
-        );
+        let caustic_cell = table.counters[counter::CAUSTIC_CELL_SIZE].load(Relaxed);
+        assert_eq!(caustic_cell, cell.to_bits());
+        let buckets = render::radius_histogram::RADIUS_BUCKETS;
+        for start in [counter::RADIUS_HISTOGRAM, counter::CAUSTIC_RADIUS_HISTOGRAM] {
+            assert!(
+                (start..start + buckets).all(|i| table.counters[i].load(Relaxed) == 0),
+                "the histograms are cleared for the next pass"
+            );
+        }
         let mut sorted = radii.clone();
         sorted.sort_by(f32::total_cmp);
         let largest_lit = sorted[999];

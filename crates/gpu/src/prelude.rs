@@ -144,6 +144,18 @@ pub fn constants() -> Vec<(&'static str, Value)> {
             U32(counter::RADIUS_HISTOGRAM as u32),
         ),
         (
+            "COUNTER_CAUSTIC_MAX_RADIUS",
+            U32(counter::CAUSTIC_MAX_RADIUS as u32),
+        ),
+        (
+            "COUNTER_CAUSTIC_CELL_SIZE",
+            U32(counter::CAUSTIC_CELL_SIZE as u32),
+        ),
+        (
+            "COUNTER_CAUSTIC_RADIUS_HISTOGRAM",
+            U32(counter::CAUSTIC_RADIUS_HISTOGRAM as u32),
+        ),
+        (
             "RADIUS_BUCKETS",
             U32(render::radius_histogram::RADIUS_BUCKETS as u32),
         ),

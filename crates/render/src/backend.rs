@@ -38,7 +38,11 @@ impl Setup {
     /// surfaces, and the volume photons' by theirs.
     pub fn initial_counters(&self) -> [u32; crate::buffers::counter::COUNT] {
         let largest = self.initial_radius.max(self.initial_caustic_radius);
-        crate::buffers::initial_counters(largest, self.initial_volume_radius)
+        crate::buffers::initial_counters(
+            largest,
+            self.initial_caustic_radius,
+            self.initial_volume_radius,
+        )
     }
 }
 

@@ -347,7 +347,14 @@ pub mod counter {
     /// The pass's lit surface radii counted by bucket (`crate::radius_histogram`), then
     /// read and cleared by `finish_pass`.
     pub const RADIUS_HISTOGRAM: usize = 8;
-    pub const COUNT: usize = RADIUS_HISTOGRAM + crate::radius_histogram::RADIUS_BUCKETS;
+    /// The caustic photons' own grid, where the stochastic hash keeps them apart
+    /// (`crate::hash::caustic_apart`): their largest lit radius, their cells' size and their
+    /// radii's histogram, as the surfaces' above (which then serve the indirect radii only).
+    pub const CAUSTIC_MAX_RADIUS: usize =
+        RADIUS_HISTOGRAM + crate::radius_histogram::RADIUS_BUCKETS;
+    pub const CAUSTIC_CELL_SIZE: usize = CAUSTIC_MAX_RADIUS + 1;
+    pub const CAUSTIC_RADIUS_HISTOGRAM: usize = CAUSTIC_CELL_SIZE + 1;
+    pub const COUNT: usize = CAUSTIC_RADIUS_HISTOGRAM + crate::radius_histogram::RADIUS_BUCKETS;
 }
 
 /// Words per hash entry: the kept photon's priority, the cell's photon count, the kept photon.
@@ -364,10 +371,17 @@ pub fn emitted_total(low: u32, high: u32) -> u64 {
 }
 
 /// The counters' starting values for a render whose largest gather radius on surfaces starts
-/// at `radius` and whose volume photons' at `volume_radius`.
-pub fn initial_counters(radius: f32, volume_radius: f32) -> [u32; counter::COUNT] {
+/// at `radius`, whose caustic photons' at `caustic_radius` (their own grid's, where they
+/// have one) and whose volume photons' at `volume_radius`.
+pub fn initial_counters(
+    radius: f32,
+    caustic_radius: f32,
+    volume_radius: f32,
+) -> [u32; counter::COUNT] {
     let mut counters = [0; counter::COUNT];
     counters[counter::CELL_SIZE] = crate::hash::grid_cell_size(radius, false).to_bits();
+    counters[counter::CAUSTIC_CELL_SIZE] =
+        crate::hash::grid_cell_size(caustic_radius, false).to_bits();
     counters[counter::VOLUME_CELL_SIZE] =
         crate::hash::grid_cell_size(volume_radius, true).to_bits();
     counters

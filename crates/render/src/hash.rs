@@ -150,6 +150,21 @@ fn hue_class(flux: [f32; 3]) -> u32 {
     }
 }
 
+/// Whether photon classes of `classes` ([`classes_for`]) keep caustic photons apart (2, or
+/// [`PHOTON_CLASSES`] with hues). Then they are hashed in a grid of their own, sized by the
+/// caustic radii, which start smaller than the indirect ones and stay so (cells sized for
+/// both made the caustic part's error a third higher, docs/BENCHMARKS.md §3, session 45), and
+/// a gather reads their classes there and the others in the surfaces' grid.
+pub fn caustic_apart(classes: u32) -> bool {
+    classes == 2 || classes == PHOTON_CLASSES
+}
+
+/// Whether class `class` of `classes` holds caustic photons ([`photon_class`]: the upper
+/// half where they are kept apart).
+pub fn class_is_caustic(class: u32, classes: u32) -> bool {
+    caustic_apart(classes) && class >= classes / 2
+}
+
 /// The entry of table `entry` in class `class`'s table (each `table_size` entries, class 0
 /// first).
 pub fn class_entry(entry: u32, class: u32, table_size: u32) -> u32 {

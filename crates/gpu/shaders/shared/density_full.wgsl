@@ -169,7 +169,7 @@ fn full_sort_lists(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
 
 // cpu::density::full_query_listed (the loops over entries and cells in density_grid.wgsl):
 // the photons entry `entry` lists (for a volume visible point those lying in `cell`).
-fn add_entry_photons(sum: ptr<function, GatherSum>, query: GatherQuery, entry: u32, cell: vec3<i32>, cell_size: f32) {
+fn add_entry_photons(sum: ptr<function, GatherSum>, query: GatherQuery, entry: u32, cell: vec3<i32>, cell_size: f32, kinds: u32) {
     let word = entry * HASH_ENTRY_WORDS;
     let start = list_start(word);
     let listed = atomicLoad(&hash[word + FULL_COUNT]);

@@ -15,21 +15,47 @@ fn density_query(query: GatherQuery, cell_size: f32) -> GatherSum {
                     let cell = vec3<i32>(x, y, z);
                     if cell_reaches(cell, query.position, query.volume_radius, cell_size) {
                         let entry = entry_of(cell, VOLUME_CELL_SALT, params.hash_size);
-                        add_entry_photons(&sum, query, entry, cell, cell_size);
+                        add_entry_photons(&sum, query, entry, cell, cell_size, KINDS_ALL);
                     }
                 }
             }
         }
         return sum;
     }
-    let touched = query_entries(query.position, reach(query), cell_size, query_salt(query));
+    if !caustic_apart(hash_classes()) {
+        let touched = query_entries(query.position, reach(query), cell_size, query_salt(query));
+        add_touched_photons(&sum, query, touched, KINDS_ALL);
+        return sum;
+    }
+    // cpu::kernels::stochastic_query: the other photons in the surfaces' grid, the caustic
+    // ones in their own.
+    let touched = query_entries(query.position, query.radius, cell_size, 0u);
+    add_touched_photons(&sum, query, touched, KINDS_NOT_CAUSTIC);
+    let caustic_touched = query_entries(query.position, query.caustic_radius, caustic_cell_size(), 0u);
+    add_touched_photons(&sum, query, caustic_touched, KINDS_CAUSTIC);
+    return sum;
+}
+
+// cpu::kernels::Kinds: which photon classes a read of a table entry takes.
+const KINDS_ALL: u32 = 0u;
+const KINDS_NOT_CAUSTIC: u32 = 1u;
+const KINDS_CAUSTIC: u32 = 2u;
+
+fn kinds_take(kinds: u32, photon_table: u32, classes: u32) -> bool {
+    if kinds == KINDS_ALL {
+        return true;
+    }
+    return class_is_caustic(photon_table, classes) == (kinds == KINDS_CAUSTIC);
+}
+
+// The photons of each entry a surface gather's box touches, of the classes `kinds` takes.
+fn add_touched_photons(sum: ptr<function, GatherSum>, query: GatherQuery, touched: QueryEntries, kinds: u32) {
     for (var slot = 0u; slot < 8u; slot += 1u) {
         let entry = query_entry(touched, slot);
         if entry != NO_CELL {
-            add_entry_photons(&sum, query, entry, vec3<i32>(0), cell_size);
+            add_entry_photons(sum, query, entry, vec3<i32>(0), 0.0, kinds);
         }
     }
-    return sum;
 }
 
 // Whether `photon` counts where a gather reads `cell`: for a volume visible point only in its

@@ -247,7 +247,11 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     let largest = grid_largest_radius(cell_size, false);
     var changed = false;
     var indirect = fitted(Estimate(stats.tau, stats.photon_count, stats.radius), largest, AREA, &changed);
-    var caustic = fitted(Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius), largest, AREA, &changed);
+    // Caustic photons kept apart have cells of their own (render::hash::caustic_apart).
+    let apart = caustic_apart(hash_classes());
+    let caustic_largest = grid_largest_radius(caustic_cell_size(), false);
+    let caustic_fit = select(largest, caustic_largest, apart);
+    var caustic = fitted(Estimate(stats.caustic_tau, stats.caustic_count, stats.caustic_radius), caustic_fit, AREA, &changed);
     // Without murky glass no volume photon is kept: τ stays 0 (not stored), R shrinks alone.
     var volume_tau = vec3<f32>(0.0);
     if MURKY_GLASS {
@@ -268,11 +272,17 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
         volume = updated(volume, sum.volume_found, volume_flux, params.alpha, VOLUME, &changed);
         // Lit radii size each grid's next cells (render::hash): the surfaces' by the pass's
         // histogram and largest, the volume photons' by their largest.
-        let surfaces = max(lit_bits(indirect), lit_bits(caustic));
+        let caustic_bits = lit_bits(caustic);
+        let surfaces = select(max(lit_bits(indirect), caustic_bits), lit_bits(indirect), apart);
         if surfaces != 0u {
             atomicMax(&counters[COUNTER_MAX_RADIUS], surfaces);
             let bucket = radius_bucket(bitcast<f32>(surfaces), largest);
             atomicAdd(&counters[COUNTER_RADIUS_HISTOGRAM + bucket], 1u);
+        }
+        if apart && caustic_bits != 0u {
+            atomicMax(&counters[COUNTER_CAUSTIC_MAX_RADIUS], caustic_bits);
+            let bucket = radius_bucket(bitcast<f32>(caustic_bits), caustic_largest);
+            atomicAdd(&counters[COUNTER_CAUSTIC_RADIUS_HISTOGRAM + bucket], 1u);
         }
         let volume_bits = lit_bits(volume);
         if volume_bits != 0u {
@@ -295,6 +305,39 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
     }
 }
 
+// render::radius_histogram::served_radius for the grid whose histogram starts at counter
+// `histogram`, whose largest lit radius is counter `max` and whose cells are `cell_size`: the
+// next cells' size, serving all but `shrunk_tenths` of the lit radii (the largest, where that
+// is 0); 0 where no pixel met a photon. The histogram and the largest are cleared.
+fn served_cell_size(histogram: u32, max: u32, cell_size: f32) -> f32 {
+    var total = 0u;
+    for (var b = 0u; b < RADIUS_BUCKETS; b++) {
+        total += atomicLoad(&counters[histogram + b]);
+    }
+    let largest_lit = bitcast<f32>(atomicExchange(&counters[max], 0u));
+    var size = 0.0;
+    if total > 0u && largest_lit > 0.0 {
+        // The count allowed above, as the twin's u64 product: total × tenths / 10 exactly.
+        let tenths = min(params.shrunk_tenths, 10u);
+        let above = (total / 10u) * tenths + ((total % 10u) * tenths) / 10u;
+        var counted = 0u;
+        var bucket = RADIUS_BUCKETS - 1u;
+        for (var b = 0u; b < RADIUS_BUCKETS; b++) {
+            counted += atomicLoad(&counters[histogram + b]);
+            if counted > above {
+                bucket = b;
+                break;
+            }
+        }
+        let served = min(bucket_top(bucket, grid_largest_radius(cell_size, false)), largest_lit);
+        size = grid_cell_size(served, false);
+    }
+    for (var b = 0u; b < RADIUS_BUCKETS; b++) {
+        atomicStore(&counters[histogram + b], 0u);
+    }
+    return size;
+}
+
 // One invocation: the pass's emitted paths into the 64-bit total, each grid's next cell size
 // from its largest radius, the pass counter advanced (cpu::kernels::finish_pass).
 @compute @workgroup_size(1)
@@ -304,31 +347,14 @@ fn finish_pass() {
     let sum = low + emitted;
     atomicStore(&counters[COUNTER_EMITTED_LO], sum);
     atomicAdd(&counters[COUNTER_EMITTED_HI], select(0u, 1u, sum < low));
-    // render::radius_histogram::served_radius: the surfaces' cells serve all but
-    // `shrunk_tenths` of the lit radii (the largest, where that is 0).
-    var total = 0u;
-    for (var b = 0u; b < RADIUS_BUCKETS; b++) {
-        total += atomicLoad(&counters[COUNTER_RADIUS_HISTOGRAM + b]);
+    // Each grid's cells by its own radii (cpu::kernels::finish_pass).
+    let surfaces = served_cell_size(COUNTER_RADIUS_HISTOGRAM, COUNTER_MAX_RADIUS, cell_size_of(false));
+    let caustic = served_cell_size(COUNTER_CAUSTIC_RADIUS_HISTOGRAM, COUNTER_CAUSTIC_MAX_RADIUS, caustic_cell_size());
+    if surfaces > 0.0 {
+        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(surfaces));
     }
-    let largest_lit = bitcast<f32>(atomicExchange(&counters[COUNTER_MAX_RADIUS], 0u));
-    if total > 0u && largest_lit > 0.0 {
-        // The count allowed above, as the twin's u64 product: total × tenths / 10 exactly.
-        let tenths = min(params.shrunk_tenths, 10u);
-        let above = (total / 10u) * tenths + ((total % 10u) * tenths) / 10u;
-        var counted = 0u;
-        var bucket = RADIUS_BUCKETS - 1u;
-        for (var b = 0u; b < RADIUS_BUCKETS; b++) {
-            counted += atomicLoad(&counters[COUNTER_RADIUS_HISTOGRAM + b]);
-            if counted > above {
-                bucket = b;
-                break;
-            }
-        }
-        let served = min(bucket_top(bucket, grid_largest_radius(cell_size_of(false), false)), largest_lit);
-        atomicStore(&counters[COUNTER_CELL_SIZE], bitcast<u32>(grid_cell_size(served, false)));
-    }
-    for (var b = 0u; b < RADIUS_BUCKETS; b++) {
-        atomicStore(&counters[COUNTER_RADIUS_HISTOGRAM + b], 0u);
+    if caustic > 0.0 {
+        atomicStore(&counters[COUNTER_CAUSTIC_CELL_SIZE], bitcast<u32>(caustic));
     }
     let volume_max_radius = bitcast<f32>(atomicExchange(&counters[COUNTER_VOLUME_MAX_RADIUS], 0u));
     if volume_max_radius > 0.0 {

@@ -45,6 +45,17 @@ fn photon_class(flux: vec3<f32>, caustic: bool) -> u32 {
     return hue + select(0u, hues, kinds > 1u && caustic);
 }
 
+// render::hash::caustic_apart: whether the classes keep caustic photons apart (2, or every hue
+// both ways), which then have a grid of their own.
+fn caustic_apart(classes: u32) -> bool {
+    return classes == 2u || classes == 2u * HUE_CLASSES;
+}
+
+// render::hash::class_is_caustic: the upper half of the classes where they are kept apart.
+fn class_is_caustic(photon_table: u32, classes: u32) -> bool {
+    return caustic_apart(classes) && photon_table >= classes / 2u;
+}
+
 // render::hash::hue_class: 1–3 for a photon with a channel of zero (its brightest channel, the
 // first of equals), 0 otherwise.
 fn hue_class(flux: vec3<f32>) -> u32 {
@@ -87,11 +98,21 @@ fn cell_size_of(volume: bool) -> f32 {
     return bitcast<f32>(atomicLoad(&counters[select(COUNTER_CELL_SIZE, COUNTER_VOLUME_CELL_SIZE, volume)]));
 }
 
+// cpu::kernels' caustic_cell_size_of: this pass's cell size of the caustic photons' own grid.
+fn caustic_cell_size() -> f32 {
+    return bitcast<f32>(atomicLoad(&counters[COUNTER_CAUSTIC_CELL_SIZE]));
+}
+
 // cpu::kernels::photon_entry: the class-0 entry of a stored photon's cell, in the volume
-// photons' grid for a volume photon.
+// photons' grid for a volume photon, in the caustic photons' for a caustic one where they are
+// kept apart.
 fn photon_entry_of(photon: Photon) -> u32 {
     let volume = MURKY_GLASS && is_volume(photon.normal);
-    return entry_of(cell_of(photon.position, cell_size_of(volume)), grid_salt(volume), params.hash_size);
+    var cell_size = cell_size_of(volume);
+    if caustic_apart(hash_classes()) && is_caustic(photon.normal) {
+        cell_size = caustic_cell_size();
+    }
+    return entry_of(cell_of(photon.position, cell_size), grid_salt(volume), params.hash_size);
 }
 
 // The table entry of the 2×2×2 block's cell `lo + d`, or NO_CELL where that cell lies past

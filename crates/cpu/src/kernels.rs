@@ -1478,36 +1478,25 @@ pub fn stochastic_query(
         }
         return sum;
     }
-    if !caustic_apart(params.hash_classes()) {
-        let (entries, count) = query_entries(
-            query.position,
-            query.reach(),
-            query.grid(),
-            params.hash_size,
-        );
-        for &entry in &entries[..count] {
-            add_kept_photons(
-                &mut sum,
-                (params, hash, photons),
-                query,
-                entry,
-                (Kinds::All, |_| true),
-            );
-        }
-        return sum;
-    }
-    // The other photons in the surfaces' grid, the caustic ones in their own.
-    let salt = grid_salt(false);
-    for (radius, cell_size, kinds) in [
+    // Every class in the surfaces' grid; or, where caustic photons have their own, the other
+    // classes there and the caustic ones in theirs.
+    let together = [(query.reach(), query.cell_size, Kinds::All)];
+    let apart = [
         (query.radius, query.cell_size, Kinds::NotCaustic),
         (
             query.caustic_radius,
             query.caustic_cell_size,
             Kinds::Caustic,
         ),
-    ] {
-        let (entries, count) =
-            query_entries(query.position, radius, (cell_size, salt), params.hash_size);
+    ];
+    let blocks: &[_] = if caustic_apart(params.hash_classes()) {
+        &apart
+    } else {
+        &together
+    };
+    for &(radius, cell_size, kinds) in blocks {
+        let grid = (cell_size, grid_salt(false));
+        let (entries, count) = query_entries(query.position, radius, grid, params.hash_size);
         for &entry in &entries[..count] {
             add_kept_photons(
                 &mut sum,

@@ -335,8 +335,9 @@ pub mod counter {
     pub const EMITTED_HI: usize = 2;
     /// Paths emitted by the pass in flight (folded into the total by `finish_pass`).
     pub const EMITTED_PASS: usize = 3;
-    /// Bits of the largest surface radius (indirect or caustic), after this pass's update, of
-    /// the pixels that have met photons (f32, positive, so u32 order; 0: none has).
+    /// Bits of the largest surface radius (indirect, and caustic where caustic photons share
+    /// the surfaces' grid), after this pass's update, of the pixels that have met photons
+    /// (f32, positive, so u32 order; 0: none has).
     pub const MAX_RADIUS: usize = 4;
     /// Bits of the hash cell size for this pass (f32).
     pub const CELL_SIZE: usize = 5;

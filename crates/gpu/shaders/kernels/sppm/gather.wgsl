@@ -270,8 +270,9 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
             volume_flux /= share_inside(point.pad, volume.radius);
         }
         volume = updated(volume, sum.volume_found, volume_flux, params.alpha, VOLUME, &changed);
-        // Lit radii size each grid's next cells (render::hash): the surfaces' by the pass's
-        // histogram and largest, the volume photons' by their largest.
+        // Lit radii size each grid's next cells (render::hash): the surfaces' and the caustic
+        // photons' (where they have their own) by the pass's histograms and largest, the volume
+        // photons' by their largest.
         let caustic_bits = lit_bits(caustic);
         let surfaces = select(max(lit_bits(indirect), caustic_bits), lit_bits(indirect), apart);
         if surfaces != 0u {
@@ -339,7 +340,8 @@ fn served_cell_size(histogram: u32, max: u32, cell_size: f32) -> f32 {
 }
 
 // One invocation: the pass's emitted paths into the 64-bit total, each grid's next cell size
-// from its largest radius, the pass counter advanced (cpu::kernels::finish_pass).
+// from its lit radii (served_cell_size; the volume photons' from their largest), the pass
+// counter advanced (cpu::kernels::finish_pass).
 @compute @workgroup_size(1)
 fn finish_pass() {
     let emitted = atomicExchange(&counters[COUNTER_EMITTED_PASS], 0u);

@@ -1340,7 +1340,8 @@ fn cell_size_of(counters: &[AtomicU32], volume: bool) -> f32 {
 
 /// Gather and update, one pixel: the visible point reads the hash entries its radius
 /// overlaps, weights each kept photon by its entry's count, and updates N, R and τ
-/// (DESIGN.md, "SPPM update"). Lit pixels then offer their radii to the pass's maxima and histograms.
+/// (DESIGN.md, "SPPM update"). Lit pixels then offer their radii to the pass's maxima and
+/// histograms.
 pub fn gather(
     params: &SppmParams,
     counters: &[AtomicU32],

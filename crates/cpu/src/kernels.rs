@@ -1641,15 +1641,13 @@ impl LitSummary {
     /// Both summaries' pixels.
     pub fn merge(mut self, other: LitSummary) -> LitSummary {
         self.largest = self.largest.max(other.largest);
-        for (count, more) in self.histogram.iter_mut().zip(other.histogram) {
-            *count += more;
-        }
-        for (count, more) in self
-            .caustic_histogram
-            .iter_mut()
-            .zip(other.caustic_histogram)
-        {
-            *count += more;
+        for (mine, theirs) in [
+            (&mut self.histogram, other.histogram),
+            (&mut self.caustic_histogram, other.caustic_histogram),
+        ] {
+            for (count, more) in mine.iter_mut().zip(theirs) {
+                *count += more;
+            }
         }
         self
     }

@@ -12,7 +12,7 @@
 //! update's own rule). The cells still serve every radius gathered with, as DESIGN.md asks.
 //! Measured (docs/BENCHMARKS.md §3, session 45): at equal passes the caustic and indirect
 //! parts' errors fall 5–20 %, the image's up to 9 %; one tenth gained about half as much,
-//! half of them traded indirect error for caustic.
+//! five tenths traded indirect error for caustic.
 //!
 //! The radii are counted in a histogram of buckets 1/8 octave wide below the largest radius
 //! the current cells serve (a float's exponent and top three mantissa bits), added to by

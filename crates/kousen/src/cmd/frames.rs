@@ -30,7 +30,7 @@ pub fn parse_frames(text: &str) -> Result<FrameRange, String> {
     };
     let (first, last) = match text.split_once('-') {
         Some((first, last)) => (number(first)?, number(last)?),
-        None => (number(text)?, number(text)?),
+        None => number(text).map(|frame| (frame, frame))?,
     };
     if last < first {
         return Err(format!(

@@ -660,9 +660,10 @@ impl GeneratedTangents {
 
     /// The tangent of `vertex` as a corner of `triangle` (zero: none).
     pub(super) fn at_corner(&self, triangle: usize, vertex: usize) -> Vec4 {
-        let [ccw, cw] = self.by_turn[vertex];
+        let tangents = self.by_turn[vertex];
+        let [ccw, cw] = tangents;
         match self.turn[triangle] {
-            Some(side) => self.by_turn[vertex][side as usize],
+            Some(side) => tangents[side as usize],
             None if ccw != Vec4::ZERO => ccw,
             None => cw,
         }

@@ -20,7 +20,7 @@ use render::hash::{
     cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
     grid_salt, lies_in, photon_class, priority, query_entries, volume_query_entries,
 };
-use render::iridescence::{Film, lobe_film_weight, metal_tint};
+use render::iridescence::{Film, coat_film_transmission, lobe_film_weight, metal_tint};
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
@@ -260,14 +260,15 @@ pub fn photon_pass_with<R: StreamRng>(
     // keeps the photon. Straight from the light it is direct light, which eye passes sample
     // themselves when `sample_lights` says so.
     let mut bounced = slot_bounced(slot.state) || scattered;
-    let base_share = match mapped_surface(&scene.materials[keeper as usize], texel) {
-        Surface::Diffuse => Some(1.0),
-        surface @ Surface::Plastic { .. } => Some(
-            scene
-                .coats
-                .at(keeper, surface)
-                .transmittance(direction.dot(hit.shading)),
-        ),
+    let keeper_material = &scene.materials[keeper as usize];
+    let base_share = match mapped_surface(keeper_material, texel) {
+        Surface::Diffuse => Some(Vec3::ONE),
+        surface @ Surface::Plastic { .. } => {
+            let coat = scene.coats.at(keeper, surface);
+            let cos = direction.dot(hit.shading);
+            let film = hit_film(scene, keeper_material, hit.uv);
+            Some(coat.transmittance(cos) * coat_film_transmission(film, coat.ior, cos))
+        }
         _ => None,
     };
     if let Some(share) = base_share
@@ -303,17 +304,20 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         surface @ Surface::Plastic { .. } => {
             let coat = scene.coats.at(hit.material, surface);
-            match plastic_bounce(&hit, direction, &coat, u_choice, u_direction) {
-                PlasticBounce::Coat(next) => (next, Vec3::ONE),
+            let film = hit_film(scene, material, hit.uv);
+            match plastic_bounce(&hit, direction, (&coat, film), u_choice, u_direction) {
+                PlasticBounce::Coat { next, tint } => (next, tint),
                 PlasticBounce::Base(weight) => {
                     bounced = true;
                     let side_tint;
                     (out, side_tint) = lambertian(tint);
                     let next = diffuse_bounce(&out, u_direction);
                     // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
-                    let leaving =
-                        next.map_or(0.0, |(next, _)| coat.transmittance(next.dot(out.shading)));
-                    (next, side_tint * (coat.diffuse_scale * leaving * weight))
+                    let leaving = next.map_or(Vec3::ZERO, |(next, _)| {
+                        let cos = next.dot(out.shading);
+                        coat.transmittance(cos) * coat_film_transmission(film, coat.ior, cos)
+                    });
+                    (next, side_tint * leaving * weight * coat.diffuse_scale)
                 }
             }
         }
@@ -777,7 +781,7 @@ fn eye_path(
         let material: &Material = &member;
         let tint = base_color(scene, material, hit.uv).max(Vec3::ZERO);
         let u = rng.next_f32();
-        let mut base_weight = 1.0;
+        let mut base_weight = Vec3::ONE;
         // The lobes a light sample here serves: a glossy one (rough metal, a rough coat,
         // frosted glass's reflection)
         // always, the Lambertian one where the path ends on it (below).
@@ -792,7 +796,9 @@ fn eye_path(
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
                 let coat = scene.coats.at(hit.material, material.surface);
+                let film = hit_film(scene, material, hit.uv);
                 lit.coat = Some(coat);
+                lit.dielectric_film = film;
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
                     lit.glossy = throughput;
@@ -801,12 +807,12 @@ fn eye_path(
                 } else {
                     [0.0; 2]
                 };
-                match plastic_bounce(&hit, direction, &coat, u, u_micro) {
+                match plastic_bounce(&hit, direction, (&coat, film), u, u_micro) {
                     PlasticBounce::Base(weight) => {
                         base_weight = weight;
                         None
                     }
-                    PlasticBounce::Coat(next) => Some((next, Vec3::ONE)),
+                    PlasticBounce::Coat { next, tint } => Some((next, tint)),
                 }
             }
             _ => {
@@ -854,7 +860,7 @@ fn eye_path(
                 } = surface
                 {
                     lit.glossy = throughput * tint;
-                    lit.glass_film = film;
+                    lit.dielectric_film = film;
                     lit.lobe = if hit.front {
                         GlossyLobe::reflection(alpha, ior)
                     } else {
@@ -871,7 +877,7 @@ fn eye_path(
                 } = surface
                 {
                     lit.glossy = throughput * tint;
-                    lit.glass_film = film;
+                    lit.dielectric_film = film;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
                 let next =
@@ -906,7 +912,7 @@ fn eye_path(
                 None => (hit, tint),
             };
             let scale = lit.coat.map_or(1.0, |coat| coat.diffuse_scale);
-            let weight = throughput * tint * (scale * base_weight * FRAC_1_PI);
+            let weight = throughput * tint * base_weight * (scale * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
                     position: hit.position.to_array(),
@@ -1046,9 +1052,11 @@ pub struct LitLobes {
     /// A metal's colour and the thin film on it, where it has one (`glossy` then leaves the
     /// colour out: the film's depends on the light's direction).
     pub metal_film: Option<(Vec3, Film)>,
-    /// The thin film on frosted glass, whose share of the lobe's way depends on the light's
-    /// direction (`render::iridescence::lobe_film_weight`; factor 0: none).
-    pub glass_film: Film,
+    /// The thin film on a dielectric, whose share of each way depends on the light's
+    /// direction (factor 0: none): on frosted glass its lobe's (`render::iridescence::
+    /// lobe_film_weight`), on plastic its rough coat's reflection (the same) and its coat's
+    /// transmittance to the base (`coat_film_transmission`).
+    pub dielectric_film: Film,
 }
 
 impl LitLobes {
@@ -1062,8 +1070,11 @@ impl LitLobes {
         let cosine = incident.dot(hit.shading);
         let mut response = Vec3::ZERO;
         if self.diffuse.max_element() > 0.0 {
-            let coat = self.coat.map_or(1.0, |coat| coat.transmittance(cosine));
-            response += self.diffuse * (cosine * coat);
+            let coat = self.coat.map_or(Vec3::ONE, |coat| {
+                let film = coat_film_transmission(self.dielectric_film, coat.ior, cosine);
+                coat.transmittance(cosine) * film
+            });
+            response += self.diffuse * coat * cosine;
         }
         if self.lobe.is_some() {
             let lobe = self.lobe.response(hit.shading, outgoing, incident);
@@ -1071,9 +1082,9 @@ impl LitLobes {
                 let mut tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
                     metal_tint(base, film, outgoing, incident)
                 });
-                if self.glass_film.is_some() {
+                if self.dielectric_film.is_some() {
                     let ways = (outgoing, incident);
-                    tint *= lobe_film_weight(&self.lobe, self.glass_film, hit.shading, ways);
+                    tint *= lobe_film_weight(&self.lobe, self.dielectric_film, hit.shading, ways);
                 }
                 response +=
                     self.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));

@@ -14,7 +14,7 @@ use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
-use render::plastic::{Coat, CoatEvent, coat_event};
+use render::plastic::{Coat, CoatEvent, filmed_coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::sheen::{SheenAt, SheenEvent};
@@ -333,15 +333,11 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
         return Film::default();
     };
     let texel = |id: Option<u32>| id.map(|id| texture(&scene.textures, Some(id), uv));
-    let (factor, thickness) = iridescence.at(
+    Film::of(
+        &iridescence,
         texel(iridescence.texture),
         texel(iridescence.thickness_texture),
-    );
-    Film {
-        factor,
-        ior: iridescence.ior,
-        thickness,
-    }
+    )
 }
 
 /// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
@@ -626,28 +622,37 @@ pub fn diffuse_bounce(hit: &SurfaceHit, [u1, u2]: [f32; 2]) -> Option<(Vec3, f32
 /// Where plastic (`render::plastic`) sends a ray arriving along `incoming`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PlasticBounce {
-    /// The coat reflected it (untinted): the new direction and its weight, or `None` where a
-    /// rough coat's micro-normal sent it below the surface (the path ends).
-    Coat(Option<(Vec3, f32)>),
-    /// It passed the coat to the Lambertian base, whose estimate it multiplies by this weight.
-    Base(f32),
+    /// The coat reflected it: the new direction and its weight, or `None` where a rough
+    /// coat's micro-normal sent it below the surface (the path ends), and the tint a thin film
+    /// on the coat gives the reflection (1 without one).
+    Coat {
+        next: Option<(Vec3, f32)>,
+        tint: Vec3,
+    },
+    /// It passed the coat to the Lambertian base, whose estimate it multiplies by this weight
+    /// (a thin film's share of the coat's transmittance included).
+    Base(Vec3),
 }
 
-/// Plastic's choice (`render::plastic::coat_event`, from `u_choice` and a rough coat's
-/// `u_micro`), with the coat's reflection ended where the shading normal bent it below the
-/// geometric surface.
+/// Plastic's choice (`render::plastic::filmed_coat_event`, from `u_choice` and a rough
+/// coat's `u_micro`, under a thin `film` on the coat: glTF's iridescence, factor 0 for none),
+/// with the coat's reflection ended where the shading normal bent it below the geometric
+/// surface.
 pub fn plastic_bounce(
     hit: &SurfaceHit,
     incoming: Vec3,
-    coat: &Coat,
+    (coat, film): (&Coat, Film),
     u_choice: f32,
     [u1, u2]: [f32; 2],
 ) -> PlasticBounce {
-    match coat_event(incoming, hit.shading, coat, [u_choice, u1, u2]) {
-        CoatEvent::Base { weight } => PlasticBounce::Base(weight),
-        CoatEvent::Reflected { direction, weight } => PlasticBounce::Coat(
-            (weight > 0.0 && direction.dot(hit.geometric) > 0.0).then_some((direction, weight)),
-        ),
+    let (event, tint) = filmed_coat_event(incoming, hit.shading, (coat, film), [u_choice, u1, u2]);
+    match event {
+        CoatEvent::Base { weight } => PlasticBounce::Base(tint * weight),
+        CoatEvent::Reflected { direction, weight } => PlasticBounce::Coat {
+            next: (weight > 0.0 && direction.dot(hit.geometric) > 0.0)
+                .then_some((direction, weight)),
+            tint,
+        },
     }
 }
 

@@ -1309,6 +1309,36 @@ fn every_kernel_matches_its_twin_on_iridescent_glass() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same on `cornell_plastic` with its plastic under thin films (glTF's iridescence on an
+/// opaque dielectric): the smooth red sphere's film 1.8 of index and 380 nm thick, the glossy
+/// blue one's and the floor's of index 1.33 with their thickness from a checker's green:
+/// photons landing on the base and leaving it take the film's share of the coat's
+/// transmittance both ways, the coat's reflections its share at their micro-normal, and the
+/// light samples both (`render::iridescence::coat_film_transmission`).
+#[test]
+fn every_kernel_matches_its_twin_on_iridescent_plastic() {
+    let mut scene = scene::testing::cornell_plastic();
+    let texture = push_checker(&mut scene, "film checker", |x, y| match (x + y) % 2 {
+        0 => [0.0, 0.2, 0.0, 1.0],
+        _ => [0.0, 0.9, 0.0, 1.0],
+    });
+    let named = |name: &str| (scene.materials.iter()).position(|m| m.name.contains(name));
+    let (floor, red, blue) = (
+        named("white plastic").unwrap(),
+        named("red").unwrap(),
+        named("blue").unwrap(),
+    );
+    scene.materials[red].iridescence = Some(scene::testing::film(1.8, 380.0));
+    for id in [floor, blue] {
+        scene.materials[id].iridescence = Some(scene::Iridescence {
+            thickness_texture: Some(texture),
+            ..scene::testing::film(1.33, 500.0)
+        });
+    }
+    planar_uv(&mut scene, &[floor, blue]);
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same on `cornell_frosted` with its frosted spheres under a thin film (index 1.33,
 /// 500 nm, its thickness from a checker's green), and with its spheres made thin frosted
 /// sheets (bubbles of frosted glass) under the film: bounces take the film's share of their way at their micro-normal, and the

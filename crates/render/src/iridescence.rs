@@ -20,14 +20,17 @@
 //! Where it is used: `cpu::surface::bounce_tint` (a bounce off metal takes the film's colour
 //! at its micro-normal; smooth glass chooses reflection by the film's mean reflectance and
 //! weighs each channel by its share; frosted glass keeps its bare choice and weighs each way by
-//! the film's share over the bare one at its micro-normal), the eye paths' light samples at
-//! rough metal and frosted glass (`cpu::kernels::LitLobes::metal_film`, `glass_film`), their
-//! WGSL twins and the path tracer. Plastic coats and Lambertian surfaces do not read a film.
+//! the film's share over the bare one at its micro-normal), plastic's coat
+//! (`crate::plastic::filmed_coat_event`: the coat's reflection the film's mix, chosen by its
+//! mean, and [`coat_film_transmission`] through it), the eye paths' light samples at rough
+//! metal, frosted glass and plastic (`cpu::kernels::LitLobes::metal_film`,
+//! `dielectric_film`), their WGSL twins and the path tracer. Lambertian surfaces do not read
+//! a film.
 
 use std::f32::consts::PI;
 use std::sync::LazyLock;
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 
 /// A film as a hit sees it: glTF's factor (after its texture), the film's index and thickness (nm).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -40,6 +43,21 @@ pub struct Film {
 impl Film {
     pub fn is_some(&self) -> bool {
         self.factor > 0.0
+    }
+
+    /// glTF's film where its factor texture reads `factor_texel` and its thickness texture
+    /// `thickness_texel` (`None`: no texture; `scene::Iridescence::at`).
+    pub fn of(
+        iridescence: &scene::Iridescence,
+        factor_texel: Option<Vec4>,
+        thickness_texel: Option<Vec4>,
+    ) -> Film {
+        let (factor, thickness) = iridescence.at(factor_texel, thickness_texel);
+        Film {
+            factor,
+            ior: iridescence.ior,
+            thickness,
+        }
     }
 }
 
@@ -328,6 +346,24 @@ pub fn rough_dielectric_film_weight(
     let seen = (cos_view, ior, from_outside);
     let (bare, filmed) = filmed_reflectance(fresnel, film, seen, thin_walled);
     film_share(bare, filmed, reflected)
+}
+
+/// A thin film on plastic's coat of index `ior` (`crate::plastic`; glTF's iridescence on an
+/// opaque dielectric): the share of the bare coat's transmittance it leaves in each channel
+/// for light crossing at cosine `cos` (its sign ignored), `(1 − R) / (1 − F)` with `F` the
+/// coat's Fresnel reflectance and `R` glTF's mix of it with the film's. Exact for a smooth
+/// coat, whose transmittance is `1 − F`; a rough coat's tabulated transmittance is scaled by
+/// the same share at the macro-surface's angle (the film is not integrated over its
+/// micro-normals). The coat's reflection takes the film's share at its micro-normal
+/// ([`rough_dielectric_film_weight`] with `eta` = 1 / `ior`). 1 without a film.
+pub fn coat_film_transmission(film: Film, ior: f32, cos: f32) -> Vec3 {
+    if !film.is_some() {
+        return Vec3::ONE;
+    }
+    let cos = cos.abs().min(1.0);
+    let fresnel = crate::optics::fresnel_dielectric(cos, 1.0 / ior);
+    let filmed = iridescent_dielectric(fresnel, film, cos, ior, true);
+    film_share(fresnel, filmed, false)
 }
 
 /// [`rough_dielectric_film_weight`] for the frosted glass lobe a light sample serves

@@ -27,9 +27,15 @@
 //! sample or photon, the factor `T(θi)` of the direction the light came from; under a rough coat
 //! also `T(θo) / (1 − F(ωo·m))`, whose mean over `m` is `T(θo)` (under a smooth one the choice's
 //! `1 − F(θo)` cancels it).
+//!
+//! A thin film on the coat (glTF's iridescence on an opaque dielectric) makes its reflectance
+//! the film's mix per channel ([`filmed_coat_event`]): the reflection is then chosen by that
+//! mix's mean and weighed by each channel's share, and every `T` above by the film's share of
+//! what passes (`crate::iridescence::coat_film_transmission`).
 
 use glam::Vec3;
 
+use crate::iridescence::{Film, coat_film_transmission, film_share, iridescent_dielectric};
 use crate::microfacet::{Frame, sample_visible_normal, smith_g1};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 
@@ -163,35 +169,72 @@ fn over_visible_normals(cos_view: f32, alpha: f32, n: u32, f: impl Fn(Vec3, Vec3
 /// ray), from three uniform numbers: `u[0]` chooses, `u[1]` and `u[2]` draw a rough coat's
 /// micro-normal.
 pub fn coat_event(incoming: Vec3, normal: Vec3, coat: &Coat, u: [f32; 3]) -> CoatEvent {
+    filmed_coat_event(incoming, normal, (coat, Film::default()), u).0
+}
+
+/// [`coat_event`] under a thin `film` on the coat (glTF's iridescence on an opaque
+/// dielectric), with the film's share of the way taken in each channel, which multiplies the
+/// event's weight (1 without a film, and the event then exactly [`coat_event`]'s). The coat
+/// reflects `R`, glTF's mix of its Fresnel reflectance and the film's
+/// (`crate::iridescence::iridescent_dielectric`) at the (micro-)normal, and is chosen by its
+/// mean, as smooth glass under a film is: the reflection's share `R / mean`, a smooth coat's
+/// way in `(1 − R) / (1 − mean)`; a rough coat's way in `T(θo)` scaled by
+/// `crate::iridescence::coat_film_transmission` at the macro-surface's angle over the choice.
+pub fn filmed_coat_event(
+    incoming: Vec3,
+    normal: Vec3,
+    (coat, film): (&Coat, Film),
+    u: [f32; 3],
+) -> (CoatEvent, Vec3) {
     let (ior, alpha) = (coat.ior, coat.alpha);
     let cos_view = -incoming.dot(normal);
-    if alpha == 0.0 {
-        return if u[0] < coat_reflectance(cos_view, ior) {
-            CoatEvent::Reflected {
-                direction: reflect(incoming, normal),
-                weight: 1.0,
-            }
+    // The choice's probability and each channel's reflectance at cosine `cos`.
+    let reflectance = |cos: f32| {
+        let bare = coat_reflectance(cos, ior);
+        if !film.is_some() {
+            return (bare, Vec3::splat(bare));
+        }
+        let filmed = iridescent_dielectric(bare, film, cos.abs(), ior, true);
+        (filmed.element_sum() / 3.0, filmed)
+    };
+    let share = |(chosen, each): (f32, Vec3), reflected| {
+        if film.is_some() {
+            film_share(chosen, each, reflected)
         } else {
-            CoatEvent::Base { weight: 1.0 }
+            Vec3::ONE
+        }
+    };
+    if alpha == 0.0 {
+        let chosen = reflectance(cos_view);
+        return if u[0] < chosen.0 {
+            let direction = reflect(incoming, normal);
+            let event = CoatEvent::Reflected {
+                direction,
+                weight: 1.0,
+            };
+            (event, share(chosen, true))
+        } else {
+            (CoatEvent::Base { weight: 1.0 }, share(chosen, false))
         };
     }
     let frame = Frame::about(normal);
     let view = frame.to_local(-incoming);
+    let through = coat_film_transmission(film, ior, cos_view);
     if view.z <= 0.0 {
-        return CoatEvent::Base { weight: 1.0 };
+        return (CoatEvent::Base { weight: 1.0 }, through);
     }
     let micro = sample_visible_normal(view, alpha, u[1], u[2]);
-    let micro_reflectance = coat_reflectance(view.dot(micro), ior);
-    if u[0] < micro_reflectance {
+    let chosen = reflectance(view.dot(micro));
+    if u[0] < chosen.0 {
         let out = reflect(-view, micro);
-        return CoatEvent::Reflected {
+        let event = CoatEvent::Reflected {
             direction: frame.to_world(out),
             weight: smith_g1(out, alpha),
         };
+        return (event, share(chosen, true));
     }
-    CoatEvent::Base {
-        weight: coat.transmittance(cos_view) / (1.0 - micro_reflectance),
-    }
+    let weight = coat.transmittance(cos_view) / (1.0 - chosen.0);
+    (CoatEvent::Base { weight }, through)
 }
 
 /// The coat's Fresnel reflectance for light arriving from outside at cosine `cos` (its sign
@@ -221,6 +264,50 @@ pub fn diffuse_scale(ior: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A rough coat under a thin film lets through, in each channel, the mean over visible
+    /// normals of `(1 − R(ωo·m)) G1(ωt)`, `R` the film's mix; the kernels take the bare
+    /// coat's tabulated `T(θ)` times the film's share at the macro-surface's angle
+    /// (`crate::iridescence::coat_film_transmission`). How far apart, for films that colour
+    /// strongly (index 1.8 and 2.4, 250–600 nm) on coats of roughness 0.3 and 0.5, seen at
+    /// cosines 1 to 0.3. Measured: within 1.3 % but for the 2.4 film at cosine 0.3 (+4.1 %,
+    /// −2.1 % the 1.8 film there). Tolerance 5 %.
+    #[test]
+    fn a_filmed_rough_coat_lets_through_what_its_micro_normals_do() {
+        let ior = 1.5;
+        for alpha in [0.09f32, 0.25] {
+            for (film_ior, thickness) in [(1.8f32, 250.0f32), (1.8, 420.0), (2.4, 600.0)] {
+                let film = Film {
+                    factor: 1.0,
+                    ior: film_ior,
+                    thickness,
+                };
+                let coat = Coat::new(ior, alpha);
+                for cos in [1.0f32, 0.8, 0.5, 0.3] {
+                    let approx = coat.transmittance(cos) * coat_film_transmission(film, ior, cos);
+                    for c in 0..3 {
+                        let exact = over_visible_normals(cos, alpha, 64, |view, micro| {
+                            let Some(through) = refract(-view, micro, 1.0 / ior) else {
+                                return 0.0;
+                            };
+                            let below = Vec3::new(through.x, through.y, -through.z);
+                            let m = view.dot(micro);
+                            let bare = coat_reflectance(m, ior);
+                            let r = iridescent_dielectric(bare, film, m, ior, true)[c];
+                            (1.0 - r) * smith_g1(below, alpha)
+                        });
+                        let error = (approx[c] as f64 / exact - 1.0).abs();
+                        assert!(
+                            error < 0.05,
+                            "α {alpha}, film {film_ior} {thickness} nm, cos {cos}, channel {c}: \
+                             {} against {exact}",
+                            approx[c]
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     /// 2∫₀¹ F_inside(μ) μ dμ by the midpoint rule: total internal reflection below the
     /// critical cosine, Fresnel above it.

@@ -1353,30 +1353,53 @@ fn bad_iridescence_values_are_refused() {
     assert_mentions(&error.to_string(), &["iridescenceIor"]);
 }
 
-/// The film is rendered on metal and glass: on an opaque dielectric (metallicFactor 0, with
-/// or without a metallic-roughness texture, which only multiplies it, and no transmission) it
-/// is warned about once and dropped, and so on metal rough enough to be rendered Lambertian;
-/// glass, smooth or frosted, keeps it; a partly metal material keeps it on every member of its
-/// blend, and so does a metal whose metalness a texture maps.
+/// The film is rendered on metal, glass and plastic's coat: an opaque dielectric of roughness
+/// below 0.5 (plastic) keeps it, also where a metallic-roughness texture maps it; on one
+/// rendered Lambertian (rougher, or without a specular layer) it is warned about once and
+/// dropped, and so on metal rough enough to be rendered Lambertian; glass, smooth or frosted,
+/// keeps it; a partly metal material keeps it on every member of its blend, and so does a
+/// metal whose metalness a texture maps.
 #[test]
-fn iridescence_on_a_dielectric_is_ignored_with_a_warning() {
+fn iridescence_on_a_lambertian_surface_is_ignored_with_a_warning() {
     let scene = iridescent(0.0, json!({ "iridescenceFactor": 1.0 })).expect("loads");
-    assert_eq!(scene.materials[0].iridescence, None);
-    assert_eq!(
-        scene.warnings,
-        vec![
-            "material 0: KHR_materials_iridescence on an opaque dielectric (metallicFactor 0, \
-             no transmission) is not modelled: its film is ignored"
-                .to_string()
-        ]
-    );
+    assert!(matches!(
+        scene.materials[0].surface,
+        Surface::Plastic { .. }
+    ));
+    assert!(scene.materials[0].iridescence.is_some());
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let film = json!({ IRIDESCENCE: { "iridescenceFactor": 1.0 } });
     let mut material = pbr(0.0, 0.3);
     material["extensions"] = film.clone();
     let mapped = metallic_roughness_quad(material);
-    assert!(mapped.materials.iter().all(|m| m.iridescence.is_none()));
-    assert_eq!(mapped.warnings.len(), 1, "{:?}", mapped.warnings);
-    assert_mentions(&mapped.warnings[0], &[IRIDESCENCE, "dielectric", "ignored"]);
+    let plastic = &mapped.materials[mapped.triangles[0].material as usize];
+    assert!(plastic.roughness_map.is_some() && plastic.iridescence.is_some());
+    assert!(mapped.warnings.is_empty(), "{:?}", mapped.warnings);
+
+    // A rough dielectric (Lambertian), and one whose specular layer is taken away.
+    let mut matte = pbr(0.0, 0.7);
+    matte["extensions"] = film.clone();
+    let mut bare = pbr(0.0, 0.3);
+    bare["extensions"] = json!({
+        IRIDESCENCE: { "iridescenceFactor": 1.0 },
+        "KHR_materials_specular": { "specularFactor": 0.0 },
+    });
+    for (material, words) in [(matte, "roughness"), (bare, "specularFactor 0")] {
+        let scene = quad_doc(Some(material)).load().expect("loads");
+        assert!(scene.materials.iter().all(|m| m.iridescence.is_none()));
+        assert_eq!(
+            scene.warnings,
+            vec![format!(
+                "material 0: KHR_materials_iridescence on {} is not modelled: its film is ignored",
+                if words == "roughness" {
+                    "a surface of roughness ≥ 0.5 (rendered Lambertian)"
+                } else {
+                    "an opaque dielectric without a specular layer (specularFactor 0, rendered \
+                     Lambertian)"
+                }
+            )]
+        );
+    }
 
     // Glass keeps it, smooth or frosted.
     for roughness in [0.0, 0.3] {

@@ -53,15 +53,15 @@
 //!   texture's red and green), turned by
 //!   `anisotropyRotation`; a smooth metal so brushed becomes rough metal of width
 //!   `MIN_BRUSHED_ALPHA`. The dielectric's coat and glass stay isotropic (warned).
-//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on metal and glass:
+//! - `KHR_materials_iridescence` → [`Iridescence`], a thin film on metal, glass and plastic's
+//!   coat:
 //!   `iridescenceFactor` (× the red of `iridescenceTexture`, linear data) its weight,
 //!   `iridescenceIor` (default 1.3) its index, its thickness `iridescenceThicknessMaximum`
 //!   (default 400 nm), or where `iridescenceThicknessTexture` (linear data) is given, from
 //!   `iridescenceThicknessMinimum` (default 100 nm) to the maximum by its green. A factor of
-//!   0 is no film; on an opaque dielectric (no metal, no transmission) and on metal rendered
-//!   Lambertian (roughness ≥ 0.5, no transmission or texture) the film is not modelled and
-//!   is ignored (warned); a blend's members all carry it, but only its metal and glass show
-//!   it.
+//!   0 is no film; on a surface rendered Lambertian (roughness ≥ 0.5, no transmission or
+//!   texture; or an opaque dielectric whose `specularFactor` is 0) the film is not modelled
+//!   and is ignored (warned); a blend's members all carry it.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -478,10 +478,11 @@ impl Materials {
     }
 
     /// `KHR_materials_iridescence` as an [`Iridescence`] ([`iridescence`]'s factors) with its
-    /// factor and thickness textures, decoded as linear data. The film is rendered on metal
-    /// and glass: an opaque dielectric (`metallicFactor` 0, which a metallic-roughness texture
-    /// only multiplies, and no transmission) and metal rough enough to be rendered Lambertian
-    /// get none, with a warning.
+    /// factor and thickness textures, decoded as linear data. The film is rendered on metal,
+    /// glass and plastic's coat: a surface rough enough to be rendered Lambertian (and no
+    /// glass; a metallic-roughness texture may make it smoother per hit) and an opaque
+    /// dielectric whose specular layer `KHR_materials_specular` removes get none, with a
+    /// warning.
     fn iridescence(
         &mut self,
         input: &Input,
@@ -492,25 +493,25 @@ impl Materials {
         let Some(mut film) = iridescence(check, m)? else {
             return Ok(None);
         };
-        // The film colours metal and glass; on an opaque dielectric (plastic or Lambertian) it
-        // is not modelled.
+        // The film colours metal, glass and plastic's coat; a Lambertian surface has no
+        // layer to wear it.
         let pbr = &m.pbr_metallic_roughness;
         let metal = pbr.metallic_factor.0 > 0.0;
         let glass = transmission(check, m)? > 0.0;
         let roughness = pbr.roughness_factor.0;
-        if !metal && !glass {
+        let mapped = pbr.metallic_roughness_texture.is_some();
+        if !glass && !mapped && roughness >= DIFFUSE_MIN_ROUGHNESS {
             builder.warn(format!(
-                "{}: {IRIDESCENCE} on an opaque dielectric (metallicFactor 0, no transmission) \
-                 is not modelled: its film is ignored",
+                "{}: {IRIDESCENCE} on a surface of roughness ≥ {DIFFUSE_MIN_ROUGHNESS} \
+                 (rendered Lambertian) is not modelled: its film is ignored",
                 check.label
             ));
             return Ok(None);
         }
-        let mapped = pbr.metallic_roughness_texture.is_some();
-        if metal && !glass && !mapped && roughness >= DIFFUSE_MIN_ROUGHNESS {
+        if !metal && !glass && specular(check, m)?.factor == 0.0 {
             builder.warn(format!(
-                "{}: {IRIDESCENCE} on metal of roughness ≥ {DIFFUSE_MIN_ROUGHNESS} (rendered \
-                 Lambertian) is not modelled: its film is ignored",
+                "{}: {IRIDESCENCE} on an opaque dielectric without a specular layer \
+                 (specularFactor 0, rendered Lambertian) is not modelled: its film is ignored",
                 check.label
             ));
             return Ok(None);

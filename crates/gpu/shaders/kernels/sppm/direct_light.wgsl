@@ -54,8 +54,9 @@ struct LitLobes {
     // `glossy` then leaves the colour out).
     film_base: vec3<f32>,
     film: Film,
-    // cpu::kernels::LitLobes::glass_film: frosted glass's thin film (factor 0: none).
-    glass_film: Film,
+    // cpu::kernels::LitLobes::dielectric_film: frosted glass's or plastic's coat's thin film
+    // (factor 0: none).
+    dielectric_film: Film,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -95,11 +96,12 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     let cosine = dot(incident, hit.shading);
     var response = vec3<f32>(0.0);
     if max3(lit.diffuse) > 0.0 {
-        var coat = 1.0;
+        var coat = vec3<f32>(1.0);
         if lit.coat_ior > 0.0 {
-            coat = coat_transmittance_of(hit.material, lit.coat_alpha, cosine);
+            let film = coat_film_transmission(lit.dielectric_film, lit.coat_ior, cosine);
+            coat = coat_transmittance_of(hit.material, lit.coat_alpha, cosine) * film;
         }
-        response += lit.diffuse * (cosine * coat);
+        response += lit.diffuse * coat * cosine;
     }
     if lit.alpha > 0.0 {
         let lobe = lit_glossy_lobe(lit, hit, outgoing, incident);
@@ -108,7 +110,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
             if IRIDESCENCE && lit.film.factor > 0.0 {
                 tint = metal_tint(lit.film_base, lit.film, outgoing, incident);
             }
-            if IRIDESCENCE && lit.glass_film.factor > 0.0 {
+            if IRIDESCENCE && lit.dielectric_film.factor > 0.0 {
                 // render::iridescence::lobe_film_weight.
                 var eta = 1.0 / lit.coat_ior;
                 var thin_walled = false;
@@ -118,7 +120,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
                 } else if lit.refraction_eta > 0.0 {
                     eta = lit.refraction_eta;
                 }
-                tint *= rough_dielectric_film_weight(lit.glass_film, outgoing, incident, hit.shading, eta, thin_walled);
+                tint *= rough_dielectric_film_weight(lit.dielectric_film, outgoing, incident, hit.shading, eta, thin_walled);
             }
             response += lit.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }

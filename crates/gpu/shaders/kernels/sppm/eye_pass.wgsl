@@ -238,6 +238,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce = Scattered(vec3<f32>(0.0), 0.0);
         var bounce_tint = tint;
         var base_weight = 1.0;
+        var base_film_tint = vec3<f32>(1.0);
         var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film());
         if plastic {
             lit.coat_ior = material.ior;
@@ -250,11 +251,14 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 let u2 = next_f32(rng);
                 u_micro = vec2<f32>(u1, u2);
             }
-            let choice = plastic_bounce(material, hit, direction, u, u_micro.x, u_micro.y);
+            let film = hit_film(material, hit.uv);
+            lit.dielectric_film = film;
+            let choice = plastic_bounce(material, hit, direction, film, u, u_micro.x, u_micro.y);
             base = choice.base;
             base_weight = choice.base_weight;
+            base_film_tint = choice.film_tint;
             bounce = choice.coat;
-            bounce_tint = vec3<f32>(1.0);
+            bounce_tint = choice.film_tint;
         }
         // cpu::kernels::eye_path: where glTF's diffuse transmission took the light through,
         // the Lambertian lobe's side, with a light sample of its own.
@@ -273,7 +277,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 side = lambertian_side(material, hit, tint, u_side);
                 far_side = side.hit.front != hit.front;
             }
-            let weight = throughput * side.tint * (scale * base_weight / PI);
+            let weight = throughput * side.tint * base_film_tint * (scale * base_weight / PI);
             if max3(weight) > 0.0 {
                 point = VisiblePoint(hit.position, surface_normal(side.hit.shading), weight, 0u);
                 if (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) != 0u {
@@ -325,7 +329,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) == 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
-                lit.glass_film = film;
+                lit.dielectric_film = film;
                 if hit.front {
                     lit.coat_ior = material.ior;
                 } else {
@@ -336,7 +340,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) != 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
-                lit.glass_film = film;
+                lit.dielectric_film = film;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
             bounce = specular_direction(material, hit, direction, film, u, u_second, u_third);
@@ -382,12 +386,12 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         // cpu::kernels::eye_path: under a thin film each channel of either way takes the
         // film's share of it.
         let probe = !met_glass && depth < params.max_depth;
-        var glass_film = no_film();
+        var dielectric_film = no_film();
         if material.surface == SURFACE_DIELECTRIC {
-            glass_film = hit_film(material, hit.uv);
+            dielectric_film = hit_film(material, hit.uv);
         }
-        if material.surface == SURFACE_DIELECTRIC && (probe || glass_film.factor > 0.0) {
-            let branches = dielectric_branches(material, hit, direction, glass_film);
+        if material.surface == SURFACE_DIELECTRIC && (probe || dielectric_film.factor > 0.0) {
+            let branches = dielectric_branches(material, hit, direction, dielectric_film);
             var other = branches.reflected;
             var other_share = branches.reflectance;
             var other_weight = branches.film_reflectance;
@@ -408,7 +412,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                     emission_share = 1.0 - other_share;
                 }
             }
-            if IRIDESCENCE && glass_film.factor > 0.0 {
+            if IRIDESCENCE && dielectric_film.factor > 0.0 {
                 throughput *= branch_weight(branches, all(bounce.direction == branches.reflected));
             }
         }

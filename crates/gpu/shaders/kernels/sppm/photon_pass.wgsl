@@ -292,9 +292,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
     var bounced = slot_bounced(slot.state) || scattered;
     if keeper_surface == SURFACE_DIFFUSE || keeper_surface == SURFACE_PLASTIC {
         if slot.depth > 0u || scattered || (params.sample_lights & SAMPLE_AT_VISIBLE_POINTS) == 0u {
-            var share = 1.0;
+            var share = vec3<f32>(1.0);
             if keeper_surface == SURFACE_PLASTIC {
-                share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, dot(direction, hit.shading));
+                let cos = dot(direction, hit.shading);
+                let film = hit_film(keeper_material, hit.uv);
+                share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, cos) * coat_film_transmission(film, keeper_material.ior, cos);
             }
             let landed = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (bounded_correction(arrival) * share), 0u);
             photon = one_of(photon, landed, &rng);
@@ -316,7 +318,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         next = bounce.direction;
         weight = bounce.weight;
     } else if plastic {
-        let choice = plastic_bounce(material, hit, direction, u_choice, u_direction0, u_direction1);
+        let film = hit_film(material, hit.uv);
+        let choice = plastic_bounce(material, hit, direction, film, u_choice, u_direction0, u_direction1);
         if choice.base {
             bounced = true;
             let side = lambertian_side(material, hit, surface_tint, u_side);
@@ -325,13 +328,14 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             next = bounce.direction;
             weight = bounce.weight;
             let alpha = material.roughness_alpha;
-            let leaving = coat_transmittance_of(hit.material, alpha, dot(next, out.shading));
+            let cos = dot(next, out.shading);
+            let leaving = coat_transmittance_of(hit.material, alpha, cos) * coat_film_transmission(film, material.ior, cos);
             let scale = coat_diffuse_scale_of(hit.material, alpha);
-            tint = side.tint * (scale * leaving * choice.base_weight);
+            tint = side.tint * leaving * choice.film_tint * (choice.base_weight * scale);
         } else {
             next = choice.coat.direction;
             weight = choice.coat.weight;
-            tint = vec3<f32>(1.0);
+            tint = choice.film_tint;
         }
     } else {
         let dispersed = dispersed_material(material, wavelength, u_wavelength);

@@ -155,6 +155,11 @@ fn rough_dielectric_film_weight(film: Film, view: vec3<f32>, out: vec3<f32>, nor
         bare = 2.0 * bare / (1.0 + bare);
         filmed = 2.0 * filmed / (vec3<f32>(1.0) + filmed);
     }
+    return film_share(bare, filmed, reflected);
+}
+
+// render::iridescence::film_share.
+fn film_share(bare: f32, filmed: vec3<f32>, reflected: bool) -> vec3<f32> {
     if reflected {
         if bare > 0.0 {
             return filmed / bare;
@@ -165,6 +170,16 @@ fn rough_dielectric_film_weight(film: Film, view: vec3<f32>, out: vec3<f32>, nor
         return (vec3<f32>(1.0) - filmed) / (1.0 - bare);
     }
     return vec3<f32>(0.0);
+}
+
+// render::iridescence::coat_film_transmission.
+fn coat_film_transmission(film: Film, ior: f32, cos_in: f32) -> vec3<f32> {
+    if film.factor <= 0.0 {
+        return vec3<f32>(1.0);
+    }
+    let cos = min(abs(cos_in), 1.0);
+    let fresnel = fresnel_dielectric(cos, 1.0 / ior);
+    return film_share(fresnel, iridescent_dielectric(fresnel, film, cos, ior, true), false);
 }
 
 // render::iridescence::metal_tint.

@@ -177,12 +177,12 @@ fn info_counts_sheened_materials() {
 }
 
 /// `kousen info` counts the materials under a thin film (the shipped iridescent room's two
-/// metal spheres and its soap bubble).
+/// metal spheres, its soap bubble and its beetle-shell plastic).
 #[test]
 fn info_counts_iridescent_materials() {
     assert_eq!(
         info_json(&shipped("cornell-iridescent.gltf"))["iridescent_materials"],
-        3
+        4
     );
     assert_eq!(
         info_json(&shipped("cornell-box.gltf"))["iridescent_materials"],

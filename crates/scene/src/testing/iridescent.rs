@@ -46,7 +46,8 @@ pub fn film(ior: f32, thickness: f32) -> Iridescence {
 /// 2.4), the colours of anodised and heat-tinted metal: in front (on the camera's right)
 /// polished titanium under 300 nm (blue at normal incidence, purple towards the rim), behind
 /// it on the left rough steel (roughness 0.2, GGX α 0.04) under 150 nm (straw gold); and a
-/// soap bubble floating above them.
+/// soap bubble floating above them; in front on the left a small glossy beetle-shell sphere,
+/// near-black plastic (roughness 0.15) whose coat wears a film of index 2.2, 330 nm.
 pub fn cornell_iridescent() -> Scene {
     let mut f = Fixture::new("testing::cornell_iridescent");
     cornell_room(&mut f);
@@ -82,7 +83,18 @@ pub fn cornell_iridescent() -> Scene {
         }),
         ..Material::default()
     });
+    let shell = f.builder.add_material(Material {
+        name: "beetle shell".into(),
+        surface: Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.15 * 0.15,
+        },
+        base_color: Vec3::new(0.02, 0.03, 0.02),
+        iridescence: Some(film(2.2, 330.0)),
+        ..Material::default()
+    });
     f.sphere(Vec3::new(180.0, 90.0, 170.0), 90.0, titanium, false);
+    f.sphere(Vec3::new(410.0, 55.0, 140.0), 55.0, shell, false);
     f.sphere(Vec3::new(380.0, 110.0, 370.0), 110.0, steel, false);
     let centre = Vec3::new(300.0, 300.0, 200.0);
     f.sphere(centre, 75.0, bubble, false);

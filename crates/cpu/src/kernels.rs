@@ -20,7 +20,7 @@ use render::hash::{
     cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
     grid_salt, lies_in, photon_class, priority, query_entries, volume_query_entries,
 };
-use render::iridescence::{Film, coat_film_transmission, lobe_film_weight, metal_tint};
+use render::iridescence::{Film, lobe_film_weight, metal_tint};
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
@@ -49,9 +49,9 @@ use crate::SceneData;
 use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, bounce_tint, clearcoat_bounce,
     dielectric_branches, diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted,
-    eye_crossing_scale, hit_clearcoat, hit_film, hit_sheen, is_cut_out, lambertian_side,
-    medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce, shadow_ray_origin,
-    sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
+    eye_crossing_scale, hit_clearcoat, hit_coat_layer, hit_film, hit_sheen, is_cut_out,
+    lambertian_side, medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce,
+    shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
 
 /// What one photon-pass invocation leaves behind.
@@ -266,8 +266,8 @@ pub fn photon_pass_with<R: StreamRng>(
         surface @ Surface::Plastic { .. } => {
             let coat = scene.coats.at(keeper, surface);
             let cos = direction.dot(hit.shading);
-            let film = hit_film(scene, keeper_material, hit.uv);
-            Some(coat.transmittance(cos) * coat_film_transmission(film, coat.ior, cos))
+            let layer = hit_coat_layer(scene, keeper_material, hit.uv);
+            Some(coat.transmittance(cos) * layer.transmission_share(coat.ior, cos))
         }
         _ => None,
     };
@@ -304,8 +304,8 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         surface @ Surface::Plastic { .. } => {
             let coat = scene.coats.at(hit.material, surface);
-            let film = hit_film(scene, material, hit.uv);
-            match plastic_bounce(&hit, direction, (&coat, film), u_choice, u_direction) {
+            let layer = hit_coat_layer(scene, material, hit.uv);
+            match plastic_bounce(&hit, direction, (&coat, layer), u_choice, u_direction) {
                 PlasticBounce::Coat { next, tint } => (next, tint),
                 PlasticBounce::Base(weight) => {
                     bounced = true;
@@ -315,7 +315,7 @@ pub fn photon_pass_with<R: StreamRng>(
                     // The base's lobe over the choice's T(θi): ρ · scale · T(θo).
                     let leaving = next.map_or(Vec3::ZERO, |(next, _)| {
                         let cos = next.dot(out.shading);
-                        coat.transmittance(cos) * coat_film_transmission(film, coat.ior, cos)
+                        coat.transmittance(cos) * layer.transmission_share(coat.ior, cos)
                     });
                     (next, side_tint * leaving * weight * coat.diffuse_scale)
                 }
@@ -796,9 +796,8 @@ fn eye_path(
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
                 let coat = scene.coats.at(hit.material, material.surface);
-                let film = hit_film(scene, material, hit.uv);
-                lit.coat = Some(coat);
-                lit.dielectric_film = film;
+                let layer = hit_coat_layer(scene, material, hit.uv);
+                lit.coat = Some((coat, layer));
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
                     lit.glossy = throughput;
@@ -807,7 +806,7 @@ fn eye_path(
                 } else {
                     [0.0; 2]
                 };
-                match plastic_bounce(&hit, direction, (&coat, film), u, u_micro) {
+                match plastic_bounce(&hit, direction, (&coat, layer), u, u_micro) {
                     PlasticBounce::Base(weight) => {
                         base_weight = weight;
                         None
@@ -911,7 +910,7 @@ fn eye_path(
                 }
                 None => (hit, tint),
             };
-            let scale = lit.coat.map_or(1.0, |coat| coat.diffuse_scale);
+            let scale = lit.coat.map_or(1.0, |(coat, _)| coat.diffuse_scale);
             let weight = throughput * tint * base_weight * (scale * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {
@@ -1040,8 +1039,9 @@ pub struct LitLobes {
     /// A Lambertian lobe: the visible point's weight (ρ/π and plastic's scale included).
     pub diffuse: Vec3,
     /// The plastic coat over the Lambertian lobe, which gets what it lets through (the hit's:
-    /// `render::coats::Coats::at`).
-    pub coat: Option<render::plastic::Coat>,
+    /// `render::coats::Coats::at`), and the layer on it there (`render::plastic::CoatLayer`),
+    /// whose share of the coat's reflection and transmission depends on the light's direction.
+    pub coat: Option<(render::plastic::Coat, render::plastic::CoatLayer)>,
     /// The glossy lobe's weight.
     pub glossy: Vec3,
     pub lobe: GlossyLobe,
@@ -1052,10 +1052,8 @@ pub struct LitLobes {
     /// A metal's colour and the thin film on it, where it has one (`glossy` then leaves the
     /// colour out: the film's depends on the light's direction).
     pub metal_film: Option<(Vec3, Film)>,
-    /// The thin film on a dielectric, whose share of each way depends on the light's
-    /// direction (factor 0: none): on frosted glass its lobe's (`render::iridescence::
-    /// lobe_film_weight`), on plastic its rough coat's reflection (the same) and its coat's
-    /// transmittance to the base (`coat_film_transmission`).
+    /// The thin film on frosted glass, whose share of the lobe's way depends on the light's
+    /// direction (`render::iridescence::lobe_film_weight`; factor 0: none).
     pub dielectric_film: Film,
 }
 
@@ -1070,9 +1068,8 @@ impl LitLobes {
         let cosine = incident.dot(hit.shading);
         let mut response = Vec3::ZERO;
         if self.diffuse.max_element() > 0.0 {
-            let coat = self.coat.map_or(Vec3::ONE, |coat| {
-                let film = coat_film_transmission(self.dielectric_film, coat.ior, cosine);
-                coat.transmittance(cosine) * film
+            let coat = self.coat.map_or(Vec3::ONE, |(coat, layer)| {
+                coat.transmittance(cosine) * layer.transmission_share(coat.ior, cosine)
             });
             response += self.diffuse * coat * cosine;
         }
@@ -1085,6 +1082,10 @@ impl LitLobes {
                 if self.dielectric_film.is_some() {
                     let ways = (outgoing, incident);
                     tint *= lobe_film_weight(&self.lobe, self.dielectric_film, hit.shading, ways);
+                }
+                // A rough coat's reflection under its layer.
+                if let Some((coat, layer)) = self.coat {
+                    tint *= layer.reflection_share(coat.ior, (outgoing, incident));
                 }
                 response +=
                     self.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));

@@ -14,7 +14,7 @@ use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
-use render::plastic::{Coat, CoatEvent, filmed_coat_event};
+use render::plastic::{Coat, CoatEvent, CoatLayer, layered_coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::sheen::{SheenAt, SheenEvent};
@@ -340,6 +340,18 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
     )
 }
 
+/// What lies on plastic's coat at texture coordinates `uv` (`render::plastic::CoatLayer`):
+/// glTF's specular layer (`scene::SpecularLayer::scale_at`) and thin film ([`hit_film`]).
+pub fn hit_coat_layer(scene: &SceneData, material: &Material, uv: Vec2) -> CoatLayer {
+    let texel = |id: Option<u32>| id.map(|id| texture(&scene.textures, Some(id), uv));
+    CoatLayer {
+        specular: material.specular.map_or(Vec3::ONE, |s| {
+            s.scale_at(texel(s.texture), texel(s.color_texture))
+        }),
+        film: hit_film(scene, material, uv),
+    }
+}
+
 /// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
 /// under a thin `film` (glTF's iridescence): a metal's reflection its colour at the bounce's
 /// angle ([`metal_bounce_tint`]); smooth glass's reflection or transmission the film's share
@@ -634,18 +646,18 @@ pub enum PlasticBounce {
     Base(Vec3),
 }
 
-/// Plastic's choice (`render::plastic::filmed_coat_event`, from `u_choice` and a rough
-/// coat's `u_micro`, under a thin `film` on the coat: glTF's iridescence, factor 0 for none),
-/// with the coat's reflection ended where the shading normal bent it below the geometric
-/// surface.
+/// Plastic's choice (`render::plastic::layered_coat_event`, from `u_choice` and a rough
+/// coat's `u_micro`, under the coat's `layer` at the hit: [`hit_coat_layer`]), with the coat's
+/// reflection ended where the shading normal bent it below the geometric surface.
 pub fn plastic_bounce(
     hit: &SurfaceHit,
     incoming: Vec3,
-    (coat, film): (&Coat, Film),
+    (coat, layer): (&Coat, CoatLayer),
     u_choice: f32,
     [u1, u2]: [f32; 2],
 ) -> PlasticBounce {
-    let (event, tint) = filmed_coat_event(incoming, hit.shading, (coat, film), [u_choice, u1, u2]);
+    let u = [u_choice, u1, u2];
+    let (event, tint) = layered_coat_event(incoming, hit.shading, (coat, layer), u);
     match event {
         CoatEvent::Base { weight } => PlasticBounce::Base(tint * weight),
         CoatEvent::Reflected { direction, weight } => PlasticBounce::Coat {

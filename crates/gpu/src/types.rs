@@ -156,7 +156,7 @@ pub const ROUGHNESS_COATED: u32 = 1;
 pub const ROUGHNESS_UNMAPPED: u32 = 2;
 pub const ROUGHNESS_GLASS: u32 = 3;
 
-/// One material (400 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
+/// One material (432 bytes), or a record of a mapped coat's grid (`GpuMaterial::coat_record`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -268,7 +268,15 @@ pub struct GpuMaterial {
     pub iridescence: [f32; 4],
     pub iridescence_texture: u32,
     pub iridescence_thickness_texture: u32,
-    pub pad: [u32; 2],
+    /// glTF's specular layer on plastic's coat (`scene::SpecularLayer`): its strength and
+    /// colour textures (`NO_TEXTURE` for none), its tinted F0 and factor, and its coat's F0
+    /// (0: none, the coat's reflectance unscaled).
+    pub specular_texture: u32,
+    pub specular_color_texture: u32,
+    pub specular_tinted_f0: [f32; 3],
+    pub specular_factor: f32,
+    pub specular_coat_f0: f32,
+    pub pad: [u32; 3],
 }
 
 impl GpuMaterial {
@@ -386,7 +394,18 @@ impl GpuMaterial {
             iridescence_thickness_texture: (material.iridescence)
                 .and_then(|i| i.thickness_texture)
                 .unwrap_or(NO_TEXTURE),
-            pad: [0; 2],
+            specular_texture: (material.specular)
+                .and_then(|s| s.texture)
+                .unwrap_or(NO_TEXTURE),
+            specular_color_texture: (material.specular)
+                .and_then(|s| s.color_texture)
+                .unwrap_or(NO_TEXTURE),
+            specular_tinted_f0: material
+                .specular
+                .map_or([0.0; 3], |s| s.tinted_f0.to_array()),
+            specular_factor: material.specular.map_or(0.0, |s| s.factor),
+            specular_coat_f0: material.specular.map_or(0.0, |s| s.coat_f0),
+            pad: [0; 3],
         }
     }
 
@@ -437,6 +456,8 @@ impl GpuMaterial {
             anisotropy_texture: NO_TEXTURE,
             iridescence_texture: NO_TEXTURE,
             iridescence_thickness_texture: NO_TEXTURE,
+            specular_texture: NO_TEXTURE,
+            specular_color_texture: NO_TEXTURE,
             coat_diffuse_scale: coat.diffuse_scale,
             coat_transmittance: std::array::from_fn(|row| {
                 std::array::from_fn(|column| nodes[4 * row + column])

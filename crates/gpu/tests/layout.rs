@@ -417,6 +417,23 @@ fn gpu_types_layout_matches_rust() {
                 "iridescence_thickness_texture",
                 offset_of!(GpuMaterial, iridescence_thickness_texture),
             ),
+            (
+                "specular_texture",
+                offset_of!(GpuMaterial, specular_texture),
+            ),
+            (
+                "specular_color_texture",
+                offset_of!(GpuMaterial, specular_color_texture),
+            ),
+            (
+                "specular_tinted_f0",
+                offset_of!(GpuMaterial, specular_tinted_f0),
+            ),
+            ("specular_factor", offset_of!(GpuMaterial, specular_factor)),
+            (
+                "specular_coat_f0",
+                offset_of!(GpuMaterial, specular_coat_f0),
+            ),
             ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );

@@ -1339,6 +1339,43 @@ fn every_kernel_matches_its_twin_on_iridescent_plastic() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same on `cornell_plastic` under glTF's specular layer (`scene::SpecularLayer`): the
+/// floor's strength and colour from two checkers (alpha 0.2 or 1; colour (1, 0.5, 0.2) or
+/// white), the glossy blue sphere's a tinted colour without textures (F0 × (0.3, 1, 2)):
+/// photons landing on the base and leaving it, the coat's reflections and the light samples
+/// take the layer's share per channel (`render::plastic::CoatLayer`).
+#[test]
+fn every_kernel_matches_its_twin_on_a_specular_layer() {
+    let mut scene = scene::testing::cornell_plastic();
+    let strength = push_checker(&mut scene, "strength checker", |x, y| match (x + y) % 2 {
+        0 => [1.0, 1.0, 1.0, 0.2],
+        _ => [1.0, 1.0, 1.0, 1.0],
+    });
+    let colour = push_checker(&mut scene, "colour checker", |x, y| match (x / 2 + y) % 2 {
+        0 => [1.0, 0.5, 0.2, 1.0],
+        _ => [1.0, 1.0, 1.0, 1.0],
+    });
+    let named = |name: &str| (scene.materials.iter()).position(|m| m.name.contains(name));
+    let (floor, blue) = (named("white plastic").unwrap(), named("blue").unwrap());
+    let f0 = render::plastic::coat_reflectance(1.0, 1.5);
+    scene.materials[floor].specular = Some(scene::SpecularLayer {
+        tinted_f0: glam::Vec3::splat(f0),
+        factor: 1.0,
+        coat_f0: f0,
+        texture: Some(strength),
+        color_texture: Some(colour),
+    });
+    scene.materials[blue].specular = Some(scene::SpecularLayer {
+        tinted_f0: f0 * glam::Vec3::new(0.3, 1.0, 2.0),
+        factor: 1.0,
+        coat_f0: f0,
+        texture: None,
+        color_texture: None,
+    });
+    planar_uv(&mut scene, &[floor]);
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same on `cornell_frosted` with its frosted spheres under a thin film (index 1.33,
 /// 500 nm, its thickness from a checker's green), and with its spheres made thin frosted
 /// sheets (bubbles of frosted glass) under the film: bounces take the film's share of their way at their micro-normal, and the

@@ -21,8 +21,8 @@
 //! at its micro-normal; smooth glass chooses reflection by the film's mean reflectance and
 //! weighs each channel by its share; frosted glass keeps its bare choice and weighs each way by
 //! the film's share over the bare one at its micro-normal), plastic's coat
-//! (`crate::plastic::filmed_coat_event`: the coat's reflection the film's mix, chosen by its
-//! mean, and [`coat_film_transmission`] through it), the eye paths' light samples at rough
+//! (`crate::plastic::CoatLayer`: the coat's reflection the film's mix, chosen by its mean,
+//! and the rest through it), the eye paths' light samples at rough
 //! metal, frosted glass and plastic (`cpu::kernels::LitLobes::metal_film`,
 //! `dielectric_film`), their WGSL twins and the path tracer. Lambertian surfaces do not read
 //! a film.
@@ -346,24 +346,6 @@ pub fn rough_dielectric_film_weight(
     let seen = (cos_view, ior, from_outside);
     let (bare, filmed) = filmed_reflectance(fresnel, film, seen, thin_walled);
     film_share(bare, filmed, reflected)
-}
-
-/// A thin film on plastic's coat of index `ior` (`crate::plastic`; glTF's iridescence on an
-/// opaque dielectric): the share of the bare coat's transmittance it leaves in each channel
-/// for light crossing at cosine `cos` (its sign ignored), `(1 − R) / (1 − F)` with `F` the
-/// coat's Fresnel reflectance and `R` glTF's mix of it with the film's. Exact for a smooth
-/// coat, whose transmittance is `1 − F`; a rough coat's tabulated transmittance is scaled by
-/// the same share at the macro-surface's angle (the film is not integrated over its
-/// micro-normals). The coat's reflection takes the film's share at its micro-normal
-/// ([`rough_dielectric_film_weight`] with `eta` = 1 / `ior`). 1 without a film.
-pub fn coat_film_transmission(film: Film, ior: f32, cos: f32) -> Vec3 {
-    if !film.is_some() {
-        return Vec3::ONE;
-    }
-    let cos = cos.abs().min(1.0);
-    let fresnel = crate::optics::fresnel_dielectric(cos, 1.0 / ior);
-    let filmed = iridescent_dielectric(fresnel, film, cos, ior, true);
-    film_share(fresnel, filmed, false)
 }
 
 /// [`rough_dielectric_film_weight`] for the frosted glass lobe a light sample serves

@@ -30,9 +30,9 @@ pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, Punctu
 pub use material::{
     AlphaMode, Anisotropy, Blend, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission,
     Iridescence, MAX_BLEND_MEMBERS, MIN_BRUSHED_ALPHA, MIRROR_MAX_ROUGHNESS, Material,
-    RoughnessMap, Sheen, Surface, TextureRoughness, TexturedLobe, absorption_from_attenuation,
-    blend_members, brushed_metal_surface, coated_surface, dispersion_from_abbe, glass_surface,
-    metal_surface, single_scatter_albedo,
+    RoughnessMap, Sheen, SpecularLayer, Surface, TextureRoughness, TexturedLobe,
+    absorption_from_attenuation, blend_members, brushed_metal_surface, coated_surface,
+    dispersion_from_abbe, glass_surface, metal_surface, single_scatter_albedo,
 };
 pub use model::{AnimationClip, Bounds, Scene, Triangle, Vertex};
 pub use sky_map::SkyMap;

@@ -105,9 +105,43 @@ pub struct Material {
     pub anisotropy: Option<Anisotropy>,
     /// A thin film on the surface (glTF's `KHR_materials_iridescence`: anodised or
     /// heat-tinted metal, a soap bubble); `None` for none. Every member of a blend carries it;
-    /// metal (mirror or rough) and glass (smooth or frosted) read it, plastic and Lambertian
-    /// surfaces not.
+    /// metal (mirror or rough), glass (smooth or frosted) and plastic's coat read it,
+    /// Lambertian surfaces not.
     pub iridescence: Option<Iridescence>,
+    /// glTF's specular layer where it varies from hit to hit or channel to channel
+    /// (`KHR_materials_specular`'s textures or a tinted colour), which plastic's coat reads;
+    /// `None` where the coat's index says it all.
+    pub specular: Option<SpecularLayer>,
+}
+
+/// glTF's specular layer (`KHR_materials_specular`) over plastic's base, where its textures or
+/// a tinted colour make it vary: the coat's index gives the layer's reflectance at normal
+/// incidence for the factors and the colour's mean (`coat_f0`); at a hit the layer's is
+/// `min(F0 · colour, 1) · strength` in each channel, the colour and strength multiplied by
+/// the textures read there, and the coat's reflectance is scaled by their ratio
+/// ([`SpecularLayer::scale_at`]: `render::plastic::CoatLayer`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpecularLayer {
+    /// The dielectric's F0 from its index times `specularColorFactor`, per channel.
+    pub tinted_f0: Vec3,
+    /// `specularFactor`.
+    pub factor: f32,
+    /// The F0 of the coat's own index (> 0).
+    pub coat_f0: f32,
+    /// `specularTexture` (linear data): its alpha channel multiplies `factor`.
+    pub texture: Option<TextureId>,
+    /// `specularColorTexture` (sRGB): multiplies the colour.
+    pub color_texture: Option<TextureId>,
+}
+
+impl SpecularLayer {
+    /// The scale of the coat's reflectance in each channel where the strength texture reads
+    /// `texel` and the colour texture `color_texel` (`None`: no texture).
+    pub fn scale_at(&self, texel: Option<glam::Vec4>, color_texel: Option<glam::Vec4>) -> Vec3 {
+        let colour = color_texel.map_or(Vec3::ONE, |t| t.truncate());
+        let strength = self.factor * texel.map_or(1.0, |t| t.w);
+        (self.tinted_f0 * colour).min(Vec3::ONE) * strength / self.coat_f0
+    }
 }
 
 /// glTF's iridescence: a thin film of index `ior` and a thickness in nanometres on the surface,
@@ -618,6 +652,7 @@ impl Default for Material {
             diffuse_transmission: None,
             anisotropy: None,
             iridescence: None,
+            specular: None,
         }
     }
 }

@@ -155,6 +155,69 @@ fn specular_factor_and_colour_set_the_coat_s_index() {
     }
 }
 
+/// Where `KHR_materials_specular`'s textures or a tinted colour vary the layer, the coat keeps
+/// the index of its factors and the colour's mean, and a `SpecularLayer` holds what scales it
+/// per hit and channel: the dielectric's F0 times the colour, the factor, the coat's own F0,
+/// the strength texture (data) and the colour texture (sRGB); a white colour without textures
+/// and a factor of 0 (Lambertian) make none.
+#[test]
+fn specular_textures_and_a_tinted_colour_make_a_specular_layer() {
+    let load = |specular: Value| {
+        let mut doc = doc_with_two_textures();
+        let mut material = pbr(0.0, 0.2);
+        material["extensions"] = json!({ "KHR_materials_specular": specular });
+        let material = doc.material(material);
+        let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
+        doc.instance(mesh);
+        doc.load().expect("loads")
+    };
+    let scene = load(json!({
+        "specularFactor": 0.5,
+        "specularTexture": { "index": 0 },
+        "specularColorFactor": [2.0, 1.0, 0.0],
+        "specularColorTexture": { "index": 1 },
+    }));
+    let material = &scene.materials[0];
+    let layer = material.specular.expect("a layer");
+    // F0 of index 1.5 is 4 %; the coat's F0 min(4 % × mean 1, 1) × 0.5 = 2 % (index 1.3294).
+    let Surface::Plastic { ior, .. } = material.surface else {
+        panic!("{:?}", material.surface);
+    };
+    assert!((ior - 1.3294).abs() < 1e-3, "coat index {ior}");
+    assert!((layer.coat_f0 - 0.02).abs() < 1e-6, "{layer:?}");
+    assert!(
+        layer
+            .tinted_f0
+            .abs_diff_eq(Vec3::new(0.08, 0.04, 0.0), 1e-6)
+    );
+    assert_eq!(layer.factor, 0.5);
+    let (Some(strength), Some(colour)) = (layer.texture, layer.color_texture) else {
+        panic!("both textures are read: {layer:?}");
+    };
+    assert!(matches!(
+        scene.textures[strength as usize].texels,
+        Texels::LinearF32(_)
+    ));
+    assert_ne!(strength, colour);
+    // Untextured, the layer's scale is its F0 over the coat's: (2, 1, 0) × 4 % × 0.5 / 2 %.
+    assert!(
+        (layer.scale_at(None, None)).abs_diff_eq(Vec3::new(2.0, 1.0, 0.0), 1e-5),
+        "{:?}",
+        layer.scale_at(None, None)
+    );
+
+    // A tinted colour alone makes one; white, or a factor of 0, none.
+    let tinted = load(json!({ "specularColorFactor": [1.0, 0.5, 0.5] }));
+    assert!(tinted.materials[0].specular.is_some());
+    for none in [
+        json!({ "specularColorFactor": [0.5, 0.5, 0.5] }),
+        json!({ "specularFactor": 0.0, "specularTexture": { "index": 0 } }),
+    ] {
+        let scene = load(none.clone());
+        assert_eq!(scene.materials[0].specular, None, "{none}");
+    }
+}
+
 /// The surfaces a blend's first material `id` chains, each with its probability.
 fn members(scene: &Scene, id: u32) -> Vec<(f32, Surface)> {
     let (mut id, mut left, mut out) = (id as usize, 1.0, Vec::new());
@@ -462,6 +525,20 @@ fn tiny_png() -> Vec<u8> {
 }
 
 /// A document whose image 0 is [`tiny_png`] in a buffer view.
+/// [`doc_with_embedded_png`] with a second image and textures 0 and 1 of the two, so that two
+/// slots decode to two textures.
+fn doc_with_two_textures() -> Doc {
+    let mut doc = doc_with_embedded_png();
+    let view = doc.view(&tiny_png());
+    doc.push(
+        "images",
+        json!({ "bufferView": view, "mimeType": "image/png" }),
+    );
+    doc.push("textures", json!({ "source": 0 }));
+    doc.push("textures", json!({ "source": 1 }));
+    doc
+}
+
 fn doc_with_embedded_png() -> Doc {
     let mut doc = Doc::default();
     let view = doc.view(&tiny_png());
@@ -1198,15 +1275,7 @@ fn iridescence_defaults_are_read() {
 #[test]
 fn iridescence_fields_and_textures_are_read() {
     let load = |offset: [f32; 2]| {
-        let mut doc = doc_with_embedded_png();
-        // A second image, so that the two slots decode to two textures.
-        let view = doc.view(&tiny_png());
-        doc.push(
-            "images",
-            json!({ "bufferView": view, "mimeType": "image/png" }),
-        );
-        doc.push("textures", json!({ "source": 0 }));
-        doc.push("textures", json!({ "source": 1 }));
+        let mut doc = doc_with_two_textures();
         let mut material = pbr(1.0, 0.0);
         material["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
         material["extensions"] = json!({ IRIDESCENCE: {

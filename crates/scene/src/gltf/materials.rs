@@ -22,7 +22,9 @@
 //!   `min(F0 · c, 1) · s` for `specularColorFactor` c (a tint kept as its mean) and
 //!   `specularFactor` s, which moves its index (up to 5); s = 0 removes the coat
 //!   (Lambertian). Exact at normal incidence; towards grazing the coat's reflectance still
-//!   rises to 1 where glTF's rises to s. Its textures are not read, and the glass member
+//!   rises to 1 where glTF's rises to s. Where its textures or a tinted colour vary the
+//!   layer, a [`SpecularLayer`] scales the coat's reflectance per hit and channel by the
+//!   layer's F0 there over the coat's (`render::plastic::CoatLayer`); the glass member
 //!   keeps its own index.
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).
@@ -117,8 +119,8 @@ use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Iridescence,
-    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, Surface, Texture, TextureId,
-    TextureRoughness, TexturedLobe, absorption_from_attenuation as scene_absorption,
+    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, SpecularLayer, Surface, Texture,
+    TextureId, TextureRoughness, TexturedLobe, absorption_from_attenuation as scene_absorption,
     brushed_metal_surface, coated_surface, glass_surface, metal_surface,
 };
 
@@ -366,6 +368,7 @@ impl Materials {
             diffuse_transmission,
             anisotropy: self.anisotropy(input, builder, &check, m)?,
             iridescence: self.iridescence(input, builder, &check, m)?,
+            specular: self.specular_layer(input, builder, &check, m)?,
         };
         if is_unlit(m) {
             return Ok((
@@ -521,6 +524,57 @@ impl Materials {
         film.texture = data("iridescenceTexture")?;
         film.thickness_texture = data("iridescenceThicknessTexture")?;
         Ok(Some(film))
+    }
+
+    /// `KHR_materials_specular` where it varies over the surface or by channel (its textures,
+    /// or a colour whose channels differ) as a [`SpecularLayer`] scaling plastic's coat per hit
+    /// and channel; `None` where the coat's index (from the factors and the colour's mean)
+    /// says it all, or where the material has no coat to scale (a layer of strength 0, an
+    /// index of 1 or 0, or a colour of 0).
+    fn specular_layer(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        check: &Check,
+        m: &json::Material,
+    ) -> Result<Option<SpecularLayer>, SceneError> {
+        let Some(extension) = m.extensions.as_ref().and_then(|e| e.specular.as_ref()) else {
+            return Ok(None);
+        };
+        let specular = specular(check, m)?;
+        let ior = (m.extensions.as_ref())
+            .and_then(|e| e.ior.as_ref())
+            .map_or(DEFAULT_IOR, |i| i.ior.0);
+        let coat_f0 = f0_of(specular.coat_ior(ior));
+        let colour = Vec3::from_array(extension.specular_color_factor.0);
+        let textured =
+            extension.specular_texture.is_some() || extension.specular_color_texture.is_some();
+        let tinted = colour.max_element() != colour.min_element();
+        if !(textured || tinted) || specular.factor == 0.0 || coat_f0 <= 0.0 || ior == 0.0 {
+            return Ok(None);
+        }
+        let mut texture = |info: &Option<json::texture::Info>, name, srgb| match info {
+            Some(info) => {
+                let slot = if srgb {
+                    TextureSlot::colour(info, name)
+                } else {
+                    TextureSlot::data(info, name)
+                };
+                self.texture(input, builder, slot, check.label).map(Some)
+            }
+            None => Ok(None),
+        };
+        Ok(Some(SpecularLayer {
+            tinted_f0: f0_of(ior) * colour,
+            factor: specular.factor,
+            coat_f0,
+            texture: texture(&extension.specular_texture, "specularTexture", DATA)?,
+            color_texture: texture(
+                &extension.specular_color_texture,
+                "specularColorTexture",
+                COLOUR,
+            )?,
+        }))
     }
 
     /// The texture an extension of material `m` names in its field `name` (the `slot`:
@@ -968,6 +1022,11 @@ struct Specular {
     factor: f32,
     /// The mean of `specularColorFactor`'s channels (each ≥ 0).
     color: f32,
+}
+
+/// The reflectance at normal incidence between air and index `ior`.
+fn f0_of(ior: f32) -> f32 {
+    ((ior - 1.0) / (ior + 1.0)).powi(2)
 }
 
 /// The largest index [`Specular::coat_ior`] gives (F0 = 44 %).

@@ -54,9 +54,10 @@ struct LitLobes {
     // `glossy` then leaves the colour out).
     film_base: vec3<f32>,
     film: Film,
-    // cpu::kernels::LitLobes::dielectric_film: frosted glass's or plastic's coat's thin film
-    // (factor 0: none).
+    // cpu::kernels::LitLobes::dielectric_film: frosted glass's thin film (factor 0: none).
     dielectric_film: Film,
+    // cpu::kernels::LitLobes::coat's layer: what lies on plastic's coat (bare elsewhere).
+    coat_layer: CoatLayer,
 }
 
 // render::microfacet::GlossyLobe::facing.
@@ -98,8 +99,8 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
     if max3(lit.diffuse) > 0.0 {
         var coat = vec3<f32>(1.0);
         if lit.coat_ior > 0.0 {
-            let film = coat_film_transmission(lit.dielectric_film, lit.coat_ior, cosine);
-            coat = coat_transmittance_of(hit.material, lit.coat_alpha, cosine) * film;
+            let layer = coat_layer_transmission(lit.coat_layer, lit.coat_ior, cosine);
+            coat = coat_transmittance_of(hit.material, lit.coat_alpha, cosine) * layer;
         }
         response += lit.diffuse * coat * cosine;
     }
@@ -122,6 +123,8 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
                 }
                 tint *= rough_dielectric_film_weight(lit.dielectric_film, outgoing, incident, hit.shading, eta, thin_walled);
             }
+            // A rough coat's reflection under its layer (1 elsewhere: a bare layer).
+            tint *= coat_layer_reflection(lit.coat_layer, lit.coat_ior, outgoing, incident);
             response += lit.glossy * tint * (lobe.value * power_heuristic(light_pdf, lobe.pdf));
         }
     }

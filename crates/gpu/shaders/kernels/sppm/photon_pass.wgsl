@@ -295,8 +295,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             var share = vec3<f32>(1.0);
             if keeper_surface == SURFACE_PLASTIC {
                 let cos = dot(direction, hit.shading);
-                let film = hit_film(keeper_material, hit.uv);
-                share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, cos) * coat_film_transmission(film, keeper_material.ior, cos);
+                let layer = hit_coat_layer(keeper_material, hit.uv);
+                share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, cos) * coat_layer_transmission(layer, keeper_material.ior, cos);
             }
             let landed = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (bounded_correction(arrival) * share), 0u);
             photon = one_of(photon, landed, &rng);
@@ -318,8 +318,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         next = bounce.direction;
         weight = bounce.weight;
     } else if plastic {
-        let film = hit_film(material, hit.uv);
-        let choice = plastic_bounce(material, hit, direction, film, u_choice, u_direction0, u_direction1);
+        let layer = hit_coat_layer(material, hit.uv);
+        let choice = plastic_bounce(material, hit, direction, layer, u_choice, u_direction0, u_direction1);
         if choice.base {
             bounced = true;
             let side = lambertian_side(material, hit, surface_tint, u_side);
@@ -329,7 +329,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             weight = bounce.weight;
             let alpha = material.roughness_alpha;
             let cos = dot(next, out.shading);
-            let leaving = coat_transmittance_of(hit.material, alpha, cos) * coat_film_transmission(film, material.ior, cos);
+            let leaving = coat_transmittance_of(hit.material, alpha, cos) * coat_layer_transmission(layer, material.ior, cos);
             let scale = coat_diffuse_scale_of(hit.material, alpha);
             tint = side.tint * leaving * choice.film_tint * (choice.base_weight * scale);
         } else {

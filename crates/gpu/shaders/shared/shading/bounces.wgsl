@@ -7,10 +7,10 @@ fn diffuse_bounce(hit: SurfaceHit, u1: f32, u2: f32) -> Scattered {
     return Scattered(next, select(0.0, 1.0, dot(next, hit.geometric) > 0.0));
 }
 
-// cpu::surface::plastic_bounce (render::plastic::filmed_coat_event): `base` true where the light
-// passes the coat to the base, whose estimate it multiplies by `base_weight`; otherwise the
-// coat's reflection (weight 0 where the path ends). `film_tint`: a thin film's share of the
-// way taken (1 without one).
+// cpu::surface::plastic_bounce (render::plastic::layered_coat_event): `base` true where the
+// light passes the coat to the base, whose estimate it multiplies by `base_weight`; otherwise
+// the coat's reflection (weight 0 where the path ends). `film_tint`: the coat's layer's share
+// of the way taken (1 for a bare coat).
 struct PlasticBounce {
     base: bool,
     base_weight: f32,
@@ -18,15 +18,15 @@ struct PlasticBounce {
     film_tint: vec3<f32>,
 }
 
-fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film, u_choice: f32, u1: f32, u2: f32) -> PlasticBounce {
+fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, layer: CoatLayer, u_choice: f32, u1: f32, u2: f32) -> PlasticBounce {
     let ior = material.ior;
     let alpha = material.roughness_alpha;
     let normal = hit.shading;
     let cos_view = -dot(incoming, normal);
     let none = Scattered(vec3<f32>(0.0), 0.0);
-    let filmed = IRIDESCENCE && film.factor > 0.0;
+    let filmed = !coat_layer_is_bare(layer);
     if alpha == 0.0 {
-        let chosen = coat_choice(film, cos_view, ior);
+        let chosen = coat_choice(layer, cos_view, ior);
         if u_choice < chosen.w {
             let tint = select(vec3<f32>(1.0), film_share(chosen.w, chosen.xyz, true), filmed);
             return PlasticBounce(false, 0.0, Scattered(reflect_about(incoming, normal), 1.0), tint);
@@ -36,15 +36,12 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, f
     }
     let frame = frame_about(normal);
     let view = to_local(frame, -incoming);
-    var through = vec3<f32>(1.0);
-    if filmed {
-        through = coat_film_transmission(film, ior, cos_view);
-    }
+    let through = coat_layer_transmission(layer, ior, cos_view);
     if view.z <= 0.0 {
         return PlasticBounce(true, 1.0, none, through);
     }
     let micro = sample_visible_normal(view, alpha, u1, u2);
-    let chosen = coat_choice(film, dot(view, micro), ior);
+    let chosen = coat_choice(layer, dot(view, micro), ior);
     if u_choice < chosen.w {
         let out = reflect_about(-view, micro);
         let weight = smith_g1(out, alpha);
@@ -58,16 +55,16 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, f
     return PlasticBounce(true, coat_transmittance_of(hit.material, alpha, cos_view) / (1.0 - chosen.w), none, through);
 }
 
-// render::plastic::filmed_coat_event's choice at cosine `cos` to the (micro-)normal: each
-// channel's reflectance (xyz) and the probability of reflecting (w), their mean under a film,
-// else the bare coat's Fresnel reflectance.
-fn coat_choice(film: Film, cos: f32, ior: f32) -> vec4<f32> {
+// render::plastic::layered_coat_event's choice at cosine `cos` to the (micro-)normal: each
+// channel's reflectance (xyz) and the probability of reflecting (w), their mean under a
+// layer, else the bare coat's Fresnel reflectance.
+fn coat_choice(layer: CoatLayer, cos: f32, ior: f32) -> vec4<f32> {
     let bare = coat_reflectance(cos, ior);
-    if !IRIDESCENCE || film.factor <= 0.0 {
+    if coat_layer_is_bare(layer) {
         return vec4<f32>(vec3<f32>(bare), bare);
     }
-    let filmed = iridescent_dielectric(bare, film, abs(cos), ior, true);
-    return vec4<f32>(filmed, (filmed.x + filmed.y + filmed.z) / 3.0);
+    let each = coat_layer_reflectance(layer, bare, cos, ior);
+    return vec4<f32>(each, (each.x + each.y + each.z) / 3.0);
 }
 
 // cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.

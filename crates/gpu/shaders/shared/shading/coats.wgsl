@@ -161,3 +161,69 @@ fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32
     }
     return ClearcoatBounce(true, rough_reflection(hit, incoming, coat.alpha, u_micro.x, u_micro.y));
 }
+
+// render::plastic::CoatLayer: what lies on plastic's coat at a hit, glTF's specular layer
+// (each channel's scale of the coat's Fresnel reflectance) and thin film.
+struct CoatLayer {
+    specular: vec3<f32>,
+    film: Film,
+}
+
+// render::plastic::CoatLayer::default.
+fn bare_coat_layer() -> CoatLayer {
+    return CoatLayer(vec3<f32>(1.0), no_film());
+}
+
+// cpu::surface::hit_coat_layer (scene::SpecularLayer::scale_at).
+fn hit_coat_layer(material: GpuMaterial, uv: vec2<f32>) -> CoatLayer {
+    var specular = vec3<f32>(1.0);
+    if material.specular_coat_f0 > 0.0 {
+        var colour = vec3<f32>(1.0);
+        if material.specular_color_texture != NO_TEXTURE {
+            colour = sample_texture(material.specular_color_texture, uv).xyz;
+        }
+        var strength = material.specular_factor;
+        if material.specular_texture != NO_TEXTURE {
+            strength *= sample_texture(material.specular_texture, uv).w;
+        }
+        specular = min(material.specular_tinted_f0 * colour, vec3<f32>(1.0)) * strength / material.specular_coat_f0;
+    }
+    return CoatLayer(specular, hit_film(material, uv));
+}
+
+// render::plastic::CoatLayer::is_bare.
+fn coat_layer_is_bare(layer: CoatLayer) -> bool {
+    return all(layer.specular == vec3<f32>(1.0)) && !(IRIDESCENCE && layer.film.factor > 0.0);
+}
+
+// render::plastic::CoatLayer::reflectance.
+fn coat_layer_reflectance(layer: CoatLayer, bare: f32, cos: f32, ior: f32) -> vec3<f32> {
+    let scaled = min(vec3<f32>(bare) * layer.specular, vec3<f32>(1.0));
+    if !IRIDESCENCE || layer.film.factor <= 0.0 {
+        return scaled;
+    }
+    let film = layer.film;
+    let film_colour = film_reflectance(min(abs(cos), 1.0), film.ior, film.thickness, vec3<f32>(ior));
+    return mix(scaled, film_colour, min(film.factor, 1.0));
+}
+
+// render::plastic::CoatLayer::transmission_share.
+fn coat_layer_transmission(layer: CoatLayer, ior: f32, cos: f32) -> vec3<f32> {
+    if coat_layer_is_bare(layer) {
+        return vec3<f32>(1.0);
+    }
+    let bare = coat_reflectance(cos, ior);
+    return film_share(bare, coat_layer_reflectance(layer, bare, cos, ior), false);
+}
+
+// render::plastic::CoatLayer::reflection_share.
+fn coat_layer_reflection(layer: CoatLayer, ior: f32, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
+    let sum = outgoing + incident;
+    let length_sum = length(sum);
+    if coat_layer_is_bare(layer) || !(length_sum > 0.0) {
+        return vec3<f32>(1.0);
+    }
+    let cos = min(abs(dot(outgoing, sum / length_sum)), 1.0);
+    let bare = coat_reflectance(cos, ior);
+    return film_share(bare, coat_layer_reflectance(layer, bare, cos, ior), true);
+}

@@ -172,16 +172,6 @@ fn film_share(bare: f32, filmed: vec3<f32>, reflected: bool) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// render::iridescence::coat_film_transmission.
-fn coat_film_transmission(film: Film, ior: f32, cos_in: f32) -> vec3<f32> {
-    if film.factor <= 0.0 {
-        return vec3<f32>(1.0);
-    }
-    let cos = min(abs(cos_in), 1.0);
-    let fresnel = fresnel_dielectric(cos, 1.0 / ior);
-    return film_share(fresnel, iridescent_dielectric(fresnel, film, cos, ior, true), false);
-}
-
 // render::iridescence::metal_tint.
 fn metal_tint(base_color: vec3<f32>, film: Film, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
     let half_sum = outgoing + incident;

@@ -206,6 +206,21 @@ fn specular_textures_and_a_tinted_colour_make_a_specular_layer() {
         layer.scale_at(None, None)
     );
 
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    // A texture of the layer with a transform of its own is read with the base colour's.
+    let shifted = load(json!({
+        "specularColorTexture": {
+            "index": 1,
+            "extensions": { "KHR_texture_transform": { "offset": [0.5, 0.0] } },
+        },
+    }));
+    assert!(shifted.materials[0].specular.is_some());
+    assert_eq!(shifted.warnings.len(), 1, "{:?}", shifted.warnings);
+    assert_mentions(
+        &shifted.warnings[0],
+        &["specularColorTexture", "KHR_texture_transform"],
+    );
+
     // A tinted colour alone makes one; white, or a factor of 0, none.
     let tinted = load(json!({ "specularColorFactor": [1.0, 0.5, 0.5] }));
     assert!(tinted.materials[0].specular.is_some());

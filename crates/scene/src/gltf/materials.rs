@@ -719,8 +719,8 @@ fn warn_own_transform(
 }
 
 /// [`warn_own_transform`] for the textures of the clear coat, the sheen, the diffuse
-/// transmission, the anisotropy, the iridescence and the transmission, which read the
-/// material's one set of coordinates too.
+/// transmission, the anisotropy, the iridescence, the transmission and the specular layer,
+/// which read the material's one set of coordinates too.
 fn warn_layer_transforms(
     m: &json::Material,
     transform: Option<Affine2>,
@@ -769,17 +769,26 @@ fn warn_layer_transforms(
             }
         }
     }
-    let transmission = (extensions.transmission.as_ref())
-        .and_then(|t| t.transmission_texture.as_ref())
-        .and_then(slot_transform);
-    if transmission.is_some() {
-        warn_own_transform(
+    let specular = extensions.specular.as_ref();
+    let typed = [
+        (
             "transmissionTexture",
-            transmission,
-            transform,
-            label,
-            builder,
-        );
+            (extensions.transmission.as_ref()).and_then(|t| t.transmission_texture.as_ref()),
+        ),
+        (
+            "specularTexture",
+            specular.and_then(|s| s.specular_texture.as_ref()),
+        ),
+        (
+            "specularColorTexture",
+            specular.and_then(|s| s.specular_color_texture.as_ref()),
+        ),
+    ];
+    for (slot, info) in typed {
+        let own = info.and_then(slot_transform);
+        if own.is_some() {
+            warn_own_transform(slot, own, transform, label, builder);
+        }
     }
 }
 

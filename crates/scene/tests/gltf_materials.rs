@@ -1437,14 +1437,14 @@ fn bad_iridescence_values_are_refused() {
     assert_mentions(&error.to_string(), &["iridescenceIor"]);
 }
 
-/// The film is rendered on metal, glass and plastic's coat: an opaque dielectric of roughness
-/// below 0.5 (plastic) keeps it, also where a metallic-roughness texture maps it; on one
-/// rendered Lambertian (rougher, or without a specular layer) it is warned about once and
-/// dropped, and so on metal rough enough to be rendered Lambertian; glass, smooth or frosted,
-/// keeps it; a partly metal material keeps it on every member of its blend, and so does a
-/// metal whose metalness a texture maps.
+/// The film is rendered on metal, glass and plastic's coat: an opaque dielectric (plastic)
+/// keeps it, also where a metallic-roughness texture maps it, and so do a dielectric and a
+/// metal rough enough to be rendered Lambertian without it, which keep their lobes (rough
+/// plastic and rough metal of width roughness²); without a specular layer it is warned about
+/// once and dropped; glass, smooth or frosted, keeps it; a partly metal material keeps it on
+/// every member of its blend, and so does a metal whose metalness a texture maps.
 #[test]
-fn iridescence_on_a_lambertian_surface_is_ignored_with_a_warning() {
+fn iridescence_keeps_its_layer_and_is_ignored_only_without_one() {
     let scene = iridescent(0.0, json!({ "iridescenceFactor": 1.0 })).expect("loads");
     assert!(matches!(
         scene.materials[0].surface,
@@ -1460,30 +1460,40 @@ fn iridescence_on_a_lambertian_surface_is_ignored_with_a_warning() {
     assert!(plastic.roughness_map.is_some() && plastic.iridescence.is_some());
     assert!(mapped.warnings.is_empty(), "{:?}", mapped.warnings);
 
-    // A rough dielectric (Lambertian), and one whose specular layer is taken away.
-    let mut matte = pbr(0.0, 0.7);
-    matte["extensions"] = film.clone();
+    // A rough dielectric and a rough metal keep their lobes under the film.
+    for (metallic, lobe) in [
+        (
+            0.0,
+            Surface::Plastic {
+                ior: 1.5,
+                alpha: 0.7 * 0.7,
+            },
+        ),
+        (1.0, Surface::RoughConductor { alpha: 0.7 * 0.7 }),
+    ] {
+        let mut matte = pbr(metallic, 0.7);
+        matte["extensions"] = film.clone();
+        let scene = quad_doc(Some(matte)).load().expect("loads");
+        assert_eq!(scene.materials[0].surface, lobe);
+        assert!(scene.materials[0].iridescence.is_some());
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    }
+    // One whose specular layer is taken away.
     let mut bare = pbr(0.0, 0.3);
     bare["extensions"] = json!({
         IRIDESCENCE: { "iridescenceFactor": 1.0 },
         "KHR_materials_specular": { "specularFactor": 0.0 },
     });
-    for (material, words) in [(matte, "roughness"), (bare, "specularFactor 0")] {
-        let scene = quad_doc(Some(material)).load().expect("loads");
-        assert!(scene.materials.iter().all(|m| m.iridescence.is_none()));
-        assert_eq!(
-            scene.warnings,
-            vec![format!(
-                "material 0: KHR_materials_iridescence on {} is not modelled: its film is ignored",
-                if words == "roughness" {
-                    "a surface of roughness ≥ 0.5 (rendered Lambertian)"
-                } else {
-                    "an opaque dielectric without a specular layer (specularFactor 0, rendered \
-                     Lambertian)"
-                }
-            )]
-        );
-    }
+    let scene = quad_doc(Some(bare)).load().expect("loads");
+    assert!(scene.materials.iter().all(|m| m.iridescence.is_none()));
+    assert_eq!(
+        scene.warnings,
+        vec![
+            "material 0: KHR_materials_iridescence on an opaque dielectric without a specular \
+             layer (specularFactor 0, rendered Lambertian) is not modelled: its film is ignored"
+                .to_string()
+        ]
+    );
 
     // Glass keeps it, smooth or frosted.
     for roughness in [0.0, 0.3] {
@@ -1497,14 +1507,6 @@ fn iridescence_on_a_lambertian_surface_is_ignored_with_a_warning() {
         assert!(material.iridescence.is_some(), "roughness {roughness}");
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     }
-
-    // Metal so rough that it is rendered Lambertian.
-    let mut matte = pbr(1.0, 0.7);
-    matte["extensions"] = film.clone();
-    let matte = quad_doc(Some(matte)).load().expect("loads");
-    assert!(matte.materials.iter().all(|m| m.iridescence.is_none()));
-    assert_eq!(matte.warnings.len(), 1, "{:?}", matte.warnings);
-    assert_mentions(&matte.warnings[0], &[IRIDESCENCE, "Lambertian", "ignored"]);
 
     let half = iridescent(0.5, json!({ "iridescenceFactor": 1.0 })).expect("loads");
     let id = half.triangles[0].material as usize;

@@ -61,9 +61,12 @@
 //!   `iridescenceIor` (default 1.3) its index, its thickness `iridescenceThicknessMaximum`
 //!   (default 400 nm), or where `iridescenceThicknessTexture` (linear data) is given, from
 //!   `iridescenceThicknessMinimum` (default 100 nm) to the maximum by its green. A factor of
-//!   0 is no film; on a surface rendered Lambertian (roughness ≥ 0.5, no transmission or
-//!   texture; or an opaque dielectric whose `specularFactor` is 0) the film is not modelled
-//!   and is ignored (warned); a blend's members all carry it.
+//!   0 is no film. A filmed metal or opaque dielectric keeps its lobe however rough (rough
+//!   metal, rough plastic of width roughness²) where it would otherwise be rendered
+//!   Lambertian, which has no layer to colour; per-hit surfaces that a metallic-roughness
+//!   texture picks keep their thresholds (the film is not read where a texel makes them
+//!   Lambertian). On an opaque dielectric whose `specularFactor` is 0 the film is ignored
+//!   (warned). A blend's members all carry it.
 //! - emission = `emissiveFactor` × `KHR_materials_emissive_strength` (× `emissiveTexture`).
 //! - `KHR_materials_unlit` → an emitter of the base colour (factor × texture) that reflects
 //!   nothing: a backdrop or sky dome lights the scene with what it shows.
@@ -482,10 +485,9 @@ impl Materials {
 
     /// `KHR_materials_iridescence` as an [`Iridescence`] ([`iridescence`]'s factors) with its
     /// factor and thickness textures, decoded as linear data. The film is rendered on metal,
-    /// glass and plastic's coat: a surface rough enough to be rendered Lambertian (and no
-    /// glass; a metallic-roughness texture may make it smoother per hit) and an opaque
-    /// dielectric whose specular layer `KHR_materials_specular` removes get none, with a
-    /// warning.
+    /// glass and plastic's coat, which keep their lobes under it however rough (`lobes`); an
+    /// opaque dielectric whose specular layer `KHR_materials_specular` removes gets none, with
+    /// a warning.
     fn iridescence(
         &mut self,
         input: &Input,
@@ -496,21 +498,12 @@ impl Materials {
         let Some(mut film) = iridescence(check, m)? else {
             return Ok(None);
         };
-        // The film colours metal, glass and plastic's coat; a Lambertian surface has no
-        // layer to wear it.
+        // The film colours metal, glass and plastic's coat, which keep their lobes however
+        // rough under it (`lobes`); an opaque dielectric without a specular layer has none to
+        // wear it.
         let pbr = &m.pbr_metallic_roughness;
         let metal = pbr.metallic_factor.0 > 0.0;
         let glass = transmission(check, m)? > 0.0;
-        let roughness = pbr.roughness_factor.0;
-        let mapped = pbr.metallic_roughness_texture.is_some();
-        if !glass && !mapped && roughness >= DIFFUSE_MIN_ROUGHNESS {
-            builder.warn(format!(
-                "{}: {IRIDESCENCE} on a surface of roughness ≥ {DIFFUSE_MIN_ROUGHNESS} \
-                 (rendered Lambertian) is not modelled: its film is ignored",
-                check.label
-            ));
-            return Ok(None);
-        }
         if !metal && !glass && specular(check, m)?.factor == 0.0 {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on an opaque dielectric without a specular layer \
@@ -924,6 +917,18 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
     } else {
         glass_surface(ior, thickness == 0.0, roughness)
     };
+    // A thin film needs a layer to colour: a filmed metal or coat keeps its lobe however
+    // rough (rendered Lambertian it would lose the film).
+    let filmed = iridescence(check, m)?.is_some();
+    let keep_lobe = |surface: Surface, lobe: Surface| match surface {
+        Surface::Diffuse if filmed && roughness >= DIFFUSE_MIN_ROUGHNESS => lobe,
+        other => other,
+    };
+    let rough = roughness * roughness;
+    let metal = keep_lobe(
+        metal_lobe(check, m, roughness)?,
+        Surface::RoughConductor { alpha: rough },
+    );
     let specular = specular(check, m)?;
     let opaque = if specular.factor == 0.0 || ior == 1.0 {
         Surface::Diffuse
@@ -932,10 +937,15 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
     } else if ior == 0.0 {
         Surface::Diffuse
     } else {
-        coated_surface(specular.coat_ior(ior), roughness)
+        let coat_ior = specular.coat_ior(ior);
+        let lobe = Surface::Plastic {
+            ior: coat_ior,
+            alpha: rough,
+        };
+        keep_lobe(coated_surface(coat_ior, roughness), lobe)
     };
     Ok(Lobes {
-        metal: metal_lobe(check, m, roughness)?,
+        metal,
         glass,
         opaque,
     })

@@ -190,6 +190,33 @@ fn info_counts_iridescent_materials() {
     );
 }
 
+/// `kousen info` counts the materials whose coat a varying specular layer scales: none in the
+/// shipped plastic room, one where a copy of it gives its red plastic a tinted
+/// `KHR_materials_specular` colour.
+#[test]
+fn info_counts_specular_layers() {
+    let plastic = shipped("cornell-plastic.gltf");
+    assert_eq!(info_json(&plastic)["specular_layers"], 0);
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(&plastic).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let materials = doc["materials"].as_array_mut().unwrap();
+    let red = (materials.iter_mut())
+        .find(|m| m["name"].as_str().is_some_and(|n| n.contains("red")))
+        .expect("a red plastic");
+    red["extensions"] = serde_json::json!({
+        "KHR_materials_specular": { "specularColorFactor": [1.0, 0.5, 0.5] },
+    });
+    let copy = dir.path().join("cornell-plastic.gltf");
+    std::fs::write(&copy, serde_json::to_string(&doc).unwrap()).unwrap();
+    std::fs::copy(
+        shipped("cornell-plastic.bin"),
+        dir.path().join("cornell-plastic.bin"),
+    )
+    .unwrap();
+    assert_eq!(info_json(&copy)["specular_layers"], 1);
+}
+
 /// `kousen info` counts the brushed materials (the shipped brushed room's two spheres).
 #[test]
 fn info_counts_brushed_materials() {

@@ -46,8 +46,11 @@ struct Info {
     /// `KHR_materials_anisotropy`).
     brushed_materials: usize,
     /// Materials (blend members) under a thin film (`scene::Iridescence`: glTF's
-    /// `KHR_materials_iridescence`, which colours their metal).
+    /// `KHR_materials_iridescence`, which colours their metal, glass or coat).
     iridescent_materials: usize,
+    /// Materials (blend members) whose coat a varying specular layer scales
+    /// (`scene::SpecularLayer`: glTF's `KHR_materials_specular` textures or tinted colour).
+    specular_layers: usize,
     /// Whether the meshes carry their own tangents (glTF TANGENT), the frame of normal maps
     /// and brushing (else each triangle's texture coordinates give it).
     vertex_tangents: bool,
@@ -346,6 +349,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         murky_glass_materials: count(|m| m.has_murky_glass()),
         brushed_materials: count(|m| m.anisotropy.is_some()),
         iridescent_materials: count(|m| m.iridescence.is_some()),
+        specular_layers: count(|m| m.specular.is_some()),
         vertex_tangents: scene.has_vertex_tangents(),
         inside_solids: inside_solids(&scene),
         textures: scene.textures.len(),
@@ -506,6 +510,10 @@ fn print_table(info: &Info) {
         (
             "iridescence",
             format!("{} materials", info.iridescent_materials),
+        ),
+        (
+            "specular layers",
+            format!("{} materials (textured or tinted)", info.specular_layers),
         ),
         (
             "murky glass",

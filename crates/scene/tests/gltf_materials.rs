@@ -1478,22 +1478,28 @@ fn iridescence_keeps_its_layer_and_is_ignored_only_without_one() {
         assert!(scene.materials[0].iridescence.is_some());
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     }
-    // One whose specular layer is taken away.
-    let mut bare = pbr(0.0, 0.3);
-    bare["extensions"] = json!({
-        IRIDESCENCE: { "iridescenceFactor": 1.0 },
-        "KHR_materials_specular": { "specularFactor": 0.0 },
-    });
-    let scene = quad_doc(Some(bare)).load().expect("loads");
-    assert!(scene.materials.iter().all(|m| m.iridescence.is_none()));
-    assert_eq!(
-        scene.warnings,
-        vec![
-            "material 0: KHR_materials_iridescence on an opaque dielectric without a specular \
-             layer (specularFactor 0, rendered Lambertian) is not modelled: its film is ignored"
-                .to_string()
-        ]
-    );
+    // One whose specular layer is taken away, or whose index matches the air's.
+    for layerless in [
+        json!({ "KHR_materials_specular": { "specularFactor": 0.0 } }),
+        json!({ "KHR_materials_ior": { "ior": 1.0 } }),
+    ] {
+        let mut bare = pbr(0.0, 0.3);
+        bare["extensions"] = layerless.clone();
+        bare["extensions"][IRIDESCENCE] = json!({ "iridescenceFactor": 1.0 });
+        let scene = quad_doc(Some(bare)).load().expect("loads");
+        assert_eq!(scene.materials[0].surface, Surface::Diffuse, "{layerless}");
+        assert!(scene.materials.iter().all(|m| m.iridescence.is_none()));
+        assert_eq!(
+            scene.warnings,
+            vec![
+                "material 0: KHR_materials_iridescence on an opaque dielectric without a \
+                 specular layer (specularFactor 0 or ior 1, rendered Lambertian) is not \
+                 modelled: its film is ignored"
+                    .to_string()
+            ],
+            "{layerless}"
+        );
+    }
 
     // Glass keeps it, smooth or frosted.
     for roughness in [0.0, 0.3] {

@@ -504,10 +504,12 @@ impl Materials {
         let pbr = &m.pbr_metallic_roughness;
         let metal = pbr.metallic_factor.0 > 0.0;
         let glass = transmission(check, m)? > 0.0;
-        if !metal && !glass && specular(check, m)?.factor == 0.0 {
+        let ior = ior_of(m);
+        if !metal && !glass && (specular(check, m)?.factor == 0.0 || ior == 1.0) {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on an opaque dielectric without a specular layer \
-                 (specularFactor 0, rendered Lambertian) is not modelled: its film is ignored",
+                 (specularFactor 0 or ior 1, rendered Lambertian) is not modelled: its film is \
+                 ignored",
                 check.label
             ));
             return Ok(None);
@@ -535,9 +537,7 @@ impl Materials {
             return Ok(None);
         };
         let specular = specular(check, m)?;
-        let ior = (m.extensions.as_ref())
-            .and_then(|e| e.ior.as_ref())
-            .map_or(DEFAULT_IOR, |i| i.ior.0);
+        let ior = ior_of(m);
         let coat_f0 = f0_of(specular.coat_ior(ior));
         let colour = Vec3::from_array(extension.specular_color_factor.0);
         let textured =
@@ -898,12 +898,17 @@ fn transmission(check: &Check, m: &json::Material) -> Result<f32, SceneError> {
     check.unit(transmission, "transmissionFactor")
 }
 
+/// `KHR_materials_ior`'s index (glTF's default 1.5 without it), unchecked ([`lobes`] checks it).
+fn ior_of(m: &json::Material) -> f32 {
+    (m.extensions.as_ref())
+        .and_then(|e| e.ior.as_ref())
+        .map_or(DEFAULT_IOR, |i| i.ior.0)
+}
+
 /// The surfaces glTF's metal, glass and opaque dielectric make at `roughness`.
 fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, SceneError> {
     let extensions = m.extensions.as_ref();
-    let ior = extensions
-        .and_then(|e| e.ior.as_ref())
-        .map_or(DEFAULT_IOR, |i| i.ior.0);
+    let ior = ior_of(m);
     if !(ior.is_finite() && (ior >= 1.0 || ior == 0.0)) {
         return Err(check.error(format!("ior {ior} is neither ≥ 1 nor 0")));
     }

@@ -267,8 +267,14 @@ pub fn iridescent_dielectric(
         }
         (1.0 - sin2_outside).sqrt()
     };
+    film_mix(Vec3::splat(fresnel), film, cos_outside, ior)
+}
+
+/// glTF's mix by `film.factor` of a dielectric's own reflectance `bare` (each channel) with
+/// the film's on a base of index `ior`, seen at `cos_outside` (in [0, 1]) outside it.
+pub fn film_mix(bare: Vec3, film: Film, cos_outside: f32, ior: f32) -> Vec3 {
     let film_colour = film_reflectance(cos_outside, film.ior, film.thickness, Vec3::splat(ior));
-    Vec3::splat(fresnel).lerp(film_colour, film.factor.min(1.0))
+    bare.lerp(film_colour, film.factor.min(1.0))
 }
 
 /// A smooth dielectric's reflectance at `cos_incident`, bare (`fresnel`, its own Fresnel

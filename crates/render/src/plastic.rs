@@ -36,7 +36,7 @@
 
 use glam::Vec3;
 
-use crate::iridescence::{Film, film_reflectance, film_share};
+use crate::iridescence::{Film, film_mix, film_share};
 use crate::microfacet::{Frame, sample_visible_normal, smith_g1};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 
@@ -200,20 +200,13 @@ impl CoatLayer {
     /// The coat's reflectance in each channel for light meeting it from outside at cosine
     /// `cos` (its sign ignored), where its bare Fresnel reflectance is `bare`: scaled by the
     /// specular layer (up to 1), then mixed by the film's factor with the film's reflectance
-    /// on a base of the coat's index (`crate::iridescence::iridescent_dielectric`).
+    /// on a base of the coat's index (`crate::iridescence::film_mix`).
     pub fn reflectance(&self, bare: f32, cos: f32, ior: f32) -> Vec3 {
         let scaled = (Vec3::splat(bare) * self.specular).min(Vec3::ONE);
         if !self.film.is_some() {
             return scaled;
         }
-        let film = self.film;
-        let film_colour = film_reflectance(
-            cos.abs().min(1.0),
-            film.ior,
-            film.thickness,
-            Vec3::splat(ior),
-        );
-        scaled.lerp(film_colour, film.factor.min(1.0))
+        film_mix(scaled, self.film, cos.abs().min(1.0), ior)
     }
 
     /// The share of the bare coat's transmittance the layer leaves in each channel at cosine
@@ -260,7 +253,8 @@ pub fn layered_coat_event(
     let (ior, alpha) = (coat.ior, coat.alpha);
     let cos_view = -incoming.dot(normal);
     let bare = layer.is_bare();
-    // The choice's probability and each channel's reflectance at cosine `cos`.
+    // The choice's probability and each channel's reflectance at cosine `cos`. Bare, the way
+    // chosen keeps a share of exactly 1 (F / F, or (1 − F) / (1 − F)).
     let reflectance = |cos: f32| {
         let fresnel = coat_reflectance(cos, ior);
         if bare {
@@ -268,13 +262,6 @@ pub fn layered_coat_event(
         }
         let each = layer.reflectance(fresnel, cos, ior);
         (each.element_sum() / 3.0, each)
-    };
-    let share = |(chosen, each): (f32, Vec3), reflected| {
-        if bare {
-            Vec3::ONE
-        } else {
-            film_share(chosen, each, reflected)
-        }
     };
     if alpha == 0.0 {
         let chosen = reflectance(cos_view);
@@ -284,9 +271,12 @@ pub fn layered_coat_event(
                 direction,
                 weight: 1.0,
             };
-            (event, share(chosen, true))
+            (event, film_share(chosen.0, chosen.1, true))
         } else {
-            (CoatEvent::Base { weight: 1.0 }, share(chosen, false))
+            (
+                CoatEvent::Base { weight: 1.0 },
+                film_share(chosen.0, chosen.1, false),
+            )
         };
     }
     let frame = Frame::about(normal);
@@ -303,7 +293,7 @@ pub fn layered_coat_event(
             direction: frame.to_world(out),
             weight: smith_g1(out, alpha),
         };
-        return (event, share(chosen, true));
+        return (event, film_share(chosen.0, chosen.1, true));
     }
     let weight = coat.transmittance(cos_view) / (1.0 - chosen.0);
     (CoatEvent::Base { weight }, through)

@@ -24,14 +24,13 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, l
     let normal = hit.shading;
     let cos_view = -dot(incoming, normal);
     let none = Scattered(vec3<f32>(0.0), 0.0);
-    let filmed = !coat_layer_is_bare(layer);
     if alpha == 0.0 {
         let chosen = coat_choice(layer, cos_view, ior);
         if u_choice < chosen.w {
-            let tint = select(vec3<f32>(1.0), film_share(chosen.w, chosen.xyz, true), filmed);
+            let tint = film_share(chosen.w, chosen.xyz, true);
             return PlasticBounce(false, 0.0, Scattered(reflect_about(incoming, normal), 1.0), tint);
         }
-        let tint = select(vec3<f32>(1.0), film_share(chosen.w, chosen.xyz, false), filmed);
+        let tint = film_share(chosen.w, chosen.xyz, false);
         return PlasticBounce(true, 1.0, none, tint);
     }
     let frame = frame_about(normal);
@@ -46,7 +45,7 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, l
         let out = reflect_about(-view, micro);
         let weight = smith_g1(out, alpha);
         let next = to_world(frame, out);
-        let tint = select(vec3<f32>(1.0), film_share(chosen.w, chosen.xyz, true), filmed);
+        let tint = film_share(chosen.w, chosen.xyz, true);
         if weight <= 0.0 || dot(next, hit.geometric) <= 0.0 {
             return PlasticBounce(false, 0.0, none, tint);
         }
@@ -57,7 +56,8 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, l
 
 // render::plastic::layered_coat_event's choice at cosine `cos` to the (micro-)normal: each
 // channel's reflectance (xyz) and the probability of reflecting (w), their mean under a
-// layer, else the bare coat's Fresnel reflectance.
+// layer, else the bare coat's Fresnel reflectance (whose way chosen keeps a film_share of
+// exactly 1).
 fn coat_choice(layer: CoatLayer, cos: f32, ior: f32) -> vec4<f32> {
     let bare = coat_reflectance(cos, ior);
     if coat_layer_is_bare(layer) {

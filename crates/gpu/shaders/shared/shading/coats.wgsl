@@ -202,9 +202,7 @@ fn coat_layer_reflectance(layer: CoatLayer, bare: f32, cos: f32, ior: f32) -> ve
     if !IRIDESCENCE || layer.film.factor <= 0.0 {
         return scaled;
     }
-    let film = layer.film;
-    let film_colour = film_reflectance(min(abs(cos), 1.0), film.ior, film.thickness, vec3<f32>(ior));
-    return mix(scaled, film_colour, min(film.factor, 1.0));
+    return film_mix(scaled, layer.film, min(abs(cos), 1.0), ior);
 }
 
 // render::plastic::CoatLayer::transmission_share.

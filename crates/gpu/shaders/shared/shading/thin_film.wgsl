@@ -118,8 +118,13 @@ fn iridescent_dielectric(fresnel: f32, film: Film, cos_incident_in: f32, ior: f3
         }
         cos_outside = sqrt(1.0 - sin2_outside);
     }
+    return film_mix(vec3<f32>(fresnel), film, cos_outside, ior);
+}
+
+// render::iridescence::film_mix.
+fn film_mix(bare: vec3<f32>, film: Film, cos_outside: f32, ior: f32) -> vec3<f32> {
     let film_colour = film_reflectance(cos_outside, film.ior, film.thickness, vec3<f32>(ior));
-    return mix(vec3<f32>(fresnel), film_colour, min(film.factor, 1.0));
+    return mix(bare, film_colour, min(film.factor, 1.0));
 }
 
 // render::iridescence::rough_dielectric_film_weight.

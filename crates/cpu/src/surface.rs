@@ -18,6 +18,7 @@ use render::plastic::{Coat, CoatEvent, CoatLayer, layered_coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::sheen::{SheenAt, SheenEvent};
+use render::specular_layer::LayerReflectance;
 use render::textures::TextureArray;
 use scene::{AlphaMode, Clearcoat, Material, Surface};
 
@@ -341,13 +342,12 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
 }
 
 /// What lies on plastic's coat at texture coordinates `uv` (`render::plastic::CoatLayer`):
-/// glTF's specular layer (`scene::SpecularLayer::scale_at`) and thin film ([`hit_film`]).
+/// glTF's specular layer (`render::specular_layer`) and thin film ([`hit_film`]).
 pub fn hit_coat_layer(scene: &SceneData, material: &Material, uv: Vec2) -> CoatLayer {
     let texel = |id: Option<u32>| id.map(|id| texture(&scene.textures, Some(id), uv));
     CoatLayer {
-        specular: material.specular.map_or(Vec3::ONE, |s| {
-            s.scale_at(texel(s.texture), texel(s.color_texture))
-        }),
+        specular: (material.specular.as_ref())
+            .map(|s| LayerReflectance::of(s, texel(s.texture), texel(s.color_texture))),
         film: hit_film(scene, material, uv),
     }
 }

@@ -1810,11 +1810,12 @@ fn layered_plastic_plane<'a>(
 }
 
 /// [`sky_lights_a_plastic_plane_through_its_coat`] under glTF's specular layer
-/// (`KHR_materials_specular`) that its textures vary: factor 1 and a white colour (so the
-/// coat keeps its index 1.5) with a strength texture reading 0.5 and a colour texture reading
-/// (1, 0.6, 0.3), uniform, so the coat reflects R(θ) = min(F(θ)·k, 1) in each channel, k =
-/// 0.5·(1, 0.6, 0.3) (`scene::SpecularLayer::scale_at`), and lets the rest through
-/// ([`layered_plastic_plane`]). Both direct-light modes (1024 and 256 passes), every channel.
+/// (`KHR_materials_specular`) that its textures vary: factor 1 and a white colour over a coat
+/// of index 1.5 (F0 4 %) with a strength texture reading 0.5 and a colour texture reading
+/// (1, 0.6, 0.3), uniform, so the coat reflects f0 = 4 %·0.5·(1, 0.6, 0.3) head on and
+/// f90 = 0.5 at grazing, R(θ) = f0 + (f90 − f0)·(F(θ) − F0)/(1 − F0) in each channel
+/// (`render::specular_layer`), and lets the rest through ([`layered_plastic_plane`]). Both
+/// direct-light modes (1024 and 256 passes), every channel.
 /// Measured, seed 1: photons mean +0.6 to +0.8 %, rms 5.5–5.8 %; sampled within ±0.05 %, rms
 /// 0.15–1.5 %. Tolerances: the bare coat's (mean 2.5 %, rms 8 % and 3 %).
 #[test]
@@ -1837,13 +1838,15 @@ fn sky_lights_a_plastic_plane_through_its_textured_specular_layer() {
         material.specular = Some(scene::SpecularLayer {
             tinted_f0: Vec3::splat(f0),
             factor: 1.0,
-            coat_f0: f0,
             texture: Some(strength),
             color_texture: Some(strength + 1),
         });
     }
-    let scale = 0.5 * Vec3::new(1.0, 0.6, 0.3);
-    let reflectance = |cos: f32| (coat_reflectance(cos, ior) * scale).min(Vec3::ONE);
+    let (layer_f0, layer_f90) = (f0 * 0.5 * Vec3::new(1.0, 0.6, 0.3), 0.5);
+    let reflectance = |cos: f32| {
+        let towards_grazing = (coat_reflectance(cos, ior) - f0) / (1.0 - f0);
+        layer_f0 + (Vec3::splat(layer_f90) - layer_f0) * towards_grazing
+    };
     let view = TopView::new(0.4, 16);
     let expected = layered_plastic_plane(&view, sky, ior, reflectance);
     for (direct, passes, rms) in [

@@ -268,14 +268,14 @@ pub struct GpuMaterial {
     pub iridescence: [f32; 4],
     pub iridescence_texture: u32,
     pub iridescence_thickness_texture: u32,
-    /// glTF's specular layer on plastic's coat (`scene::SpecularLayer`): its strength and
-    /// colour textures (`NO_TEXTURE` for none), its tinted F0 and factor, and its coat's F0
-    /// (0: none, the coat's reflectance unscaled).
+    /// glTF's specular layer on the dielectric (`scene::SpecularLayer`): its strength and
+    /// colour textures (`NO_TEXTURE` for none), its tinted F0 and factor, and whether there is
+    /// one (1; 0: none, the dielectric reflecting by its index alone).
     pub specular_texture: u32,
     pub specular_color_texture: u32,
     pub specular_tinted_f0: [f32; 3],
     pub specular_factor: f32,
-    pub specular_coat_f0: f32,
+    pub specular_layer: u32,
     pub pad: [u32; 3],
 }
 
@@ -404,7 +404,7 @@ impl GpuMaterial {
                 .specular
                 .map_or([0.0; 3], |s| s.tinted_f0.to_array()),
             specular_factor: material.specular.map_or(0.0, |s| s.factor),
-            specular_coat_f0: material.specular.map_or(0.0, |s| s.coat_f0),
+            specular_layer: material.specular.is_some() as u32,
             pad: [0; 3],
         }
     }

@@ -430,10 +430,7 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, specular_tinted_f0),
             ),
             ("specular_factor", offset_of!(GpuMaterial, specular_factor)),
-            (
-                "specular_coat_f0",
-                offset_of!(GpuMaterial, specular_coat_f0),
-            ),
+            ("specular_layer", offset_of!(GpuMaterial, specular_layer)),
             ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );

@@ -1341,7 +1341,8 @@ fn every_kernel_matches_its_twin_on_iridescent_plastic() {
 
 /// The same on `cornell_plastic` under glTF's specular layer (`scene::SpecularLayer`): the
 /// floor's strength and colour from two checkers (alpha 0.2 or 1; colour (1, 0.5, 0.2) or
-/// white), the glossy blue sphere's a tinted colour without textures (F0 × (0.3, 1, 2)):
+/// white), the glossy blue sphere's a tinted colour without textures (F0 × (0.3, 1, 2)) at
+/// strength 0.6:
 /// photons landing on the base and leaving it, the coat's reflections and the light samples
 /// take the layer's share per channel (`render::plastic::CoatLayer`).
 #[test]
@@ -1361,14 +1362,12 @@ fn every_kernel_matches_its_twin_on_a_specular_layer() {
     scene.materials[floor].specular = Some(scene::SpecularLayer {
         tinted_f0: glam::Vec3::splat(f0),
         factor: 1.0,
-        coat_f0: f0,
         texture: Some(strength),
         color_texture: Some(colour),
     });
     scene.materials[blue].specular = Some(scene::SpecularLayer {
         tinted_f0: f0 * glam::Vec3::new(0.3, 1.0, 2.0),
-        factor: 1.0,
-        coat_f0: f0,
+        factor: 0.6,
         texture: None,
         color_texture: None,
     });

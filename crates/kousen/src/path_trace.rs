@@ -39,6 +39,7 @@ use render::scattering::{
 use render::shadow_terminator::{is_lifted, shadow_origin};
 use render::sheen::{SheenAt, SheenEvent, SheenTable};
 use render::sky_map::{sky_map_buffer, sky_radiance};
+use render::specular_layer::LayerReflectance;
 
 /// What to render and how much.
 pub struct RenderSettings {
@@ -943,9 +944,8 @@ impl<'a> PathTracer<'a> {
     fn coat_layer(&self, material: &Material, uv: Vec2) -> CoatLayer {
         let texel = |id: Option<u32>| id.map(|_| self.texture(id, uv));
         CoatLayer {
-            specular: material.specular.map_or(Vec3::ONE, |s| {
-                s.scale_at(texel(s.texture), texel(s.color_texture))
-            }),
+            specular: (material.specular.as_ref())
+                .map(|s| LayerReflectance::of(s, texel(s.texture), texel(s.color_texture))),
             film: self.film(material, uv),
         }
     }
@@ -1886,8 +1886,9 @@ mod tests {
     /// `crates/cpu/tests/analytic.rs`); the coat's reflection and the base's light samples
     /// and bounces through the tracer's MIS. Bare, R is the coat's Fresnel reflectance F
     /// (within 1 %); under a thin film (index 1.8, 420 nm, factor 0.8) glTF's mix of F and the
-    /// film's, and under a specular layer tinted (1.5, 1, 0.5) min(F × tint, 1), each channel
-    /// within 1.5 %.
+    /// film's, and under a specular layer of strength 0.7 tinted (1.5, 1, 0.5) glTF's
+    /// reflectance, 0.7·F0·tint head on and 0.7 at grazing (`render::specular_layer`), each
+    /// channel within 1.5 %.
     #[test]
     fn plastic_plane_under_the_sky_returns_coat_and_base() {
         use render::plastic::{CoatLayer, coat_reflectance, diffuse_scale};
@@ -1900,8 +1901,7 @@ mod tests {
         let tint = Vec3::new(1.5, 1.0, 0.5);
         let specular = scene::SpecularLayer {
             tinted_f0: f0 * tint,
-            factor: 1.0,
-            coat_f0: f0,
+            factor: 0.7,
             texture: None,
             color_texture: None,
         };
@@ -1916,7 +1916,7 @@ mod tests {
                 material.specular = layer;
             }
             let at = CoatLayer {
-                specular: layer.map_or(Vec3::ONE, |_| tint),
+                specular: layer.map(|s| LayerReflectance::of(&s, None, None)),
                 film: iridescence.map_or(Film::default(), |f| Film::of(&f, None, None)),
             };
             let (bvh, camera) = tracer_for(&scene);

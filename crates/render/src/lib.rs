@@ -38,6 +38,7 @@ pub mod settings;
 pub mod shadow_terminator;
 pub mod sheen;
 pub mod sky_map;
+pub mod specular_layer;
 pub mod textures;
 pub mod tonemap;
 pub mod volume_boundary;

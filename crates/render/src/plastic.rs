@@ -39,6 +39,7 @@ use glam::Vec3;
 use crate::iridescence::{Film, film_mix, film_share};
 use crate::microfacet::{Frame, sample_visible_normal, smith_g1};
 use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::specular_layer::LayerReflectance;
 
 /// What a plastic coat does with a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -174,35 +175,29 @@ pub fn coat_event(incoming: Vec3, normal: Vec3, coat: &Coat, u: [f32; 3]) -> Coa
 }
 
 /// What lies on plastic's coat at a hit and changes its reflectance there: glTF's specular
-/// layer (`scene::SpecularLayer::scale_at`: each channel's scale of the coat's Fresnel
-/// reflectance, 1 for none) and a thin film (glTF's iridescence; factor 0 for none).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// layer (`crate::specular_layer`; `None` for none) and a thin film (glTF's iridescence;
+/// factor 0 for none).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CoatLayer {
-    pub specular: Vec3,
+    pub specular: Option<LayerReflectance>,
     pub film: Film,
 }
 
-impl Default for CoatLayer {
-    fn default() -> CoatLayer {
-        CoatLayer {
-            specular: Vec3::ONE,
-            film: Film::default(),
-        }
-    }
-}
-
 impl CoatLayer {
-    /// Whether the coat reflects as its index says (no scale, no film).
+    /// Whether the coat reflects as its index says (no specular layer, no film).
     pub fn is_bare(&self) -> bool {
-        self.specular == Vec3::ONE && !self.film.is_some()
+        self.specular.is_none() && !self.film.is_some()
     }
 
     /// The coat's reflectance in each channel for light meeting it from outside at cosine
-    /// `cos` (its sign ignored), where its bare Fresnel reflectance is `bare`: scaled by the
-    /// specular layer (up to 1), then mixed by the film's factor with the film's reflectance
-    /// on a base of the coat's index (`crate::iridescence::film_mix`).
+    /// `cos` (its sign ignored), where its bare Fresnel reflectance is `bare`: the specular
+    /// layer's there ([`LayerReflectance::remap`]), then mixed by the film's factor with the
+    /// film's reflectance on a base of the coat's index (`crate::iridescence::film_mix`).
     pub fn reflectance(&self, bare: f32, cos: f32, ior: f32) -> Vec3 {
-        let scaled = (Vec3::splat(bare) * self.specular).min(Vec3::ONE);
+        let scaled = match self.specular {
+            Some(layer) => layer.remap(bare, ior),
+            None => Vec3::splat(bare),
+        };
         if !self.film.is_some() {
             return scaled;
         }

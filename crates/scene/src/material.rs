@@ -108,26 +108,22 @@ pub struct Material {
     /// metal (mirror or rough), glass (smooth or frosted) and plastic's coat read it,
     /// Lambertian surfaces not.
     pub iridescence: Option<Iridescence>,
-    /// glTF's specular layer where it varies from hit to hit or channel to channel
-    /// (`KHR_materials_specular`'s textures or a tinted colour), which plastic's coat reads;
-    /// `None` where the coat's index says it all.
+    /// glTF's specular layer on the dielectric (`KHR_materials_specular`), which plastic's coat
+    /// reads; `None` where it changes nothing (no extension, or its defaults).
     pub specular: Option<SpecularLayer>,
 }
 
-/// glTF's specular layer (`KHR_materials_specular`) over plastic's base, where its textures or
-/// a tinted colour make it vary: the coat's index gives the layer's reflectance at normal
-/// incidence for the factors and the colour's mean (`coat_f0`); at a hit the layer's is
-/// `min(F0 · colour, 1) · strength` in each channel, the colour and strength multiplied by
-/// the textures read there, and the coat's reflectance is scaled by their ratio
-/// ([`SpecularLayer::scale_at`]: `render::plastic::CoatLayer`).
+/// glTF's specular layer (`KHR_materials_specular`) on a dielectric of index n: at a hit its
+/// reflectance is `min(F0(n) · colour, 1) · strength` at normal incidence in each channel and
+/// `strength` at grazing, the colour and strength being the factors times the textures read
+/// there ([`SpecularLayer::at`]); in between it follows the shape of the dielectric's own
+/// Fresnel reflectance (`render::specular_layer`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpecularLayer {
     /// The dielectric's F0 from its index times `specularColorFactor`, per channel.
     pub tinted_f0: Vec3,
     /// `specularFactor`.
     pub factor: f32,
-    /// The F0 of the coat's own index (> 0).
-    pub coat_f0: f32,
     /// `specularTexture` (linear data): its alpha channel multiplies `factor`.
     pub texture: Option<TextureId>,
     /// `specularColorTexture` (sRGB): multiplies the colour.
@@ -135,12 +131,16 @@ pub struct SpecularLayer {
 }
 
 impl SpecularLayer {
-    /// The scale of the coat's reflectance in each channel where the strength texture reads
-    /// `texel` and the colour texture `color_texel` (`None`: no texture).
-    pub fn scale_at(&self, texel: Option<glam::Vec4>, color_texel: Option<glam::Vec4>) -> Vec3 {
+    /// The layer's reflectance at normal incidence (each channel) and at grazing (glTF's
+    /// `dielectric_f0` and `dielectric_f90`) where the strength texture reads `texel` and the
+    /// colour texture `color_texel` (`None`: no texture).
+    pub fn at(&self, texel: Option<glam::Vec4>, color_texel: Option<glam::Vec4>) -> (Vec3, f32) {
         let colour = color_texel.map_or(Vec3::ONE, |t| t.truncate());
         let strength = self.factor * texel.map_or(1.0, |t| t.w);
-        (self.tinted_f0 * colour).min(Vec3::ONE) * strength / self.coat_f0
+        (
+            (self.tinted_f0 * colour).min(Vec3::ONE) * strength,
+            strength,
+        )
     }
 }
 

@@ -113,55 +113,13 @@ fn smooth_non_metals_are_plastic_under_their_ior() {
     ));
 }
 
-/// `KHR_materials_specular` moves the opaque dielectric's coat index to the layer's F0,
-/// `min(F0 · mean(c), 1) · s` (F0 = 4 % at index 1.5): colour 2 makes 8 % (index 1.7888),
-/// factor 0.5 makes 2 % (index 1.3294), both 4 % again (index 1.5); white and 1 leave it;
-/// a tint counts by its mean; values out of range are refused.
+/// `KHR_materials_specular` leaves the opaque dielectric's coat its own index and gives it a
+/// `SpecularLayer`: glTF's F0 of the index times the colour factor, the factor, the strength
+/// texture (data) and the colour texture (sRGB), whose reflectance at a hit is
+/// `min(F0 · colour, 1) · strength` head on and `strength` at grazing; the defaults make
+/// none, and values out of range are refused.
 #[test]
-fn specular_factor_and_colour_set_the_coat_s_index() {
-    let specular = |value: Value| {
-        let mut material = pbr(0.0, 0.2);
-        material["extensions"] = json!({ "KHR_materials_specular": value });
-        quad_doc(Some(material)).load()
-    };
-    let coat_ior = |value: Value| match specular(value).expect("loads").materials[0].surface {
-        Surface::Plastic { ior, .. } => ior,
-        other => panic!("{other:?}"),
-    };
-    let close = |a: f32, b: f32| (a - b).abs() < 1e-3;
-    assert!(close(
-        coat_ior(json!({ "specularColorFactor": [2, 2, 2] })),
-        1.7888
-    ));
-    assert!(close(
-        coat_ior(json!({ "specularColorFactor": [3, 1.5, 1.5] })),
-        1.7888
-    ));
-    assert!(close(coat_ior(json!({ "specularFactor": 0.5 })), 1.3294));
-    let both = json!({ "specularFactor": 0.5, "specularColorFactor": [2, 2, 2] });
-    assert!(close(coat_ior(both), 1.5));
-    let white = json!({ "specularFactor": 1, "specularColorFactor": [1, 1, 1] });
-    assert_eq!(coat_ior(white), 1.5);
-    assert_eq!(
-        coat_ior(json!({ "specularColorFactor": [1000, 1000, 1000] })),
-        5.0
-    );
-    for bad in [
-        json!({ "specularFactor": 1.5 }),
-        json!({ "specularColorFactor": [-1.0, 1.0, 1.0] }),
-    ] {
-        let error = specular(bad.clone()).expect_err("refused");
-        assert!(error.to_string().contains("specular"), "{bad}: {error}");
-    }
-}
-
-/// Where `KHR_materials_specular`'s textures or a tinted colour vary the layer, the coat keeps
-/// the index of its factors and the colour's mean, and a `SpecularLayer` holds what scales it
-/// per hit and channel: the dielectric's F0 times the colour, the factor, the coat's own F0,
-/// the strength texture (data) and the colour texture (sRGB); a white colour without textures
-/// and a factor of 0 (Lambertian) make none.
-#[test]
-fn specular_textures_and_a_tinted_colour_make_a_specular_layer() {
+fn specular_factors_and_textures_make_a_specular_layer() {
     let load = |specular: Value| {
         let mut doc = doc_with_two_textures();
         let mut material = pbr(0.0, 0.2);
@@ -169,22 +127,22 @@ fn specular_textures_and_a_tinted_colour_make_a_specular_layer() {
         let material = doc.material(material);
         let mesh = doc.mesh(&QUAD, &QUAD_INDICES, Some(material));
         doc.instance(mesh);
-        doc.load().expect("loads")
+        doc.load()
     };
     let scene = load(json!({
         "specularFactor": 0.5,
         "specularTexture": { "index": 0 },
         "specularColorFactor": [2.0, 1.0, 0.0],
         "specularColorTexture": { "index": 1 },
-    }));
+    }))
+    .expect("loads");
     let material = &scene.materials[0];
     let layer = material.specular.expect("a layer");
-    // F0 of index 1.5 is 4 %; the coat's F0 min(4 % × mean 1, 1) × 0.5 = 2 % (index 1.3294).
     let Surface::Plastic { ior, .. } = material.surface else {
         panic!("{:?}", material.surface);
     };
-    assert!((ior - 1.3294).abs() < 1e-3, "coat index {ior}");
-    assert!((layer.coat_f0 - 0.02).abs() < 1e-6, "{layer:?}");
+    assert_eq!(ior, 1.5, "the coat keeps its index");
+    // F0 of index 1.5 is 4 %.
     assert!(
         layer
             .tinted_f0
@@ -199,21 +157,26 @@ fn specular_textures_and_a_tinted_colour_make_a_specular_layer() {
         Texels::LinearF32(_)
     ));
     assert_ne!(strength, colour);
-    // Untextured, the layer's scale is its F0 over the coat's: (2, 1, 0) × 4 % × 0.5 / 2 %.
-    assert!(
-        (layer.scale_at(None, None)).abs_diff_eq(Vec3::new(2.0, 1.0, 0.0), 1e-5),
-        "{:?}",
-        layer.scale_at(None, None)
-    );
-
+    // Untextured: (2, 1, 0) × 4 % × 0.5 head on, 0.5 at grazing; textures multiply colour
+    // and strength (the strength texture's alpha), and a channel's F0 stops at 1.
+    let (f0, f90) = layer.at(None, None);
+    assert!(f0.abs_diff_eq(Vec3::new(0.04, 0.02, 0.0), 1e-6), "{f0}");
+    assert_eq!(f90, 0.5);
+    let texel = Some(glam::Vec4::new(9.0, 9.0, 9.0, 0.5));
+    let colour_texel = Some(glam::Vec4::new(20.0, 1.0, 1.0, 1.0));
+    let (f0, f90) = layer.at(texel, colour_texel);
+    assert!(f0.abs_diff_eq(Vec3::new(0.25, 0.01, 0.0), 1e-6), "{f0}");
+    assert_eq!(f90, 0.25);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+
     // A texture of the layer with a transform of its own is read with the base colour's.
     let shifted = load(json!({
         "specularColorTexture": {
             "index": 1,
             "extensions": { "KHR_texture_transform": { "offset": [0.5, 0.0] } },
         },
-    }));
+    }))
+    .expect("loads");
     assert!(shifted.materials[0].specular.is_some());
     assert_eq!(shifted.warnings.len(), 1, "{:?}", shifted.warnings);
     assert_mentions(
@@ -221,15 +184,26 @@ fn specular_textures_and_a_tinted_colour_make_a_specular_layer() {
         &["specularColorTexture", "KHR_texture_transform"],
     );
 
-    // A tinted colour alone makes one; white, or a factor of 0, none.
-    let tinted = load(json!({ "specularColorFactor": [1.0, 0.5, 0.5] }));
-    assert!(tinted.materials[0].specular.is_some());
-    for none in [
-        json!({ "specularColorFactor": [0.5, 0.5, 0.5] }),
-        json!({ "specularFactor": 0.0, "specularTexture": { "index": 0 } }),
+    // A factor or a colour alone makes one, the defaults none; a factor of 0 leaves the opaque
+    // dielectric Lambertian.
+    for some in [
+        json!({ "specularColorFactor": [1.0, 0.5, 0.5] }),
+        json!({ "specularColorFactor": [2.0, 2.0, 2.0] }),
+        json!({ "specularFactor": 0.5 }),
     ] {
-        let scene = load(none.clone());
-        assert_eq!(scene.materials[0].specular, None, "{none}");
+        let scene = load(some.clone()).expect("loads");
+        assert!(scene.materials[0].specular.is_some(), "{some}");
+    }
+    let white = json!({ "specularFactor": 1, "specularColorFactor": [1, 1, 1] });
+    assert_eq!(load(white).expect("loads").materials[0].specular, None);
+    let off = load(json!({ "specularFactor": 0.0 })).expect("loads");
+    assert_eq!(off.materials[0].surface, Surface::Diffuse);
+    for bad in [
+        json!({ "specularFactor": 1.5 }),
+        json!({ "specularColorFactor": [-1.0, 1.0, 1.0] }),
+    ] {
+        let error = load(bad.clone()).expect_err("refused");
+        assert!(error.to_string().contains("specular"), "{bad}: {error}");
     }
 }
 

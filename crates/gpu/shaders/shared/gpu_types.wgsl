@@ -111,12 +111,12 @@ struct GpuMaterial {
     iridescence: vec4<f32>,
     iridescence_texture: u32,
     iridescence_thickness_texture: u32,
-    // scene::SpecularLayer on plastic's coat: strength and colour textures (NO_TEXTURE: none),
-    // tinted F0, factor, and the coat's F0 (0: none).
+    // scene::SpecularLayer on the dielectric: strength and colour textures (NO_TEXTURE: none),
+    // tinted F0, factor, and whether there is one (1; 0: none).
     specular_texture: u32,
     specular_color_texture: u32,
     specular_tinted_f0: vec3<f32>,
     specular_factor: f32,
-    specular_coat_f0: f32,
+    specular_layer: u32,
     pad: array<u32, 3>,
 }

@@ -48,8 +48,8 @@ struct Info {
     /// Materials (blend members) under a thin film (`scene::Iridescence`: glTF's
     /// `KHR_materials_iridescence`, which colours their metal, glass or coat).
     iridescent_materials: usize,
-    /// Materials (blend members) whose coat a varying specular layer scales
-    /// (`scene::SpecularLayer`: glTF's `KHR_materials_specular` textures or tinted colour).
+    /// Materials (blend members) under a specular layer (`scene::SpecularLayer`: glTF's
+    /// `KHR_materials_specular` other than its defaults).
     specular_layers: usize,
     /// Whether the meshes carry their own tangents (glTF TANGENT), the frame of normal maps
     /// and brushing (else each triangle's texture coordinates give it).
@@ -513,7 +513,7 @@ fn print_table(info: &Info) {
         ),
         (
             "specular layers",
-            format!("{} materials (textured or tinted)", info.specular_layers),
+            format!("{} materials", info.specular_layers),
         ),
         (
             "murky glass",

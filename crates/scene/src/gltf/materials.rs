@@ -18,14 +18,12 @@
 //!   Lambertian base of the base colour under glTF's clear dielectric coat of
 //!   `KHR_materials_ior` (default 1.5), smooth below 0.01, else GGX of width α = roughness²;
 //!   rougher coats spread their 4 % so widely that Lambertian alone stands for them, as for
-//!   metal. `KHR_materials_specular` (`Specular`): the coat's F0 becomes the layer's,
-//!   `min(F0 · c, 1) · s` for `specularColorFactor` c (a tint kept as its mean) and
-//!   `specularFactor` s, which moves its index (up to 5); s = 0 removes the coat
-//!   (Lambertian). Exact at normal incidence; towards grazing the coat's reflectance still
-//!   rises to 1 where glTF's rises to s. Where its textures or a tinted colour vary the
-//!   layer, a [`SpecularLayer`] scales the coat's reflectance per hit and channel by the
-//!   layer's F0 there over the coat's (`render::plastic::CoatLayer`); the glass member
-//!   keeps its own index.
+//!   metal. `KHR_materials_specular` → [`SpecularLayer`]: the coat keeps its index, and its
+//!   reflectance at a hit is glTF's layer's there, `min(F0 · c, 1) · s` at normal incidence
+//!   for `specularColorFactor` c and `specularFactor` s (each times its texture), `s` at
+//!   grazing, in between the shape of the coat's own Fresnel reflectance
+//!   (`render::specular_layer`); s = 0 removes the coat (Lambertian). The glass member keeps
+//!   its own index.
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).
 //! - `KHR_materials_clearcoat` → [`Clearcoat`] over every member: `clearcoatFactor` its
@@ -505,7 +503,7 @@ impl Materials {
         let metal = pbr.metallic_factor.0 > 0.0;
         let glass = transmission(check, m)? > 0.0;
         let ior = ior_of(m);
-        if !metal && !glass && (specular(check, m)?.factor == 0.0 || ior == 1.0) {
+        if !metal && !glass && (specular_factor(check, m)? == 0.0 || ior == 1.0) {
             builder.warn(format!(
                 "{}: {IRIDESCENCE} on an opaque dielectric without a specular layer \
                  (specularFactor 0 or ior 1, rendered Lambertian) is not modelled: its film is \
@@ -521,11 +519,8 @@ impl Materials {
         Ok(Some(film))
     }
 
-    /// `KHR_materials_specular` where it varies over the surface or by channel (its textures,
-    /// or a colour whose channels differ) as a [`SpecularLayer`] scaling plastic's coat per hit
-    /// and channel; `None` where the coat's index (from the factors and the colour's mean)
-    /// says it all, or where the material has no coat to scale (a layer of strength 0, an
-    /// index of 1 or 0, or a colour of 0).
+    /// `KHR_materials_specular` as a [`SpecularLayer`]; `None` where it changes nothing (its
+    /// defaults) or has no Fresnel reflectance to shape (an index of 1 or 0: see [`lobes`]).
     fn specular_layer(
         &mut self,
         input: &Input,
@@ -536,14 +531,12 @@ impl Materials {
         let Some(extension) = m.extensions.as_ref().and_then(|e| e.specular.as_ref()) else {
             return Ok(None);
         };
-        let specular = specular(check, m)?;
+        let factor = specular_factor(check, m)?;
         let ior = ior_of(m);
-        let coat_f0 = f0_of(specular.coat_ior(ior));
         let colour = Vec3::from_array(extension.specular_color_factor.0);
         let textured =
             extension.specular_texture.is_some() || extension.specular_color_texture.is_some();
-        let tinted = colour.max_element() != colour.min_element();
-        if !(textured || tinted) || specular.factor == 0.0 || coat_f0 <= 0.0 || ior == 0.0 {
+        if !(textured || colour != Vec3::ONE || factor != 1.0) || ior == 1.0 || ior == 0.0 {
             return Ok(None);
         }
         let mut texture = |info: &Option<json::texture::Info>, name, srgb| match info {
@@ -559,8 +552,7 @@ impl Materials {
         };
         Ok(Some(SpecularLayer {
             tinted_f0: f0_of(ior) * colour,
-            factor: specular.factor,
-            coat_f0,
+            factor,
             texture: texture(&extension.specular_texture, "specularTexture", DATA)?,
             color_texture: texture(
                 &extension.specular_color_texture,
@@ -934,20 +926,15 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
         metal_lobe(check, m, roughness)?,
         Surface::RoughConductor { alpha: rough },
     );
-    let specular = specular(check, m)?;
-    let opaque = if specular.factor == 0.0 || ior == 1.0 {
+    let opaque = if specular_factor(check, m)? == 0.0 || ior == 1.0 {
         Surface::Diffuse
     } else if ior == 0.0 && roughness < DIFFUSE_MIN_ROUGHNESS {
         Surface::Mirror
     } else if ior == 0.0 {
         Surface::Diffuse
     } else {
-        let coat_ior = specular.coat_ior(ior);
-        let lobe = Surface::Plastic {
-            ior: coat_ior,
-            alpha: rough,
-        };
-        keep_lobe(coated_surface(coat_ior, roughness), lobe)
+        let lobe = Surface::Plastic { ior, alpha: rough };
+        keep_lobe(coated_surface(ior, roughness), lobe)
     };
     Ok(Lobes {
         metal,
@@ -1038,64 +1025,27 @@ fn mapped_members(
     })
 }
 
-/// glTF's dielectric specular layer as `KHR_materials_specular` sets it (without it: factor
-/// 1, colour white). The spec scales the layer's F0 by `color` (up to 1) and its whole
-/// Fresnel reflectance by `factor`, the base taking what the layer leaves.
-struct Specular {
-    /// `specularFactor`, in [0, 1].
-    factor: f32,
-    /// The mean of `specularColorFactor`'s channels (each ≥ 0).
-    color: f32,
-}
-
 /// The reflectance at normal incidence between air and index `ior`.
 fn f0_of(ior: f32) -> f32 {
     ((ior - 1.0) / (ior + 1.0)).powi(2)
 }
 
-/// The largest index [`Specular::coat_ior`] gives (F0 = 44 %).
-const MAX_SPECULAR_IOR: f32 = 5.0;
-
-impl Specular {
-    /// The plastic coat's index for the layer over a dielectric of index `ior`: the one whose
-    /// F0 is the layer's, `min(F0 · color, 1) · factor`, up to [`MAX_SPECULAR_IOR`]. kousen's
-    /// coat is an exact dielectric interface over a Lambertian base (`render::plastic`), so
-    /// the layer's strength moves its index: right at normal incidence, where glTF's scaled
-    /// reflectance rises towards `factor` at grazing and the coat's towards 1 (a coat a blend
-    /// would weigh needs two Lambertian members, which one photon cannot serve). A tint is
-    /// kept as its mean.
-    fn coat_ior(&self, ior: f32) -> f32 {
-        if self.color == 1.0 && self.factor == 1.0 {
-            return ior;
-        }
-        let f0 = (((ior - 1.0) / (ior + 1.0)).powi(2) * self.color).min(1.0) * self.factor;
-        let root = f0.sqrt();
-        ((1.0 + root) / (1.0 - root).max(f32::MIN_POSITIVE)).clamp(1.0, MAX_SPECULAR_IOR)
-    }
-}
-
-/// `KHR_materials_specular`'s factors as a [`Specular`].
-fn specular(check: &Check, m: &json::Material) -> Result<Specular, SceneError> {
+/// `KHR_materials_specular`'s `specularFactor` (1 without the extension), its colour factor
+/// checked too. A factor of 0 leaves the opaque dielectric no specular reflection at all
+/// (Lambertian, [`lobes`]).
+fn specular_factor(check: &Check, m: &json::Material) -> Result<f32, SceneError> {
     let Some(specular) = m.extensions.as_ref().and_then(|e| e.specular.as_ref()) else {
-        return Ok(Specular {
-            factor: 1.0,
-            color: 1.0,
-        });
+        return Ok(1.0);
     };
-    let factor = check.unit(specular.specular_factor.0, "specularFactor")?;
-    let mut color = 0.0;
     for (c, name) in specular
         .specular_color_factor
         .0
         .iter()
         .zip(["red", "green", "blue"])
     {
-        color += check.non_negative(*c, &format!("specularColorFactor's {name}"))? / 3.0;
+        check.non_negative(*c, &format!("specularColorFactor's {name}"))?;
     }
-    if specular.specular_color_factor.0 == [1.0; 3] {
-        color = 1.0;
-    }
-    Ok(Specular { factor, color })
+    check.unit(specular.specular_factor.0, "specularFactor")
 }
 
 /// Whether the material is `KHR_materials_unlit`.

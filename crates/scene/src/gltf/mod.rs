@@ -81,8 +81,8 @@ pub const SUPPORTED_EXTENSIONS: [&str; 17] = [
 /// a used one gets a warning of its own saying so.
 pub const PARTLY_SUPPORTED_EXTENSIONS: [(&str, &str); 1] = [(
     "KHR_materials_specular",
-    "specularFactor, specularColorFactor and their textures scale the opaque dielectric's \
-     coat, each channel by its reflectance at normal incidence; the glass keeps its own index",
+    "specularFactor, specularColorFactor and their textures set the opaque dielectric's coat's \
+     reflectance, head on and at grazing, in each channel; the glass keeps its own index",
 )];
 
 /// The most triangles a file may place in the world (and a third of the most vertices it may

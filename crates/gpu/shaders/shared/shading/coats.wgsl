@@ -163,21 +163,23 @@ fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32
 }
 
 // render::plastic::CoatLayer: what lies on plastic's coat at a hit, glTF's specular layer
-// (each channel's scale of the coat's Fresnel reflectance) and thin film.
+// (render::specular_layer::LayerReflectance: its reflectance head on and at grazing;
+// specular_f90 < 0: none) and thin film.
 struct CoatLayer {
-    specular: vec3<f32>,
+    specular_f0: vec3<f32>,
+    specular_f90: f32,
     film: Film,
 }
 
 // render::plastic::CoatLayer::default.
 fn bare_coat_layer() -> CoatLayer {
-    return CoatLayer(vec3<f32>(1.0), no_film());
+    return CoatLayer(vec3<f32>(0.0), -1.0, no_film());
 }
 
-// cpu::surface::hit_coat_layer (scene::SpecularLayer::scale_at).
+// cpu::surface::hit_coat_layer (scene::SpecularLayer::at).
 fn hit_coat_layer(material: GpuMaterial, uv: vec2<f32>) -> CoatLayer {
-    var specular = vec3<f32>(1.0);
-    if material.specular_coat_f0 > 0.0 {
+    var layer = bare_coat_layer();
+    if material.specular_layer != 0u {
         var colour = vec3<f32>(1.0);
         if material.specular_color_texture != NO_TEXTURE {
             colour = sample_texture(material.specular_color_texture, uv).xyz;
@@ -186,19 +188,31 @@ fn hit_coat_layer(material: GpuMaterial, uv: vec2<f32>) -> CoatLayer {
         if material.specular_texture != NO_TEXTURE {
             strength *= sample_texture(material.specular_texture, uv).w;
         }
-        specular = min(material.specular_tinted_f0 * colour, vec3<f32>(1.0)) * strength / material.specular_coat_f0;
+        layer.specular_f0 = min(material.specular_tinted_f0 * colour, vec3<f32>(1.0)) * strength;
+        layer.specular_f90 = strength;
     }
-    return CoatLayer(specular, hit_film(material, uv));
+    layer.film = hit_film(material, uv);
+    return layer;
 }
 
 // render::plastic::CoatLayer::is_bare.
 fn coat_layer_is_bare(layer: CoatLayer) -> bool {
-    return all(layer.specular == vec3<f32>(1.0)) && !(IRIDESCENCE && layer.film.factor > 0.0);
+    return layer.specular_f90 < 0.0 && !(IRIDESCENCE && layer.film.factor > 0.0);
+}
+
+// render::specular_layer::LayerReflectance::remap.
+fn specular_layer_remap(f0: vec3<f32>, f90: f32, bare: f32, ior: f32) -> vec3<f32> {
+    let bare_f0 = fresnel_dielectric(1.0, 1.0 / ior);
+    let towards_grazing = clamp((bare - bare_f0) / (1.0 - bare_f0), 0.0, 1.0);
+    return f0 + (vec3<f32>(f90) - f0) * towards_grazing;
 }
 
 // render::plastic::CoatLayer::reflectance.
 fn coat_layer_reflectance(layer: CoatLayer, bare: f32, cos: f32, ior: f32) -> vec3<f32> {
-    let scaled = min(vec3<f32>(bare) * layer.specular, vec3<f32>(1.0));
+    var scaled = vec3<f32>(bare);
+    if layer.specular_f90 >= 0.0 {
+        scaled = specular_layer_remap(layer.specular_f0, layer.specular_f90, bare, ior);
+    }
     if !IRIDESCENCE || layer.film.factor <= 0.0 {
         return scaled;
     }

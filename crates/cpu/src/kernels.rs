@@ -317,7 +317,9 @@ pub fn photon_pass_with<R: StreamRng>(
                         let cos = next.dot(out.shading);
                         coat.transmittance(cos) * layer.transmission_share(coat.ior, cos)
                     });
-                    (next, side_tint * leaving * weight * coat.diffuse_scale)
+                    let scale =
+                        coat.diffuse_scale * layer.diffuse_share(coat.diffuse_scale, coat.ior);
+                    (next, side_tint * leaving * weight * scale)
                 }
             }
         }
@@ -910,7 +912,9 @@ fn eye_path(
                 }
                 None => (hit, tint),
             };
-            let scale = lit.coat.map_or(1.0, |(coat, _)| coat.diffuse_scale);
+            let scale = lit.coat.map_or(Vec3::ONE, |(coat, layer)| {
+                coat.diffuse_scale * layer.diffuse_share(coat.diffuse_scale, coat.ior)
+            });
             let weight = throughput * tint * base_weight * (scale * FRAC_1_PI);
             if weight.max_element() > 0.0 {
                 visible_point = VisiblePoint {

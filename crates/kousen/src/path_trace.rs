@@ -559,9 +559,11 @@ impl<'a> PathTracer<'a> {
                 lit.glossy = Vec3::ONE;
             }
             if matches!(lobes_of.surface, Surface::Plastic { .. }) {
-                // The layer's share of the coat's transmittance along the view.
+                // The layer's share of the coat's transmittance along the view, and of the
+                // base's scale.
                 let layer = self.coat_layer(lobes_of, point.uv);
-                lit.lambertian *= layer.transmission_share(coat.ior, direction.dot(shading));
+                lit.lambertian *= layer.transmission_share(coat.ior, direction.dot(shading))
+                    * layer.diffuse_share(coat.diffuse_scale, coat.ior);
                 lit.coat_layer = layer;
             }
             if matches!(lobes_of.surface, Surface::RoughDielectric { .. }) {
@@ -1099,8 +1101,9 @@ impl<'a> PathTracer<'a> {
                         // to 1).
                         let (next, pdf) = lambertian(rng)?;
                         let leaving = through(next.dot(lobe_normals.1));
-                        let weight =
-                            lobe_tint * leaving * film_tint * (coat.diffuse_scale * weight);
+                        let scale =
+                            coat.diffuse_scale * layer.diffuse_share(coat.diffuse_scale, coat.ior);
+                        let weight = lobe_tint * leaving * film_tint * scale * weight;
                         let pdf = coat.transmittance(-incoming.dot(shading)) * pdf;
                         Some((next, weight, Lobe::LightSampled { pdf }))
                     }
@@ -1887,8 +1890,9 @@ mod tests {
     /// and bounces through the tracer's MIS. Bare, R is the coat's Fresnel reflectance F
     /// (within 1 %); under a thin film (index 1.8, 420 nm, factor 0.8) glTF's mix of F and the
     /// film's, and under a specular layer of strength 0.7 tinted (1.5, 1, 0.5) glTF's
-    /// reflectance, 0.7·F0·tint head on and 0.7 at grazing (`render::specular_layer`), each
-    /// channel within 1.5 %.
+    /// reflectance, 0.7·F0·tint head on and 0.7 at grazing (`render::specular_layer`), with the
+    /// base scaled by 1 / T instead of s (`CoatLayer::diffuse_share`: a white base returns all
+    /// the light), each channel within 1.5 %.
     #[test]
     fn plastic_plane_under_the_sky_returns_coat_and_base() {
         use render::plastic::{CoatLayer, coat_reflectance, diffuse_scale};
@@ -1940,7 +1944,11 @@ mod tests {
                     .sum();
                 let measured = (sum / samples as f32).as_dvec3();
                 let r = reflectance(cos).as_dvec3();
-                let albedo = (testing::LIT_PLANE_ALBEDO * diffuse_scale(ior)) as f64;
+                let scale = match layer {
+                    Some(_) => glam::DVec3::ONE / transmittance,
+                    None => glam::DVec3::splat(diffuse_scale(ior) as f64),
+                };
+                let albedo = testing::LIT_PLANE_ALBEDO as f64 * scale;
                 let expected = sky as f64 * (r + albedo * (glam::DVec3::ONE - r) * transmittance);
                 let error = (measured / expected - glam::DVec3::ONE).abs().max_element();
                 assert!(

@@ -217,6 +217,20 @@ impl CoatLayer {
         film_share(bare, self.reflectance(bare, cos, ior), false)
     }
 
+    /// What the base's lobe's scale `diffuse_scale` (the bare coat's, [`diffuse_scale`] or a
+    /// rough coat's table: `1 / (1 − F̄)`, F̄ the coat's hemispherical reflectance from
+    /// outside) becomes under the specular layer, in each channel: `1 / (1 − R̄)`, so that a
+    /// white base under it still returns all the light. The layer is an affine map of the
+    /// coat's Fresnel reflectance, so its hemispherical reflectance R̄ is the map of F̄. A film
+    /// leaves the scale as it is (its reflectance is no such map). 1 without a layer.
+    pub fn diffuse_share(&self, diffuse_scale: f32, ior: f32) -> Vec3 {
+        let Some(layer) = self.specular else {
+            return Vec3::ONE;
+        };
+        let bare_mean = 1.0 - 1.0 / diffuse_scale;
+        (1.0 - bare_mean) / (Vec3::ONE - layer.remap(bare_mean, ior))
+    }
+
     /// The share of the bare coat's reflection from `outgoing` to `incident` (unit, both away
     /// from the surface) the layer leaves in each channel, `R / F` at their half-way vector,
     /// the micro-normal that reflects one into the other. 1 when bare.

@@ -265,9 +265,10 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var far_side = false;
         var side = LambertianSide(hit, tint);
         if base {
-            var scale = 1.0;
+            var scale = vec3<f32>(1.0);
             if plastic {
-                scale = coat_diffuse_scale_of(hit.material, material.roughness_alpha);
+                let bare_scale = coat_diffuse_scale_of(hit.material, material.roughness_alpha);
+                scale = bare_scale * coat_layer_diffuse_share(lit.coat_layer, bare_scale, material.ior);
             }
             if transmits_diffusely(material) {
                 var u_side = numbers.y;

@@ -330,7 +330,8 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             let alpha = material.roughness_alpha;
             let cos = dot(next, out.shading);
             let leaving = coat_transmittance_of(hit.material, alpha, cos) * coat_layer_transmission(layer, material.ior, cos);
-            let scale = coat_diffuse_scale_of(hit.material, alpha);
+            let bare_scale = coat_diffuse_scale_of(hit.material, alpha);
+            let scale = bare_scale * coat_layer_diffuse_share(layer, bare_scale, material.ior);
             tint = side.tint * leaving * choice.film_tint * (choice.base_weight * scale);
         } else {
             next = choice.coat.direction;

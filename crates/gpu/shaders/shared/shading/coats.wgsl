@@ -219,6 +219,16 @@ fn coat_layer_reflectance(layer: CoatLayer, bare: f32, cos: f32, ior: f32) -> ve
     return film_mix(scaled, layer.film, min(abs(cos), 1.0), ior);
 }
 
+// render::plastic::CoatLayer::diffuse_share.
+fn coat_layer_diffuse_share(layer: CoatLayer, diffuse_scale: f32, ior: f32) -> vec3<f32> {
+    if layer.specular_f90 < 0.0 {
+        return vec3<f32>(1.0);
+    }
+    let bare_mean = 1.0 - 1.0 / diffuse_scale;
+    let layered_mean = specular_layer_remap(layer.specular_f0, layer.specular_f90, bare_mean, ior);
+    return (1.0 - bare_mean) / (vec3<f32>(1.0) - layered_mean);
+}
+
 // render::plastic::CoatLayer::transmission_share.
 fn coat_layer_transmission(layer: CoatLayer, ior: f32, cos: f32) -> vec3<f32> {
     if coat_layer_is_bare(layer) {

@@ -49,7 +49,7 @@ use crate::SceneData;
 use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, bounce_tint, clearcoat_bounce,
     dielectric_branches, diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted,
-    eye_crossing_scale, hit_clearcoat, hit_coat_layer, hit_film, hit_sheen, is_cut_out,
+    eye_crossing_scale, hit_clearcoat, hit_dielectric_layer, hit_film, hit_sheen, is_cut_out,
     lambertian_side, medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce,
     shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
@@ -266,7 +266,7 @@ pub fn photon_pass_with<R: StreamRng>(
         surface @ Surface::Plastic { .. } => {
             let coat = scene.coats.at(keeper, surface);
             let cos = direction.dot(hit.shading);
-            let layer = hit_coat_layer(scene, keeper_material, hit.uv);
+            let layer = hit_dielectric_layer(scene, keeper_material, hit.uv);
             Some(coat.transmittance(cos) * layer.transmission_share(coat.ior, cos))
         }
         _ => None,
@@ -304,7 +304,7 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         surface @ Surface::Plastic { .. } => {
             let coat = scene.coats.at(hit.material, surface);
-            let layer = hit_coat_layer(scene, material, hit.uv);
+            let layer = hit_dielectric_layer(scene, material, hit.uv);
             match plastic_bounce(&hit, direction, (&coat, layer), u_choice, u_direction) {
                 PlasticBounce::Coat { next, tint } => (next, tint),
                 PlasticBounce::Base(weight) => {
@@ -798,7 +798,7 @@ fn eye_path(
             Surface::Diffuse => None,
             Surface::Plastic { ior, alpha } => {
                 let coat = scene.coats.at(hit.material, material.surface);
-                let layer = hit_coat_layer(scene, material, hit.uv);
+                let layer = hit_dielectric_layer(scene, material, hit.uv);
                 lit.coat = Some((coat, layer));
                 // A rough coat draws its micro-normal with two more numbers.
                 let u_micro = if alpha > 0.0 {
@@ -1043,9 +1043,12 @@ pub struct LitLobes {
     /// A Lambertian lobe: the visible point's weight (ρ/π and plastic's scale included).
     pub diffuse: Vec3,
     /// The plastic coat over the Lambertian lobe, which gets what it lets through (the hit's:
-    /// `render::coats::Coats::at`), and the layer on it there (`render::plastic::CoatLayer`),
+    /// `render::coats::Coats::at`), and the layer on it there (`render::dielectric_layer::DielectricLayer`),
     /// whose share of the coat's reflection and transmission depends on the light's direction.
-    pub coat: Option<(render::plastic::Coat, render::plastic::CoatLayer)>,
+    pub coat: Option<(
+        render::plastic::Coat,
+        render::dielectric_layer::DielectricLayer,
+    )>,
     /// The glossy lobe's weight.
     pub glossy: Vec3,
     pub lobe: GlossyLobe,

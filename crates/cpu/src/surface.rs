@@ -6,6 +6,7 @@ use glam::{Vec2, Vec3, Vec4};
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
+use render::dielectric_layer::{DielectricLayer, LayerReflectance};
 use render::dispersion::{disperse, draws_wavelength};
 use render::iridescence::{
     Film, film_share, filmed_reflectance, metal_tint, rough_dielectric_film_weight,
@@ -14,11 +15,10 @@ use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract, relative_eta};
-use render::plastic::{Coat, CoatEvent, CoatLayer, layered_coat_event};
+use render::plastic::{Coat, CoatEvent, layered_coat_event};
 use render::sampling::{cosine_hemisphere, orthonormal_basis};
 use render::shadow_terminator::shadow_origin;
 use render::sheen::{SheenAt, SheenEvent};
-use render::specular_layer::LayerReflectance;
 use render::textures::TextureArray;
 use scene::{AlphaMode, Clearcoat, Material, Surface};
 
@@ -341,11 +341,11 @@ pub fn hit_film(scene: &SceneData, material: &Material, uv: Vec2) -> Film {
     )
 }
 
-/// What lies on plastic's coat at texture coordinates `uv` (`render::plastic::CoatLayer`):
-/// glTF's specular layer (`render::specular_layer`) and thin film ([`hit_film`]).
-pub fn hit_coat_layer(scene: &SceneData, material: &Material, uv: Vec2) -> CoatLayer {
+/// What lies on plastic's coat at texture coordinates `uv` (`render::dielectric_layer::DielectricLayer`):
+/// glTF's specular layer (`render::dielectric_layer`) and thin film ([`hit_film`]).
+pub fn hit_dielectric_layer(scene: &SceneData, material: &Material, uv: Vec2) -> DielectricLayer {
     let texel = |id: Option<u32>| id.map(|id| texture(&scene.textures, Some(id), uv));
-    CoatLayer {
+    DielectricLayer {
         specular: (material.specular.as_ref())
             .map(|s| LayerReflectance::of(s, texel(s.texture), texel(s.color_texture))),
         film: hit_film(scene, material, uv),
@@ -647,12 +647,12 @@ pub enum PlasticBounce {
 }
 
 /// Plastic's choice (`render::plastic::layered_coat_event`, from `u_choice` and a rough
-/// coat's `u_micro`, under the coat's `layer` at the hit: [`hit_coat_layer`]), with the coat's
+/// coat's `u_micro`, under the coat's `layer` at the hit: [`hit_dielectric_layer`]), with the coat's
 /// reflection ended where the shading normal bent it below the geometric surface.
 pub fn plastic_bounce(
     hit: &SurfaceHit,
     incoming: Vec3,
-    (coat, layer): (&Coat, CoatLayer),
+    (coat, layer): (&Coat, DielectricLayer),
     u_choice: f32,
     [u1, u2]: [f32; 2],
 ) -> PlasticBounce {

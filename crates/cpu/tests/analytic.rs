@@ -1709,7 +1709,7 @@ fn sky_lights_a_plastic_plane_through_its_coat() {
 /// the plane returns L·(R(θ) + ρ·s·(1 − R(θ))·T) with T = 2∫(1 − R(μ))μ dμ, per channel
 /// ([`layered_plastic_plane`]). The coat's reflection is chosen by R's mean and weighed by
 /// each channel's share; photons and light samples carry the film's share of the coat's
-/// transmittance (`render::plastic::CoatLayer::transmission_share`). Both direct-light modes (1024 and 256
+/// transmittance (`render::dielectric_layer::DielectricLayer::transmission_share`). Both direct-light modes (1024 and 256
 /// passes). Then a rough coat (GGX α 0.09) against its model by quadrature (below; 256
 /// passes, sampled). Measured, seed 1, each channel: smooth, photons mean +0.3 to +0.4 %, rms
 /// 5.5–5.8 %; sampled +0.1 to +0.2 %, rms 1.4–2.4 % (choosing the reflection by the bare
@@ -1755,7 +1755,7 @@ fn sky_lights_an_iridescent_plastic_plane() {
     // tabulated transmittance times the film's share at the macro-surface's angle.
     let alpha = 0.09f32;
     let coat = render::plastic::Coat::new(ior, alpha);
-    let layer = render::plastic::CoatLayer {
+    let layer = render::dielectric_layer::DielectricLayer {
         film: at,
         ..Default::default()
     };
@@ -1814,8 +1814,8 @@ fn layered_plastic_plane<'a>(
 /// of index 1.5 (F0 4 %) with a strength texture reading 0.5 and a colour texture reading
 /// (1, 0.6, 0.3), uniform, so the coat reflects f0 = 4 %·0.5·(1, 0.6, 0.3) head on and
 /// f90 = 0.5 at grazing, R(θ) = f0 + (f90 − f0)·(F(θ) − F0)/(1 − F0) in each channel
-/// (`render::specular_layer`), lets the rest through both ways, and scales its base so that a
-/// white one would return all the light (`CoatLayer::diffuse_share`): the plane returns
+/// (`render::dielectric_layer`), lets the rest through both ways, and scales its base so that a
+/// white one would return all the light (`DielectricLayer::diffuse_share`): the plane returns
 /// L·(R(θ) + ρ·(1 − R(θ))). Both direct-light modes (1024 and 256 passes), every channel.
 /// Measured, seed 1: photons mean +0.4 to +0.6 %, rms 5.7–5.9 %; sampled within +0.1 %, rms
 /// 0.3–1.5 % (with the base's bare scale instead, photons +5.2 % in red). Tolerances: the bare coat's (mean 2.5 %, rms 8 % and 3 %).

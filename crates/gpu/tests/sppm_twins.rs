@@ -1344,7 +1344,7 @@ fn every_kernel_matches_its_twin_on_iridescent_plastic() {
 /// white), the glossy blue sphere's a tinted colour without textures (F0 × (0.3, 1, 2)) at
 /// strength 0.6:
 /// photons landing on the base and leaving it, the coat's reflections and the light samples
-/// take the layer's share per channel (`render::plastic::CoatLayer`).
+/// take the layer's share per channel (`render::dielectric_layer::DielectricLayer`).
 #[test]
 fn every_kernel_matches_its_twin_on_a_specular_layer() {
     let mut scene = scene::testing::cornell_plastic();

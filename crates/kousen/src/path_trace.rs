@@ -19,6 +19,7 @@ use render::clearcoat::{
     ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers, clearcoat_transmittance,
 };
 use render::coats::Coats;
+use render::dielectric_layer::{DielectricLayer, LayerReflectance};
 use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pdf};
 use render::emission::{
     light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
@@ -31,7 +32,7 @@ use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, tra
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
 use render::normal_map::{FrameSource, mapped_normal, tangent_at};
 use render::optics::{eye_refraction_scale, fresnel_dielectric, reflect, refract};
-use render::plastic::{Coat, CoatEvent, CoatLayer, layered_coat_event};
+use render::plastic::{Coat, CoatEvent, layered_coat_event};
 use render::sampling::{Rng, cosine_hemisphere, orthonormal_basis};
 use render::scattering::{
     SCATTERINGS_PER_STEP, Walk, henyey_greenstein, henyey_greenstein_phase, scattering_solid,
@@ -39,7 +40,6 @@ use render::scattering::{
 use render::shadow_terminator::{is_lifted, shadow_origin};
 use render::sheen::{SheenAt, SheenEvent, SheenTable};
 use render::sky_map::{sky_map_buffer, sky_radiance};
-use render::specular_layer::LayerReflectance;
 
 /// What to render and how much.
 pub struct RenderSettings {
@@ -152,7 +152,7 @@ struct LitLobes<'a> {
     coat: Option<&'a Coat>,
     /// The layer on the coat at the point (glTF's specular layer and thin film), whose share
     /// of the coat's reflection and transmission depends on the light's direction.
-    coat_layer: CoatLayer,
+    coat_layer: DielectricLayer,
     /// The glossy lobe's tint (a metal's colour; 1 for a coat); zero where there is none.
     glossy: Vec3,
     lobe: GlossyLobe,
@@ -193,7 +193,7 @@ impl<'a> LitLobes<'a> {
                     lambertian: tint * (coat.diffuse_scale * leaving),
                     lambertian_choice: leaving,
                     coat: Some(coat),
-                    coat_layer: CoatLayer::default(),
+                    coat_layer: DielectricLayer::default(),
                     glossy: if alpha > 0.0 { Vec3::ONE } else { Vec3::ZERO },
                     lobe: GlossyLobe::reflection(alpha, ior),
                     clearcoat: None,
@@ -561,7 +561,7 @@ impl<'a> PathTracer<'a> {
             if matches!(lobes_of.surface, Surface::Plastic { .. }) {
                 // The layer's share of the coat's transmittance along the view, and of the
                 // base's scale.
-                let layer = self.coat_layer(lobes_of, point.uv);
+                let layer = self.dielectric_layer(lobes_of, point.uv);
                 lit.lambertian *= layer.transmission_share(coat.ior, direction.dot(shading))
                     * layer.diffuse_share(coat.diffuse_scale, coat.ior);
                 lit.coat_layer = layer;
@@ -942,10 +942,10 @@ impl<'a> PathTracer<'a> {
         material.base_color * self.texture(material.base_color_texture, uv).truncate()
     }
 
-    /// What lies on plastic's coat at `uv` (`cpu::surface::hit_coat_layer`).
-    fn coat_layer(&self, material: &Material, uv: Vec2) -> CoatLayer {
+    /// What lies on plastic's coat at `uv` (`cpu::surface::hit_dielectric_layer`).
+    fn dielectric_layer(&self, material: &Material, uv: Vec2) -> DielectricLayer {
         let texel = |id: Option<u32>| id.map(|_| self.texture(id, uv));
-        CoatLayer {
+        DielectricLayer {
             specular: (material.specular.as_ref())
                 .map(|s| LayerReflectance::of(s, texel(s.texture), texel(s.color_texture))),
             film: self.film(material, uv),
@@ -1089,7 +1089,7 @@ impl<'a> PathTracer<'a> {
                 let coat = self.coats.at(point.material, surface);
                 // The layer on the coat weighs each way by its share (as
                 // `cpu::surface::plastic_bounce`).
-                let layer = self.coat_layer(material, point.uv);
+                let layer = self.dielectric_layer(material, point.uv);
                 let through =
                     |cos: f32| coat.transmittance(cos) * layer.transmission_share(coat.ior, cos);
                 let (event, film_tint) = layered_coat_event(incoming, shading, (&coat, layer), u);
@@ -1890,12 +1890,13 @@ mod tests {
     /// and bounces through the tracer's MIS. Bare, R is the coat's Fresnel reflectance F
     /// (within 1 %); under a thin film (index 1.8, 420 nm, factor 0.8) glTF's mix of F and the
     /// film's, and under a specular layer of strength 0.7 tinted (1.5, 1, 0.5) glTF's
-    /// reflectance, 0.7·F0·tint head on and 0.7 at grazing (`render::specular_layer`), with the
-    /// base scaled by 1 / T instead of s (`CoatLayer::diffuse_share`: a white base returns all
+    /// reflectance, 0.7·F0·tint head on and 0.7 at grazing (`render::dielectric_layer`), with the
+    /// base scaled by 1 / T instead of s (`DielectricLayer::diffuse_share`: a white base returns all
     /// the light), each channel within 1.5 %.
     #[test]
     fn plastic_plane_under_the_sky_returns_coat_and_base() {
-        use render::plastic::{CoatLayer, coat_reflectance, diffuse_scale};
+        use render::dielectric_layer::DielectricLayer;
+        use render::plastic::{coat_reflectance, diffuse_scale};
         let (sky, ior) = (2.0f32, 1.5f32);
         let film = scene::Iridescence {
             factor: 0.8,
@@ -1919,7 +1920,7 @@ mod tests {
                 material.iridescence = iridescence;
                 material.specular = layer;
             }
-            let at = CoatLayer {
+            let at = DielectricLayer {
                 specular: layer.map(|s| LayerReflectance::of(&s, None, None)),
                 film: iridescence.map_or(Film::default(), |f| Film::of(&f, None, None)),
             };

@@ -21,7 +21,7 @@
 //! at its micro-normal; smooth glass chooses reflection by the film's mean reflectance and
 //! weighs each channel by its share; frosted glass keeps its bare choice and weighs each way by
 //! the film's share over the bare one at its micro-normal), plastic's coat
-//! (`crate::plastic::CoatLayer`: the coat's reflection the film's mix, chosen by its mean,
+//! (`crate::dielectric_layer::DielectricLayer`: the coat's reflection the film's mix, chosen by its mean,
 //! and the rest through it), the eye paths' light samples at rough
 //! metal, frosted glass and plastic (`cpu::kernels::LitLobes::metal_film`,
 //! `dielectric_film`), their WGSL twins and the path tracer. Lambertian surfaces do not read

@@ -117,7 +117,7 @@ pub struct Material {
 /// reflectance is `min(F0(n) · colour, 1) · strength` at normal incidence in each channel and
 /// `strength` at grazing, the colour and strength being the factors times the textures read
 /// there ([`SpecularLayer::at`]); in between it follows the shape of the dielectric's own
-/// Fresnel reflectance (`render::specular_layer`).
+/// Fresnel reflectance (`render::dielectric_layer`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpecularLayer {
     /// The dielectric's F0 from its index times `specularColorFactor`, per channel.

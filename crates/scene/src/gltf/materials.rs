@@ -22,7 +22,7 @@
 //!   reflectance at a hit is glTF's layer's there, `min(F0 · c, 1) · s` at normal incidence
 //!   for `specularColorFactor` c and `specularFactor` s (each times its texture), `s` at
 //!   grazing, in between the shape of the coat's own Fresnel reflectance
-//!   (`render::specular_layer`); s = 0 removes the coat (Lambertian). The glass member keeps
+//!   (`render::dielectric_layer`); s = 0 removes the coat (Lambertian). The glass member keeps
 //!   its own index.
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).

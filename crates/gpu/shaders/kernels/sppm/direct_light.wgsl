@@ -57,7 +57,7 @@ struct LitLobes {
     // cpu::kernels::LitLobes::dielectric_film: frosted glass's thin film (factor 0: none).
     dielectric_film: Film,
     // cpu::kernels::LitLobes::coat's layer: what lies on plastic's coat (bare elsewhere).
-    coat_layer: CoatLayer,
+    coat_layer: DielectricLayer,
 }
 
 // render::microfacet::GlossyLobe::facing.

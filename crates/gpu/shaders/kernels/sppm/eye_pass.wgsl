@@ -205,7 +205,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film(), bare_coat_layer());
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film(), bare_dielectric_layer());
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -239,7 +239,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce_tint = tint;
         var base_weight = 1.0;
         var base_film_tint = vec3<f32>(1.0);
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film(), bare_coat_layer());
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film(), bare_dielectric_layer());
         if plastic {
             lit.coat_ior = material.ior;
             lit.coat_alpha = material.roughness_alpha;
@@ -251,7 +251,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 let u2 = next_f32(rng);
                 u_micro = vec2<f32>(u1, u2);
             }
-            let layer = hit_coat_layer(material, hit.uv);
+            let layer = hit_dielectric_layer(material, hit.uv);
             lit.coat_layer = layer;
             let choice = plastic_bounce(material, hit, direction, layer, u, u_micro.x, u_micro.y);
             base = choice.base;

@@ -295,7 +295,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
             var share = vec3<f32>(1.0);
             if keeper_surface == SURFACE_PLASTIC {
                 let cos = dot(direction, hit.shading);
-                let layer = hit_coat_layer(keeper_material, hit.uv);
+                let layer = hit_dielectric_layer(keeper_material, hit.uv);
                 share = coat_transmittance_of(keeper, keeper_material.roughness_alpha, cos) * coat_layer_transmission(layer, keeper_material.ior, cos);
             }
             let landed = Photon(hit.position, photon_normal(hit.shading, !bounced), flux * (bounded_correction(arrival) * share), 0u);
@@ -318,7 +318,7 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         next = bounce.direction;
         weight = bounce.weight;
     } else if plastic {
-        let layer = hit_coat_layer(material, hit.uv);
+        let layer = hit_dielectric_layer(material, hit.uv);
         let choice = plastic_bounce(material, hit, direction, layer, u_choice, u_direction0, u_direction1);
         if choice.base {
             bounced = true;

@@ -18,7 +18,7 @@ struct PlasticBounce {
     film_tint: vec3<f32>,
 }
 
-fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, layer: CoatLayer, u_choice: f32, u1: f32, u2: f32) -> PlasticBounce {
+fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, layer: DielectricLayer, u_choice: f32, u1: f32, u2: f32) -> PlasticBounce {
     let ior = material.ior;
     let alpha = material.roughness_alpha;
     let normal = hit.shading;
@@ -58,12 +58,12 @@ fn plastic_bounce(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, l
 // channel's reflectance (xyz) and the probability of reflecting (w), their mean under a
 // layer, else the bare coat's Fresnel reflectance (whose way chosen keeps a film_share of
 // exactly 1).
-fn coat_choice(layer: CoatLayer, cos: f32, ior: f32) -> vec4<f32> {
+fn coat_choice(layer: DielectricLayer, cos: f32, ior: f32) -> vec4<f32> {
     let bare = coat_reflectance(cos, ior);
-    if coat_layer_is_bare(layer) {
+    if dielectric_layer_is_bare(layer) {
         return vec4<f32>(vec3<f32>(bare), bare);
     }
-    let each = coat_layer_reflectance(layer, bare, cos, ior);
+    let each = dielectric_layer_reflectance(layer, bare, cos, ior);
     return vec4<f32>(each, (each.x + each.y + each.z) / 3.0);
 }
 

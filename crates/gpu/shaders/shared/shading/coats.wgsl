@@ -162,23 +162,23 @@ fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32
     return ClearcoatBounce(true, rough_reflection(hit, incoming, coat.alpha, u_micro.x, u_micro.y));
 }
 
-// render::plastic::CoatLayer: what lies on plastic's coat at a hit, glTF's specular layer
-// (render::specular_layer::LayerReflectance: its reflectance head on and at grazing;
+// render::plastic::DielectricLayer: what lies on plastic's coat at a hit, glTF's specular layer
+// (render::dielectric_layer::LayerReflectance: its reflectance head on and at grazing;
 // specular_f90 < 0: none) and thin film.
-struct CoatLayer {
+struct DielectricLayer {
     specular_f0: vec3<f32>,
     specular_f90: f32,
     film: Film,
 }
 
-// render::plastic::CoatLayer::default.
-fn bare_coat_layer() -> CoatLayer {
-    return CoatLayer(vec3<f32>(0.0), -1.0, no_film());
+// render::plastic::DielectricLayer::default.
+fn bare_dielectric_layer() -> DielectricLayer {
+    return DielectricLayer(vec3<f32>(0.0), -1.0, no_film());
 }
 
-// cpu::surface::hit_coat_layer (scene::SpecularLayer::at).
-fn hit_coat_layer(material: GpuMaterial, uv: vec2<f32>) -> CoatLayer {
-    var layer = bare_coat_layer();
+// cpu::surface::hit_dielectric_layer (scene::SpecularLayer::at).
+fn hit_dielectric_layer(material: GpuMaterial, uv: vec2<f32>) -> DielectricLayer {
+    var layer = bare_dielectric_layer();
     if material.specular_layer != 0u {
         var colour = vec3<f32>(1.0);
         if material.specular_color_texture != NO_TEXTURE {
@@ -195,23 +195,23 @@ fn hit_coat_layer(material: GpuMaterial, uv: vec2<f32>) -> CoatLayer {
     return layer;
 }
 
-// render::plastic::CoatLayer::is_bare.
-fn coat_layer_is_bare(layer: CoatLayer) -> bool {
+// render::plastic::DielectricLayer::is_bare.
+fn dielectric_layer_is_bare(layer: DielectricLayer) -> bool {
     return layer.specular_f90 < 0.0 && !(IRIDESCENCE && layer.film.factor > 0.0);
 }
 
-// render::specular_layer::LayerReflectance::remap.
-fn specular_layer_remap(f0: vec3<f32>, f90: f32, bare: f32, ior: f32) -> vec3<f32> {
+// render::dielectric_layer::LayerReflectance::remap.
+fn layer_reflectance_remap(f0: vec3<f32>, f90: f32, bare: f32, ior: f32) -> vec3<f32> {
     let bare_f0 = fresnel_dielectric(1.0, 1.0 / ior);
     let towards_grazing = clamp((bare - bare_f0) / (1.0 - bare_f0), 0.0, 1.0);
     return f0 + (vec3<f32>(f90) - f0) * towards_grazing;
 }
 
-// render::plastic::CoatLayer::reflectance.
-fn coat_layer_reflectance(layer: CoatLayer, bare: f32, cos: f32, ior: f32) -> vec3<f32> {
+// render::plastic::DielectricLayer::reflectance.
+fn dielectric_layer_reflectance(layer: DielectricLayer, bare: f32, cos: f32, ior: f32) -> vec3<f32> {
     var scaled = vec3<f32>(bare);
     if layer.specular_f90 >= 0.0 {
-        scaled = specular_layer_remap(layer.specular_f0, layer.specular_f90, bare, ior);
+        scaled = layer_reflectance_remap(layer.specular_f0, layer.specular_f90, bare, ior);
     }
     if !IRIDESCENCE || layer.film.factor <= 0.0 {
         return scaled;
@@ -219,33 +219,33 @@ fn coat_layer_reflectance(layer: CoatLayer, bare: f32, cos: f32, ior: f32) -> ve
     return film_mix(scaled, layer.film, min(abs(cos), 1.0), ior);
 }
 
-// render::plastic::CoatLayer::diffuse_share.
-fn coat_layer_diffuse_share(layer: CoatLayer, diffuse_scale: f32, ior: f32) -> vec3<f32> {
+// render::plastic::DielectricLayer::diffuse_share.
+fn coat_layer_diffuse_share(layer: DielectricLayer, diffuse_scale: f32, ior: f32) -> vec3<f32> {
     if layer.specular_f90 < 0.0 {
         return vec3<f32>(1.0);
     }
     let bare_mean = 1.0 - 1.0 / diffuse_scale;
-    let layered_mean = specular_layer_remap(layer.specular_f0, layer.specular_f90, bare_mean, ior);
+    let layered_mean = layer_reflectance_remap(layer.specular_f0, layer.specular_f90, bare_mean, ior);
     return (1.0 - bare_mean) / (vec3<f32>(1.0) - layered_mean);
 }
 
-// render::plastic::CoatLayer::transmission_share.
-fn coat_layer_transmission(layer: CoatLayer, ior: f32, cos: f32) -> vec3<f32> {
-    if coat_layer_is_bare(layer) {
+// render::plastic::DielectricLayer::transmission_share.
+fn coat_layer_transmission(layer: DielectricLayer, ior: f32, cos: f32) -> vec3<f32> {
+    if dielectric_layer_is_bare(layer) {
         return vec3<f32>(1.0);
     }
     let bare = coat_reflectance(cos, ior);
-    return film_share(bare, coat_layer_reflectance(layer, bare, cos, ior), false);
+    return film_share(bare, dielectric_layer_reflectance(layer, bare, cos, ior), false);
 }
 
-// render::plastic::CoatLayer::reflection_share.
-fn coat_layer_reflection(layer: CoatLayer, ior: f32, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
+// render::plastic::DielectricLayer::reflection_share.
+fn coat_layer_reflection(layer: DielectricLayer, ior: f32, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
     let sum = outgoing + incident;
     let length_sum = length(sum);
-    if coat_layer_is_bare(layer) || !(length_sum > 0.0) {
+    if dielectric_layer_is_bare(layer) || !(length_sum > 0.0) {
         return vec3<f32>(1.0);
     }
     let cos = min(abs(dot(outgoing, sum / length_sum)), 1.0);
     let bare = coat_reflectance(cos, ior);
-    return film_share(bare, coat_layer_reflectance(layer, bare, cos, ior), true);
+    return film_share(bare, dielectric_layer_reflectance(layer, bare, cos, ior), true);
 }

@@ -1,4 +1,6 @@
-//! glTF's specular layer (`KHR_materials_specular`) on a dielectric: its reflectance at a hit.
+//! What lies on a dielectric's surface (plastic's coat, glass) and changes its reflectance:
+//! glTF's specular layer (`KHR_materials_specular`) and thin film (`KHR_materials_iridescence`,
+//! `crate::iridescence`), [`DielectricLayer`].
 //!
 //! glTF scales the dielectric's Fresnel term: in each channel it is `f0 = min(F0 · colour, 1) ·
 //! strength` head on and `f90 = strength` at grazing (`scene::SpecularLayer::at`), and glTF's
@@ -10,6 +12,7 @@
 
 use glam::Vec3;
 
+use crate::iridescence::{Film, film_mix};
 use crate::optics::fresnel_dielectric;
 
 /// The specular layer's ends at a hit: its reflectance head on, per channel, and at grazing.
@@ -36,6 +39,37 @@ impl LayerReflectance {
         let bare_f0 = fresnel_dielectric(1.0, 1.0 / ior);
         let towards_grazing = ((bare - bare_f0) / (1.0 - bare_f0)).clamp(0.0, 1.0);
         self.f0 + (Vec3::splat(self.f90) - self.f0) * towards_grazing
+    }
+}
+
+/// What lies on a dielectric's surface at a hit (plastic's coat, glass) and changes its
+/// reflectance there: glTF's specular layer ([`LayerReflectance`]; `None` for none) and a thin
+/// film (glTF's iridescence; factor 0 for none).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DielectricLayer {
+    pub specular: Option<LayerReflectance>,
+    pub film: Film,
+}
+
+impl DielectricLayer {
+    /// Whether the surface reflects as its index says (no specular layer, no film).
+    pub fn is_bare(&self) -> bool {
+        self.specular.is_none() && !self.film.is_some()
+    }
+
+    /// The surface's reflectance in each channel for light meeting it from outside at cosine
+    /// `cos` (its sign ignored), where its bare Fresnel reflectance is `bare`: the specular
+    /// layer's there ([`LayerReflectance::remap`]), then mixed by the film's factor with the
+    /// film's reflectance on a base of the surface's index (`crate::iridescence::film_mix`).
+    pub fn reflectance(&self, bare: f32, cos: f32, ior: f32) -> Vec3 {
+        let scaled = match self.specular {
+            Some(layer) => layer.remap(bare, ior),
+            None => Vec3::splat(bare),
+        };
+        if !self.film.is_some() {
+            return scaled;
+        }
+        film_mix(scaled, self.film, cos.abs().min(1.0), ior)
     }
 }
 

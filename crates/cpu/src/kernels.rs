@@ -12,6 +12,7 @@ use render::buffers::{
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::clearcoat::clearcoat_transmittance;
+use render::dielectric_layer::{DielectricLayer, lobe_layer_weight};
 use render::direct::{shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
 use render::emission::sample_emission;
@@ -20,7 +21,7 @@ use render::hash::{
     cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
     grid_salt, lies_in, photon_class, priority, query_entries, volume_query_entries,
 };
-use render::iridescence::{Film, lobe_film_weight, metal_tint};
+use render::iridescence::{Film, metal_tint};
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
@@ -49,7 +50,7 @@ use crate::SceneData;
 use crate::surface::{
     HitTexel, PlasticBounce, SurfaceHit, base_color, bounce_tint, clearcoat_bounce,
     dielectric_branches, diffuse_bounce, diffuse_transmission_at, dispersed_surface, emitted,
-    eye_crossing_scale, hit_clearcoat, hit_dielectric_layer, hit_film, hit_sheen, is_cut_out,
+    eye_crossing_scale, hit_clearcoat, hit_dielectric_layer, hit_sheen, is_cut_out,
     lambertian_side, medium_after_bounce, medium_transmittance, offset_origin, plastic_bounce,
     shadow_ray_origin, sheen_bounce, specular_direction, trace, transmittance_to, unoccluded,
 };
@@ -325,10 +326,10 @@ pub fn photon_pass_with<R: StreamRng>(
         }
         _ => {
             let [u0, u1] = u_direction;
-            let film = hit_film(scene, material, hit.uv);
-            let next = specular_direction(dispersed, &hit, (direction, film), [u0, u1, u_choice]);
+            let layer = hit_dielectric_layer(scene, material, hit.uv);
+            let next = specular_direction(dispersed, &hit, (direction, layer), [u0, u1, u_choice]);
             let tint = next.map_or(tint, |(next, _)| {
-                bounce_tint(dispersed, tint, film, &hit, (direction, next))
+                bounce_tint(dispersed, tint, layer, &hit, (direction, next))
             });
             (next, tint * spectral_weight)
         }
@@ -839,14 +840,15 @@ fn eye_path(
                 });
                 throughput *= weight;
                 // A thin film colours the metal by the angle to each micro-normal: the light
-                // sample's tint is the film's at the light's direction.
-                let film = hit_film(scene, material, hit.uv);
+                // sample's tint is the film's at the light's direction. Glass wears the film
+                // and the specular layer.
+                let layer = hit_dielectric_layer(scene, material, hit.uv);
                 if let Surface::RoughConductor { alpha } = surface {
                     lit.glossy = throughput * tint;
                     lit.lobe = GlossyLobe::metal(alpha, hit.brush);
-                    if film.is_some() {
+                    if layer.film.is_some() {
                         lit.glossy = throughput;
-                        lit.metal_film = Some((tint, film));
+                        lit.metal_film = Some((tint, layer.film));
                     }
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
@@ -861,7 +863,7 @@ fn eye_path(
                 } = surface
                 {
                     lit.glossy = throughput * tint;
-                    lit.dielectric_film = film;
+                    lit.dielectric_layer = layer;
                     lit.lobe = if hit.front {
                         GlossyLobe::reflection(alpha, ior)
                     } else {
@@ -878,20 +880,20 @@ fn eye_path(
                 } = surface
                 {
                     lit.glossy = throughput * tint;
-                    lit.dielectric_film = film;
+                    lit.dielectric_layer = layer;
                     lit.lobe = GlossyLobe::sheet(alpha, relative_eta(ior, hit.front, true));
                 }
                 let next =
-                    specular_direction(surface, &hit, (direction, film), [u, u_second, u_third]);
+                    specular_direction(surface, &hit, (direction, layer), [u, u_second, u_third]);
                 // Only these send pixels more eye paths: a plastic coat's reflection mostly
                 // shows gathered light, which extra paths would not sample.
                 specular_first |= depth == 0;
-                // Smooth glass's film takes its share below, after the way not taken is
+                // Smooth glass's layer takes its share below, after the way not taken is
                 // counted.
                 let tint = match (surface, next) {
                     (Surface::Dielectric { .. }, _) | (_, None) => tint,
                     (_, Some((next, _))) => {
-                        bounce_tint(surface, tint, film, &hit, (direction, next))
+                        bounce_tint(surface, tint, layer, &hit, (direction, next))
                     }
                 };
                 Some((next, tint))
@@ -982,28 +984,28 @@ fn eye_path(
         // otherwise seen by a few eye paths in twenty. Only at the first glass surface of the
         // path: deeper ones (inside a glass sphere) add little and cost most (lavapipe's eye
         // pass on cornell-caustics: +7 % probing at the first, +23 % at every one).
-        // Under a thin film (glTF's iridescence) each channel of either way takes the film's
-        // share of it (the way not taken counted with it, the way taken weighed by it over
-        // its probability).
+        // Under a layer (glTF's thin film and specular layer) each channel of either way takes
+        // the layer's share of it (the way not taken counted with it, the way taken weighed by
+        // it over its probability).
         let probe = !met_glass && depth < params.max_depth;
-        let film = match surface {
-            Surface::Dielectric { .. } => hit_film(scene, material, hit.uv),
-            _ => Film::default(),
+        let layer = match surface {
+            Surface::Dielectric { .. } => hit_dielectric_layer(scene, material, hit.uv),
+            _ => DielectricLayer::default(),
         };
         if let Surface::Dielectric { ior, thin_walled } = surface
-            && (probe || film.is_some())
+            && (probe || !layer.is_bare())
         {
-            let branches = dielectric_branches(&hit, direction, ior, thin_walled, film);
+            let branches = dielectric_branches(&hit, direction, ior, thin_walled, layer);
             let (other, other_share, other_weight) = if u < branches.reflectance {
                 let share = 1.0 - branches.reflectance;
                 (
                     branches.transmitted,
                     share,
-                    Vec3::ONE - branches.film_reflectance,
+                    Vec3::ONE - branches.layered_reflectance,
                 )
             } else {
                 let share = branches.reflectance;
-                (branches.reflected, share, branches.film_reflectance)
+                (branches.reflected, share, branches.layered_reflectance)
             };
             if probe {
                 met_glass = true;
@@ -1020,7 +1022,7 @@ fn eye_path(
                     emission_share = 1.0 - other_share;
                 }
             }
-            if film.is_some() {
+            if !layer.is_bare() {
                 throughput *= branches.weight(next == branches.reflected);
             }
         }
@@ -1059,9 +1061,10 @@ pub struct LitLobes {
     /// A metal's colour and the thin film on it, where it has one (`glossy` then leaves the
     /// colour out: the film's depends on the light's direction).
     pub metal_film: Option<(Vec3, Film)>,
-    /// The thin film on frosted glass, whose share of the lobe's way depends on the light's
-    /// direction (`render::iridescence::lobe_film_weight`; factor 0: none).
-    pub dielectric_film: Film,
+    /// The layer on frosted glass (glTF's thin film and specular layer), whose share of the
+    /// lobe's way depends on the light's direction
+    /// (`render::dielectric_layer::lobe_layer_weight`; bare: none).
+    pub dielectric_layer: DielectricLayer,
 }
 
 impl LitLobes {
@@ -1086,9 +1089,10 @@ impl LitLobes {
                 let mut tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
                     metal_tint(base, film, outgoing, incident)
                 });
-                if self.dielectric_film.is_some() {
+                if !self.dielectric_layer.is_bare() {
                     let ways = (outgoing, incident);
-                    tint *= lobe_film_weight(&self.lobe, self.dielectric_film, hit.shading, ways);
+                    let layer = self.dielectric_layer;
+                    tint *= lobe_layer_weight(&self.lobe, layer, hit.shading, ways);
                 }
                 // A rough coat's reflection under its layer.
                 if let Some((coat, layer)) = self.coat {

@@ -6,11 +6,11 @@ use glam::{Vec2, Vec3, Vec4};
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
-use render::dielectric_layer::{DielectricLayer, LayerReflectance};
-use render::dispersion::{disperse, draws_wavelength};
-use render::iridescence::{
-    Film, film_share, filmed_reflectance, metal_tint, rough_dielectric_film_weight,
+use render::dielectric_layer::{
+    DielectricLayer, LayerReflectance, layered_reflectance, rough_dielectric_layer_weight,
 };
+use render::dispersion::{disperse, draws_wavelength};
+use render::iridescence::{Film, film_share, metal_tint};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
@@ -353,31 +353,32 @@ pub fn hit_dielectric_layer(scene: &SceneData, material: &Material, uv: Vec2) ->
 }
 
 /// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
-/// under a thin `film` (glTF's iridescence): a metal's reflection its colour at the bounce's
-/// angle ([`metal_bounce_tint`]); smooth glass's reflection or transmission the film's share
-/// of that way over the choice's probability ([`DielectricBranches::weight`]), frosted glass's
-/// at its micro-normal (`render::iridescence::rough_dielectric_film_weight`); every other bounce, and every bounce without a film,
-/// `tint`.
+/// under the `layer` on it (glTF's thin film, and on glass its specular layer): a metal's
+/// reflection its colour at the bounce's angle under the film ([`metal_bounce_tint`]); smooth
+/// glass's reflection or transmission the layer's share of that way over the choice's
+/// probability ([`DielectricBranches::weight`]), frosted glass's at its micro-normal
+/// (`render::dielectric_layer::rough_dielectric_layer_weight`); every other bounce, and every
+/// bounce without a layer, `tint`.
 pub fn bounce_tint(
     surface: Surface,
     tint: Vec3,
-    film: Film,
+    layer: DielectricLayer,
     hit: &SurfaceHit,
     (incoming, next): (Vec3, Vec3),
 ) -> Vec3 {
     match surface {
-        Surface::Dielectric { ior, thin_walled } if film.is_some() => {
-            let branches = dielectric_branches(hit, incoming, ior, thin_walled, film);
+        Surface::Dielectric { ior, thin_walled } if !layer.is_bare() => {
+            let branches = dielectric_branches(hit, incoming, ior, thin_walled, layer);
             tint * branches.weight(next == branches.reflected)
         }
         Surface::RoughDielectric {
             ior, thin_walled, ..
-        } if film.is_some() => {
+        } if !layer.is_bare() => {
             let eta = relative_eta(ior, hit.front, thin_walled);
             let ways = (-incoming, next);
-            tint * rough_dielectric_film_weight(film, ways, hit.shading, eta, thin_walled)
+            tint * rough_dielectric_layer_weight(layer, ways, hit.shading, eta, thin_walled)
         }
-        _ => metal_bounce_tint(surface, tint, film, (incoming, next)),
+        _ => metal_bounce_tint(surface, tint, layer.film, (incoming, next)),
     }
 }
 
@@ -462,7 +463,7 @@ pub fn medium_after_bounce(
 pub fn specular_direction(
     surface: Surface,
     hit: &SurfaceHit,
-    (incoming, film): (Vec3, Film),
+    (incoming, layer): (Vec3, DielectricLayer),
     u: [f32; 3],
 ) -> Option<(Vec3, f32)> {
     let normal = hit.shading;
@@ -491,7 +492,7 @@ pub fn specular_direction(
         }
         Surface::Mirror => reflect(incoming, normal),
         Surface::Dielectric { ior, thin_walled } => {
-            let branches = dielectric_branches(hit, incoming, ior, thin_walled, film);
+            let branches = dielectric_branches(hit, incoming, ior, thin_walled, layer);
             if u[0] < branches.reflectance {
                 branches.reflected
             } else {
@@ -670,42 +671,43 @@ pub fn plastic_bounce(
 
 /// A smooth dielectric's two ways on: reflected with probability `reflectance` (Fresnel),
 /// else transmitted (refracted; straight on through a thin-walled sheet; reflected where
-/// total internal reflection leaves no refracted ray). Under a thin film (glTF's
-/// iridescence) the share reflected is `film_reflectance` in each channel, and the way is
-/// chosen by their mean (a film reflects even where the bare surface would not: a soap
+/// total internal reflection leaves no refracted ray). Under a layer (glTF's thin film and
+/// specular layer) the share reflected is `layered_reflectance` in each channel, and the way
+/// is chosen by their mean (a film reflects even where the bare surface would not: a soap
 /// film of index 1.33 on a sheet of index 1).
 #[derive(Clone, Copy, Debug)]
 pub struct DielectricBranches {
     pub reflectance: f32,
-    pub film_reflectance: Vec3,
+    pub layered_reflectance: Vec3,
     pub reflected: Vec3,
     pub transmitted: Vec3,
 }
 
 impl DielectricBranches {
-    /// The weight of the way chosen (`reflected` or not) under the film: its share over its
-    /// probability (1 without a film).
+    /// The weight of the way chosen (`reflected` or not) under the layer: its share over its
+    /// probability (1 when bare).
     pub fn weight(&self, reflected: bool) -> Vec3 {
-        film_share(self.reflectance, self.film_reflectance, reflected)
+        film_share(self.reflectance, self.layered_reflectance, reflected)
     }
 }
 
-/// The two ways on from a smooth dielectric of `ior` at `hit`, under `film` (none: factor 0).
+/// The two ways on from a smooth dielectric of `ior` at `hit`, under `layer`.
 pub fn dielectric_branches(
     hit: &SurfaceHit,
     incoming: Vec3,
     ior: f32,
     thin_walled: bool,
-    film: Film,
+    layer: DielectricLayer,
 ) -> DielectricBranches {
     let normal = hit.shading;
     let eta = relative_eta(ior, hit.front, thin_walled);
     let cos_incident = -incoming.dot(normal);
     let fresnel = fresnel_dielectric(cos_incident, eta);
     let seen = (cos_incident, ior, hit.front || thin_walled);
-    let (mut reflectance, film_reflectance) = filmed_reflectance(fresnel, film, seen, thin_walled);
-    if film.is_some() {
-        reflectance = film_reflectance.element_sum() / 3.0;
+    let (mut reflectance, layered_reflectance) =
+        layered_reflectance(fresnel, layer, seen, thin_walled);
+    if !layer.is_bare() {
+        reflectance = layered_reflectance.element_sum() / 3.0;
     }
     let reflected = reflect(incoming, normal);
     let transmitted = if thin_walled {
@@ -715,7 +717,7 @@ pub fn dielectric_branches(
     };
     DielectricBranches {
         reflectance,
-        film_reflectance,
+        layered_reflectance,
         reflected,
         transmitted,
     }

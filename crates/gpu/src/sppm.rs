@@ -150,6 +150,8 @@ pub(crate) struct SceneFeatures {
     pub anisotropy: bool,
     /// Some material wears a thin film (`IRIDESCENCE`).
     pub iridescence: bool,
+    /// Some material wears glTF's specular layer (`SPECULAR_LAYERS`).
+    pub specular_layers: bool,
     /// Some blend's glass member is weighed by a transmission texture (`TRANSMISSION_MAPS`).
     pub transmission_maps: bool,
     /// Some solid absorbs inside (`MEDIA`).
@@ -194,6 +196,7 @@ impl SceneFeatures {
             diffuse_transmission: any(|m| m.diffuse_transmission.is_some()),
             anisotropy: any(|m| m.anisotropy.is_some()),
             iridescence: any(|m| m.iridescence.is_some()),
+            specular_layers: any(|m| m.specular.is_some()),
             media: any(|m| m.interior_extinction().max_element() > 0.0),
             scattering: any(|m| m.interior_scattering().max_element() > 0.0),
             murky_glass: any(|m| m.has_murky_glass()),
@@ -204,7 +207,7 @@ impl SceneFeatures {
         }
     }
 
-    fn constants(self) -> [(&'static str, f64); 17] {
+    fn constants(self) -> [(&'static str, f64); 18] {
         let flag = |on: bool| f64::from(u8::from(on));
         [
             ("NORMAL_MAPS", flag(self.normal_maps)),
@@ -217,6 +220,7 @@ impl SceneFeatures {
             ("DIFFUSE_TRANSMISSION", flag(self.diffuse_transmission)),
             ("ANISOTROPY", flag(self.anisotropy)),
             ("IRIDESCENCE", flag(self.iridescence)),
+            ("SPECULAR_LAYERS", flag(self.specular_layers)),
             ("MEDIA", flag(self.media)),
             ("SCATTERING", flag(self.scattering)),
             ("MURKY_GLASS", flag(self.murky_glass)),

@@ -1358,19 +1358,16 @@ fn every_kernel_matches_its_twin_on_a_specular_layer() {
     });
     let named = |name: &str| (scene.materials.iter()).position(|m| m.name.contains(name));
     let (floor, blue) = (named("white plastic").unwrap(), named("blue").unwrap());
-    let f0 = render::plastic::coat_reflectance(1.0, 1.5);
     scene.materials[floor].specular = Some(scene::SpecularLayer {
-        tinted_f0: glam::Vec3::splat(f0),
-        factor: 1.0,
         texture: Some(strength),
         color_texture: Some(colour),
+        ..scene::SpecularLayer::new(1.5, glam::Vec3::ONE, 1.0)
     });
-    scene.materials[blue].specular = Some(scene::SpecularLayer {
-        tinted_f0: f0 * glam::Vec3::new(0.3, 1.0, 2.0),
-        factor: 0.6,
-        texture: None,
-        color_texture: None,
-    });
+    scene.materials[blue].specular = Some(scene::SpecularLayer::new(
+        1.5,
+        glam::Vec3::new(0.3, 1.0, 2.0),
+        0.6,
+    ));
     planar_uv(&mut scene, &[floor]);
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
@@ -1383,20 +1380,29 @@ fn every_kernel_matches_its_twin_on_a_specular_layer() {
 #[test]
 fn every_kernel_matches_its_twin_on_iridescent_frosted_glass() {
     let mut frosted = scene::testing::cornell_frosted();
-    let mut sheet = scene::testing::cornell_frosted();
-    for material in &mut sheet.materials {
-        if let scene::Surface::RoughDielectric {
-            ior,
-            alpha,
-            thin_walled,
-        } = &mut material.surface
-        {
-            (*ior, *alpha, *thin_walled) = (1.5, 0.09, true);
-        }
-    }
+    let mut sheet = frosted_sheets();
     for scene in [&mut frosted, &mut sheet] {
         glass_under_textured_film(scene);
     }
+    every_kernel_matches_its_twin(frosted, DirectLight::Sampled);
+    every_kernel_matches_its_twin(sheet, DirectLight::Sampled);
+}
+
+/// The same on `cornell_caustics` and `cornell_frosted` (also as thin frosted sheets) with their
+/// glass under glTF's specular layer (`render::dielectric_layer`: its reflectance head on
+/// and at grazing set by the layer, a colour texture varying it): smooth glass chooses its
+/// way by the layer's mean reflectance and weighs each channel by its share, from inside too
+/// (total internal reflection kept), frosted glass keeps its own choice and weighs each way,
+/// and its light samples, by the layer's share at the micro-normal.
+#[test]
+fn every_kernel_matches_its_twin_on_glass_under_a_specular_layer() {
+    let mut smooth = scene::testing::cornell_caustics();
+    let mut frosted = scene::testing::cornell_frosted();
+    let mut sheet = frosted_sheets();
+    for scene in [&mut smooth, &mut frosted, &mut sheet] {
+        glass_under_textured_specular_layer(scene);
+    }
+    every_kernel_matches_its_twin(smooth, DirectLight::Sampled);
     every_kernel_matches_its_twin(frosted, DirectLight::Sampled);
     every_kernel_matches_its_twin(sheet, DirectLight::Sampled);
 }
@@ -1550,15 +1556,55 @@ fn planar_uv(scene: &mut scene::Scene, materials: &[usize]) {
 
 /// Every glass of `scene` under a thin film (index 1.33, 500 nm) whose thickness a checker's
 /// green gives (0.2 and 0.9 of it), mapped over the glass by [`planar_uv`].
+/// `cornell_frosted` with its spheres made thin frosted sheets (bubbles of frosted glass, index
+/// 1.5, GGX α 0.09).
+fn frosted_sheets() -> scene::Scene {
+    let mut sheet = scene::testing::cornell_frosted();
+    for material in &mut sheet.materials {
+        if let scene::Surface::RoughDielectric {
+            ior,
+            alpha,
+            thin_walled,
+        } = &mut material.surface
+        {
+            (*ior, *alpha, *thin_walled) = (1.5, 0.09, true);
+        }
+    }
+    sheet
+}
+
+/// The glass materials of `scene` (at least one).
+fn glass_ids(scene: &scene::Scene) -> Vec<usize> {
+    let glass: Vec<usize> = (0..scene.materials.len())
+        .filter(|&i| scene.materials[i].surface.is_glass())
+        .collect();
+    assert!(!glass.is_empty(), "the fixture has glass");
+    glass
+}
+
+/// Every glass of `scene` under glTF's specular layer: strength 0.5, colour (2, 1, 0.3), and
+/// a colour texture's checker (white or (0.4, 1, 1)).
+fn glass_under_textured_specular_layer(scene: &mut scene::Scene) {
+    let texture = push_checker(scene, "specular colour checker", |x, y| match (x + y) % 2 {
+        0 => [0.4, 1.0, 1.0, 1.0],
+        _ => [1.0, 1.0, 1.0, 1.0],
+    });
+    let glass = glass_ids(scene);
+    for &id in &glass {
+        scene.materials[id].specular = Some(scene::SpecularLayer {
+            color_texture: Some(texture),
+            ..scene::SpecularLayer::new(1.5, glam::Vec3::new(2.0, 1.0, 0.3), 0.5)
+        });
+    }
+    planar_uv(scene, &glass);
+}
+
 fn glass_under_textured_film(scene: &mut scene::Scene) {
     let texture = push_checker(scene, "film checker", |x, y| match (x + y) % 2 {
         0 => [0.0, 0.2, 0.0, 1.0],
         _ => [0.0, 0.9, 0.0, 1.0],
     });
-    let glass: Vec<usize> = (0..scene.materials.len())
-        .filter(|&i| scene.materials[i].surface.is_glass())
-        .collect();
-    assert!(!glass.is_empty(), "the fixture has glass");
+    let glass = glass_ids(scene);
     for &id in &glass {
         scene.materials[id].iridescence = Some(scene::Iridescence {
             thickness_texture: Some(texture),

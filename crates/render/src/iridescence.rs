@@ -242,57 +242,11 @@ pub fn metal_tint(base_color: Vec3, film: Film, outgoing: Vec3, incident: Vec3) 
     iridescent_metal(base_color, film, cos_incident)
 }
 
-/// glTF's iridescent dielectric at a smooth surface of index `ior` (relative to outside): its
-/// own Fresnel reflectance `fresnel` for light meeting it at `cos_incident`, mixed by the
-/// film's factor with the film's reflectance. The film lies on the outside: light from inside
-/// meets it at the angle Snell's law gives outside (reflectance is the same from both sides of
-/// a lossless layer), and where none is (total internal reflection) everything reflects.
-pub fn iridescent_dielectric(
-    fresnel: f32,
-    film: Film,
-    cos_incident: f32,
-    ior: f32,
-    from_outside: bool,
-) -> Vec3 {
-    if !film.is_some() {
-        return Vec3::splat(fresnel);
-    }
-    let cos_incident = cos_incident.clamp(0.0, 1.0);
-    let cos_outside = if from_outside {
-        cos_incident
-    } else {
-        let sin2_outside = ior * ior * (1.0 - cos_incident * cos_incident);
-        if sin2_outside >= 1.0 {
-            return Vec3::ONE;
-        }
-        (1.0 - sin2_outside).sqrt()
-    };
-    film_mix(Vec3::splat(fresnel), film, cos_outside, ior)
-}
-
 /// glTF's mix by `film.factor` of a dielectric's own reflectance `bare` (each channel) with
 /// the film's on a base of index `ior`, seen at `cos_outside` (in [0, 1]) outside it.
 pub fn film_mix(bare: Vec3, film: Film, cos_outside: f32, ior: f32) -> Vec3 {
     let film_colour = film_reflectance(cos_outside, film.ior, film.thickness, Vec3::splat(ior));
     bare.lerp(film_colour, film.factor.min(1.0))
-}
-
-/// A smooth dielectric's reflectance at `cos_incident`, bare (`fresnel`, its own Fresnel
-/// reflectance there) and under `film` ([`iridescent_dielectric`]), and for a `thin_walled`
-/// sheet, whose light bounces between its two faces, the total 2R / (1 + R) of each.
-pub fn filmed_reflectance(
-    fresnel: f32,
-    film: Film,
-    (cos_incident, ior, from_outside): (f32, f32, bool),
-    thin_walled: bool,
-) -> (f32, Vec3) {
-    let filmed = iridescent_dielectric(fresnel, film, cos_incident, ior, from_outside);
-    let sheet = |r: f32| 2.0 * r / (1.0 + r);
-    if thin_walled {
-        (sheet(fresnel), filmed.map(sheet))
-    } else {
-        (fresnel, filmed)
-    }
 }
 
 /// The weight of a way chosen by the bare reflectance `bare` (reflected or not) where each
@@ -309,68 +263,6 @@ pub fn film_share(bare: f32, filmed: Vec3, reflected: bool) -> Vec3 {
     } else {
         Vec3::ZERO
     }
-}
-
-/// The weight a film gives a rough dielectric's way from `view` into `out` (unit, both away
-/// from the surface; `normal` the shading normal on the view's side; `eta` = n on the view's
-/// side / n beyond; `thin_walled` a sheet, whose transmission is its reflection mirrored
-/// across the surface): at the micro-normal that takes one into the other, the film's share
-/// of that way over the bare surface's, by which `crate::microfacet::rough_dielectric` chose
-/// it (so its sampling and its lobes' densities stay as they were). 1 without a film.
-pub fn rough_dielectric_film_weight(
-    film: Film,
-    (view, out): (Vec3, Vec3),
-    normal: Vec3,
-    eta: f32,
-    thin_walled: bool,
-) -> Vec3 {
-    if !film.is_some() {
-        return Vec3::ONE;
-    }
-    let reflected = out.dot(normal) > 0.0;
-    let micro = if reflected {
-        view + out
-    } else if thin_walled {
-        view + out - 2.0 * out.dot(normal) * normal
-    } else {
-        -(eta * view + out)
-    };
-    let Some(mut micro) = micro.try_normalize() else {
-        return Vec3::ONE;
-    };
-    if micro.dot(normal) < 0.0 {
-        micro = -micro;
-    }
-    let cos_view = view.dot(micro).clamp(0.0, 1.0);
-    // Seen from outside where the view's side is the less dense (a sheet is air on both).
-    let (ior, from_outside) = if thin_walled || eta <= 1.0 {
-        (1.0 / eta, true)
-    } else {
-        (eta, false)
-    };
-    let fresnel = crate::optics::fresnel_dielectric(cos_view, eta);
-    let seen = (cos_view, ior, from_outside);
-    let (bare, filmed) = filmed_reflectance(fresnel, film, seen, thin_walled);
-    film_share(bare, filmed, reflected)
-}
-
-/// [`rough_dielectric_film_weight`] for the frosted glass lobe a light sample serves
-/// (`crate::microfacet::GlossyLobe`: solid glass's reflection from outside, its refraction out
-/// from inside, or a thin sheet's two ways), seen along `outgoing` and lit along `incident`.
-pub fn lobe_film_weight(
-    lobe: &crate::microfacet::GlossyLobe,
-    film: Film,
-    normal: Vec3,
-    (outgoing, incident): (Vec3, Vec3),
-) -> Vec3 {
-    let (eta, thin_walled) = if lobe.sheet_eta > 0.0 {
-        (lobe.sheet_eta, true)
-    } else if lobe.refraction_eta > 0.0 {
-        (lobe.refraction_eta, false)
-    } else {
-        (1.0 / lobe.fresnel_ior, false)
-    };
-    rough_dielectric_film_weight(film, (outgoing, incident), normal, eta, thin_walled)
 }
 
 #[cfg(test)]
@@ -590,115 +482,5 @@ mod tests {
                 "cos {cos}: {rgb} vs {bare}"
             );
         }
-    }
-
-    /// On glass a film of zero thickness is the bare glass from either side: from inside at
-    /// cosine μ it is seen outside at Snell's angle, and the reflectance there is the
-    /// inside's Fresnel (reciprocity); past the critical angle everything reflects; without a
-    /// film the glass's own Fresnel comes back exactly.
-    #[test]
-    fn a_film_on_glass_of_zero_thickness_is_the_bare_glass_from_either_side() {
-        let ior = 1.5;
-        let bare = Film {
-            factor: 1.0,
-            ior: 1.3,
-            thickness: 0.0,
-        };
-        for cos in [1.0f32, 0.9, 0.8, 0.77] {
-            let inside = fresnel_dielectric(cos, ior);
-            let seen = iridescent_dielectric(inside, bare, cos, ior, false);
-            assert!(
-                (seen - Vec3::splat(inside)).abs().max_element() < 2e-5,
-                "inside at cos {cos}: {seen} vs {inside}"
-            );
-            let outside = fresnel_dielectric(cos, 1.0 / ior);
-            let seen = iridescent_dielectric(outside, bare, cos, ior, true);
-            assert!(
-                (seen - Vec3::splat(outside)).abs().max_element() < 2e-5,
-                "outside at cos {cos}: {seen} vs {outside}"
-            );
-        }
-        // The critical angle from inside is at cos √(1 − 1/1.5²) ≈ 0.745.
-        let seen = iridescent_dielectric(1.0, bare, 0.7, ior, false);
-        assert_eq!(seen, Vec3::ONE);
-        let none = Film::default();
-        assert_eq!(
-            iridescent_dielectric(0.123, none, 0.5, ior, true),
-            Vec3::splat(0.123)
-        );
-    }
-
-    /// A rough dielectric's way rebuilt from its two directions finds the micro-normal that
-    /// made it: reflected, refracted out of and into glass, and through a sheet (the
-    /// reflection mirrored), the weight is the film's share over the bare one at that
-    /// micro-normal; at zero thickness it is 1.
-    #[test]
-    fn a_rough_dielectric_s_film_weight_finds_its_micro_normal() {
-        use crate::optics::{reflect, refract};
-        let film = Film {
-            factor: 1.0,
-            ior: 1.33,
-            thickness: 420.0,
-        };
-        let normal = Vec3::Z;
-        let micro = Vec3::new(0.3, -0.2, 1.0).normalize();
-        let view = Vec3::new(-0.5, 0.1, 0.8).normalize();
-        let share = |eta: f32, reflected: bool, thin: bool| {
-            let cos = view.dot(micro);
-            let (ior, outside) = if thin || eta <= 1.0 {
-                (1.0 / eta, true)
-            } else {
-                (eta, false)
-            };
-            let bare = fresnel_dielectric(cos, eta);
-            let filmed = iridescent_dielectric(bare, film, cos, ior, outside);
-            let sheet = |r: f32| 2.0 * r / (1.0 + r);
-            let (bare, filmed) = if thin {
-                (sheet(bare), filmed.map(sheet))
-            } else {
-                (bare, filmed)
-            };
-            if reflected {
-                filmed / bare
-            } else {
-                (Vec3::ONE - filmed) / (1.0 - bare)
-            }
-        };
-        let reflected = reflect(-view, micro);
-        for (eta, thin) in [(1.0 / 1.5, false), (1.5, false), (1.0 / 1.5, true)] {
-            let weight = rough_dielectric_film_weight(film, (view, reflected), normal, eta, thin);
-            let expected = share(eta, true, thin);
-            assert!(
-                (weight - expected).abs().max_element() < 1e-4,
-                "{weight} vs {expected}"
-            );
-        }
-        for eta in [1.0 / 1.5, 1.2] {
-            let out = refract(-view, micro, eta).expect("refracts");
-            let weight = rough_dielectric_film_weight(film, (view, out), normal, eta, false);
-            let expected = share(eta, false, false);
-            assert!(
-                (weight - expected).abs().max_element() < 1e-4,
-                "eta {eta}: {weight} vs {expected}"
-            );
-        }
-        let through = reflected - 2.0 * reflected.z * Vec3::Z;
-        let weight = rough_dielectric_film_weight(film, (view, through), normal, 1.0 / 1.5, true);
-        let expected = share(1.0 / 1.5, false, true);
-        assert!(
-            (weight - expected).abs().max_element() < 1e-4,
-            "{weight} vs {expected}"
-        );
-        assert!(
-            (expected - Vec3::ONE).abs().max_element() > 0.01,
-            "the film matters"
-        );
-        let bare = Film {
-            thickness: 0.0,
-            ..film
-        };
-        let weight =
-            rough_dielectric_film_weight(bare, (view, reflected), normal, 1.0 / 1.5, false);
-        assert!((weight - Vec3::ONE).abs().max_element() < 1e-4, "{weight}");
     }
 }

@@ -109,7 +109,8 @@ pub struct Material {
     /// Lambertian surfaces not.
     pub iridescence: Option<Iridescence>,
     /// glTF's specular layer on the dielectric (`KHR_materials_specular`), which plastic's coat
-    /// reads; `None` where it changes nothing (no extension, or its defaults).
+    /// and glass (smooth or frosted) read; `None` where it changes nothing (no extension, or
+    /// its defaults).
     pub specular: Option<SpecularLayer>,
 }
 
@@ -131,6 +132,18 @@ pub struct SpecularLayer {
 }
 
 impl SpecularLayer {
+    /// glTF's layer of `specularColorFactor` `colour` and `specularFactor` `factor` on a
+    /// dielectric of index `ior` (> 1), without textures.
+    pub fn new(ior: f32, colour: Vec3, factor: f32) -> SpecularLayer {
+        let r = (ior - 1.0) / (ior + 1.0);
+        SpecularLayer {
+            tinted_f0: r * r * colour,
+            factor,
+            texture: None,
+            color_texture: None,
+        }
+    }
+
     /// The layer's reflectance at normal incidence (each channel) and at grazing (glTF's
     /// `dielectric_f0` and `dielectric_f90`) where the strength texture reads `texel` and the
     /// colour texture `color_texel` (`None`: no texture).

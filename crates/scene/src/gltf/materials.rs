@@ -22,8 +22,15 @@
 //!   reflectance at a hit is glTF's layer's there, `min(F0 · c, 1) · s` at normal incidence
 //!   for `specularColorFactor` c and `specularFactor` s (each times its texture), `s` at
 //!   grazing, in between the shape of the coat's own Fresnel reflectance
-//!   (`render::dielectric_layer`); s = 0 removes the coat (Lambertian). The glass member keeps
-//!   its own index.
+//!   (`render::dielectric_layer`); s = 0 removes the coat (Lambertian). The glass member
+//!   wears the same layer: smooth or frosted, its reflection and transmission share what the
+//!   layer reflects (refracting by its own index; total internal reflection stays total), so
+//!   s = 0 makes glass that reflects nothing but inside it. Over an index of 0 (glTF's
+//!   "F0 = 1") or above 3 (converters write 1000 for it), where the layer's colour is its
+//!   reflectance head on, the coat takes the index of the layer's mean reflectance (up to 3)
+//!   and keeps its lobe however rough: `KHR_materials_pbrSpecularGlossiness` converts so
+//!   (`super::spec_gloss`), a metal written as black diffuse under a coloured specular
+//!   among them.
 //! - the opaque dielectric otherwise → Lambertian diffuse with the base colour (×
 //!   `baseColorTexture`).
 //! - `KHR_materials_clearcoat` → [`Clearcoat`] over every member: `clearcoatFactor` its
@@ -108,6 +115,7 @@
 //! are decoded as sRGB, each image once however many materials use it.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use glam::{Affine2, Vec2, Vec3};
 
@@ -116,13 +124,15 @@ use json::material::AlphaMode as GltfAlphaMode;
 use json::validation::Checked;
 
 use super::buffers::{read_regular, resolve_uri};
+use super::spec_gloss;
 use super::uri::Resolved;
 use super::{Context, Input, quoted};
 use crate::{
     AlphaMode, Anisotropy, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission, Iridescence,
-    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, SpecularLayer, Surface, Texture,
-    TextureId, TextureRoughness, TexturedLobe, absorption_from_attenuation as scene_absorption,
-    brushed_metal_surface, coated_surface, glass_surface, metal_surface,
+    Material, RoughnessMap, SceneBuilder, SceneError, Sheen, SpecularLayer, Surface, Texels,
+    Texture, TextureId, TextureRoughness, TexturedLobe,
+    absorption_from_attenuation as scene_absorption, brushed_metal_surface, coated_surface,
+    glass_surface, metal_surface,
 };
 
 /// `KHR_materials_ior`'s default, also the core spec's dielectric ior.
@@ -152,6 +162,9 @@ pub(super) struct Materials {
     uv_sets: Vec<usize>,
     /// The set of the material being converted, for [`Materials::texture`]'s warning.
     converting_uv_set: usize,
+    /// Roughness textures made from specular-glossiness textures (`spec_gloss`), by image and
+    /// glossiness factor.
+    gloss_images: HashMap<(usize, u32), TextureId>,
 }
 
 impl Materials {
@@ -164,6 +177,7 @@ impl Materials {
             uv_transforms: vec![None; root.materials.len()],
             uv_sets: vec![0; root.materials.len()],
             converting_uv_set: 0,
+            gloss_images: HashMap::new(),
         }
     }
 
@@ -219,8 +233,8 @@ impl Materials {
         builder: &mut SceneBuilder,
         index: usize,
     ) -> Result<(Material, Members), SceneError> {
-        let m = &input.root.materials[index];
-        let label = match &m.name {
+        let original = &input.root.materials[index];
+        let label = match &original.name {
             Some(name) => format!("material {index} ({})", quoted(name)),
             None => format!("material {index}"),
         };
@@ -228,6 +242,11 @@ impl Materials {
             input,
             label: &label,
         };
+        // A specular-glossiness material is read as its metallic-roughness equivalent.
+        let rewritten = spec_gloss::as_metal_rough(original)
+            .map_err(|e| check.error(format!("{}: {e}", spec_gloss::EXTENSION)))?;
+        let glossiness = spec_gloss::textured_glossiness(original);
+        let m = rewritten.as_ref().unwrap_or(original);
         let uv_set = material_uv_set(m);
         self.uv_sets[index] = uv_set;
         self.converting_uv_set = uv_set;
@@ -263,8 +282,13 @@ impl Materials {
         };
         let mapped = match &pbr.metallic_roughness_texture {
             Some(info) => {
-                let slot = TextureSlot::data(info, "metallicRoughnessTexture");
-                let texture = self.texture(input, builder, slot, &label)?;
+                let texture = match glossiness {
+                    Some(factor) => self.gloss_texture(input, builder, info, factor, &label)?,
+                    None => {
+                        let slot = TextureSlot::data(info, "metallicRoughnessTexture");
+                        self.texture(input, builder, slot, &label)?
+                    }
+                };
                 Some((texture, info))
             }
             None => None,
@@ -520,7 +544,8 @@ impl Materials {
     }
 
     /// `KHR_materials_specular` as a [`SpecularLayer`]; `None` where it changes nothing (its
-    /// defaults) or has no Fresnel reflectance to shape (an index of 1 or 0: see [`lobes`]).
+    /// defaults) or has no Fresnel reflectance to shape (an index of 1: see [`lobes`]). Over an
+    /// index of 0 (glTF's "F0 = 1") its colour is its reflectance head on.
     fn specular_layer(
         &mut self,
         input: &Input,
@@ -536,7 +561,7 @@ impl Materials {
         let colour = Vec3::from_array(extension.specular_color_factor.0);
         let textured =
             extension.specular_texture.is_some() || extension.specular_color_texture.is_some();
-        if !(textured || colour != Vec3::ONE || factor != 1.0) || ior == 1.0 || ior == 0.0 {
+        if !(textured || colour != Vec3::ONE || factor != 1.0) || ior == 1.0 {
             return Ok(None);
         }
         let mut texture = |info: &Option<json::texture::Info>, name, srgb| match info {
@@ -551,14 +576,13 @@ impl Materials {
             None => Ok(None),
         };
         Ok(Some(SpecularLayer {
-            tinted_f0: f0_of(ior) * colour,
-            factor,
             texture: texture(&extension.specular_texture, "specularTexture", DATA)?,
             color_texture: texture(
                 &extension.specular_color_texture,
                 "specularColorTexture",
                 COLOUR,
             )?,
+            ..SpecularLayer::new(ior, colour, factor)
         }))
     }
 
@@ -607,30 +631,13 @@ impl Materials {
                  use TEXCOORD_{material_set}; it reads those (kousen keeps one set a vertex)"
             ));
         }
-        let root = input.root;
-        let Some(texture) = root.textures.get(t) else {
-            return Err(input.error(format!(
-                "{label}: {slot} refers to texture {t}, which does not exist ({} textures)",
-                root.textures.len()
-            )));
-        };
-        let image = texture.source.value();
+        let image = image_of(input, (slot, t), label)?;
         let cache = if srgb {
             &mut self.images
         } else {
             &mut self.linear_images
         };
-        let Some(cached) = cache.get_mut(image) else {
-            return Err(input.error(match image {
-                NO_SOURCE => {
-                    format!("texture {t} has no image source (extension sources are not supported)")
-                }
-                _ => format!(
-                    "texture {t}: its image source {image} does not exist ({} images)",
-                    root.images.len()
-                ),
-            }));
-        };
+        let cached = &mut cache[image];
         if let Some(id) = cached {
             return Ok(*id);
         }
@@ -638,6 +645,63 @@ impl Materials {
         *cached = Some(id);
         Ok(id)
     }
+
+    /// A roughness texture (metallic-roughness layout: roughness in green, metalness 0 in blue)
+    /// made from a specular-glossiness texture `info`: roughness `1 − factor × alpha`, the
+    /// glossiness in its alpha channel (linear) times the material's glossiness factor.
+    fn gloss_texture(
+        &mut self,
+        input: &Input,
+        builder: &mut SceneBuilder,
+        info: &json::texture::Info,
+        factor: f32,
+        label: &str,
+    ) -> Result<TextureId, SceneError> {
+        let slot = TextureSlot::data(info, "specularGlossinessTexture");
+        let image = image_of(input, (slot.name, slot.texture), label)?;
+        if let Some(id) = self.gloss_images.get(&(image, factor.to_bits())) {
+            return Ok(*id);
+        }
+        let glossy = decode_image(input, image, DATA)?;
+        let roughness = |alpha: f32| [0.0, 1.0 - factor * alpha, 0.0, 1.0];
+        let texels = match &glossy.texels {
+            Texels::LinearF32(texels) => texels.iter().map(|t| roughness(t[3])).collect(),
+            Texels::Srgb8(texels) => (texels.iter())
+                .map(|t| roughness(f32::from(t[3]) / 255.0))
+                .collect(),
+        };
+        let id = builder.add_texture(Texture {
+            name: format!("{} (roughness from glossiness)", glossy.name),
+            texels: Texels::LinearF32(texels),
+            ..glossy
+        });
+        self.gloss_images.insert((image, factor.to_bits()), id);
+        Ok(id)
+    }
+}
+
+/// The image that texture `t` (named in `slot` of material `label`) shows, checked to exist.
+fn image_of(input: &Input, (slot, t): (&str, usize), label: &str) -> Result<usize, SceneError> {
+    let root = input.root;
+    let Some(texture) = root.textures.get(t) else {
+        return Err(input.error(format!(
+            "{label}: {slot} refers to texture {t}, which does not exist ({} textures)",
+            root.textures.len()
+        )));
+    };
+    let image = texture.source.value();
+    if image >= root.images.len() {
+        return Err(input.error(match image {
+            NO_SOURCE => {
+                format!("texture {t} has no image source (extension sources are not supported)")
+            }
+            _ => format!(
+                "texture {t}: its image source {image} does not exist ({} images)",
+                root.images.len()
+            ),
+        }));
+    }
+    Ok(image)
 }
 
 /// [`Materials::layer_texture`]'s decoding: sRGB colour, or linear data.
@@ -928,6 +992,12 @@ fn lobes(check: &Check, m: &json::Material, roughness: f32) -> Result<Lobes, Sce
     );
     let opaque = if specular_factor(check, m)? == 0.0 || ior == 1.0 {
         Surface::Diffuse
+    } else if let Some(coat_ior) = layered_coat_ior(check, m, ior)? {
+        // Its colour is the specular layer's: rendered Lambertian, it would be lost.
+        Surface::Plastic {
+            ior: coat_ior,
+            alpha: rough,
+        }
     } else if ior == 0.0 && roughness < DIFFUSE_MIN_ROUGHNESS {
         Surface::Mirror
     } else if ior == 0.0 {
@@ -1025,9 +1095,34 @@ fn mapped_members(
     })
 }
 
-/// The reflectance at normal incidence between air and index `ior`.
-fn f0_of(ior: f32) -> f32 {
-    ((ior - 1.0) / (ior + 1.0)).powi(2)
+/// The largest index a plastic coat is given for a specular layer over an index that is no real
+/// coat's: 0 (glTF's "F0 = 1", as specular-glossiness materials convert) or above this
+/// (converters also write 1000 for it). F0 = 25 %.
+const MAX_LAYERED_COAT_IOR: f32 = 3.0;
+
+/// The plastic coat's index where `KHR_materials_specular` lies over an `ior` of 0 or above
+/// [`MAX_LAYERED_COAT_IOR`]: the index whose reflectance head on is the layer's mean there
+/// (`min(F0 · colour, 1) · factor`, F0 = 1 for an index of 0; between 1.1 and
+/// [`MAX_LAYERED_COAT_IOR`]), giving the Fresnel curve's shape, while the layer sets each
+/// channel's ends (`render::dielectric_layer`). `None` for other materials.
+fn layered_coat_ior(
+    check: &Check,
+    m: &json::Material,
+    ior: f32,
+) -> Result<Option<f32>, SceneError> {
+    let Some(extension) = m.extensions.as_ref().and_then(|e| e.specular.as_ref()) else {
+        return Ok(None);
+    };
+    if !(ior == 0.0 || ior > MAX_LAYERED_COAT_IOR) {
+        return Ok(None);
+    }
+    let factor = specular_factor(check, m)?;
+    let r = (ior - 1.0) / (ior + 1.0);
+    let colour = Vec3::from_array(extension.specular_color_factor.0);
+    let f0 = (r * r * colour).min(Vec3::ONE).element_sum() / 3.0 * factor;
+    let root = f0.sqrt();
+    let index = (1.0 + root) / (1.0 - root).max(f32::MIN_POSITIVE);
+    Ok(Some(index.clamp(1.1, MAX_LAYERED_COAT_IOR)))
 }
 
 /// `KHR_materials_specular`'s `specularFactor` (1 without the extension), its colour factor

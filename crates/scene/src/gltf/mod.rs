@@ -39,6 +39,7 @@ pub mod materials;
 mod meshes;
 mod nodes;
 mod skins;
+mod spec_gloss;
 mod uri;
 mod variants;
 
@@ -57,7 +58,7 @@ use materials::Materials;
 use meshes::{Mesh, MeshPose, Placement};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 17] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 19] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_anisotropy",
@@ -68,7 +69,9 @@ pub const SUPPORTED_EXTENSIONS: [&str; 17] = [
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_iridescence",
+    "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_sheen",
+    "KHR_materials_specular",
     "KHR_materials_unlit",
     "KHR_materials_variants",
     "KHR_materials_volume",
@@ -76,14 +79,6 @@ pub const SUPPORTED_EXTENSIONS: [&str; 17] = [
     "KHR_mesh_quantization",
     "KHR_texture_transform",
 ];
-
-/// Extensions read in part only (not accepted in `extensionsRequired`), with what is read:
-/// a used one gets a warning of its own saying so.
-pub const PARTLY_SUPPORTED_EXTENSIONS: [(&str, &str); 1] = [(
-    "KHR_materials_specular",
-    "specularFactor, specularColorFactor and their textures set the opaque dielectric's coat's \
-     reflectance, head on and at grazing, in each channel; the glass keeps its own index",
-)];
 
 /// The most triangles a file may place in the world (and a third of the most vertices it may
 /// transform). Instancing multiplies a mesh by every node that uses it, so a few kilobytes
@@ -249,19 +244,9 @@ fn check_extensions(builder: &mut SceneBuilder, root: &json::Root) -> Result<(),
             format!("requires unsupported glTF extension(s) {required}"),
         ));
     }
-    let partly = |name: &String| PARTLY_SUPPORTED_EXTENSIONS.iter().find(|(n, _)| n == name);
-    let fully_ignored: Vec<String> = (root.extensions_used.iter())
-        .filter(|n| partly(n).is_none())
-        .cloned()
-        .collect();
-    let ignored = unsupported(&fully_ignored);
+    let ignored = unsupported(&root.extensions_used);
     if !ignored.is_empty() {
         builder.warn(format!("ignoring unsupported glTF extension(s) {ignored}"));
-    }
-    let mut partly_used: Vec<_> = root.extensions_used.iter().filter_map(partly).collect();
-    partly_used.dedup();
-    for (name, what) in partly_used {
-        builder.warn(format!("glTF extension {}: {what}", quoted(name)));
     }
     Ok(())
 }

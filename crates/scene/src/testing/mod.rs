@@ -890,6 +890,31 @@ pub fn furnace_with_frosted_dispersive_glass() -> Scene {
     })
 }
 
+/// [`furnace_sphere`] with a ball of clear glass (index 1.5) under glTF's specular layer,
+/// strongly tinted and weak (strength 0.4, colour (2.5, 1, 0.2)): each channel reflects its own
+/// share and lets the rest through, and total internal reflection inside is kept, so the
+/// ball is lossless and in the furnace invisible.
+pub fn furnace_with_layered_glass() -> Scene {
+    let ior = 1.5;
+    furnace_around(
+        "testing::furnace_with_layered_glass",
+        Material {
+            name: "glass under a specular layer".into(),
+            surface: Surface::Dielectric {
+                ior,
+                thin_walled: false,
+            },
+            base_color: Vec3::ONE,
+            specular: Some(crate::SpecularLayer::new(
+                ior,
+                Vec3::new(2.5, 1.0, 0.2),
+                0.4,
+            )),
+            ..Material::default()
+        },
+    )
+}
+
 fn furnace_with_dispersive_glass_of(glass: Surface) -> Scene {
     furnace_around(
         "testing::furnace_with_dispersive_glass",

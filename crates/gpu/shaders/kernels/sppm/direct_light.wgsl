@@ -54,8 +54,9 @@ struct LitLobes {
     // `glossy` then leaves the colour out).
     film_base: vec3<f32>,
     film: Film,
-    // cpu::kernels::LitLobes::dielectric_film: frosted glass's thin film (factor 0: none).
-    dielectric_film: Film,
+    // cpu::kernels::LitLobes::dielectric_layer: frosted glass's layer (thin film, specular
+    // layer; bare: none).
+    dielectric_layer: DielectricLayer,
     // cpu::kernels::LitLobes::coat's layer: what lies on plastic's coat (bare elsewhere).
     coat_layer: DielectricLayer,
 }
@@ -111,8 +112,8 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
             if IRIDESCENCE && lit.film.factor > 0.0 {
                 tint = metal_tint(lit.film_base, lit.film, outgoing, incident);
             }
-            if IRIDESCENCE && lit.dielectric_film.factor > 0.0 {
-                // render::iridescence::lobe_film_weight.
+            if !dielectric_layer_is_bare(lit.dielectric_layer) {
+                // render::dielectric_layer::lobe_layer_weight.
                 var eta = 1.0 / lit.coat_ior;
                 var thin_walled = false;
                 if lit.sheet_eta > 0.0 {
@@ -121,7 +122,7 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
                 } else if lit.refraction_eta > 0.0 {
                     eta = lit.refraction_eta;
                 }
-                tint *= rough_dielectric_film_weight(lit.dielectric_film, outgoing, incident, hit.shading, eta, thin_walled);
+                tint *= rough_dielectric_layer_weight(lit.dielectric_layer, outgoing, incident, hit.shading, eta, thin_walled);
             }
             // A rough coat's reflection under its layer (1 elsewhere: a bare layer).
             tint *= coat_layer_reflection(lit.coat_layer, lit.coat_ior, outgoing, incident);

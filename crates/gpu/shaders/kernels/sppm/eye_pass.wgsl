@@ -205,7 +205,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film(), bare_dielectric_layer());
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), bare_dielectric_layer(), bare_dielectric_layer());
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -239,7 +239,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce_tint = tint;
         var base_weight = 1.0;
         var base_film_tint = vec3<f32>(1.0);
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), no_film(), bare_dielectric_layer());
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), bare_dielectric_layer(), bare_dielectric_layer());
         if plastic {
             lit.coat_ior = material.ior;
             lit.coat_alpha = material.roughness_alpha;
@@ -313,8 +313,10 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             material = dispersed.material;
             wavelength = dispersed.wavelength;
             throughput *= dispersed.weight;
-            // cpu::kernels: a thin film colours the metal by the angle to each micro-normal.
-            let film = hit_film(material, hit.uv);
+            // cpu::kernels: a thin film colours the metal by the angle to each micro-normal;
+            // glass wears the film and the specular layer.
+            let layer = hit_dielectric_layer(material, hit.uv);
+            let film = layer.film;
             if material.surface == SURFACE_ROUGH_CONDUCTOR {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
@@ -330,7 +332,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) == 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
-                lit.dielectric_film = film;
+                lit.dielectric_layer = layer;
                 if hit.front {
                     lit.coat_ior = material.ior;
                 } else {
@@ -341,13 +343,13 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             if FROSTED_GLASS && material.surface == SURFACE_ROUGH_DIELECTRIC && (material.flags & MATERIAL_THIN_WALLED) != 0u {
                 lit.glossy = throughput * tint;
                 lit.alpha = material.roughness_alpha;
-                lit.dielectric_film = film;
+                lit.dielectric_layer = layer;
                 lit.sheet_eta = relative_eta(material.ior, hit.front, true);
             }
-            bounce = specular_direction(material, hit, direction, film, u, u_second, u_third);
+            bounce = specular_direction(material, hit, direction, layer, u, u_second, u_third);
             // Smooth glass's film takes its share below, after the way not taken is counted.
             if material.surface != SURFACE_DIELECTRIC {
-                bounce_tint = bounce_tint_of(material, tint, film, hit, direction, bounce.direction);
+                bounce_tint = bounce_tint_of(material, tint, layer, hit, direction, bounce.direction);
             }
         }
         if DIFFUSE_TRANSMISSION && far_side {
@@ -384,22 +386,23 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         depth += 1u;
         // cpu::kernels::eye_pass: at the first glass surface, the branch not taken is probed
         // next.
-        // cpu::kernels::eye_path: under a thin film each channel of either way takes the
-        // film's share of it.
+        // cpu::kernels::eye_path: under a layer (thin film, specular layer) each channel of
+        // either way takes the layer's share of it.
         let probe = !met_glass && depth < params.max_depth;
-        var dielectric_film = no_film();
+        var glass_layer = bare_dielectric_layer();
         if material.surface == SURFACE_DIELECTRIC {
-            dielectric_film = hit_film(material, hit.uv);
+            glass_layer = hit_dielectric_layer(material, hit.uv);
         }
-        if material.surface == SURFACE_DIELECTRIC && (probe || dielectric_film.factor > 0.0) {
-            let branches = dielectric_branches(material, hit, direction, dielectric_film);
+        let layered = !dielectric_layer_is_bare(glass_layer);
+        if material.surface == SURFACE_DIELECTRIC && (probe || layered) {
+            let branches = dielectric_branches(material, hit, direction, glass_layer);
             var other = branches.reflected;
             var other_share = branches.reflectance;
-            var other_weight = branches.film_reflectance;
+            var other_weight = branches.layered_reflectance;
             if u < branches.reflectance {
                 other = branches.transmitted;
                 other_share = 1.0 - branches.reflectance;
-                other_weight = vec3<f32>(1.0) - branches.film_reflectance;
+                other_weight = vec3<f32>(1.0) - branches.layered_reflectance;
             }
             if probe {
                 met_glass = true;
@@ -413,7 +416,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                     emission_share = 1.0 - other_share;
                 }
             }
-            if IRIDESCENCE && dielectric_film.factor > 0.0 {
+            if layered {
                 throughput *= branch_weight(branches, all(bounce.direction == branches.reflected));
             }
         }

@@ -340,11 +340,11 @@ fn photon_step(slot_in: PathSlot, pass_index: u32, index: u32) -> PhotonStep {
         }
     } else {
         let dispersed = dispersed_material(material, wavelength, u_wavelength);
-        let film = hit_film(material, hit.uv);
-        let bounce = specular_direction(dispersed.material, hit, direction, film, u_direction0, u_direction1, u_choice);
+        let layer = hit_dielectric_layer(material, hit.uv);
+        let bounce = specular_direction(dispersed.material, hit, direction, layer, u_direction0, u_direction1, u_choice);
         next = bounce.direction;
         weight = bounce.weight;
-        tint = bounce_tint_of(dispersed.material, surface_tint, film, hit, direction, next) * dispersed.weight;
+        tint = bounce_tint_of(dispersed.material, surface_tint, layer, hit, direction, next) * dispersed.weight;
         wavelength = dispersed.wavelength;
     }
     // Out through the sheen and the clear coat, if any (the far side's where it passed

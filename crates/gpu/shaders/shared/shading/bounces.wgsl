@@ -68,7 +68,7 @@ fn coat_choice(layer: DielectricLayer, cos: f32, ior: f32) -> vec4<f32> {
 }
 
 // cpu::surface::specular_direction; only called for non-diffuse surfaces other than plastic.
-fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film, u: f32, u_second: f32, u_third: f32) -> Scattered {
+fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, layer: DielectricLayer, u: f32, u_second: f32, u_third: f32) -> Scattered {
     let normal = hit.shading;
     if material.surface == SURFACE_ROUGH_CONDUCTOR {
         if ANISOTROPY && any(hit.brush != vec3<f32>(0.0)) {
@@ -82,7 +82,7 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
     if material.surface == SURFACE_MIRROR {
         return Scattered(reflect_about(incoming, normal), 1.0);
     }
-    let branches = dielectric_branches(material, hit, incoming, film);
+    let branches = dielectric_branches(material, hit, incoming, layer);
     if u < branches.reflectance {
         return Scattered(branches.reflected, 1.0);
     }
@@ -91,58 +91,60 @@ fn specular_direction(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32
 
 // cpu::surface::DielectricBranches: reflected with probability `reflectance`, else
 // transmitted (refracted; straight on through a thin-walled sheet; reflected at total
-// internal reflection); under a thin film each channel's share reflected is
-// `film_reflectance`.
+// internal reflection); under a layer (thin film, specular layer) each channel's share
+// reflected is `layered_reflectance`.
 struct DielectricBranches {
     reflectance: f32,
-    film_reflectance: vec3<f32>,
+    layered_reflectance: vec3<f32>,
     reflected: vec3<f32>,
     transmitted: vec3<f32>,
 }
 
 // cpu::surface::dielectric_branches.
-fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, film: Film) -> DielectricBranches {
+fn dielectric_branches(material: GpuMaterial, hit: SurfaceHit, incoming: vec3<f32>, layer: DielectricLayer) -> DielectricBranches {
     let normal = hit.shading;
     let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
     let eta = relative_eta(material.ior, hit.front, thin_walled);
     let cos_incident = -dot(incoming, normal);
     var reflectance = fresnel_dielectric(cos_incident, eta);
-    var film_reflectance = vec3<f32>(reflectance);
-    if IRIDESCENCE && film.factor > 0.0 {
-        film_reflectance = iridescent_dielectric(reflectance, film, cos_incident, material.ior, hit.front || thin_walled);
+    let bare = dielectric_layer_is_bare(layer);
+    var layered_reflectance = vec3<f32>(reflectance);
+    if !bare {
+        layered_reflectance = layered_dielectric(reflectance, layer, cos_incident, material.ior, hit.front || thin_walled);
     }
     if thin_walled {
         reflectance = 2.0 * reflectance / (1.0 + reflectance);
-        film_reflectance = 2.0 * film_reflectance / (vec3<f32>(1.0) + film_reflectance);
+        layered_reflectance = 2.0 * layered_reflectance / (vec3<f32>(1.0) + layered_reflectance);
     }
-    if IRIDESCENCE && film.factor > 0.0 {
-        reflectance = (film_reflectance.x + film_reflectance.y + film_reflectance.z) / 3.0;
+    if !bare {
+        reflectance = (layered_reflectance.x + layered_reflectance.y + layered_reflectance.z) / 3.0;
     }
     let reflected = reflect_about(incoming, normal);
     var transmitted = incoming;
     if !thin_walled {
         transmitted = refract_or_reflect(incoming, normal, eta);
     }
-    return DielectricBranches(reflectance, film_reflectance, reflected, transmitted);
+    return DielectricBranches(reflectance, layered_reflectance, reflected, transmitted);
 }
 
 // cpu::surface::DielectricBranches::weight.
 fn branch_weight(branches: DielectricBranches, reflected: bool) -> vec3<f32> {
-    return film_share(branches.reflectance, branches.film_reflectance, reflected);
+    return film_share(branches.reflectance, branches.layered_reflectance, reflected);
 }
 
 // cpu::surface::bounce_tint.
-fn bounce_tint_of(material: GpuMaterial, tint: vec3<f32>, film: Film, hit: SurfaceHit, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
-    if IRIDESCENCE && material.surface == SURFACE_DIELECTRIC && film.factor > 0.0 {
-        let branches = dielectric_branches(material, hit, incoming, film);
+fn bounce_tint_of(material: GpuMaterial, tint: vec3<f32>, layer: DielectricLayer, hit: SurfaceHit, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
+    let bare = dielectric_layer_is_bare(layer);
+    if material.surface == SURFACE_DIELECTRIC && !bare {
+        let branches = dielectric_branches(material, hit, incoming, layer);
         return tint * branch_weight(branches, all(next == branches.reflected));
     }
-    if IRIDESCENCE && material.surface == SURFACE_ROUGH_DIELECTRIC && film.factor > 0.0 {
+    if material.surface == SURFACE_ROUGH_DIELECTRIC && !bare {
         let thin_walled = (material.flags & MATERIAL_THIN_WALLED) != 0u;
         let eta = relative_eta(material.ior, hit.front, thin_walled);
-        return tint * rough_dielectric_film_weight(film, -incoming, next, hit.shading, eta, thin_walled);
+        return tint * rough_dielectric_layer_weight(layer, -incoming, next, hit.shading, eta, thin_walled);
     }
-    return metal_bounce_tint(material, tint, film, incoming, next);
+    return metal_bounce_tint(material, tint, layer.film, incoming, next);
 }
 
 // cpu::surface::eye_crossing_scale: an eye path's render::optics::eye_refraction_scale where

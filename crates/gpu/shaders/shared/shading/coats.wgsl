@@ -162,7 +162,11 @@ fn clearcoat_bounce(coat: Clearcoat, surface_hit: SurfaceHit, incoming: vec3<f32
     return ClearcoatBounce(true, rough_reflection(hit, incoming, coat.alpha, u_micro.x, u_micro.y));
 }
 
-// render::plastic::DielectricLayer: what lies on plastic's coat at a hit, glTF's specular layer
+// Whether some material wears glTF's specular layer; compiled out as MEDIA is.
+override SPECULAR_LAYERS: bool = true;
+
+// render::dielectric_layer::DielectricLayer: what lies on a dielectric's surface at a hit
+// (plastic's coat, glass), glTF's specular layer
 // (render::dielectric_layer::LayerReflectance: its reflectance head on and at grazing;
 // specular_f90 < 0: none) and thin film.
 struct DielectricLayer {
@@ -171,7 +175,7 @@ struct DielectricLayer {
     film: Film,
 }
 
-// render::plastic::DielectricLayer::default.
+// render::dielectric_layer::DielectricLayer::default.
 fn bare_dielectric_layer() -> DielectricLayer {
     return DielectricLayer(vec3<f32>(0.0), -1.0, no_film());
 }
@@ -179,7 +183,7 @@ fn bare_dielectric_layer() -> DielectricLayer {
 // cpu::surface::hit_dielectric_layer (scene::SpecularLayer::at).
 fn hit_dielectric_layer(material: GpuMaterial, uv: vec2<f32>) -> DielectricLayer {
     var layer = bare_dielectric_layer();
-    if material.specular_layer != 0u {
+    if SPECULAR_LAYERS && material.specular_layer != 0u {
         var colour = vec3<f32>(1.0);
         if material.specular_color_texture != NO_TEXTURE {
             colour = sample_texture(material.specular_color_texture, uv).xyz;
@@ -195,9 +199,9 @@ fn hit_dielectric_layer(material: GpuMaterial, uv: vec2<f32>) -> DielectricLayer
     return layer;
 }
 
-// render::plastic::DielectricLayer::is_bare.
+// render::dielectric_layer::DielectricLayer::is_bare.
 fn dielectric_layer_is_bare(layer: DielectricLayer) -> bool {
-    return layer.specular_f90 < 0.0 && !(IRIDESCENCE && layer.film.factor > 0.0);
+    return !(SPECULAR_LAYERS && layer.specular_f90 >= 0.0) && !(IRIDESCENCE && layer.film.factor > 0.0);
 }
 
 // render::dielectric_layer::LayerReflectance::remap.
@@ -207,10 +211,10 @@ fn layer_reflectance_remap(f0: vec3<f32>, f90: f32, bare: f32, ior: f32) -> vec3
     return f0 + (vec3<f32>(f90) - f0) * towards_grazing;
 }
 
-// render::plastic::DielectricLayer::reflectance.
+// render::dielectric_layer::DielectricLayer::reflectance.
 fn dielectric_layer_reflectance(layer: DielectricLayer, bare: f32, cos: f32, ior: f32) -> vec3<f32> {
     var scaled = vec3<f32>(bare);
-    if layer.specular_f90 >= 0.0 {
+    if SPECULAR_LAYERS && layer.specular_f90 >= 0.0 {
         scaled = layer_reflectance_remap(layer.specular_f0, layer.specular_f90, bare, ior);
     }
     if !IRIDESCENCE || layer.film.factor <= 0.0 {
@@ -219,9 +223,9 @@ fn dielectric_layer_reflectance(layer: DielectricLayer, bare: f32, cos: f32, ior
     return film_mix(scaled, layer.film, min(abs(cos), 1.0), ior);
 }
 
-// render::plastic::DielectricLayer::diffuse_share.
+// render::dielectric_layer::DielectricLayer::diffuse_share.
 fn coat_layer_diffuse_share(layer: DielectricLayer, diffuse_scale: f32, ior: f32) -> vec3<f32> {
-    if layer.specular_f90 < 0.0 {
+    if !(SPECULAR_LAYERS && layer.specular_f90 >= 0.0) {
         return vec3<f32>(1.0);
     }
     let bare_mean = 1.0 - 1.0 / diffuse_scale;
@@ -229,7 +233,7 @@ fn coat_layer_diffuse_share(layer: DielectricLayer, diffuse_scale: f32, ior: f32
     return (1.0 - bare_mean) / (vec3<f32>(1.0) - layered_mean);
 }
 
-// render::plastic::DielectricLayer::transmission_share.
+// render::dielectric_layer::DielectricLayer::transmission_share.
 fn coat_layer_transmission(layer: DielectricLayer, ior: f32, cos: f32) -> vec3<f32> {
     if dielectric_layer_is_bare(layer) {
         return vec3<f32>(1.0);
@@ -238,7 +242,7 @@ fn coat_layer_transmission(layer: DielectricLayer, ior: f32, cos: f32) -> vec3<f
     return film_share(bare, dielectric_layer_reflectance(layer, bare, cos, ior), false);
 }
 
-// render::plastic::DielectricLayer::reflection_share.
+// render::dielectric_layer::DielectricLayer::reflection_share.
 fn coat_layer_reflection(layer: DielectricLayer, ior: f32, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
     let sum = outgoing + incident;
     let length_sum = length(sum);
@@ -248,4 +252,57 @@ fn coat_layer_reflection(layer: DielectricLayer, ior: f32, outgoing: vec3<f32>, 
     let cos = min(abs(dot(outgoing, sum / length_sum)), 1.0);
     let bare = coat_reflectance(cos, ior);
     return film_share(bare, dielectric_layer_reflectance(layer, bare, cos, ior), true);
+}
+
+// render::dielectric_layer::layered_dielectric.
+fn layered_dielectric(fresnel: f32, layer: DielectricLayer, cos_incident_in: f32, ior: f32, from_outside: bool) -> vec3<f32> {
+    if dielectric_layer_is_bare(layer) {
+        return vec3<f32>(fresnel);
+    }
+    let cos_incident = clamp(cos_incident_in, 0.0, 1.0);
+    var cos_outside = cos_incident;
+    if !from_outside {
+        let sin2_outside = ior * ior * (1.0 - cos_incident * cos_incident);
+        if sin2_outside >= 1.0 {
+            return vec3<f32>(1.0);
+        }
+        cos_outside = sqrt(1.0 - sin2_outside);
+    }
+    return dielectric_layer_reflectance(layer, fresnel, cos_outside, ior);
+}
+
+// render::dielectric_layer::rough_dielectric_layer_weight.
+fn rough_dielectric_layer_weight(layer: DielectricLayer, view: vec3<f32>, out: vec3<f32>, normal: vec3<f32>, eta: f32, thin_walled: bool) -> vec3<f32> {
+    if dielectric_layer_is_bare(layer) {
+        return vec3<f32>(1.0);
+    }
+    let reflected = dot(out, normal) > 0.0;
+    var micro = -(eta * view + out);
+    if reflected {
+        micro = view + out;
+    } else if thin_walled {
+        micro = view + out - 2.0 * dot(out, normal) * normal;
+    }
+    let length_micro = length(micro);
+    if !(length_micro > 0.0) {
+        return vec3<f32>(1.0);
+    }
+    micro = micro / length_micro;
+    if dot(micro, normal) < 0.0 {
+        micro = -micro;
+    }
+    let cos_view = clamp(dot(view, micro), 0.0, 1.0);
+    var ior = eta;
+    var from_outside = false;
+    if thin_walled || eta <= 1.0 {
+        ior = 1.0 / eta;
+        from_outside = true;
+    }
+    var bare = fresnel_dielectric(cos_view, eta);
+    var layered = layered_dielectric(bare, layer, cos_view, ior, from_outside);
+    if thin_walled {
+        bare = 2.0 * bare / (1.0 + bare);
+        layered = 2.0 * layered / (vec3<f32>(1.0) + layered);
+    }
+    return film_share(bare, layered, reflected);
 }

@@ -104,63 +104,10 @@ fn iridescent_metal(base_color: vec3<f32>, film: Film, cos_incident: f32) -> vec
     return mix(base_color, film_colour, min(film.factor, 1.0));
 }
 
-// render::iridescence::iridescent_dielectric.
-fn iridescent_dielectric(fresnel: f32, film: Film, cos_incident_in: f32, ior: f32, from_outside: bool) -> vec3<f32> {
-    if film.factor <= 0.0 {
-        return vec3<f32>(fresnel);
-    }
-    let cos_incident = clamp(cos_incident_in, 0.0, 1.0);
-    var cos_outside = cos_incident;
-    if !from_outside {
-        let sin2_outside = ior * ior * (1.0 - cos_incident * cos_incident);
-        if sin2_outside >= 1.0 {
-            return vec3<f32>(1.0);
-        }
-        cos_outside = sqrt(1.0 - sin2_outside);
-    }
-    return film_mix(vec3<f32>(fresnel), film, cos_outside, ior);
-}
-
 // render::iridescence::film_mix.
 fn film_mix(bare: vec3<f32>, film: Film, cos_outside: f32, ior: f32) -> vec3<f32> {
     let film_colour = film_reflectance(cos_outside, film.ior, film.thickness, vec3<f32>(ior));
     return mix(bare, film_colour, min(film.factor, 1.0));
-}
-
-// render::iridescence::rough_dielectric_film_weight.
-fn rough_dielectric_film_weight(film: Film, view: vec3<f32>, out: vec3<f32>, normal: vec3<f32>, eta: f32, thin_walled: bool) -> vec3<f32> {
-    if film.factor <= 0.0 {
-        return vec3<f32>(1.0);
-    }
-    let reflected = dot(out, normal) > 0.0;
-    var micro = -(eta * view + out);
-    if reflected {
-        micro = view + out;
-    } else if thin_walled {
-        micro = view + out - 2.0 * dot(out, normal) * normal;
-    }
-    let length_micro = length(micro);
-    if !(length_micro > 0.0) {
-        return vec3<f32>(1.0);
-    }
-    micro = micro / length_micro;
-    if dot(micro, normal) < 0.0 {
-        micro = -micro;
-    }
-    let cos_view = clamp(dot(view, micro), 0.0, 1.0);
-    var ior = eta;
-    var from_outside = false;
-    if thin_walled || eta <= 1.0 {
-        ior = 1.0 / eta;
-        from_outside = true;
-    }
-    var bare = fresnel_dielectric(cos_view, eta);
-    var filmed = iridescent_dielectric(bare, film, cos_view, ior, from_outside);
-    if thin_walled {
-        bare = 2.0 * bare / (1.0 + bare);
-        filmed = 2.0 * filmed / (vec3<f32>(1.0) + filmed);
-    }
-    return film_share(bare, filmed, reflected);
 }
 
 // render::iridescence::film_share.

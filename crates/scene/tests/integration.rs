@@ -17,6 +17,7 @@ mod gltf_containers;
 mod gltf_geometry;
 mod gltf_lights;
 mod gltf_materials;
+mod gltf_meshopt;
 mod gltf_skins;
 mod gltf_variants;
 mod obj_bad_input;

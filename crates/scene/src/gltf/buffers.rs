@@ -1,7 +1,9 @@
 //! Buffers and buffer views. A buffer is loaded the first time a view of it is read (so an
 //! unused `.bin`, say one holding only animations, is never opened), and only after its
 //! declared `byteLength` has been checked against the bytes really there: nothing is ever
-//! allocated on a length the file merely claims.
+//! allocated on a length the file merely claims. A view compressed by
+//! `EXT_meshopt_compression` is decoded from its compressed range on first use
+//! ([`super::meshopt`]); its fallback buffer, which may hold nothing, is never read.
 
 use std::cell::OnceCell;
 use std::path::Path;
@@ -9,8 +11,12 @@ use std::path::Path;
 use ::gltf::json;
 
 use super::Context;
+use super::meshopt::{self, Compressed};
 use super::uri::{self, Resolved, UriError};
 use crate::SceneError;
+
+/// The extension that compresses buffer views.
+pub(super) const MESHOPT: &str = "EXT_meshopt_compression";
 
 /// The bytes of a buffer view and its stride, if it declares one.
 #[derive(Clone, Copy)]
@@ -26,6 +32,8 @@ pub(super) struct Buffers<'a> {
     views: &'a [json::buffer::View],
     glb_bin: Option<&'a [u8]>,
     loaded: Vec<OnceCell<Vec<u8>>>,
+    /// Compressed views, decoded.
+    decoded: Vec<OnceCell<Vec<u8>>>,
 }
 
 impl<'a> Buffers<'a> {
@@ -36,6 +44,7 @@ impl<'a> Buffers<'a> {
             views: &root.buffer_views,
             glb_bin,
             loaded: root.buffers.iter().map(|_| OnceCell::new()).collect(),
+            decoded: root.buffer_views.iter().map(|_| OnceCell::new()).collect(),
         }
     }
 
@@ -47,6 +56,25 @@ impl<'a> Buffers<'a> {
                 self.views.len()
             )));
         };
+        let stride = match view.byte_stride {
+            Some(json::buffer::Stride(s)) if !(4..=252).contains(&s) || s % 4 != 0 => {
+                return Err(self.error(format!(
+                    "bufferView {index}: byteStride {s} is not a multiple of 4 in [4, 252]"
+                )));
+            }
+            stride => stride.map(|s| s.0),
+        };
+        let compressed = (view.extensions.as_ref())
+            .and_then(|e| e.others.get(MESHOPT))
+            .map(|value| serde_json::from_value::<Compressed>(value.clone()));
+        if let Some(compressed) = compressed {
+            let context = || format!("bufferView {index}: {MESHOPT}");
+            let compressed = compressed
+                .map_err(|e| self.error(e.to_string()))
+                .context(context)?;
+            let bytes = self.decoded_view(index, &compressed).context(context)?;
+            return Ok(View { bytes, stride });
+        }
         let buffer = self
             .buffer(view.buffer.value())
             .context(|| format!("bufferView {index}"))?;
@@ -60,18 +88,40 @@ impl<'a> Buffers<'a> {
                 buffer.len()
             )));
         }
-        let stride = match view.byte_stride {
-            Some(json::buffer::Stride(s)) if !(4..=252).contains(&s) || s % 4 != 0 => {
-                return Err(self.error(format!(
-                    "bufferView {index}: byteStride {s} is not a multiple of 4 in [4, 252]"
-                )));
-            }
-            stride => stride.map(|s| s.0),
-        };
         Ok(View {
             bytes: &buffer[offset as usize..end as usize],
             stride,
         })
+    }
+
+    /// The bytes a compressed view decodes to, decoded on first use: `count × byteStride`
+    /// of them, which must be the view's `byteLength`.
+    fn decoded_view(&self, index: usize, compressed: &Compressed) -> Result<&[u8], SceneError> {
+        let view = &self.views[index];
+        let cell = &self.decoded[index];
+        if let Some(bytes) = cell.get() {
+            return Ok(bytes);
+        }
+        let decoded_length = (compressed.count as u64).checked_mul(compressed.byte_stride as u64);
+        if decoded_length != Some(view.byte_length.0) {
+            return Err(self.error(format!(
+                "{} elements of {} bytes do not fill the view's {} bytes",
+                compressed.count, compressed.byte_stride, view.byte_length.0
+            )));
+        }
+        let source = self.buffer(compressed.buffer)?;
+        let start = compressed.byte_offset;
+        let end = start.saturating_add(compressed.byte_length);
+        if end > source.len() as u64 {
+            return Err(self.error(format!(
+                "its compressed bytes {start}..{end} overrun buffer {} of {} bytes",
+                compressed.buffer,
+                source.len()
+            )));
+        }
+        let data = &source[start as usize..end as usize];
+        let bytes = meshopt::decode(compressed, data).map_err(|e| self.error(e))?;
+        Ok(cell.get_or_init(|| bytes).as_slice())
     }
 
     /// Buffer `index`: exactly `byteLength` bytes, loaded on first use.

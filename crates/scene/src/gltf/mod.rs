@@ -37,6 +37,7 @@ mod instancing;
 mod lights;
 pub mod materials;
 mod meshes;
+mod meshopt;
 mod nodes;
 mod skins;
 mod spec_gloss;
@@ -58,8 +59,9 @@ use materials::Materials;
 use meshes::{Mesh, MeshPose, Placement};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 19] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 20] = [
     "EXT_mesh_gpu_instancing",
+    "EXT_meshopt_compression",
     "KHR_lights_punctual",
     "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",

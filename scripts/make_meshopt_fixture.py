@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Writes crates/scene/tests/data/meshopt-sphere.gltf (+ .bin): a small glTF whose buffer
-views are compressed by meshoptimizer's own encoder (EXT_meshopt_compression), with every
-plain view kept in a fallback buffer that holds the data, so a test can load it both ways.
+"""Writes crates/scene/tests/data/meshopt-sphere.gltf and meshopt-sphere-khr.gltf (each with
+its fallback .bin): small glTF files whose buffer views are compressed by meshoptimizer's own
+encoder, the first as EXT_meshopt_compression (attribute codec version 0), the second as
+KHR_meshopt_compression (version 1: control and channel modes), with every plain view kept in
+a fallback buffer that holds the data, so a test can load each both ways.
 
   pip install numpy meshoptimizer   (the PyPI package builds the C++ library)
   python3 scripts/make_meshopt_fixture.py crates/scene/tests/data
@@ -9,7 +11,7 @@ plain view kept in a fallback buffer that holds the data, so a test can load it 
 The index codec keeps each triangle's winding but may start it at another corner, so the
 TRIANGLES view's plain bytes are the reference decoder's (the INDICES one's are the input).
 
-What it holds: a sphere (positions float, texture coordinates float, normals as octahedral
+What it holds: a sphere (positions float, texture coordinates as normalized u16, normals as octahedral
 bytes under the OCTAHEDRAL filter), its indices twice (u16 as TRIANGLES, u32 as INDICES),
 and three instances (EXT_mesh_gpu_instancing) whose translations use the EXPONENTIAL filter
 and rotations the QUATERNION filter. The filters' encodings are written here after the
@@ -78,8 +80,8 @@ def exponential_words(values):
     return out
 
 
-def main(folder):
-    mo.encode_vertex_version(0)
+def write(folder, name, extension_name, vertex_version):
+    mo.encode_vertex_version(vertex_version)
     mo.encode_index_version(1)
     positions, uvs, indices = sphere()
     optimized = np.zeros_like(indices)
@@ -117,7 +119,7 @@ def main(folder):
         return bytes(decode_filter(raw, len(raw) // stride, stride))
 
     position_view = add(positions.tobytes(), 12, "ATTRIBUTES")
-    uv_view = add(uvs.tobytes(), 8, "ATTRIBUTES")
+    uv_view = add(np.round(uvs * 65535).astype(np.uint16).tobytes(), 4, "ATTRIBUTES")
     normal_view = add(filtered(normals.tobytes(), 4, mo.decode_filter_oct), 4, "ATTRIBUTES", "OCTAHEDRAL", normals.tobytes())
     triangles_view = add(indices.astype(np.uint16).tobytes(), 2, "TRIANGLES")
     sequence_view = add(indices.astype(np.uint32).tobytes(), 4, "INDICES")
@@ -135,7 +137,7 @@ def main(folder):
         if filter_name != "NONE":
             extension["filter"] = filter_name
         view = {"buffer": 1, "byteOffset": len(plain_bin), "byteLength": len(plain),
-                "extensions": {"EXT_meshopt_compression": extension}}
+                "extensions": {extension_name: extension}}
         if mode == "ATTRIBUTES":
             view["byteStride"] = stride
         buffer_views.append(view)
@@ -152,7 +154,7 @@ def main(folder):
     vertex_count = len(positions)
     accessors = [
         accessor(position_view, 5126, vertex_count, "VEC3", extra={"min": [-1, -1, -1], "max": [1, 1, 1]}),
-        accessor(uv_view, 5126, vertex_count, "VEC2"),
+        accessor(uv_view, 5123, vertex_count, "VEC2", normalized=True),
         accessor(normal_view, 5120, vertex_count, "VEC3", normalized=True),
         accessor(triangles_view, 5123, len(indices), "SCALAR"),
         accessor(sequence_view, 5125, len(indices), "SCALAR"),
@@ -162,13 +164,13 @@ def main(folder):
     attributes = {"POSITION": 0, "TEXCOORD_0": 1, "NORMAL": 2}
     document = {
         "asset": {"version": "2.0", "generator": "scripts/make_meshopt_fixture.py"},
-        "extensionsUsed": ["EXT_meshopt_compression", "EXT_mesh_gpu_instancing", "KHR_mesh_quantization"],
-        "extensionsRequired": ["EXT_meshopt_compression", "KHR_mesh_quantization"],
+        "extensionsUsed": [extension_name, "EXT_mesh_gpu_instancing", "KHR_mesh_quantization"],
+        "extensionsRequired": [extension_name, "KHR_mesh_quantization"],
         "buffers": [
             {"uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(compressed_bin)).decode(),
              "byteLength": len(compressed_bin)},
-            {"uri": "meshopt-sphere-fallback.bin", "byteLength": len(plain_bin),
-             "extensions": {"EXT_meshopt_compression": {"fallback": True}}},
+            {"uri": f"{name}-fallback.bin", "byteLength": len(plain_bin),
+             "extensions": {extension_name: {"fallback": True}}},
         ],
         "bufferViews": buffer_views,
         "accessors": accessors,
@@ -180,11 +182,16 @@ def main(folder):
         "scene": 0,
     }
     os.makedirs(folder, exist_ok=True)
-    with open(os.path.join(folder, "meshopt-sphere.gltf"), "w") as f:
+    with open(os.path.join(folder, f"{name}.gltf"), "w") as f:
         json.dump(document, f, indent=1)
-    with open(os.path.join(folder, "meshopt-sphere-fallback.bin"), "wb") as f:
+    with open(os.path.join(folder, f"{name}-fallback.bin"), "wb") as f:
         f.write(plain_bin)
-    print(f"{len(compressed_bin)} compressed bytes, {len(plain_bin)} plain")
+    print(f"{name}: {len(compressed_bin)} compressed bytes, {len(plain_bin)} plain")
+
+
+def main(folder):
+    write(folder, "meshopt-sphere", "EXT_meshopt_compression", 0)
+    write(folder, "meshopt-sphere-khr", "KHR_meshopt_compression", 1)
 
 
 if __name__ == "__main__":

@@ -160,20 +160,36 @@ fn a_corrupt_compressed_view_is_a_clear_error() {
     }
 }
 
-/// `tests/data/meshopt-sphere.gltf` (`scripts/make_meshopt_fixture.py`): a sphere and three
-/// instances of it whose views meshoptimizer's own encoder compressed (positions, texture
-/// coordinates, octahedral normals, u16 TRIANGLES and u32 INDICES, exponential translations
-/// and quaternion rotations), beside a fallback buffer holding the plain bytes its reference
-/// decoder and filters give (the TRIANGLES view's each triangle started at the corner that
-/// decoder starts it). Loaded as it is (decoding every view) and with the extension taken off
-/// the views (reading the fallback), every triangle is the same, bit for bit; a decoder that
-/// started triangles elsewhere, or whose filters rounded otherwise, would fail it.
+/// `tests/data/meshopt-sphere.gltf` and `meshopt-sphere-khr.gltf`
+/// (`scripts/make_meshopt_fixture.py`): a sphere and three instances of it whose views
+/// meshoptimizer's own encoder compressed (positions, normalized u16 texture coordinates,
+/// octahedral normals, u16 TRIANGLES and u32 INDICES, exponential translations and quaternion
+/// rotations), as `EXT_meshopt_compression` (attribute codec version 0) and as
+/// `KHR_meshopt_compression` (version 1: its positions in 16-bit channel deltas), beside a
+/// fallback buffer holding the plain bytes its reference decoder and filters give (the
+/// TRIANGLES view's each triangle started at the corner that decoder starts it). Loaded as it
+/// is (decoding every view) and with the extension taken off the views (reading the
+/// fallback), every triangle is the same, bit for bit; a decoder that started triangles
+/// elsewhere, or whose filters rounded otherwise, would fail it.
 #[test]
 fn the_reference_encoder_s_views_decode_to_its_plain_bytes() {
+    for (name, extension) in [
+        ("meshopt-sphere", "EXT_meshopt_compression"),
+        ("meshopt-sphere-khr", "KHR_meshopt_compression"),
+    ] {
+        assert_loads_as_its_fallback(name, extension);
+    }
+}
+
+fn assert_loads_as_its_fallback(name: &str, extension: &str) {
     let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let path = folder.join("meshopt-sphere.gltf");
+    let path = folder.join(format!("{name}.gltf"));
     let compressed = scene::gltf::load(&path).expect("loads compressed");
-    assert!(compressed.warnings.is_empty(), "{:?}", compressed.warnings);
+    assert!(
+        compressed.warnings.is_empty(),
+        "{name}: {:?}",
+        compressed.warnings
+    );
 
     let mut json: Value =
         serde_json::from_slice(&std::fs::read(&path).expect("read")).expect("JSON");
@@ -182,25 +198,22 @@ fn the_reference_encoder_s_views_decode_to_its_plain_bytes() {
     }
     for key in ["extensionsUsed", "extensionsRequired"] {
         let list = json[key].as_array_mut().expect(key);
-        list.retain(|name| name != "EXT_meshopt_compression");
+        list.retain(|used| used != extension);
     }
     let dir = tempfile::tempdir().expect("tempdir");
-    let plain_path = dir.path().join("meshopt-sphere-plain.gltf");
-    std::fs::copy(
-        folder.join("meshopt-sphere-fallback.bin"),
-        dir.path().join("meshopt-sphere-fallback.bin"),
-    )
-    .expect("copy the fallback");
+    let fallback = format!("{name}-fallback.bin");
+    std::fs::copy(folder.join(&fallback), dir.path().join(&fallback)).expect("copy the fallback");
+    let plain_path = dir.path().join("plain.gltf");
     std::fs::write(&plain_path, serde_json::to_vec(&json).expect("JSON")).expect("write");
     let plain = scene::gltf::load(&plain_path).expect("loads plain");
 
     // 12 × 20 quads, two primitives, three instances, less the poles' degenerate triangles.
     assert!(
         compressed.triangles.len() > 2500,
-        "{}",
+        "{name}: {}",
         compressed.triangles.len()
     );
-    assert_eq!(compressed.triangles.len(), plain.triangles.len());
+    assert_eq!(compressed.triangles.len(), plain.triangles.len(), "{name}");
     let pairs = compressed.triangles.iter().zip(&plain.triangles);
     let differ: Vec<usize> = (pairs.enumerate())
         .filter(|(_, (a, b))| a != b)
@@ -208,7 +221,7 @@ fn the_reference_encoder_s_views_decode_to_its_plain_bytes() {
         .collect();
     if let Some(&first) = differ.first() {
         panic!(
-            "{} of {} triangles differ; the first, {first}: {:?} against {:?}",
+            "{name}: {} of {} triangles differ; the first, {first}: {:?} against {:?}",
             differ.len(),
             plain.triangles.len(),
             compressed.triangles[first],

@@ -2,8 +2,9 @@
 //! unused `.bin`, say one holding only animations, is never opened), and only after its
 //! declared `byteLength` has been checked against the bytes really there: nothing is ever
 //! allocated on a length the file merely claims. A view compressed by
-//! `EXT_meshopt_compression` is decoded from its compressed range on first use
-//! ([`super::meshopt`]); its fallback buffer, which may hold nothing, is never read.
+//! `EXT_meshopt_compression` or `KHR_meshopt_compression` is decoded from its compressed range
+//! on first use ([`super::meshopt`]); its fallback buffer, which may hold nothing, is never
+//! read.
 
 use std::cell::OnceCell;
 use std::path::Path;
@@ -15,8 +16,9 @@ use super::meshopt::{self, Compressed};
 use super::uri::{self, Resolved, UriError};
 use crate::SceneError;
 
-/// The extension that compresses buffer views.
-pub(super) const MESHOPT: &str = "EXT_meshopt_compression";
+/// The extensions that compress buffer views: the original and Khronos's, which adds version 1
+/// of the attribute codec and the colour filter (`super::meshopt`).
+pub(super) const MESHOPT: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
 
 /// The bytes of a buffer view and its stride, if it declares one.
 #[derive(Clone, Copy)]
@@ -64,11 +66,14 @@ impl<'a> Buffers<'a> {
             }
             stride => stride.map(|s| s.0),
         };
-        let compressed = (view.extensions.as_ref())
-            .and_then(|e| e.others.get(MESHOPT))
-            .map(|value| serde_json::from_value::<Compressed>(value.clone()));
-        if let Some(compressed) = compressed {
-            let context = || format!("bufferView {index}: {MESHOPT}");
+        let compressed = (view.extensions.as_ref()).and_then(|e| {
+            MESHOPT.iter().find_map(|&name| {
+                let value = e.others.get(name)?;
+                Some((name, serde_json::from_value::<Compressed>(value.clone())))
+            })
+        });
+        if let Some((name, compressed)) = compressed {
+            let context = || format!("bufferView {index}: {name}");
             let compressed = compressed
                 .map_err(|e| self.error(e.to_string()))
                 .context(context)?;

@@ -1,9 +1,10 @@
-//! `EXT_meshopt_compression`: buffer views stored compressed (as gltfpack and other web
-//! pipelines write them), decoded here as the extension's Appendix A (bitstreams) and B
-//! (filters) specify: attributes (mode 0: byte-wise deltas in blocks of groups of 16),
-//! triangles (mode 1: edge and vertex FIFOs), indices (mode 2: two delta baselines), and the
-//! octahedral, quaternion and exponential filters. Every read is bounds-checked: a truncated
-//! or corrupt stream is an error, never a panic.
+//! `EXT_meshopt_compression` and `KHR_meshopt_compression`: buffer views stored compressed (as
+//! gltfpack and other web pipelines write them), decoded here as the extensions' Appendix A
+//! (bitstreams) and B (filters) specify: attributes (mode 0: byte-wise deltas in blocks of
+//! groups of 16; version 1, the Khronos extension's, with control modes per byte and channel
+//! modes per 4 bytes), triangles (mode 1: edge and vertex FIFOs), indices (mode 2: two delta
+//! baselines), and the octahedral, quaternion, exponential and (Khronos) colour filters. Every
+//! read is bounds-checked: a truncated or corrupt stream is an error, never a panic.
 
 use serde::Deserialize;
 
@@ -122,67 +123,185 @@ fn after_header(data: &[u8], expected: u8, what: &str) -> Result<(), String> {
     }
 }
 
-/// The smallest tail of an attribute stream: the baseline element, padded to 32 bytes.
+/// The smallest tail of a version 0 attribute stream: the baseline element, padded to 32 bytes.
 const ATTRIBUTE_TAIL: usize = 32;
+/// The same for version 1 (`KHR_meshopt_compression`), whose tail also holds the channel modes.
+const ATTRIBUTE_TAIL_V1: usize = 24;
 
-/// Mode 0: `count` elements of `stride` bytes.
+/// How one group of 16 byte deltas is stored.
+#[derive(Clone, Copy)]
+enum GroupEncoding {
+    /// All zero, nothing stored.
+    Zero,
+    /// Codes of this many bits (1, 2 or 4), the all-ones code a sentinel for a byte after them.
+    Bits(usize),
+    /// 16 bytes.
+    Raw,
+}
+
+use GroupEncoding::{Bits, Raw, Zero};
+
+/// The encodings a group's 2 header bits pick: version 0's, and version 1's under control
+/// modes 0 and 1.
+const ENCODINGS_V0: [GroupEncoding; 4] = [Zero, Bits(2), Bits(4), Raw];
+const ENCODINGS_V1: [[GroupEncoding; 4]; 2] = [
+    [Zero, Bits(1), Bits(2), Bits(4)],
+    [Bits(1), Bits(2), Bits(4), Raw],
+];
+
+/// Mode 0: `count` elements of `stride` bytes, in version 0 (`EXT_meshopt_compression`) or
+/// version 1 (`KHR_meshopt_compression`: a control mode per byte position and block, and a
+/// channel mode per 4 bytes, which adds 16-bit deltas and rotated 32-bit xor deltas).
 fn decode_attributes(count: usize, stride: usize, data: &[u8]) -> Result<Vec<u8>, String> {
-    after_header(data, 0xa0, "attribute")?;
-    let tail = stride.max(ATTRIBUTE_TAIL);
+    let version = match data.first() {
+        Some(0xa0) => 0,
+        Some(0xa1) => 1,
+        Some(&header) => {
+            return Err(format!(
+                "attribute header 0x{header:02x}, expected 0xa0 or 0xa1"
+            ));
+        }
+        None => return Err("an empty stream".into()),
+    };
+    let channel_count = if version == 1 { stride / 4 } else { 0 };
+    let tail = (stride + channel_count).max(if version == 1 {
+        ATTRIBUTE_TAIL_V1
+    } else {
+        ATTRIBUTE_TAIL
+    });
     if data.len() < 1 + tail {
         return Err("the stream is shorter than its tail".into());
     }
-    let mut last = data[data.len() - stride..].to_vec();
+    let modes_start = data.len() - channel_count;
+    let mut last = data[modes_start - stride..modes_start].to_vec();
+    let channel_modes: Vec<u8> = match version {
+        1 => data[modes_start..].to_vec(),
+        _ => vec![0; stride / 4],
+    };
+    for &mode in &channel_modes {
+        if (mode & 15) > 2 || ((mode & 15) < 2 && mode >> 4 != 0) {
+            return Err(format!("channel mode 0x{mode:02x}"));
+        }
+    }
     let mut reader = Reader {
         data: &data[..data.len() - tail],
         at: 1,
     };
     let max_block = ((8192 / stride) & !15).min(256);
     let mut out = vec![0u8; count * stride];
-    let mut deltas = [0u8; 256];
+    let mut deltas = vec![0u8; stride * 256];
     let mut done = 0;
     while done < count {
         let block = (count - done).min(max_block);
         let groups = block.div_ceil(16);
-        for (k, previous) in last.iter_mut().enumerate() {
+        let control = match version {
+            1 => reader.take(stride / 4)?,
+            _ => &[][..],
+        };
+        for k in 0..stride {
+            let byte_deltas = &mut deltas[k * 256..k * 256 + groups * 16];
+            let encodings = match version {
+                1 => match (control[k / 4] >> ((k % 4) * 2)) & 3 {
+                    2 => {
+                        byte_deltas.fill(0);
+                        continue;
+                    }
+                    3 => {
+                        // Literal: one delta byte an element, no header.
+                        byte_deltas[..block].copy_from_slice(reader.take(block)?);
+                        continue;
+                    }
+                    c => ENCODINGS_V1[usize::from(c)],
+                },
+                _ => ENCODINGS_V0,
+            };
             let header = reader.take(groups.div_ceil(4))?;
             for group in 0..groups {
                 let bits = (header[group / 4] >> ((group % 4) * 2)) & 3;
-                let slot = &mut deltas[group * 16..group * 16 + 16];
-                read_group(&mut reader, bits, slot)?;
+                let slot = &mut byte_deltas[group * 16..group * 16 + 16];
+                read_group(&mut reader, encodings[usize::from(bits)], slot)?;
             }
-            let mut value = *previous;
-            for (i, delta) in deltas[..block].iter().enumerate() {
-                value = value.wrapping_add(unzigzag8(*delta));
-                out[(done + i) * stride + k] = value;
+        }
+        for (channel, &mode) in channel_modes.iter().enumerate() {
+            let delta = |k: usize, i: usize| deltas[(4 * channel + k) * 256 + i];
+            let element = |i: usize| (done + i) * stride + 4 * channel;
+            let previous = &mut last[4 * channel..4 * channel + 4];
+            match mode & 15 {
+                0 => {
+                    for (k, previous) in previous.iter_mut().enumerate() {
+                        for i in 0..block {
+                            *previous = previous.wrapping_add(unzigzag8(delta(k, i)));
+                            out[element(i) + k] = *previous;
+                        }
+                    }
+                }
+                1 => {
+                    for half in 0..2 {
+                        let mut value =
+                            u16::from_le_bytes([previous[2 * half], previous[2 * half + 1]]);
+                        for i in 0..block {
+                            let d =
+                                u16::from_le_bytes([delta(2 * half, i), delta(2 * half + 1, i)]);
+                            value = value.wrapping_add(unzigzag16(d));
+                            out[element(i) + 2 * half..element(i) + 2 * half + 2]
+                                .copy_from_slice(&value.to_le_bytes());
+                        }
+                        previous[2 * half..2 * half + 2].copy_from_slice(&value.to_le_bytes());
+                    }
+                }
+                _ => {
+                    let rotation = u32::from(mode >> 4);
+                    let mut value =
+                        u32::from_le_bytes([previous[0], previous[1], previous[2], previous[3]]);
+                    for i in 0..block {
+                        let d = u32::from_le_bytes([
+                            delta(0, i),
+                            delta(1, i),
+                            delta(2, i),
+                            delta(3, i),
+                        ]);
+                        value ^= d.rotate_right(rotation);
+                        out[element(i)..element(i) + 4].copy_from_slice(&value.to_le_bytes());
+                    }
+                    previous.copy_from_slice(&value.to_le_bytes());
+                }
             }
-            *previous = value;
         }
         done += block;
+    }
+    if reader.at != reader.data.len() {
+        return Err("bytes left over before the tail".into());
     }
     Ok(out)
 }
 
-/// One group's 16 zigzagged deltas under header `bits`: none, 2- or 4-bit codes with an
-/// all-ones sentinel for a byte stored after them, or 16 bytes.
-fn read_group(reader: &mut Reader, bits: u8, deltas: &mut [u8]) -> Result<(), String> {
-    let width = match bits {
-        0 => {
+/// One group's 16 zigzagged deltas as `encoding` stores them.
+fn read_group(
+    reader: &mut Reader,
+    encoding: GroupEncoding,
+    deltas: &mut [u8],
+) -> Result<(), String> {
+    let width = match encoding {
+        Zero => {
             deltas.fill(0);
             return Ok(());
         }
-        3 => {
+        Raw => {
             deltas.copy_from_slice(reader.take(16)?);
             return Ok(());
         }
-        1 => 2,
-        _ => 4,
+        Bits(width) => width,
     };
     let packed = reader.take(16 * width / 8)?;
     let sentinel = (1u8 << width) - 1;
     let per_byte = 8 / width;
     for (i, delta) in deltas.iter_mut().enumerate() {
-        let shift = 8 - width * (i % per_byte + 1);
+        // 1-bit codes run from the least significant bit, wider ones from the most.
+        let shift = if width == 1 {
+            i % 8
+        } else {
+            8 - width * (i % per_byte + 1)
+        };
         let code = (packed[i / per_byte] >> shift) & sentinel;
         *delta = if code == sentinel {
             reader.byte()?
@@ -191,6 +310,10 @@ fn read_group(reader: &mut Reader, bits: u8, deltas: &mut [u8]) -> Result<(), St
         };
     }
     Ok(())
+}
+
+fn unzigzag16(v: u16) -> u16 {
+    if v & 1 != 0 { !(v >> 1) } else { v >> 1 }
 }
 
 fn unzigzag8(v: u8) -> u8 {
@@ -358,7 +481,9 @@ fn apply_filter(filter: &str, stride: usize, bytes: &mut [u8]) -> Result<(), Str
         ("OCTAHEDRAL", 8) => bytes.chunks_exact_mut(8).for_each(octahedral16),
         ("QUATERNION", 8) => bytes.chunks_exact_mut(8).for_each(quaternion),
         ("EXPONENTIAL", _) => bytes.chunks_exact_mut(4).for_each(exponential),
-        (filter @ ("OCTAHEDRAL" | "QUATERNION"), stride) => {
+        ("COLOR", 4) => bytes.chunks_exact_mut(4).for_each(color8),
+        ("COLOR", 8) => bytes.chunks_exact_mut(8).for_each(color16),
+        (filter @ ("OCTAHEDRAL" | "QUATERNION" | "COLOR"), stride) => {
             return Err(format!("filter {filter} does not take byteStride {stride}"));
         }
         (filter, _) => return Err(format!("unknown filter {filter:?}")),
@@ -406,6 +531,46 @@ fn quaternion(e: &mut [u8]) {
         out[(largest + offset) % 4] = (value * 32767.0).round() as i16;
     }
     for (i, value) in out.into_iter().enumerate() {
+        e[2 * i..2 * i + 2].copy_from_slice(&value.to_le_bytes());
+    }
+}
+
+/// The colour filter (`KHR_meshopt_compression`): YCoCg of K bits, K from the alpha's top bit,
+/// to RGBA normalized to `max` (255 or 65535). Components as integers: Y and alpha unsigned,
+/// Co and Cg signed.
+fn ycocg(y: i32, co: i32, cg: i32, alpha: u32, max: f32) -> [f32; 4] {
+    let top = 31 - alpha.max(1).leading_zeros();
+    let scale_bits = (1u32 << (top + 1)) - 1;
+    let a = alpha & (scale_bits >> 1);
+    let a = (a << 1) | (a & 1);
+    let scale = max / scale_bits as f32;
+    [y + co - cg, y + cg, y - co - cg, a as i32].map(|c| (c as f32 * scale).round())
+}
+
+fn color8(e: &mut [u8]) {
+    let out = ycocg(
+        i32::from(e[0]),
+        i32::from(e[1] as i8),
+        i32::from(e[2] as i8),
+        u32::from(e[3]),
+        255.0,
+    );
+    for (byte, value) in e.iter_mut().zip(out) {
+        *byte = value.clamp(0.0, 255.0) as u8;
+    }
+}
+
+fn color16(e: &mut [u8]) {
+    let word = |i: usize| u16::from_le_bytes([e[2 * i], e[2 * i + 1]]);
+    let out = ycocg(
+        i32::from(word(0)),
+        i32::from(word(1) as i16),
+        i32::from(word(2) as i16),
+        u32::from(word(3)),
+        65535.0,
+    );
+    for (i, value) in out.into_iter().enumerate() {
+        let value = value.clamp(0.0, 65535.0) as u16;
         e[2 * i..2 * i + 2].copy_from_slice(&value.to_le_bytes());
     }
 }
@@ -528,6 +693,39 @@ mod tests {
             .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
         assert_eq!(words, [0, 0x3fc00000, 0xc2100000, 0x49fffffe]);
+    }
+
+    #[test]
+    fn version_1_streams_and_the_colour_filter_decode_as_the_reference_does() {
+        // Three channels: rotated xor deltas (mode 0x62), byte deltas, rotated xor deltas.
+        let mut v1 = vec![
+            0xa1, 0xee, 0xaa, 0xee, 0x00, 0x4b, 0x4b, 0x4b, 0x00, 0x00, 0x4b, 0x00, 0x00, 0x7d,
+            0x7d, 0x7d, 0x00, 0x00, 0x7d, 0x00,
+        ];
+        v1.resize(41, 0);
+        v1.extend([0x62, 0x00, 0x62]);
+        let expected = [
+            0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 44, 1, 0, 0, 0, 0, 0, 0, 244, 1, 0, 0, 0, 0, 44, 1,
+            0, 0, 0, 0, 0, 0, 244, 1, 44, 1, 44, 1, 0, 0, 0, 0, 244, 1, 244, 1,
+        ];
+        assert_eq!(attributes(4, 12, "NONE", &v1), expected);
+
+        let mut color8 = vec![0xa0];
+        for sentinels in [
+            [0x7e, 0x7d, 0x4c],
+            [0xfd, 0xfd, 0xfe],
+            [0x83, 0x82, 0x80],
+            [0x7d, 0x3f, 0x7e],
+        ] {
+            color8.extend([0x01, 0x3f, 0x00, 0x00, 0x00]);
+            color8.extend(sentinels);
+        }
+        color8.resize(61, 0);
+        color8.extend([0x40, 0x7f, 0xc1, 0xff]);
+        let expected = [
+            254, 1, 0, 255, 0, 254, 0, 128, 1, 0, 255, 64, 102, 102, 102, 191,
+        ];
+        assert_eq!(attributes(4, 4, "COLOR", &color8), expected);
     }
 
     #[test]

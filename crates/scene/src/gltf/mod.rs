@@ -59,7 +59,7 @@ use materials::Materials;
 use meshes::{Mesh, MeshPose, Placement};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 20] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 21] = [
     "EXT_mesh_gpu_instancing",
     "EXT_meshopt_compression",
     "KHR_lights_punctual",
@@ -79,6 +79,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 20] = [
     "KHR_materials_volume",
     "KHR_materials_volume_scatter",
     "KHR_mesh_quantization",
+    "KHR_meshopt_compression",
     "KHR_texture_transform",
 ];
 

@@ -1483,6 +1483,7 @@ fn sky_lights_a_roughness_mapped_plastic_plane_texel_by_texel() {
             roughness_factor: 1.0,
             roughness_range: range,
             lobe: scene::TexturedLobe::Coated,
+            keeps_lobe: false,
         });
     }
     let half = testing::PUNCTUAL_PLANE_HALF_SIZE;

@@ -154,3 +154,39 @@ fn a_uniform_transmission_texture_renders_as_the_factor_it_reads() {
         render(&uniform_transmission(200))
     );
 }
+
+/// The same where the maps keep their lobes however rough (`scene::RoughnessMap::keeps_lobe`:
+/// a film or a specular-glossiness layer lies on them): a rough texel (roughness 0.78) renders
+/// as rough metal over rough plastic of α = roughness², not as Lambertian members, bit for bit.
+#[test]
+fn a_uniform_rough_texture_that_keeps_its_lobes_renders_as_its_rough_factors() {
+    let (green, blue) = (200, 51);
+    let keep = |scene: &mut Scene| {
+        for material in &mut scene.materials {
+            if let Some(map) = &mut material.roughness_map {
+                map.keeps_lobe = true;
+            }
+        }
+    };
+    let (mut textured, metal) = uniform(green, blue);
+    keep(&mut textured);
+    let mut factors = factored(green, blue);
+    let roughness = stored_texel(&factors).y;
+    assert!(roughness > scene::DIFFUSE_MIN_ROUGHNESS, "{roughness}");
+    let alpha = roughness * roughness;
+    factors.materials[metal].surface = scene::Surface::RoughConductor { alpha };
+    let coat = factors.materials[metal].blend.unwrap().other as usize;
+    factors.materials[coat].surface = scene::Surface::Plastic { ior: 1.5, alpha };
+    let image = render(&textured);
+    assert_eq!(
+        image,
+        render(&factors),
+        "kept lobes render otherwise than their factors"
+    );
+    let (lambertian, _) = uniform(green, blue);
+    assert_ne!(
+        image,
+        render(&lambertian),
+        "keeping the lobes changes nothing"
+    );
+}

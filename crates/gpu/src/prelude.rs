@@ -58,6 +58,7 @@ pub fn constants() -> Vec<(&'static str, Value)> {
         ("MATERIAL_BLEND", U32(types::MATERIAL_BLEND)),
         ("MATERIAL_BOUNDS_VOLUME", U32(types::MATERIAL_BOUNDS_VOLUME)),
         ("MATERIAL_MURKY_GLASS", U32(types::MATERIAL_MURKY_GLASS)),
+        ("MATERIAL_KEEPS_LOBE", U32(types::MATERIAL_KEEPS_LOBE)),
         ("VOLUME_BIT", U32(render::packing::VOLUME_BIT)),
         (
             "SCATTERINGS_PER_STEP",

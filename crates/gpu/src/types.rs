@@ -150,6 +150,9 @@ pub const MATERIAL_BOUNDS_VOLUME: u32 = 8;
 /// it keep volume photons, eye paths end where they scatter (`render::scattering`); a
 /// translucent solid scatters too but is not murky glass.
 pub const MATERIAL_MURKY_GLASS: u32 = 16;
+/// A mapped metal or coat that keeps its lobe however rough the texel
+/// (`scene::RoughnessMap::keeps_lobe`).
+pub const MATERIAL_KEEPS_LOBE: u32 = 32;
 /// `GpuMaterial::roughness_lobe` values (`scene::TexturedLobe`, or none).
 pub const ROUGHNESS_METAL: u32 = 0;
 pub const ROUGHNESS_COATED: u32 = 1;
@@ -307,7 +310,11 @@ impl GpuMaterial {
             | flag(thin_walled, MATERIAL_THIN_WALLED)
             | flag(material.blend.is_some(), MATERIAL_BLEND)
             | flag(material.bounds_volume(), MATERIAL_BOUNDS_VOLUME)
-            | flag(material.has_murky_glass(), MATERIAL_MURKY_GLASS);
+            | flag(material.has_murky_glass(), MATERIAL_MURKY_GLASS)
+            | flag(
+                material.roughness_map.is_some_and(|m| m.keeps_lobe),
+                MATERIAL_KEEPS_LOBE,
+            );
         let map = material.roughness_map;
         GpuMaterial {
             base_color: material.base_color.to_array(),

@@ -1512,6 +1512,21 @@ fn every_kernel_matches_its_twin_through_metallic_roughness_tiles() {
     );
 }
 
+/// The same with every mapped metal and coat keeping its lobe however rough
+/// (`scene::RoughnessMap::keeps_lobe`, as a filmed or specular-glossiness material's does):
+/// the tiles that were Lambertian are rough metal and rough plastic up to roughness 1, the
+/// coat's grid spanning it.
+#[test]
+fn every_kernel_matches_its_twin_through_tiles_that_keep_their_lobes() {
+    let mut scene = scene::testing::cornell_metallic_roughness();
+    for material in &mut scene.materials {
+        if let Some(map) = &mut material.roughness_map {
+            map.keeps_lobe = true;
+        }
+    }
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same under a sky map (`render::sky_map` and its WGSL twin): photons start in the map's
 /// directions by its importance, light samples draw them, glossy bounces weigh the map's
 /// density, and camera rays past the plane, through the glass or off the gold see its texels.

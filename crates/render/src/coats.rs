@@ -44,9 +44,10 @@ impl CoatGrid {
     /// node where the range's rough part is a single width (a uniform texture renders as its
     /// factors), else the whole rough range, so that every texture of one index shares its
     /// grid (a grid takes ~0.13 s; real textures' ranges all differ, and spanning each one's
-    /// own would cost a scene of many textured materials seconds).
-    pub fn new(ior: f32, range: [f32; 2]) -> CoatGrid {
-        let [first_roughness, last_roughness] = grid_range(range);
+    /// own would cost a scene of many textured materials seconds). A coat that keeps its lobe
+    /// however rough (`keeps_lobe`) spans up to roughness 1.
+    pub fn new(ior: f32, range: [f32; 2], keeps_lobe: bool) -> CoatGrid {
+        let [first_roughness, last_roughness] = grid_range(range, keeps_lobe);
         let count = if last_roughness > first_roughness {
             COAT_GRID_NODES
         } else {
@@ -100,14 +101,20 @@ impl CoatGrid {
 }
 
 /// The roughness a grid spans for a texture whose texels read within `range`: its rough part
-/// (within [`MIRROR_MAX_ROUGHNESS`], [`DIFFUSE_MIN_ROUGHNESS`]) where that is one width, else
-/// the whole of it.
-fn grid_range(range: [f32; 2]) -> [f32; 2] {
-    let [low, high] = range.map(|r| r.clamp(MIRROR_MAX_ROUGHNESS, DIFFUSE_MIN_ROUGHNESS));
+/// (within [`MIRROR_MAX_ROUGHNESS`], [`DIFFUSE_MIN_ROUGHNESS`], or 1 for a coat that keeps its
+/// lobe however rough: `scene::RoughnessMap::keeps_lobe`) where that is one width, else the
+/// whole of it.
+fn grid_range(range: [f32; 2], keeps_lobe: bool) -> [f32; 2] {
+    let highest = if keeps_lobe {
+        1.0
+    } else {
+        DIFFUSE_MIN_ROUGHNESS
+    };
+    let [low, high] = range.map(|r| r.clamp(MIRROR_MAX_ROUGHNESS, highest));
     if low == high {
         [low, high]
     } else {
-        [MIRROR_MAX_ROUGHNESS, DIFFUSE_MIN_ROUGHNESS]
+        [MIRROR_MAX_ROUGHNESS, highest]
     }
 }
 
@@ -149,10 +156,10 @@ impl Coats {
                     return None;
                 };
                 (map.lobe == TexturedLobe::Coated).then(|| {
-                    let [low, high] = grid_range(map.roughness_range);
+                    let [low, high] = grid_range(map.roughness_range, map.keeps_lobe);
                     grids_made
                         .entry([ior.to_bits(), low.to_bits(), high.to_bits()])
-                        .or_insert_with(|| CoatGrid::new(ior, map.roughness_range))
+                        .or_insert_with(|| CoatGrid::new(ior, map.roughness_range, map.keeps_lobe))
                         .clone()
                 })
             })
@@ -234,7 +241,7 @@ mod tests {
     /// coat; widths past the ends take the end nodes' tables.
     #[test]
     fn a_grid_interpolates_between_exact_coats() {
-        let grid = CoatGrid::new(1.5, [0.0, 1.0]);
+        let grid = CoatGrid::new(1.5, [0.0, 1.0], false);
         assert_eq!(grid.nodes.len(), COAT_GRID_NODES);
         assert_eq!(grid.first_roughness, MIRROR_MAX_ROUGHNESS);
         let last = node_roughness(
@@ -276,7 +283,7 @@ mod tests {
     /// roughness has, so a uniform texture renders as its factors do.
     #[test]
     fn a_uniform_texture_gets_the_factors_coat() {
-        let grid = CoatGrid::new(1.5, [0.3, 0.3]);
+        let grid = CoatGrid::new(1.5, [0.3, 0.3], false);
         assert_eq!(grid.nodes.len(), 1);
         let alpha = 0.3f32 * 0.3;
         assert_eq!(grid.at(alpha), Coat::new(1.5, alpha));
@@ -290,6 +297,7 @@ mod tests {
             roughness_factor: 1.0,
             roughness_range: [0.1, 0.4],
             lobe: TexturedLobe::Coated,
+            keeps_lobe: false,
         };
         let materials = [Material {
             surface: Surface::Plastic {

@@ -450,6 +450,10 @@ pub struct RoughnessMap {
     /// them, filtering included. A mapped coat's tables span it (`render::plastic`).
     pub roughness_range: [f32; 2],
     pub lobe: TexturedLobe,
+    /// The metal or coat keeps its lobe however rough the texel (rough metal, rough plastic)
+    /// where as Lambertian it would lose what lies on it: a thin film, or a specular layer
+    /// whose colour is the whole reflectance (a specular-glossiness metal). Glass ignores it.
+    pub keeps_lobe: bool,
 }
 
 /// Which of glTF's lobes a [`RoughnessMap`] member is.
@@ -472,11 +476,28 @@ impl RoughnessMap {
     /// would make it a mirror ([`brushed_metal_surface`]).
     pub fn surface(&self, member: Surface, texel: glam::Vec4, brushed: bool) -> Surface {
         let roughness = (self.roughness_factor * texel.y).clamp(0.0, 1.0);
+        let kept = |surface: Surface, lobe: Surface| match surface {
+            Surface::Diffuse if self.keeps_lobe => lobe,
+            other => other,
+        };
         match self.lobe {
-            TexturedLobe::Metal if brushed => brushed_metal_surface(roughness),
-            TexturedLobe::Metal => metal_surface(roughness),
+            TexturedLobe::Metal => {
+                let surface = if brushed {
+                    brushed_metal_surface(roughness)
+                } else {
+                    metal_surface(roughness)
+                };
+                let alpha = roughness * roughness;
+                kept(surface, Surface::RoughConductor { alpha })
+            }
             TexturedLobe::Coated => match member {
-                Surface::Plastic { ior, .. } => coated_surface(ior, roughness),
+                Surface::Plastic { ior, .. } => {
+                    let alpha = coat_alpha(roughness);
+                    kept(
+                        coated_surface(ior, roughness),
+                        Surface::Plastic { ior, alpha },
+                    )
+                }
                 other => other,
             },
             TexturedLobe::Glass => match member {
@@ -809,6 +830,7 @@ mod tests {
             roughness_factor: 0.5,
             roughness_range: [0.0, 0.5],
             lobe,
+            keeps_lobe: false,
         };
         let texel = |green: f32, blue: f32| glam::Vec4::new(0.9, green, blue, 1.0);
         let metal = map(TexturedLobe::Metal);
@@ -880,6 +902,50 @@ mod tests {
             "never Lambertian"
         );
         assert_eq!(glass.blend_weight(0.8, texel(0.6, 0.25)), 0.8);
+    }
+
+    /// A map that keeps its lobe (a film, or a specular layer that is the whole reflectance,
+    /// lies on it) never turns Lambertian: rough metal and rough plastic of α = roughness² on
+    /// texels of roughness 0.5 and above; below, it follows the texel as any map does.
+    #[test]
+    fn a_map_that_keeps_its_lobe_is_never_lambertian() {
+        let kept = |lobe| RoughnessMap {
+            texture: 0,
+            roughness_factor: 1.0,
+            roughness_range: [0.0, 1.0],
+            lobe,
+            keeps_lobe: true,
+        };
+        let rough = glam::Vec4::new(0.0, 0.75, 0.0, 1.0);
+        let coat = Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.01,
+        };
+        let metal = Surface::RoughConductor { alpha: 0.01 };
+        for brushed in [false, true] {
+            assert_eq!(
+                kept(TexturedLobe::Metal).surface(metal, rough, brushed),
+                Surface::RoughConductor { alpha: 0.5625 }
+            );
+        }
+        let expected = Surface::Plastic {
+            ior: 1.5,
+            alpha: 0.5625,
+        };
+        assert_eq!(
+            kept(TexturedLobe::Coated).surface(coat, rough, false),
+            expected
+        );
+        let lambertian = RoughnessMap {
+            keeps_lobe: false,
+            ..kept(TexturedLobe::Coated)
+        };
+        assert_eq!(lambertian.surface(coat, rough, false), Surface::Diffuse);
+        let smooth = glam::Vec4::new(0.0, 0.005, 0.0, 1.0);
+        assert_eq!(
+            kept(TexturedLobe::Metal).surface(metal, smooth, false),
+            Surface::Mirror
+        );
     }
 
     /// Light crossing the attenuation distance keeps the attenuation colour; twice as far, its

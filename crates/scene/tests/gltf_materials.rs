@@ -1007,6 +1007,7 @@ fn a_metallic_roughness_texture_maps_the_metal_and_the_coat() {
         roughness_factor,
         roughness_range: [0.0, roughness_factor * (128.0 / 255.0)],
         lobe,
+        keeps_lobe: false,
     };
     assert_eq!(metal.roughness_map, Some(map(TexturedLobe::Metal)));
     assert!(
@@ -2132,6 +2133,7 @@ fn specular_glossiness_materials_read_as_their_metallic_roughness_equivalent() {
     assert!(layer.color_texture.is_some());
     let map = material.roughness_map.expect("a roughness map");
     assert_eq!(map.roughness_factor, 1.0, "the factor is in the texels");
+    assert!(map.keeps_lobe, "rough texels keep the coloured coat");
     let Texels::LinearF32(texels) = &textured.textures[map.texture as usize].texels else {
         panic!("linear roughness");
     };

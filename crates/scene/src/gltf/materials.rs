@@ -303,11 +303,20 @@ impl Materials {
             )?),
             Some((texture, _)) => {
                 let texels = TextureRoughness::of(builder.texture(texture), roughness, metallic);
+                // A film, or a specular layer that is the whole reflectance, would be lost on
+                // texels rendered Lambertian.
+                let filmed = iridescence(&check, m)?.is_some();
+                let layered = layered_coat_ior(&check, m, ior_of(m))?.is_some();
                 let map = |lobe| RoughnessMap {
                     texture,
                     roughness_factor: roughness,
                     roughness_range: texels.range,
                     lobe,
+                    keeps_lobe: match lobe {
+                        TexturedLobe::Metal => filmed,
+                        TexturedLobe::Coated => filmed || layered,
+                        TexturedLobe::Glass => false,
+                    },
                 };
                 mapped_members(&check, m, metallic, transmission, &texels, map)?
             }

@@ -59,6 +59,7 @@ pub fn cornell_metallic_roughness() -> Scene {
         roughness_factor: 1.0,
         roughness_range: roughness.range,
         lobe,
+        keeps_lobe: false,
     };
     let coat_roughness = roughness.coat.expect("plastic tiles");
     let coat = Surface::Plastic {
@@ -178,6 +179,7 @@ pub fn lit_plane_metallic_tiles() -> Scene {
             roughness_factor: 1.0,
             roughness_range: roughness.range,
             lobe: TexturedLobe::Metal,
+            keeps_lobe: false,
         }),
         ..plane.clone()
     });

@@ -60,6 +60,8 @@ fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
         return mapped;
     }
     let roughness = clamp(material.roughness_factor * texel.y, 0.0, 1.0);
+    // scene::RoughnessMap::keeps_lobe: no Lambertian however rough.
+    let keeps_lobe = (material.flags & MATERIAL_KEEPS_LOBE) != 0u;
     if material.roughness_lobe == ROUGHNESS_METAL {
         // scene::metal_surface (scene::brushed_metal_surface for a brushed metal).
         if roughness < MIRROR_MAX_ROUGHNESS && ANISOTROPY && any(material.anisotropy != vec2<f32>(0.0)) {
@@ -68,7 +70,7 @@ fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
         } else if roughness < MIRROR_MAX_ROUGHNESS {
             mapped.surface = SURFACE_MIRROR;
             mapped.roughness_alpha = 0.0;
-        } else if roughness < DIFFUSE_MIN_ROUGHNESS {
+        } else if roughness < DIFFUSE_MIN_ROUGHNESS || keeps_lobe {
             mapped.surface = SURFACE_ROUGH_CONDUCTOR;
             mapped.roughness_alpha = roughness * roughness;
         } else {
@@ -86,7 +88,7 @@ fn mapped_material(material: GpuMaterial, texel: vec4<f32>) -> GpuMaterial {
         }
     } else if material.surface == SURFACE_PLASTIC {
         // scene::coated_surface (the member's index kept).
-        if roughness >= DIFFUSE_MIN_ROUGHNESS {
+        if roughness >= DIFFUSE_MIN_ROUGHNESS && !keeps_lobe {
             mapped.surface = SURFACE_DIFFUSE;
             mapped.roughness_alpha = 0.0;
         } else if roughness < MIRROR_MAX_ROUGHNESS {

@@ -1600,31 +1600,46 @@ fn glass_ids(scene: &scene::Scene) -> Vec<usize> {
 /// Every glass of `scene` under glTF's specular layer: strength 0.5, colour (2, 1, 0.3), and
 /// a colour texture's checker (white or (0.4, 1, 1)).
 fn glass_under_textured_specular_layer(scene: &mut scene::Scene) {
-    let texture = push_checker(scene, "specular colour checker", |x, y| match (x + y) % 2 {
+    let checker = |x: u32, y: u32| match (x + y) % 2 {
         0 => [0.4, 1.0, 1.0, 1.0],
         _ => [1.0, 1.0, 1.0, 1.0],
-    });
-    let glass = glass_ids(scene);
-    for &id in &glass {
-        scene.materials[id].specular = Some(scene::SpecularLayer {
-            color_texture: Some(texture),
-            ..scene::SpecularLayer::new(1.5, glam::Vec3::new(2.0, 1.0, 0.3), 0.5)
-        });
-    }
-    planar_uv(scene, &glass);
+    };
+    dress_glass(
+        scene,
+        ("specular colour checker", checker),
+        |material, texture| {
+            material.specular = Some(scene::SpecularLayer {
+                color_texture: Some(texture),
+                ..scene::SpecularLayer::new(1.5, glam::Vec3::new(2.0, 1.0, 0.3), 0.5)
+            });
+        },
+    );
 }
 
 fn glass_under_textured_film(scene: &mut scene::Scene) {
-    let texture = push_checker(scene, "film checker", |x, y| match (x + y) % 2 {
+    let checker = |x: u32, y: u32| match (x + y) % 2 {
         0 => [0.0, 0.2, 0.0, 1.0],
         _ => [0.0, 0.9, 0.0, 1.0],
-    });
-    let glass = glass_ids(scene);
-    for &id in &glass {
-        scene.materials[id].iridescence = Some(scene::Iridescence {
+    };
+    dress_glass(scene, ("film checker", checker), |material, texture| {
+        material.iridescence = Some(scene::Iridescence {
             thickness_texture: Some(texture),
             ..scene::testing::film(1.33, 500.0)
         });
+    });
+}
+
+/// Pushes a checker texture (`name`, `texel`) and lets `dress` give every glass of `scene`
+/// what reads it, on planar texture coordinates.
+fn dress_glass(
+    scene: &mut scene::Scene,
+    (name, texel): (&str, impl Fn(u32, u32) -> [f32; 4]),
+    dress: impl Fn(&mut scene::Material, u32),
+) {
+    let texture = push_checker(scene, name, texel);
+    let glass = glass_ids(scene);
+    for &id in &glass {
+        dress(&mut scene.materials[id], texture);
     }
     planar_uv(scene, &glass);
 }

@@ -90,13 +90,7 @@ impl Coat {
             let cos = node_cosine(i).max(GRAZING_COSINE);
             rough_transmittance(cos, 1.0 / ior, alpha, 64) as f32
         });
-        let steps = 48;
-        let internal: f64 = (0..steps)
-            .map(|i| {
-                let mu = (i as f64 + 0.5) / steps as f64;
-                2.0 * mu * rough_reflectance(mu as f32, ior, alpha, 48) / steps as f64
-            })
-            .sum();
+        let internal = cosine_weighted_mean(48, |mu| rough_reflectance(mu as f32, ior, alpha, 48));
         Coat {
             ior,
             alpha,
@@ -319,11 +313,16 @@ pub fn diffuse_scale(ior: f32) -> f32 {
 /// `2∫F(μ)μ dμ` for light meeting the coat from outside, by the midpoint rule (no total
 /// internal reflection on this side, so the integrand is smooth).
 fn external_diffuse_reflectance(ior: f32) -> f64 {
-    let steps = 4096;
+    cosine_weighted_mean(4096, |mu| coat_reflectance(mu as f32, ior) as f64)
+}
+
+/// `2∫f(μ)μ dμ` over the hemisphere's cosines μ, by the midpoint rule on `steps` cosines: the
+/// hemispherical (cosine-weighted) mean of a quantity that depends on the angle alone.
+fn cosine_weighted_mean(steps: u32, f: impl Fn(f64) -> f64) -> f64 {
     (0..steps)
         .map(|i| {
-            let mu = (i as f64 + 0.5) / steps as f64;
-            2.0 * mu * coat_reflectance(mu as f32, ior) as f64 / steps as f64
+            let mu = (f64::from(i) + 0.5) / f64::from(steps);
+            2.0 * mu * f(mu) / f64::from(steps)
         })
         .sum()
 }
@@ -384,13 +383,7 @@ mod tests {
     /// 2∫₀¹ F_inside(μ) μ dμ by the midpoint rule: total internal reflection below the
     /// critical cosine, Fresnel above it.
     fn internal_reflectance_integral(ior: f32) -> f64 {
-        let steps = 200_000;
-        (0..steps)
-            .map(|i| {
-                let mu = (i as f64 + 0.5) / steps as f64;
-                2.0 * mu * fresnel_dielectric(mu as f32, ior) as f64 / steps as f64
-            })
-            .sum()
+        cosine_weighted_mean(200_000, |mu| fresnel_dielectric(mu as f32, ior) as f64)
     }
 
     #[test]
@@ -536,13 +529,8 @@ mod tests {
     #[test]
     fn white_plastic_returns_nearly_all_light() {
         for ior in [1.5f32, 2.0, 2.5, 4.0, 6.0, 1000.0] {
-            let steps = 20_000;
-            let external: f64 = (0..steps)
-                .map(|i| {
-                    let mu = (i as f64 + 0.5) / steps as f64;
-                    2.0 * mu * coat_transmittance(mu as f32, ior) as f64 / steps as f64
-                })
-                .sum();
+            let external =
+                cosine_weighted_mean(20_000, |mu| coat_transmittance(mu as f32, ior) as f64);
             assert!(diffuse_scale(ior) > 0.0, "ior {ior}");
             for cos_view in [1.0f32, 0.5, 0.1] {
                 let f = coat_reflectance(cos_view, ior) as f64;

@@ -1126,9 +1126,9 @@ fn layered_coat_ior(
         return Ok(None);
     }
     let factor = specular_factor(check, m)?;
-    let r = (ior - 1.0) / (ior + 1.0);
     let colour = Vec3::from_array(extension.specular_color_factor.0);
-    let f0 = (r * r * colour).min(Vec3::ONE).element_sum() / 3.0 * factor;
+    let tinted_f0 = SpecularLayer::new(ior, colour, factor).tinted_f0;
+    let f0 = tinted_f0.min(Vec3::ONE).element_sum() / 3.0 * factor;
     let root = f0.sqrt();
     let index = (1.0 + root) / (1.0 - root).max(f32::MIN_POSITIVE);
     Ok(Some(index.clamp(1.1, MAX_LAYERED_COAT_IOR)))

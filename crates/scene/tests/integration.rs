@@ -20,6 +20,7 @@ mod gltf_materials;
 mod gltf_meshopt;
 mod gltf_skins;
 mod gltf_variants;
+mod gltf_webp;
 mod obj_bad_input;
 mod obj_geometry;
 mod obj_materials;

@@ -35,7 +35,8 @@ fn material<'a>(scene: &'a Scene, name: &str) -> &'a scene::Material {
     scene.materials.iter().find(|m| m.name == name).unwrap()
 }
 
-fn write_png(path: &Path, width: u32, height: u32, rgba: &[[u8; 4]]) {
+/// Writes RGBA texels in the format `path`'s extension names (PNG, or lossless WebP).
+fn write_image(path: &Path, width: u32, height: u32, rgba: &[[u8; 4]]) {
     let raw = rgba.iter().flatten().copied().collect();
     image::RgbaImage::from_raw(width, height, raw)
         .unwrap()
@@ -212,7 +213,7 @@ fn map_kd_is_an_srgb_texture_that_replaces_kd() {
         [0, 0, 255, 255],
         [128, 128, 128, 255],
     ];
-    write_png(&dir.path().join("tex/check.png"), 2, 2, &texels);
+    write_image(&dir.path().join("tex/check.png"), 2, 2, &texels);
     let mtl = "newmtl a\nKd 0.588 0.588 0.588\nmap_Kd tex\\check.png\n\
                newmtl b\nmap_Kd -bm 0.5 tex/check.png\n";
     let scene = load(dir.path(), &["a", "b"], mtl);
@@ -231,18 +232,21 @@ fn map_kd_is_an_srgb_texture_that_replaces_kd() {
     assert_eq!(uvs[2], glam::Vec2::new(1.0, 0.0));
 }
 
+/// Also from a (lossless) WebP image, which maps may name as they name PNG and JPEG.
 #[test]
 fn map_d_naming_the_base_image_uses_its_alpha() {
-    let dir = tempfile::tempdir().unwrap();
-    let texels = [[10, 20, 30, 0], [40, 50, 60, 255]];
-    write_png(&dir.path().join("leaf.png"), 2, 1, &texels);
-    let mtl = "newmtl leaf\nmap_Kd leaf.png\nmap_d leaf.png\n";
-    let scene = load(dir.path(), &["leaf"], mtl);
-    let leaf = material(&scene, "leaf");
-    assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
-    assert_eq!(leaf.base_color_texture, Some(0));
-    assert_eq!(scene.textures.len(), 1);
-    assert_eq!(scene.textures[0].texels, Texels::Srgb8(texels.to_vec()));
+    for image in ["leaf.png", "leaf.webp"] {
+        let dir = tempfile::tempdir().unwrap();
+        let texels = [[10, 20, 30, 0], [40, 50, 60, 255]];
+        write_image(&dir.path().join(image), 2, 1, &texels);
+        let mtl = format!("newmtl leaf\nmap_Kd {image}\nmap_d {image}\n");
+        let scene = load(dir.path(), &["leaf"], &mtl);
+        let leaf = material(&scene, "leaf");
+        assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
+        assert_eq!(leaf.base_color_texture, Some(0));
+        assert_eq!(scene.textures.len(), 1);
+        assert_eq!(scene.textures[0].texels, Texels::Srgb8(texels.to_vec()));
+    }
 }
 
 #[test]
@@ -250,7 +254,7 @@ fn separate_grey_map_d_becomes_the_base_textures_alpha() {
     let dir = tempfile::tempdir().unwrap();
     // A 4×2 colour image and a 2×1 grey mask: each mask texel covers 2×2 colour texels.
     let colour: Vec<[u8; 4]> = (0..8).map(|i| [i * 10, 0, 0, 255]).collect();
-    write_png(&dir.path().join("colour.png"), 4, 2, &colour);
+    write_image(&dir.path().join("colour.png"), 4, 2, &colour);
     image::GrayImage::from_raw(2, 1, vec![0, 200])
         .unwrap()
         .save(dir.path().join("mask.png"))
@@ -356,7 +360,7 @@ fn mtl_with_unreadable_lines_keeps_the_rest() {
 #[test]
 fn missing_mask_keeps_the_base_texture_and_is_opaque() {
     let dir = tempfile::tempdir().unwrap();
-    write_png(&dir.path().join("c.png"), 1, 1, &[[9, 8, 7, 255]]);
+    write_image(&dir.path().join("c.png"), 1, 1, &[[9, 8, 7, 255]]);
     let scene = load(
         dir.path(),
         &["a"],

@@ -698,11 +698,30 @@ fn image_of(input: &Input, (slot, t): (&str, usize), label: &str) -> Result<usiz
             root.textures.len()
         )));
     };
-    let image = texture.source.value();
+    let others = texture.extensions.as_ref().map(|e| &e.others);
+    let webp = others.and_then(|o| o.get(WEBP_SOURCE));
+    let image = match webp {
+        Some(webp) => webp_source(webp).ok_or_else(|| {
+            input.error(format!(
+                "texture {t}: {WEBP_SOURCE} has no valid source (a non-negative image index)"
+            ))
+        })?,
+        None => texture.source.value(),
+    };
     if image >= root.images.len() {
         return Err(input.error(match image {
             NO_SOURCE => {
-                format!("texture {t} has no image source (extension sources are not supported)")
+                let undecodable: Vec<&str> = others
+                    .map(|o| o.keys().map(String::as_str).collect())
+                    .unwrap_or_default();
+                format!(
+                    "texture {t} has no image source kousen can decode (its extension sources: \
+                     {}; kousen reads {WEBP_SOURCE} besides PNG and JPEG)",
+                    match undecodable.is_empty() {
+                        true => "none".to_string(),
+                        false => undecodable.join(", "),
+                    }
+                )
             }
             _ => format!(
                 "texture {t}: its image source {image} does not exist ({} images)",
@@ -711,6 +730,16 @@ fn image_of(input: &Input, (slot, t): (&str, usize), label: &str) -> Result<usiz
         }));
     }
     Ok(image)
+}
+
+/// The extension giving a texture a WebP image, preferred to its core `source` (then a PNG
+/// or JPEG fallback, or absent) as the extension asks of readers that support it.
+const WEBP_SOURCE: &str = "EXT_texture_webp";
+
+/// `EXT_texture_webp`'s `source` image index, if it is one.
+fn webp_source(extension: &json::Value) -> Option<usize> {
+    let source = extension.get("source")?.as_u64()?;
+    usize::try_from(source).ok().filter(|&i| i != NO_SOURCE)
 }
 
 /// [`Materials::layer_texture`]'s decoding: sRGB colour, or linear data.

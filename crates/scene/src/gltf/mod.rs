@@ -59,9 +59,10 @@ use materials::Materials;
 use meshes::{Mesh, MeshPose, Placement};
 
 /// Extensions read (and so accepted in `extensionsRequired`).
-pub const SUPPORTED_EXTENSIONS: [&str; 21] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 22] = [
     "EXT_mesh_gpu_instancing",
     "EXT_meshopt_compression",
+    "EXT_texture_webp",
     "KHR_lights_punctual",
     "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",

@@ -347,6 +347,10 @@ impl Backend for CpuBackend {
         })
     }
 
+    fn read_visible_points(&mut self) -> Result<Vec<VisiblePoint>, BackendError> {
+        Ok(self.state.visible_points.clone())
+    }
+
     fn snapshot(&mut self) -> Result<Snapshot, BackendError> {
         let s = &self.state;
         Ok(Snapshot {

@@ -5,6 +5,7 @@
 mod analytic;
 mod checkpoint;
 mod convergence;
+mod denoise_guides;
 mod density;
 mod depth_of_field;
 mod determinism;

@@ -676,17 +676,6 @@ impl GpuBackend {
         self.read_state(|s| (&s.slots, s.params.slot_count as usize))
     }
 
-    /// The visible points, as f32 whatever the storage.
-    pub fn read_visible_points(&mut self) -> Result<Vec<VisiblePoint>, BackendError> {
-        let count = |s: &State| s.params.pixel_count() as usize;
-        if self.state()?.precision == Precision::F32 {
-            return self.read_state(|s| (&s.visible_points, count(s)));
-        }
-        let origin = render::buffers::vec3(self.state()?.params.storage_origin);
-        let packed: Vec<HalfPoint> = self.read_state(|s| (&s.visible_points, count(s)))?;
-        Ok(packed.iter().map(|h| h.to_visible_point(origin)).collect())
-    }
-
     /// The hash table's words (entry-major: priority, count, winner).
     pub fn read_hash(&mut self) -> Result<Vec<u32>, BackendError> {
         self.read_state(|s| (&s.hash, s.params.hash_entries() * HASH_ENTRY_WORDS))
@@ -901,6 +890,16 @@ impl Backend for GpuBackend {
             pixels,
             emitted_paths,
         })
+    }
+
+    fn read_visible_points(&mut self) -> Result<Vec<VisiblePoint>, BackendError> {
+        let count = |s: &State| s.params.pixel_count() as usize;
+        if self.state()?.precision == Precision::F32 {
+            return self.read_state(|s| (&s.visible_points, count(s)));
+        }
+        let origin = render::buffers::vec3(self.state()?.params.storage_origin);
+        let packed: Vec<HalfPoint> = self.read_state(|s| (&s.visible_points, count(s)))?;
+        Ok(packed.iter().map(|h| h.to_visible_point(origin)).collect())
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {

@@ -3,6 +3,7 @@
 //! a large share of a clean build (CI).
 
 mod checkpoint;
+mod denoise_guides;
 mod density_twins;
 mod device;
 mod display;

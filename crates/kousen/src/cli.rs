@@ -559,6 +559,14 @@ pub struct RenderArgs {
     /// surfaces, the volume photons in murky glass. They sum to the image.
     #[arg(long)]
     pub components: bool,
+    /// Also write the denoising guides beside OUT (out.albedo.exr, out.normal.exr): each
+    /// pixel's albedo and world-space shading normal at the surface it shows, seen through
+    /// mirrors and glass with their tint, averaged over the first 64 eye passes; zero where
+    /// it shows no surface (a lamp, the sky). Denoisers such as Intel Open Image Denoise take
+    /// them beside the image: `oidnDenoise --hdr out.pfm --alb out.albedo.pfm --nrm
+    /// out.normal.pfm -o clean.pfm`. Float images: OUT must be .exr or .pfm.
+    #[arg(long)]
+    pub denoise_guides: bool,
     /// Also save the image so far at these moments, each a pass count (64: once 64 passes
     /// are done) or seconds of rendering (30s), beside OUT and named by it (out-64.exr,
     /// out-30s.exr): one render's convergence. --stats lists how far it had come at each;

@@ -663,23 +663,67 @@ fn gpu_render_components_include_the_volume_photons() {
 /// leaving no file behind.
 #[test]
 fn components_of_a_path_traced_render_are_refused() {
+    assert_refused_leaving_nothing("out.pfm", &["--components", "--integrator", "path"]);
+}
+
+/// `kousen render` of the Cornell box to `out` with `extra` (its first word an option),
+/// refused in one line naming that option, leaving no file behind.
+fn assert_refused_leaving_nothing(out: &str, extra: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.pfm");
+    let out = dir.path().join(out);
     let scene = shipped("cornell-box.gltf");
-    let output = common::kousen_quiet(&[
+    let mut args = vec![
         "render",
         scene.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
-        "--components",
-        "--integrator",
-        "path",
         "--passes",
         "1",
-    ]);
-    common::assert_clean_error(&output, "--components");
+    ];
+    args.extend_from_slice(extra);
+    common::assert_clean_error(&common::kousen_quiet(&args), extra[0]);
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(left.is_empty(), "files left: {left:?}");
+}
+
+/// --denoise-guides writes each pixel's albedo (within [0, 1]) and normal (at most unit
+/// length, unit where a pixel shows one flat wall) beside the image, and --stats says how
+/// many eye passes they average (16², 8 passes).
+#[test]
+fn render_writes_denoise_guides_beside_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.pfm");
+    let stats = dir.path().join("stats.json");
+    let scene = shipped("cornell-box.gltf");
+    let more = ["--eye-every", "1", "--denoise-guides", "--stats"];
+    let more = [&more[..], &[stats.to_str().unwrap()]].concat();
+    succeeded(common::render_small(&scene, &out, &more));
+    let albedo = read_pfm(&dir.path().join("out.albedo.pfm"));
+    let normal = read_pfm(&dir.path().join("out.normal.pfm"));
+    assert_eq!((albedo.len(), normal.len()), (256, 256));
+    for a in &albedo {
+        assert!(
+            a.min_element() >= 0.0 && a.max_element() <= 1.0,
+            "albedo {a}"
+        );
+    }
+    let mean = albedo.iter().sum::<glam::Vec3>() / 256.0;
+    assert!(mean.min_element() > 0.1, "mean albedo {mean}");
+    let lengths: Vec<f32> = normal.iter().map(|n| n.length()).collect();
+    assert!(lengths.iter().all(|&l| l <= 1.0 + 1e-4), "{lengths:?}");
+    let unit = lengths.iter().filter(|&&l| l > 0.999).count();
+    // At 16² a wall's edge or a block's crosses many pixels: 126 of them see one surface only.
+    assert!(unit > 256 / 3, "{unit} of 256 pixels show one flat surface");
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(stats["denoise_guide_eye_passes"], 8);
+}
+
+/// Guides are float images (a normal's components are signed): with a PNG output they are
+/// refused before any work, leaving no file behind.
+#[test]
+fn denoise_guides_beside_a_png_are_refused() {
+    assert_refused_leaving_nothing("out.png", &["--denoise-guides"]);
 }
 
 /// `--backend auto` on an adapter the render does not fit (lavapipe named with `--adapter`,

@@ -126,6 +126,9 @@ pub trait Backend {
     fn emitted_paths(&mut self) -> Result<u64, BackendError>;
     /// Every pixel's statistics and the paths emitted (waits for the work queued).
     fn read_statistics(&mut self) -> Result<Statistics, BackendError>;
+    /// The visible points of the last eye pass, one a pixel, as f32 whatever the storage
+    /// (waits for the work queued).
+    fn read_visible_points(&mut self) -> Result<Vec<crate::buffers::VisiblePoint>, BackendError>;
     /// Bytes the backend allocated for the render, by kind (scene, BVH, photons, hash, ...).
     fn memory(&self) -> Vec<(&'static str, u64)>;
     /// The state between passes (waits for the work queued).

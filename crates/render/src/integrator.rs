@@ -12,6 +12,7 @@ use scene::{Camera, Scene};
 use crate::backend::{Backend, BackendError, Setup};
 use crate::buffers::SppmParams;
 use crate::emission::light_table_with;
+use crate::guides::Guides;
 use crate::medium::MediumLocator;
 use crate::settings::{Budget, INITIAL_RADIUS_FOOTPRINTS, Settings, SettingsError};
 use crate::{Image, resolve};
@@ -253,6 +254,8 @@ pub struct Sppm<B: Backend> {
     eye_passes: u32,
     /// Set from outside (Ctrl-C) to end the run after the pass in flight.
     stop: Option<Arc<AtomicBool>>,
+    /// Denoising guides gathered from the eye passes, where asked for ([`Sppm::collect_guides`]).
+    guides: Option<Guides>,
 }
 
 impl<B: Backend> Sppm<B> {
@@ -290,7 +293,28 @@ impl<B: Backend> Sppm<B> {
             passes: 0,
             eye_passes: 0,
             stop: None,
+            guides: None,
         })
+    }
+
+    /// Makes [`Sppm::run`] and [`Sppm::run_with`] gather the denoising guides (each pixel's
+    /// albedo and normal, [`crate::guides`]) from the eye passes they run.
+    pub fn collect_guides(&mut self) {
+        let (width, height) = (self.settings.width, self.settings.height);
+        self.guides = Some(Guides::new(width, height));
+    }
+
+    /// The denoising guides gathered so far, where [`Sppm::collect_guides`] asked for them.
+    pub fn guides(&self) -> Option<&Guides> {
+        self.guides.as_ref()
+    }
+
+    /// Adds the last eye pass's visible points to the guides, where they want more.
+    fn add_to_guides(&mut self) -> Result<(), RenderError> {
+        if let Some(guides) = self.guides.as_mut().filter(|g| g.wants_more()) {
+            guides.add(&self.backend.read_visible_points()?);
+        }
+        Ok(())
     }
 
     /// Ends [`Sppm::run`] and [`Sppm::run_with`] after the pass in flight once
@@ -378,7 +402,11 @@ impl<B: Backend> Sppm<B> {
             if done || stopped {
                 break;
             }
+            let eye_passes = self.eye_passes;
             self.pass();
+            if self.eye_passes > eye_passes {
+                self.add_to_guides()?;
+            }
             if let Some((moments, save)) = intermediates.as_mut() {
                 let since = Instant::now();
                 let seconds = rendering(handing_over).as_secs_f64();

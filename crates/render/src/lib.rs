@@ -13,6 +13,7 @@ pub mod direct;
 pub mod dispersion;
 pub mod emission;
 pub mod framing;
+pub mod guides;
 pub mod half_storage;
 pub mod hash;
 pub mod image;

@@ -79,6 +79,8 @@ struct Stats {
     /// The camera's thin lens (`--aperture-radius`, `--focus-distance` or where the image's
     /// centre focused it); null for a pinhole.
     lens: Option<LensStats>,
+    /// The eye passes --denoise-guides averaged; null without it.
+    denoise_guide_eye_passes: Option<u32>,
 }
 
 #[derive(Serialize)]
@@ -138,6 +140,13 @@ pub(super) fn run_until(args: &RenderArgs, stop: Arc<AtomicBool>) -> anyhow::Res
     if args.integrator == Integrator::Path && args.components {
         bail!("--components is for SPPM renders, not --integrator path (its image has no parts)");
     }
+    if args.integrator == Integrator::Path && args.denoise_guides {
+        bail!("--denoise-guides is for SPPM renders, not --integrator path");
+    }
+    let guides = args
+        .denoise_guides
+        .then(|| guide_outputs(&args.output, args.exr_precision))
+        .transpose()?;
     if args.integrator == Integrator::Path && !args.save_at.is_empty() {
         bail!("--save-at is for SPPM renders, not --integrator path");
     }
@@ -146,6 +155,7 @@ pub(super) fn run_until(args: &RenderArgs, stop: Arc<AtomicBool>) -> anyhow::Res
     let output = Outputs {
         image: output,
         components,
+        guides,
         intermediates,
     };
     let mut scene = scene::load_with(&args.scene, &args.load.options())?;
@@ -334,6 +344,8 @@ fn does_not_fit(error: &render::RenderError) -> bool {
 struct Outputs {
     image: Output,
     components: Option<Vec<Output>>,
+    /// --denoise-guides's albedo and normal images.
+    guides: Option<[Output; 2]>,
     /// --save-at's images of the render so far.
     intermediates: Intermediates,
 }
@@ -347,6 +359,22 @@ fn component_outputs(
         .iter()
         .map(|name| Output::create_with(&component_path(output, name), precision))
         .collect()
+}
+
+/// The files of --denoise-guides, `out.albedo.exr` and `out.normal.exr` beside `out.exr`:
+/// float images, as denoisers read them (a normal's components are signed).
+fn guide_outputs(
+    output: &Path,
+    precision: crate::image_io::ExrPrecision,
+) -> anyhow::Result<[Output; 2]> {
+    if crate::image_io::Format::from_path(output)? == crate::image_io::Format::Png {
+        bail!(
+            "--denoise-guides writes float images beside the output, and {} is a PNG: render to an .exr or .pfm",
+            output.display()
+        );
+    }
+    let guide = |name| Output::create_with(&component_path(output, name), precision);
+    Ok([guide("albedo")?, guide("normal")?])
 }
 
 /// `out.exr` with `name` before its extension: `out.NAME.exr`.
@@ -425,6 +453,9 @@ fn finish<B: Backend>(
         words: [0; 4],
     };
     sppm.stop_when_set(continuation.stop.clone());
+    if output.guides.is_some() {
+        sppm.collect_guides();
+    }
     let mut bar = ProgressBar::new(budget);
     let mut save_checkpoint = args.checkpoint.as_deref().map(|path| {
         move |checkpoint: &render::Checkpoint, seconds: f64| {
@@ -452,6 +483,11 @@ fn finish<B: Backend>(
         for (file, image) in components.into_iter().zip(sppm.component_images()?) {
             file.commit(&image, args.look())?;
         }
+    }
+    if let (Some([albedo, normal]), Some(guides)) = (output.guides, sppm.guides()) {
+        albedo.commit(&guides.albedo(), args.look())?;
+        normal.commit(&guides.normal(), args.look())?;
+        log::info!("denoising guides from {} eye passes", guides.eye_passes());
     }
     log::info!(
         "{} passes, {} photon paths in {:.2} s",
@@ -500,6 +536,7 @@ fn finish<B: Backend>(
                 aperture_blades: camera.lens.blades,
                 aperture_rotation_degrees: camera.lens.rotation.to_degrees(),
             }),
+            denoise_guide_eye_passes: sppm.guides().map(|g| g.eye_passes()),
         };
         let json = serde_json::to_string_pretty(&stats)?;
         crate::output_file::write_atomically(path, json.as_bytes())?;

@@ -1054,16 +1054,52 @@ pub fn emitter_ahead(half: f32, depth: f32) -> Scene {
 /// it from above.
 pub fn punctual_plane(lights: &[PunctualLight]) -> Scene {
     let mut f = Fixture::new("testing::punctual_plane");
-    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
-    let half = PUNCTUAL_PLANE_HALF_SIZE;
-    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
-        .map(|[x, z]| Vec3::new(x * half, 0.0, z * half));
-    f.quad(corners, plane, Vec3::Y);
+    diffuse_square(&mut f);
     for light in lights {
         f.builder.add_punctual_light(*light).expect("a valid light");
     }
     let eye = Vec3::new(0.0, 2.0, 2.0);
     f.camera(eye, -eye, 60f32.to_radians(), None, "above");
+    f.finish()
+}
+
+/// [`punctual_plane`]'s square at y = 0, facing +y, of albedo [`LIT_PLANE_ALBEDO`].
+fn diffuse_square(f: &mut Fixture) {
+    let plane = f.material("plane", Surface::Diffuse, Vec3::splat(LIT_PLANE_ALBEDO));
+    let half = PUNCTUAL_PLANE_HALF_SIZE;
+    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+        .map(|[x, z]| Vec3::new(x * half, 0.0, z * half));
+    f.quad(corners, plane, Vec3::Y);
+}
+
+/// The tint of [`plane_in_a_mirror`]'s mirror.
+pub const MIRROR_TINT: Vec3 = Vec3::new(0.9, 0.5, 0.2);
+
+/// [`punctual_plane`]'s diffuse square (albedo [`LIT_PLANE_ALBEDO`], no light) seen only in a
+/// mirror of tint [`MIRROR_TINT`]: the camera at (0, 0.5, 2) looks along −z, with a 10°
+/// field of view, at a square mirror centred at (0, 0.5, 0) and tilted 45° (normal
+/// (0, −1, 1)/√2), which sends every camera ray straight down onto the plane.
+pub fn plane_in_a_mirror() -> Scene {
+    let mut f = Fixture::new("testing::plane_in_a_mirror");
+    diffuse_square(&mut f);
+    let mirror = f.material("mirror", Surface::Mirror, MIRROR_TINT);
+    let slope = Vec3::new(0.0, 1.0, 1.0).normalize() * 0.4;
+    let centre = Vec3::new(0.0, 0.5, 0.0);
+    let across = Vec3::new(0.4, 0.0, 0.0);
+    let corners = [
+        centre - across - slope,
+        centre + across - slope,
+        centre + across + slope,
+        centre - across + slope,
+    ];
+    f.quad(corners, mirror, Vec3::new(0.0, -1.0, 1.0));
+    f.camera(
+        Vec3::new(0.0, 0.5, 2.0),
+        Vec3::NEG_Z,
+        10f32.to_radians(),
+        None,
+        "at the mirror",
+    );
     f.finish()
 }
 

@@ -375,3 +375,22 @@ fn sppm_matches_mitsuba_with_a_marble_under_water() {
     let image = render_passes(&scene, &reference, 1024);
     check_pixels("marble", &image, &reference, &through_marble, (80, 0.06));
 }
+
+/// kousen's Mitsuba loader against Mitsuba itself on one file: `scenes/mitsuba/cornell-box.xml`
+/// (Lambertian walls, a BK7 ball, a rough tinted metal ball, a rough plastic block, written
+/// for Mitsuba) loaded by `scene::mitsuba` and rendered by SPPM, against Mitsuba 3's own
+/// render of the file (`mitsuba-cornell-box-64.exr`, 32,768 spp; two seeds of it differ by a
+/// relMSE of 1.2e-4).
+#[test]
+fn a_mitsuba_scene_file_renders_as_mitsuba_renders_it() {
+    let scene = shipped("mitsuba/cornell-box.xml");
+    let reference = reference("mitsuba-cornell-box-64.exr");
+    let glass = |s: &scene::Surface| matches!(s, scene::Surface::Dielectric { .. });
+    check_against(
+        "Mitsuba's Cornell box",
+        &scene,
+        &reference,
+        (100, 0.03),
+        glass,
+    );
+}

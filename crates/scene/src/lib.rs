@@ -16,6 +16,7 @@ pub mod gltf;
 pub mod lights;
 pub mod material;
 pub mod mesh;
+pub mod mitsuba;
 pub mod model;
 pub mod obj;
 pub mod sky_map;
@@ -40,7 +41,8 @@ pub use textures::{Texels, Texture, TextureId};
 
 use std::path::Path;
 
-/// Loads a scene, choosing the loader by the file's extension (`.gltf`, `.glb`, `.obj`).
+/// Loads a scene, choosing the loader by the file's extension (`.gltf`, `.glb`, `.obj`,
+/// Mitsuba's `.xml`).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     load_with(path, &LoadOptions::default())
 }
@@ -85,9 +87,14 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
             "an OBJ file has no animations or material variants to choose from",
         )),
         Some("obj") => obj::load(path),
+        Some("xml") if options != &LoadOptions::default() => Err(SceneError::format(
+            path,
+            "a Mitsuba scene has no animations or material variants to choose from",
+        )),
+        Some("xml") => mitsuba::load(path),
         _ => Err(SceneError::format(
             path,
-            "unknown scene format (expected .gltf, .glb or .obj)",
+            "unknown scene format (expected .gltf, .glb, .obj or a Mitsuba .xml)",
         )),
     }
 }

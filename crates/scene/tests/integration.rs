@@ -21,6 +21,7 @@ mod gltf_meshopt;
 mod gltf_skins;
 mod gltf_variants;
 mod gltf_webp;
+mod mitsuba;
 mod obj_bad_input;
 mod obj_geometry;
 mod obj_materials;

@@ -34,7 +34,7 @@ const RADIUS_REFRESH: Duration = Duration::from_secs(2);
 const MAX_PHOTON_CUTS: u32 = 2;
 const PHOTON_CUT_MAX_PASSES: u32 = 32;
 /// Scene files a drop may open.
-const SCENE_EXTENSIONS: [&str; 3] = ["gltf", "glb", "obj"];
+const SCENE_EXTENSIONS: [&str; 4] = ["gltf", "glb", "obj", "xml"];
 /// Files dropped on the window that light the scene as its sky (`--sky-map`).
 const SKY_MAP_EXTENSIONS: [&str; 4] = ["hdr", "exr", "pfm", "png"];
 
@@ -522,7 +522,7 @@ impl App {
             }
             None => {
                 self.notify(format!(
-                    "{}: neither a scene (.gltf, .glb, .obj) nor a sky map (.hdr, .exr, .pfm, .png)",
+                    "{}: neither a scene (.gltf, .glb, .obj, Mitsuba .xml) nor a sky map (.hdr, .exr, .pfm, .png)",
                     path.display()
                 ));
                 return;

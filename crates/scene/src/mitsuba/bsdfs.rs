@@ -1,0 +1,332 @@
+//! Mitsuba BSDFs mapped onto kousen's materials (see the table in [`super`]).
+
+use glam::Vec3;
+use roxmltree::Node;
+
+use super::Reader;
+use super::properties::property;
+use crate::{
+    AlphaMode, Material, SceneError, Surface, TextureId, coated_surface, glass_surface,
+    metal_surface,
+};
+
+/// Mitsuba's exterior index by default: air.
+const AIR_IOR: f32 = 1.000277;
+/// Defaults of Mitsuba's `dielectric` and `plastic` interior indices (BK7 and polypropylene).
+const DIELECTRIC_IOR: f32 = 1.5046;
+const PLASTIC_IOR: f32 = 1.49;
+/// Mitsuba's default GGX width of its rough BSDFs.
+const ROUGH_ALPHA: f32 = 0.1;
+
+/// Named indices of refraction Mitsuba accepts (at 589 nm), lower case.
+const NAMED_IORS: [(&str, f32); 23] = [
+    ("vacuum", 1.0),
+    ("helium", 1.00004),
+    ("hydrogen", 1.00013),
+    ("air", 1.000277),
+    ("carbon dioxide", 1.00045),
+    ("water", 1.333),
+    ("acetone", 1.36),
+    ("ethanol", 1.361),
+    ("carbon tetrachloride", 1.461),
+    ("glycerol", 1.4729),
+    ("benzene", 1.501),
+    ("silicone oil", 1.52045),
+    ("bromine", 1.661),
+    ("water ice", 1.31),
+    ("fused quartz", 1.458),
+    ("pyrex", 1.47),
+    ("acrylic glass", 1.49),
+    ("polypropylene", 1.49),
+    ("bk7", 1.5046),
+    ("sodium chloride", 1.544),
+    ("amber", 1.55),
+    ("pet", 1.575),
+    ("diamond", 2.419),
+];
+
+/// Reflectance at normal incidence (linear sRGB) of the metals of Mitsuba's `conductor`
+/// `material` names that kousen knows, from the table of Hoffman, "Physics and Math of
+/// Shading" (SIGGRAPH 2015 course). kousen's metals reflect their colour at every angle.
+const METAL_F0: [(&str, [f32; 3]); 6] = [
+    ("ag", [0.972, 0.960, 0.915]),
+    ("al", [0.913, 0.922, 0.924]),
+    ("au", [1.000, 0.782, 0.344]),
+    ("cr", [0.549, 0.556, 0.554]),
+    ("cu", [0.955, 0.638, 0.538]),
+    ("ni_palik", [0.660, 0.609, 0.526]),
+];
+
+/// A colour or a texture of it, as a reflectance property gives it.
+struct Reflectance {
+    colour: Vec3,
+    texture: Option<TextureId>,
+}
+
+impl<'a> Reader<'a> {
+    /// The material Mitsuba BSDF `node` (a `<bsdf>` element) maps to, without emission.
+    pub(super) fn material(&mut self, node: Node<'a, 'a>) -> Result<Material, SceneError> {
+        let kind = self.context.required(node, "type")?;
+        let name = node.attribute("id").unwrap_or(&kind).to_string();
+        let base = |surface, base_color| Material {
+            name: name.clone(),
+            surface,
+            base_color,
+            ..Material::default()
+        };
+        let alpha = |r: &mut Self| r.float(node, "alpha", ROUGH_ALPHA);
+        Ok(match kind.as_str() {
+            "twosided" | "mask" | "bumpmap" | "normalmap" | "blendbsdf" => {
+                if kind != "twosided" {
+                    self.warn(node, format!("{kind} is read as the BSDF inside it alone"));
+                }
+                let inner = node
+                    .children()
+                    .find(|c| c.has_tag_name("bsdf") || c.has_tag_name("ref"))
+                    .ok_or_else(|| self.context.error(node, "holds no BSDF"))?;
+                let inner = self.resolve_bsdf(inner)?;
+                self.material(inner)?
+            }
+            "diffuse" => {
+                let reflectance = self.reflectance(node, "reflectance", Vec3::splat(0.5))?;
+                Material {
+                    base_color_texture: reflectance.texture,
+                    ..base(Surface::Diffuse, reflectance.colour)
+                }
+            }
+            "dielectric" | "thindielectric" | "roughdielectric" => {
+                let ior = self.ior(node, "int_ior", DIELECTRIC_IOR)?
+                    / self.ior(node, "ext_ior", AIR_IOR)?;
+                let roughness = match kind.as_str() {
+                    "roughdielectric" => alpha(self)?.sqrt(),
+                    _ => 0.0,
+                };
+                let tint = self.colour(node, "specular_transmittance", Vec3::ONE)?;
+                let thin = kind == "thindielectric";
+                base(glass_surface(ior, thin, roughness), tint)
+            }
+            "conductor" | "roughconductor" => {
+                let roughness = match kind.as_str() {
+                    "roughconductor" => alpha(self)?.sqrt(),
+                    _ => 0.0,
+                };
+                let colour = self.colour(node, "specular_reflectance", Vec3::ONE)?
+                    * self.metal_reflectance(node)?;
+                base(metal_surface(roughness), colour)
+            }
+            "plastic" | "roughplastic" => {
+                let ior =
+                    self.ior(node, "int_ior", PLASTIC_IOR)? / self.ior(node, "ext_ior", AIR_IOR)?;
+                let roughness = match kind.as_str() {
+                    "roughplastic" => alpha(self)?.sqrt(),
+                    _ => 0.0,
+                };
+                let reflectance =
+                    self.reflectance(node, "diffuse_reflectance", Vec3::splat(0.5))?;
+                Material {
+                    base_color_texture: reflectance.texture,
+                    ..base(coated_surface(ior, roughness), reflectance.colour)
+                }
+            }
+            "principled" => self.principled(node, &name)?,
+            "null" => Material {
+                // Invisible: cut out everywhere.
+                alpha: 0.0,
+                alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+                ..base(Surface::Diffuse, Vec3::ZERO)
+            },
+            other => {
+                self.warn(
+                    node,
+                    format!("BSDF \"{other}\" is not read: grey diffuse instead"),
+                );
+                base(Surface::Diffuse, Vec3::splat(0.5))
+            }
+        })
+    }
+
+    /// Mitsuba 3's principled BSDF, read as glTF's metallic-roughness material: its dominant
+    /// part (glass where `spec_trans` ≥ ½, else metal where `metallic` ≥ ½, else plastic).
+    fn principled(&mut self, node: Node<'a, 'a>, name: &str) -> Result<Material, SceneError> {
+        let reflectance = self.reflectance(node, "base_color", Vec3::splat(0.5))?;
+        let metallic = self.float(node, "metallic", 0.0)?;
+        let transmission = self.float(node, "spec_trans", 0.0)?;
+        let roughness = self.float(node, "roughness", 0.5)?;
+        let ior = self.float(node, "eta", 1.5)?;
+        if [metallic, transmission].iter().any(|&w| w > 0.0 && w < 1.0) {
+            self.warn(
+                node,
+                "principled with partial metallic or spec_trans is read as its dominant part",
+            );
+        }
+        let surface = if transmission >= 0.5 {
+            glass_surface(ior, false, roughness)
+        } else if metallic >= 0.5 {
+            metal_surface(roughness)
+        } else {
+            coated_surface(ior, roughness)
+        };
+        Ok(Material {
+            name: name.to_string(),
+            surface,
+            base_color: reflectance.colour,
+            base_color_texture: reflectance.texture,
+            ..Material::default()
+        })
+    }
+
+    /// A float property of `node` (`<float>` or `<integer>`), `default` where absent.
+    pub(super) fn float(
+        &mut self,
+        node: Node<'a, 'a>,
+        name: &str,
+        default: f32,
+    ) -> Result<f32, SceneError> {
+        match property(node, name) {
+            Some(p) if p.has_tag_name("float") || p.has_tag_name("integer") => {
+                self.context.number(p, "value")
+            }
+            Some(p) => Err(self.context.error(p, format!("{name} must be a float"))),
+            None => Ok(default),
+        }
+    }
+
+    /// A colour property: `<rgb>`, `<spectrum>` or `<float>`; a texture is read as its mean
+    /// colour (where only a colour can be used, as for a tint).
+    pub(super) fn colour(
+        &mut self,
+        node: Node<'a, 'a>,
+        name: &str,
+        default: Vec3,
+    ) -> Result<Vec3, SceneError> {
+        let reflectance = self.reflectance(node, name, default)?;
+        Ok(match reflectance.texture {
+            Some(texture) => {
+                self.warn(node, format!("{name}'s texture is read as its mean colour"));
+                self.builder.texture(texture).mean_linear().truncate()
+            }
+            None => reflectance.colour,
+        })
+    }
+
+    /// A reflectance property: a colour, or a `bitmap` texture (inline or by reference).
+    fn reflectance(
+        &mut self,
+        node: Node<'a, 'a>,
+        name: &str,
+        default: Vec3,
+    ) -> Result<Reflectance, SceneError> {
+        let Some(mut p) = property(node, name) else {
+            return Ok(Reflectance {
+                colour: default,
+                texture: None,
+            });
+        };
+        if p.has_tag_name("ref") {
+            p = self.referenced(p, "texture")?;
+        }
+        if p.has_tag_name("texture") {
+            return self.texture(p);
+        }
+        let colour = self.context.colour(p, &mut self.warnings)?;
+        Ok(Reflectance {
+            colour,
+            texture: None,
+        })
+    }
+
+    /// A `<texture>`: a `bitmap` decoded (sRGB unless `raw`), a checkerboard as the mean of
+    /// its colours.
+    fn texture(&mut self, node: Node<'a, 'a>) -> Result<Reflectance, SceneError> {
+        let kind = self.context.required(node, "type")?;
+        match kind.as_str() {
+            "bitmap" => {
+                let file = property(node, "filename")
+                    .ok_or_else(|| self.context.error(node, "a bitmap needs a filename"))?;
+                let file = self.context.required(file, "value")?;
+                let raw = property(node, "raw")
+                    .and_then(|p| self.context.attribute(p, "value"))
+                    .is_some_and(|v| v == "true");
+                let texture = self.bitmap(node, &file, !raw)?;
+                Ok(Reflectance {
+                    colour: Vec3::ONE,
+                    texture: Some(texture),
+                })
+            }
+            "checkerboard" => {
+                let a = self.colour(node, "color0", Vec3::splat(0.4))?;
+                let b = self.colour(node, "color1", Vec3::splat(0.2))?;
+                self.warn(node, "a checkerboard is read as the mean of its colours");
+                Ok(Reflectance {
+                    colour: (a + b) / 2.0,
+                    texture: None,
+                })
+            }
+            other => {
+                self.warn(
+                    node,
+                    format!("texture \"{other}\" is not read: grey instead"),
+                );
+                Ok(Reflectance {
+                    colour: Vec3::splat(0.5),
+                    texture: None,
+                })
+            }
+        }
+    }
+
+    /// An index of refraction: a number or one of Mitsuba's named materials.
+    fn ior(&mut self, node: Node<'a, 'a>, name: &str, default: f32) -> Result<f32, SceneError> {
+        let Some(p) = property(node, name) else {
+            return Ok(default);
+        };
+        let ior = if p.has_tag_name("string") {
+            let named = self.context.required(p, "value")?.to_ascii_lowercase();
+            NAMED_IORS
+                .iter()
+                .find(|(n, _)| *n == named)
+                .map(|(_, ior)| *ior)
+                .ok_or_else(|| self.context.error(p, format!("unknown index \"{named}\"")))?
+        } else {
+            self.context.number(p, "value")?
+        };
+        match ior > 0.0 {
+            true => Ok(ior),
+            false => Err(self
+                .context
+                .error(p, format!("{name} {ior} is not positive"))),
+        }
+    }
+
+    /// A conductor's reflectance at normal incidence: from its `eta` and `k` where given
+    /// (((η − 1)² + k²) / ((η + 1)² + k²) per channel, η relative to `ext_eta`), else its named
+    /// `material` ([`METAL_F0`]; "none", Mitsuba's default, is a perfect mirror).
+    fn metal_reflectance(&mut self, node: Node<'a, 'a>) -> Result<Vec3, SceneError> {
+        if property(node, "eta").is_some() {
+            let eta = self.colour(node, "eta", Vec3::ONE)? / self.float(node, "ext_eta", 1.0)?;
+            let k = self.colour(node, "k", Vec3::ZERO)?;
+            let f0 = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
+            return Ok(f0.clamp(Vec3::ZERO, Vec3::ONE));
+        }
+        let Some(p) = property(node, "material") else {
+            return Ok(Vec3::ONE);
+        };
+        let named = self.context.required(p, "value")?;
+        if named == "none" {
+            return Ok(Vec3::ONE);
+        }
+        let found = METAL_F0
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(&named));
+        Ok(match found {
+            Some((_, f0)) => Vec3::from_array(*f0),
+            None => {
+                self.warn(
+                    p,
+                    format!("conductor \"{named}\" is not in kousen's table: grey metal"),
+                );
+                Vec3::splat(0.8)
+            }
+        })
+    }
+}

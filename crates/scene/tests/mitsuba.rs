@@ -1,0 +1,296 @@
+//! Mitsuba scene files (`scene::mitsuba`): what the shipped one holds, both versions'
+//! spellings, shapes from OBJ and PLY files, emitters and sensors, and bad files refused in
+//! one line naming where.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use scene::{PunctualKind, Scene, Surface};
+
+fn shipped(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name)
+}
+
+/// Writes `body` inside `<scene>` to `scene.xml` in `dir` and loads it.
+fn load_in(dir: &Path, body: &str) -> Result<Scene, scene::SceneError> {
+    let path = dir.join("scene.xml");
+    std::fs::write(
+        &path,
+        format!("<scene version=\"3.0.0\">\n{body}\n</scene>\n"),
+    )
+    .unwrap();
+    scene::load(&path)
+}
+
+fn load(body: &str) -> Result<Scene, scene::SceneError> {
+    load_in(tempfile::tempdir().unwrap().path(), body)
+}
+
+/// An emitting rectangle, so that a scene has a light and a triangle.
+const LAMP: &str = r#"<shape type="rectangle"><emitter type="area">
+    <rgb name="radiance" value="1, 2, 3"/></emitter></shape>"#;
+
+fn error(body: &str) -> String {
+    let message = load(body)
+        .err()
+        .unwrap_or_else(|| panic!("loaded: {body}"))
+        .to_string();
+    assert!(!message.contains('\n'), "{message}");
+    message
+}
+
+#[test]
+fn the_shipped_cornell_box_loads_as_written() {
+    let scene = scene::load(&shipped("mitsuba/cornell-box.xml")).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let surfaces: Vec<&Surface> = scene.materials.iter().map(|m| &m.surface).collect();
+    assert!(surfaces.contains(&&Surface::Dielectric {
+        ior: 1.5046 / 1.000277,
+        thin_walled: false
+    }));
+    assert!(surfaces.contains(&&Surface::RoughConductor { alpha: 0.1 }));
+    assert!(
+        surfaces
+            .iter()
+            .any(|s| matches!(s, Surface::Plastic { ior, .. } if *ior == 1.5 / 1.000277))
+    );
+    // The light: 0.5 × 0.4 m of radiance (17, 12, 4), facing down.
+    assert_eq!(scene.lights.triangles.len(), 2);
+    let area: f32 = scene.lights.triangles.iter().map(|t| t.area).sum();
+    assert!((area - 0.2).abs() < 1e-5, "{area}");
+    let camera = scene.camera(None).unwrap();
+    assert!(camera.eye.abs_diff_eq(Vec3::new(0.0, 1.0, 3.8), 1e-5));
+    assert!(camera.forward.abs_diff_eq(Vec3::NEG_Z, 1e-6));
+    assert!(camera.up.abs_diff_eq(Vec3::Y, 1e-6));
+    // 40° across a square film.
+    assert!(
+        (camera.yfov.to_degrees() - 40.0).abs() < 1e-3,
+        "{}",
+        camera.yfov.to_degrees()
+    );
+    assert_eq!(camera.aspect_ratio, Some(1.0));
+    let bounds = scene.bounds();
+    assert!(bounds.min.abs_diff_eq(Vec3::new(-1.0, 0.0, -1.0), 1e-5));
+    assert!(bounds.max.abs_diff_eq(Vec3::new(1.0, 2.0, 1.0), 1e-5));
+}
+
+/// Mitsuba 0.6's names (`toWorld`, `intIOR`, `fovAxis`) read as 3's, `$` defaults fill in
+/// values, and a referenced BSDF is one material however many shapes use it.
+#[test]
+fn both_versions_spellings_and_defaults_are_read() {
+    let scene = load(&format!(
+        r#"<default name="ior" value="1.33"/>
+        <bsdf type="dielectric" id="water"><float name="intIOR" value="$ior"/></bsdf>
+        <shape type="cube"><ref id="water"/></shape>
+        <shape type="cube"><transform name="toWorld"><translate x="3"/></transform>
+            <ref name="bsdf" id="water"/></shape>
+        <sensor type="perspective"><float name="fov" value="30"/><string name="fovAxis" value="y"/>
+            <transform name="toWorld"><lookat origin="0,0,10" target="0,0,0" up="0,1,0"/></transform>
+            <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/></film>
+        </sensor>
+        {LAMP}"#
+    ))
+    .expect("loads");
+    let glass: Vec<_> = (scene.materials.iter())
+        .filter(|m| matches!(m.surface, Surface::Dielectric { .. }))
+        .collect();
+    assert_eq!(glass.len(), 1, "one material for both cubes");
+    assert_eq!(
+        glass[0].surface,
+        Surface::Dielectric {
+            ior: 1.33 / 1.000277,
+            thin_walled: false
+        }
+    );
+    assert_eq!(scene.triangles.len(), 2 * 12 + 2);
+    let camera = scene.camera(None).unwrap();
+    assert!((camera.yfov.to_degrees() - 30.0).abs() < 1e-4);
+    assert_eq!(camera.aspect_ratio, Some(2.0));
+}
+
+/// A horizontal field of view (Mitsuba's default axis) on a wide film is a narrower
+/// vertical one; a focal length is on 35 mm film.
+#[test]
+fn fields_of_view_follow_their_axis() {
+    let sensor = |fov: &str| {
+        format!(
+            r#"<sensor type="perspective">{fov}
+            <film type="hdrfilm"><integer name="width" value="300"/><integer name="height" value="150"/></film>
+            </sensor>{LAMP}"#
+        )
+    };
+    let yfov = |body: &str| load(body).unwrap().camera(None).unwrap().yfov;
+    let expected = 2.0 * (45f32.to_radians().tan() / 2.0).atan();
+    assert!((yfov(&sensor(r#"<float name="fov" value="90"/>"#)) - expected).abs() < 1e-5);
+    let expected = 2.0 * (18.0f32 / 50.0 / 2.0).atan();
+    assert!(
+        (yfov(&sensor(r#"<string name="focal_length" value="50mm"/>"#)) - expected).abs() < 1e-5
+    );
+}
+
+#[test]
+fn obj_and_ply_shapes_are_placed_with_their_bsdf() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+               end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    std::fs::write(dir.path().join("tri.ply"), ply).unwrap();
+    let scene = load_in(
+        dir.path(),
+        &format!(
+            r#"<shape type="obj"><string name="filename" value="tri.obj"/>
+                <transform name="to_world"><translate z="5"/></transform>
+                <bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>
+            <shape type="ply"><string name="filename" value="tri.ply"/>
+                <boolean name="flip_normals" value="true"/>
+                <bsdf type="plastic"/></shape>
+            {LAMP}"#
+        ),
+    )
+    .expect("loads");
+    let gold = &scene.materials[scene.triangles[0].material as usize];
+    assert_eq!(gold.surface, Surface::Mirror);
+    assert!(
+        gold.base_color
+            .abs_diff_eq(Vec3::new(1.0, 0.782, 0.344), 1e-6)
+    );
+    assert!(
+        scene.triangles[0]
+            .vertices
+            .iter()
+            .all(|v| v.position.z == 5.0)
+    );
+    let flipped = &scene.triangles[1];
+    assert!(
+        flipped
+            .vertices
+            .iter()
+            .all(|v| v.normal.abs_diff_eq(Vec3::NEG_Z, 1e-6))
+    );
+    let plastic = &scene.materials[flipped.material as usize];
+    assert!(matches!(plastic.surface, Surface::Plastic { .. }));
+}
+
+#[test]
+fn emitters_become_lights() {
+    let scene = load(
+        r#"<emitter type="point"><point name="position" x="1" y="2" z="3"/>
+            <rgb name="intensity" value="5"/></emitter>
+        <emitter type="spot"><transform name="to_world">
+            <lookat origin="0,4,0" target="0,0,0" up="0,0,1"/></transform>
+            <float name="cutoff_angle" value="30"/></emitter>
+        <emitter type="directional"><vector name="direction" x="0" y="-1" z="0"/>
+            <spectrum name="irradiance" value="2"/></emitter>
+        <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
+        <emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>
+        <shape type="sphere"/>"#,
+    )
+    .expect("loads");
+    let kinds: Vec<PunctualKind> = scene.lights.punctual.iter().map(|p| p.light.kind).collect();
+    assert!(matches!(
+        kinds[..],
+        [
+            PunctualKind::Point,
+            PunctualKind::Spot { .. },
+            PunctualKind::Directional
+        ]
+    ));
+    let point = scene.lights.punctual[0].light;
+    assert_eq!(
+        (point.position, point.intensity),
+        (Vec3::new(1.0, 2.0, 3.0), Vec3::splat(5.0))
+    );
+    let spot = scene.lights.punctual[1].light;
+    assert!(spot.direction.abs_diff_eq(Vec3::NEG_Y, 1e-6));
+    let PunctualKind::Spot {
+        cos_outer,
+        cos_inner,
+    } = spot.kind
+    else {
+        unreachable!()
+    };
+    assert!((cos_outer - 30f32.to_radians().cos()).abs() < 1e-6);
+    assert!((cos_inner - 22.5f32.to_radians().cos()).abs() < 1e-6);
+    assert_eq!(
+        scene.lights.sky.as_ref().map(|s| s.radiance),
+        Some(Vec3::splat(0.5))
+    );
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        scene.warnings[0].contains("--sky-map"),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
+fn bad_files_are_one_line_errors_naming_where() {
+    let cases = [
+        ("<shape type=\"cube\">", "not well-formed XML"),
+        (
+            r#"<shape type="cube"><ref id="nowhere"/></shape>"#,
+            "no element has id \"nowhere\"",
+        ),
+        (
+            r#"<shape type="obj"><string name="filename" value="missing.obj"/></shape>"#,
+            "missing.obj",
+        ),
+        (
+            "<shape type=\"cube\">\n<transform name=\"to_world\"><scale value=\"inf\"/></transform></shape>",
+            "line 3",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="-1"/></shape>"#,
+            "not positive",
+        ),
+        (
+            r#"<shape type="cube"><bsdf type="dielectric"><string name="int_ior" value="unobtainium"/></bsdf></shape>"#,
+            "unknown index",
+        ),
+        (
+            r#"<sensor type="perspective"><float name="fov" value="180"/></sensor>"#,
+            "fov 180",
+        ),
+        (
+            r#"<shape type="cube"><transform name="to_world"><rotate angle="9"/></transform></shape>"#,
+            "axis is zero",
+        ),
+    ];
+    for (body, why) in cases {
+        let message = error(body);
+        assert!(message.contains(why), "{why}: {message}");
+        assert!(
+            message.contains("scene.xml") || message.contains("missing.obj"),
+            "{message}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("other.xml");
+    std::fs::write(&path, "<notascene/>").unwrap();
+    assert!(
+        scene::load(&path)
+            .unwrap_err()
+            .to_string()
+            .contains("not <scene>")
+    );
+}
+
+#[test]
+fn unsupported_parts_are_warned_about_and_skipped() {
+    let scene = load(&format!(
+        r#"<shape type="serialized"><string name="filename" value="x.serialized"/></shape>
+        <shape type="cube"><bsdf type="hair"/></shape>
+        <medium type="homogeneous" id="fog"/>
+        {LAMP}"#
+    ))
+    .expect("loads");
+    assert_eq!(scene.warnings.len(), 3, "{:?}", scene.warnings);
+    assert_eq!(scene.triangles.len(), 12 + 2);
+}

@@ -15,6 +15,9 @@ const AIR_IOR: f32 = 1.000277;
 /// Defaults of Mitsuba's `dielectric` and `plastic` interior indices (BK7 and polypropylene).
 const DIELECTRIC_IOR: f32 = 1.5046;
 const PLASTIC_IOR: f32 = 1.49;
+/// How many BSDFs (`twosided`, `mask`, ...) may wrap one another: enough for any scene, and a
+/// bound on a reference cycle.
+const MAX_NESTING: u32 = 16;
 /// Mitsuba's default GGX width of its rough BSDFs.
 const ROUGH_ALPHA: f32 = 0.1;
 
@@ -66,6 +69,11 @@ struct Reflectance {
 impl<'a> Reader<'a> {
     /// The material Mitsuba BSDF `node` (a `<bsdf>` element) maps to, without emission.
     pub(super) fn material(&mut self, node: Node<'a, 'a>) -> Result<Material, SceneError> {
+        self.material_within(node, MAX_NESTING)
+    }
+
+    /// [`Reader::material`] of a BSDF that may wrap at most `depth` more inside it.
+    fn material_within(&mut self, node: Node<'a, 'a>, depth: u32) -> Result<Material, SceneError> {
         let kind = self.context.required(node, "type")?;
         let name = node.attribute("id").unwrap_or(&kind).to_string();
         let base = |surface, base_color| Material {
@@ -85,7 +93,11 @@ impl<'a> Reader<'a> {
                     .find(|c| c.has_tag_name("bsdf") || c.has_tag_name("ref"))
                     .ok_or_else(|| self.context.error(node, "holds no BSDF"))?;
                 let inner = self.resolve_bsdf(inner)?;
-                self.material(inner)?
+                let depth = depth.checked_sub(1).ok_or_else(|| {
+                    self.context
+                        .error(node, "BSDFs wrapped too deep (a reference cycle?)")
+                })?;
+                self.material_within(inner, depth)?
             }
             "diffuse" => {
                 let reflectance = self.reflectance(node, "reflectance", Vec3::splat(0.5))?;

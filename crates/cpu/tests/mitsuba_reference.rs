@@ -394,3 +394,47 @@ fn a_mitsuba_scene_file_renders_as_mitsuba_renders_it() {
         glass,
     );
 }
+
+/// A Mitsuba `envmap` faces as Mitsuba turns it. The map's texels encode their column u as
+/// (2 + sin 2πu, 2 + cos 2πu) (no seam to blur); the u seen along ±X and ±Z through
+/// kousen's sky lookup (`render::sky_map::sky_radiance`) is the u Mitsuba 3.9.1's own
+/// `envmap.eval` gives along them, unturned and turned 90° about +Y by `to_world`.
+#[test]
+fn a_mitsuba_envmap_faces_as_mitsuba_turns_it() {
+    use std::f32::consts::TAU;
+    let dir = tempfile::tempdir().unwrap();
+    let (width, height) = (256, 128);
+    exr::prelude::write_rgb_file(dir.path().join("sky.exr"), width, height, |x, _| {
+        let u = (x as f32 + 0.5) / width as f32;
+        (2.0 + (TAU * u).sin(), 2.0 + (TAU * u).cos(), 1.0)
+    })
+    .unwrap();
+    // (direction, Mitsuba's u unturned, Mitsuba's u turned 90° about +y).
+    let mitsuba = [
+        (Vec3::X, 0.25, 0.5),
+        (Vec3::NEG_X, 0.75, 0.0),
+        (Vec3::Z, 0.5, 0.75),
+        (Vec3::NEG_Z, 0.0, 0.25),
+    ];
+    for (turn, turned) in [("", false), (r#"<rotate y="1" angle="90"/>"#, true)] {
+        let xml = format!(
+            r#"<scene version="3.0.0"><emitter type="envmap"><string name="filename" value="sky.exr"/>
+            <transform name="to_world">{turn}</transform></emitter><shape type="cube"/></scene>"#
+        );
+        let path = dir.path().join("scene.xml");
+        std::fs::write(&path, xml).unwrap();
+        let scene = scene::load(&path).unwrap();
+        let lights = render::emission::light_table(&scene);
+        let buffer = render::sky_map::sky_map_buffer(scene.lights.sky.as_ref());
+        for (direction, unturned, turned_u) in mitsuba {
+            let seen = render::sky_map::sky_radiance(&lights, &buffer, Vec3::ZERO, direction);
+            let u = ((seen.x - 2.0).atan2(seen.y - 2.0) / TAU).rem_euclid(1.0);
+            let expected: f32 = if turned { turned_u } else { unturned };
+            let off = (u - expected).abs().min(1.0 - (u - expected).abs());
+            assert!(
+                off < 0.01,
+                "turned {turned}, {direction}: u {u} against Mitsuba's {expected}"
+            );
+        }
+    }
+}

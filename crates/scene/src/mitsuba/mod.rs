@@ -26,13 +26,14 @@
 //! - **Emitters**: `point` (`position` or `to_world`, `intensity`), `spot` (`intensity`,
 //!   `cutoff_angle`, `beam_width`, along `to_world`'s +Z; glTF's falloff between the cones),
 //!   `directional` (`irradiance`, `direction` or `to_world`'s +Z), `constant` (a uniform sky
-//!   of `radiance`).
+//!   of `radiance`), `envmap` (`filename`: `.hdr`, `.exr` or 8-bit sRGB; `scale`; turned about
+//!   +Y as Mitsuba turns it, `to_world`'s turn about +Y included).
 //! - **Sensors**: `perspective` and `thinlens` (`aperture_radius`, `focus_distance`), with
 //!   `to_world`, `fov` along `fov_axis` (x, y, diagonal, smaller, larger) or `focal_length`
 //!   (35 mm film), and the `hdrfilm`'s `width` and `height` as the aspect ratio.
 //! - Ignored: `integrator`, `sampler`, `rfilter` and the film's other settings (kousen renders
 //!   by its own settings). Skipped with a warning: other shapes (`serialized`, instances),
-//!   emitters (`envmap`: pass its image with `--sky-map`), sensors, `medium` and `include`.
+//!   emitters, sensors, `medium` and `include`.
 //!
 //! Spectra are read in RGB (a `<spectrum>` of wavelength:value pairs as its mean, with a
 //! warning). Errors are one line naming the element's line in the file.
@@ -96,17 +97,27 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     }
     let Reader {
         mut builder,
-        warnings,
+        mut warnings,
         sky,
+        sky_map,
         ..
     } = reader;
+    if sky.is_some() && sky_map.is_some() {
+        warnings.push("a constant emitter beside an envmap: kousen has one sky, the envmap".into());
+    }
     for warning in warnings {
         builder.warn(warning);
     }
     let mut scene = builder.finish()?;
-    if let Some(radiance) = sky {
-        let bounds = scene.bounds();
-        scene.lights.set_sky(radiance, bounds);
+    let bounds = scene.bounds();
+    match (sky_map, sky) {
+        (Some((map, scale, rotation)), _) => {
+            let map = std::sync::Arc::new(map);
+            let sky = crate::Sky::with_map(map, Vec3::splat(scale), rotation, bounds);
+            scene.lights.replace_sky(sky);
+        }
+        (None, Some(radiance)) => scene.lights.set_sky(radiance, bounds),
+        (None, None) => {}
     }
     Ok(scene)
 }
@@ -126,6 +137,8 @@ pub(super) struct Reader<'a> {
     warnings: Vec<String>,
     /// A `constant` emitter's radiance.
     sky: Option<Vec3>,
+    /// An `envmap` emitter's map, scale and turn about +Y in kousen's convention.
+    sky_map: Option<(crate::SkyMap, f32, f32)>,
 }
 
 impl<'a> Reader<'a> {
@@ -154,6 +167,7 @@ impl<'a> Reader<'a> {
             materials: HashMap::new(),
             warnings: Vec::new(),
             sky: None,
+            sky_map: None,
         }
     }
 
@@ -319,11 +333,9 @@ impl<'a> Reader<'a> {
                 self.sky = Some(self.sky.unwrap_or(Vec3::ZERO) + radiance);
                 return Ok(());
             }
+            "envmap" => return self.envmap(node, to_world),
             other => {
                 let hint = match other {
-                    "envmap" => {
-                        ": pass its image to kousen render with --sky-map (and --sky-rotate)"
-                    }
                     "area" => ": an area emitter belongs inside the shape it lights",
                     _ => "",
                 };
@@ -335,6 +347,43 @@ impl<'a> Reader<'a> {
             SceneError::Format { message, .. } => self.context.error(node, message),
             e => e,
         })
+    }
+
+    /// An `envmap`: its equirectangular image (`.hdr`, `.exr`, or 8-bit sRGB) × `scale`.
+    /// Mitsuba's map faces its centre column along +Z and its quarter column along +X
+    /// (checked against Mitsuba's own `eval`); kousen's faces −Z and +X at three quarters,
+    /// so the map is turned half a turn about +Y, plus the turn of its `to_world` about +Y
+    /// (a tilt is not kept: warned).
+    fn envmap(&mut self, node: Node<'a, 'a>, to_world: Mat4) -> Result<(), SceneError> {
+        let file = (self.string(node, "filename")?)
+            .ok_or_else(|| self.context.error(node, "an envmap needs a filename"))?;
+        let scale = self.float(node, "scale", 1.0)?;
+        if scale < 0.0 {
+            return Err(self
+                .context
+                .error(node, format!("scale {scale} is negative")));
+        }
+        let path = self.file(&file);
+        let (bytes, _) = read_regular_file(&path, 1 << 30).map_err(|e| SceneError::io(&path, e))?;
+        let image =
+            crate::Texture::decode(&file, &bytes, true).map_err(|e| self.context.error(node, e))?;
+        let texels = (0..image.height)
+            .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+            .map(|(x, y)| image.texel_linear(x, y).truncate())
+            .collect();
+        let map = crate::SkyMap::new(image.width, image.height, texels)
+            .map_err(|e| self.context.error(node, e))?;
+        let up = to_world.transform_vector3(Vec3::Y).normalize_or_zero();
+        if up.dot(Vec3::Y) < 0.9999 {
+            self.warn(
+                node,
+                "the envmap's to_world tilts it; kousen turns it about +Y only",
+            );
+        }
+        let centre = to_world.transform_vector3(Vec3::Z);
+        let turn = centre.x.atan2(centre.z);
+        self.sky_map = Some((map, scale, turn + std::f32::consts::PI));
+        Ok(())
     }
 
     fn sensor(&mut self, node: Node<'a, 'a>) -> Result<(), SceneError> {

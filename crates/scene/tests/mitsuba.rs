@@ -206,6 +206,9 @@ fn emitters_become_lights() {
         (point.position, point.intensity),
         (Vec3::new(1.0, 2.0, 3.0), Vec3::splat(5.0))
     );
+    let hard_spot = r#"<emitter type="spot"><float name="cutoff_angle" value="30"/>
+        <float name="beam_width" value="30"/></emitter><shape type="cube"/>"#;
+    assert!(load(hard_spot).is_ok(), "a hard-edged spot loads");
     let spot = scene.lights.punctual[1].light;
     assert!(spot.direction.abs_diff_eq(Vec3::NEG_Y, 1e-6));
     let PunctualKind::Spot {
@@ -259,6 +262,10 @@ fn bad_files_are_one_line_errors_naming_where() {
         (
             r#"<bsdf type="twosided" id="a"><ref id="a"/></bsdf><shape type="cube"><ref id="a"/></shape>"#,
             "reference cycle",
+        ),
+        (
+            r#"<emitter type="spot"><float name="cutoff_angle" value="120"/></emitter>"#,
+            "cutoff_angle 120",
         ),
     ];
     for (body, why) in cases {

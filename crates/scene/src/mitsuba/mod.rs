@@ -296,14 +296,15 @@ impl<'a> Reader<'a> {
             ),
             "spot" => {
                 let cutoff = self.float(node, "cutoff_angle", 20.0)?;
-                let beam = self.float(node, "beam_width", cutoff * 0.75)?.min(cutoff);
-                let (cos_inner, cos_outer) = (beam.to_radians().cos(), cutoff.to_radians().cos());
-                if !(cutoff > 0.0 && cutoff <= 90.0 && cos_inner > cos_outer) {
-                    return Err(self.context.error(
-                        node,
-                        "cutoff_angle must be in (0°, 90°] and beam_width below it",
-                    ));
+                if !(cutoff > 0.0 && cutoff <= 90.0) {
+                    let message = format!("cutoff_angle {cutoff}° is not in (0°, 90°]");
+                    return Err(self.context.error(node, message));
                 }
+                // A hard-edged spot (beam as wide as the cutoff) keeps a ramp a thousandth
+                // of its angle wide: kousen's cones must differ.
+                let beam = self.float(node, "beam_width", cutoff * 0.75)?;
+                let beam = beam.clamp(0.0, cutoff * 0.999);
+                let (cos_inner, cos_outer) = (beam.to_radians().cos(), cutoff.to_radians().cos());
                 let intensity = self.colour(node, "intensity", Vec3::ONE)?;
                 let direction = along_z
                     .ok_or_else(|| self.context.error(node, "to_world leaves no direction"))?;

@@ -303,6 +303,34 @@ fn unsupported_parts_are_warned_about_and_skipped() {
     assert_eq!(scene.triangles.len(), 12 + 2);
 }
 
+/// A `mask` with a bitmap opacity cuts its BSDF out where the opacity is below ½: the
+/// opacity becomes the alpha of the base colour's texture (white where it has none).
+#[test]
+fn a_mask_s_opacity_bitmap_becomes_an_alpha_cut_out() {
+    let dir = tempfile::tempdir().unwrap();
+    image::GrayImage::from_raw(2, 1, vec![0, 255])
+        .unwrap()
+        .save(dir.path().join("leaf.png"))
+        .unwrap();
+    let scene = load_in(
+        dir.path(),
+        &format!(
+            r#"<shape type="rectangle"><bsdf type="mask">
+                <texture type="bitmap" name="opacity"><string name="filename" value="leaf.png"/></texture>
+                <bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.6, 0.1"/></bsdf>
+            </bsdf></shape>{LAMP}"#
+        ),
+    )
+    .expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let leaf = &scene.materials[scene.triangles[0].material as usize];
+    assert_eq!(leaf.alpha_mode, scene::AlphaMode::Mask { cutoff: 0.5 });
+    assert_eq!(leaf.base_color, Vec3::new(0.2, 0.6, 0.1));
+    let texture = &scene.textures[leaf.base_color_texture.expect("a cut-out texture") as usize];
+    assert_eq!(texture.texel_linear(0, 0).w, 0.0);
+    assert_eq!(texture.texel_linear(1, 0), glam::Vec4::ONE);
+}
+
 /// The shipped file cut short and with bytes changed at random (a fixed xorshift sequence):
 /// every one loads or is refused, none panics.
 #[test]

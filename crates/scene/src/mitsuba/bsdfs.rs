@@ -85,7 +85,7 @@ impl<'a> Reader<'a> {
         let alpha = |r: &mut Self| r.float(node, "alpha", ROUGH_ALPHA);
         Ok(match kind.as_str() {
             "twosided" | "mask" | "bumpmap" | "normalmap" | "blendbsdf" => {
-                if kind != "twosided" {
+                if !matches!(kind.as_str(), "twosided" | "mask") {
                     self.warn(node, format!("{kind} is read as the BSDF inside it alone"));
                 }
                 let inner = node
@@ -97,7 +97,11 @@ impl<'a> Reader<'a> {
                     self.context
                         .error(node, "BSDFs wrapped too deep (a reference cycle?)")
                 })?;
-                self.material_within(inner, depth)?
+                let material = self.material_within(inner, depth)?;
+                match kind.as_str() {
+                    "mask" => self.masked(node, material)?,
+                    _ => material,
+                }
             }
             "diffuse" => {
                 let reflectance = self.reflectance(node, "reflectance", Vec3::splat(0.5))?;
@@ -154,6 +158,40 @@ impl<'a> Reader<'a> {
                 );
                 base(Surface::Diffuse, Vec3::splat(0.5))
             }
+        })
+    }
+
+    /// `material` cut out where a `mask`'s `opacity` is below ½: an opacity texture becomes
+    /// the alpha of the material's base colour texture (a white one where it has none);
+    /// a constant opacity below 1 (blending, which kousen does not do) is warned about.
+    fn masked(&mut self, node: Node<'a, 'a>, material: Material) -> Result<Material, SceneError> {
+        let Some(mut opacity) = property(node, "opacity") else {
+            return Ok(material);
+        };
+        if opacity.has_tag_name("ref") {
+            opacity = self.referenced(opacity, "texture")?;
+        }
+        if !opacity.has_tag_name("texture") {
+            let value = self.context.colour(opacity, &mut self.warnings)?;
+            if value.min_element() < 1.0 {
+                self.warn(node, "a constant opacity below 1 is not read: opaque");
+            }
+            return Ok(material);
+        }
+        let kind = self.context.required(opacity, "type")?;
+        let file = property(opacity, "filename").filter(|_| kind == "bitmap");
+        let file =
+            file.ok_or_else(|| self.context.error(opacity, "an opacity must be a bitmap"))?;
+        let file = self.context.required(file, "value")?;
+        let mask = self.bitmap(opacity, &file, false)?;
+        let base = material
+            .base_color_texture
+            .map(|id| self.builder.texture(id));
+        let cut_out = crate::textures::with_mask(base, self.builder.texture(mask));
+        Ok(Material {
+            base_color_texture: Some(self.builder.add_texture(cut_out)),
+            alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+            ..material
         })
     }
 

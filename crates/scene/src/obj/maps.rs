@@ -7,7 +7,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::material::Plan;
-use crate::{AlphaMode, SceneBuilder, Texels, Texture, TextureId};
+use crate::textures::{has_alpha, with_mask};
+use crate::{AlphaMode, SceneBuilder, Texture, TextureId};
 
 /// Decoded images by path; the error is a one-line reason naming the file.
 pub(super) type Decoded = HashMap<PathBuf, Result<Texture, String>>;
@@ -199,73 +200,5 @@ fn usable(
             builder.warn(format!("material '{material}': {key} {reason}; {fallback}"));
             None
         }
-    }
-}
-
-/// Whether any texel is less than fully opaque.
-fn has_alpha(texture: &Texture) -> bool {
-    match &texture.texels {
-        Texels::Srgb8(t) => t.iter().any(|p| p[3] < 255),
-        Texels::LinearF32(t) => t.iter().any(|p| p[3] < 1.0),
-    }
-}
-
-/// A copy of `base` (or a white image the mask's size) whose alpha is the mask: the mask
-/// image's alpha channel if it has one, else its first channel; nearest texel if sizes differ.
-fn with_mask(base: Option<&Texture>, mask: &Texture) -> Texture {
-    let channel = if has_alpha(mask) { 3 } else { 0 };
-    let mask_value = |x: u32, y: u32| -> u8 {
-        let i = (y * mask.width + x) as usize;
-        match &mask.texels {
-            Texels::Srgb8(t) => t[i][channel],
-            Texels::LinearF32(t) => (t[i][channel].clamp(0.0, 1.0) * 255.0).round() as u8,
-        }
-    };
-    let white;
-    let base = match base {
-        Some(base) => base,
-        None => {
-            white = Texture {
-                name: String::new(),
-                width: mask.width,
-                height: mask.height,
-                texels: Texels::Srgb8(vec![[255; 4]; mask.texel_count()]),
-            };
-            &white
-        }
-    };
-    // Nearest texel: the mask texel under the centre of each base texel.
-    let scale =
-        |i: u32, from: u32, to: u32| ((2 * i as u64 + 1) * to as u64 / (2 * from as u64)) as u32;
-    let alpha_at = |i: usize| {
-        let (x, y) = (i as u32 % base.width, i as u32 / base.width);
-        mask_value(
-            scale(x, base.width, mask.width),
-            scale(y, base.height, mask.height),
-        )
-    };
-    let texels = match &base.texels {
-        Texels::Srgb8(t) => Texels::Srgb8(
-            t.iter()
-                .enumerate()
-                .map(|(i, &[r, g, b, _])| [r, g, b, alpha_at(i)])
-                .collect(),
-        ),
-        Texels::LinearF32(t) => Texels::LinearF32(
-            t.iter()
-                .enumerate()
-                .map(|(i, &[r, g, b, _])| [r, g, b, alpha_at(i) as f32 / 255.0])
-                .collect(),
-        ),
-    };
-    let name = match base.name.as_str() {
-        "" => format!("mask {}", mask.name),
-        base_name => format!("{base_name} + mask {}", mask.name),
-    };
-    Texture {
-        name,
-        width: base.width,
-        height: base.height,
-        texels,
     }
 }

@@ -331,6 +331,49 @@ fn a_mask_s_opacity_bitmap_becomes_an_alpha_cut_out() {
     assert_eq!(texture.texel_linear(1, 0), glam::Vec4::ONE);
 }
 
+/// Mitsuba 3's principled BSDF as glTF's metallic-roughness material: one surface where only
+/// one part has a share, else a blend of metal, glass and plastic by their shares.
+#[test]
+fn principled_bsdfs_blend_their_parts() {
+    let principled = |params: &str| {
+        let scene = load(&format!(
+            r#"<shape type="cube"><bsdf type="principled">
+                <rgb name="base_color" value="0.8, 0.6, 0.2"/>{params}</bsdf></shape>{LAMP}"#
+        ))
+        .expect("loads");
+        let root = scene.triangles[0].material;
+        let members: Vec<(Surface, Option<f32>)> = scene::blend_members(&scene.materials, root)
+            .map(|id| {
+                let m = &scene.materials[id as usize];
+                (m.surface, m.blend.map(|b| b.weight))
+            })
+            .collect();
+        members
+    };
+    let metal =
+        principled(r#"<float name="metallic" value="1"/><float name="roughness" value="0"/>"#);
+    assert_eq!(metal, [(Surface::Mirror, None)]);
+    let half = principled(
+        r#"<float name="metallic" value="0.25"/><float name="spec_trans" value="0.5"/>
+        <float name="roughness" value="0.2"/>"#,
+    );
+    let surfaces: Vec<Surface> = half.iter().map(|(s, _)| *s).collect();
+    assert!(
+        matches!(
+            surfaces[..],
+            [
+                Surface::RoughConductor { .. },
+                Surface::RoughDielectric { .. },
+                Surface::Plastic { .. }
+            ]
+        ),
+        "{surfaces:?}"
+    );
+    // Metal 0.25, then glass 0.375 of 0.75 left (a half), then plastic.
+    assert!((half[0].1.unwrap() - 0.25).abs() < 1e-6, "{half:?}");
+    assert!((half[1].1.unwrap() - 0.5).abs() < 1e-6, "{half:?}");
+}
+
 /// The shipped file cut short and with bytes changed at random (a fixed xorshift sequence):
 /// every one loads or is refused, none panics.
 #[test]

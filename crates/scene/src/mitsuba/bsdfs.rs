@@ -60,6 +60,23 @@ const METAL_F0: [(&str, [f32; 3]); 6] = [
     ("ni_palik", [0.660, 0.609, 0.526]),
 ];
 
+/// A BSDF mapped onto kousen: its material and, where it mixes surfaces (Mitsuba 3's
+/// principled with partial `metallic` or `spec_trans`), the members of the blend it makes
+/// with their probabilities (`SceneBuilder::add_blend`; empty for one surface).
+pub(super) struct Mapped {
+    pub material: Material,
+    pub members: Vec<(f32, Surface)>,
+}
+
+impl Mapped {
+    fn plain(material: Material) -> Mapped {
+        Mapped {
+            material,
+            members: Vec::new(),
+        }
+    }
+}
+
 /// A colour or a texture of it, as a reflectance property gives it.
 struct Reflectance {
     colour: Vec3,
@@ -68,12 +85,12 @@ struct Reflectance {
 
 impl<'a> Reader<'a> {
     /// The material Mitsuba BSDF `node` (a `<bsdf>` element) maps to, without emission.
-    pub(super) fn material(&mut self, node: Node<'a, 'a>) -> Result<Material, SceneError> {
+    pub(super) fn material(&mut self, node: Node<'a, 'a>) -> Result<Mapped, SceneError> {
         self.material_within(node, MAX_NESTING)
     }
 
     /// [`Reader::material`] of a BSDF that may wrap at most `depth` more inside it.
-    fn material_within(&mut self, node: Node<'a, 'a>, depth: u32) -> Result<Material, SceneError> {
+    fn material_within(&mut self, node: Node<'a, 'a>, depth: u32) -> Result<Mapped, SceneError> {
         let kind = self.context.required(node, "type")?;
         let name = node.attribute("id").unwrap_or(&kind).to_string();
         let base = |surface, base_color| Material {
@@ -83,7 +100,7 @@ impl<'a> Reader<'a> {
             ..Material::default()
         };
         let alpha = |r: &mut Self| r.float(node, "alpha", ROUGH_ALPHA);
-        Ok(match kind.as_str() {
+        Ok(Mapped::plain(match kind.as_str() {
             "twosided" | "mask" | "bumpmap" | "normalmap" | "blendbsdf" => {
                 if !matches!(kind.as_str(), "twosided" | "mask") {
                     self.warn(node, format!("{kind} is read as the BSDF inside it alone"));
@@ -97,11 +114,14 @@ impl<'a> Reader<'a> {
                     self.context
                         .error(node, "BSDFs wrapped too deep (a reference cycle?)")
                 })?;
-                let material = self.material_within(inner, depth)?;
-                match kind.as_str() {
-                    "mask" => self.masked(node, material)?,
-                    _ => material,
-                }
+                let mapped = self.material_within(inner, depth)?;
+                return match kind.as_str() {
+                    "mask" => Ok(Mapped {
+                        material: self.masked(node, mapped.material)?,
+                        ..mapped
+                    }),
+                    _ => Ok(mapped),
+                };
             }
             "diffuse" => {
                 let reflectance = self.reflectance(node, "reflectance", Vec3::splat(0.5))?;
@@ -144,7 +164,7 @@ impl<'a> Reader<'a> {
                     ..base(coated_surface(ior, roughness), reflectance.colour)
                 }
             }
-            "principled" => self.principled(node, &name)?,
+            "principled" => return self.principled(node, &name),
             "null" => Material {
                 // Invisible: cut out everywhere.
                 alpha: 0.0,
@@ -158,7 +178,7 @@ impl<'a> Reader<'a> {
                 );
                 base(Surface::Diffuse, Vec3::splat(0.5))
             }
-        })
+        }))
     }
 
     /// `material` cut out where a `mask`'s `opacity` is below ½: an opacity texture becomes
@@ -195,33 +215,42 @@ impl<'a> Reader<'a> {
         })
     }
 
-    /// Mitsuba 3's principled BSDF, read as glTF's metallic-roughness material: its dominant
-    /// part (glass where `spec_trans` ≥ ½, else metal where `metallic` ≥ ½, else plastic).
-    fn principled(&mut self, node: Node<'a, 'a>, name: &str) -> Result<Material, SceneError> {
+    /// Mitsuba 3's principled BSDF, read as glTF's metallic-roughness material: metal with
+    /// probability `metallic`, else glass with probability `spec_trans`, else plastic, all of
+    /// `roughness` and the base colour (a blend where more than one has a share).
+    fn principled(&mut self, node: Node<'a, 'a>, name: &str) -> Result<Mapped, SceneError> {
         let reflectance = self.reflectance(node, "base_color", Vec3::splat(0.5))?;
-        let metallic = self.float(node, "metallic", 0.0)?;
-        let transmission = self.float(node, "spec_trans", 0.0)?;
-        let roughness = self.float(node, "roughness", 0.5)?;
+        let metallic = self.float(node, "metallic", 0.0)?.clamp(0.0, 1.0);
+        let transmission = self.float(node, "spec_trans", 0.0)?.clamp(0.0, 1.0);
+        let roughness = self.float(node, "roughness", 0.5)?.clamp(0.0, 1.0);
         let ior = self.float(node, "eta", 1.5)?;
-        if [metallic, transmission].iter().any(|&w| w > 0.0 && w < 1.0) {
-            self.warn(
-                node,
-                "principled with partial metallic or spec_trans is read as its dominant part",
-            );
-        }
-        let surface = if transmission >= 0.5 {
-            glass_surface(ior, false, roughness)
-        } else if metallic >= 0.5 {
-            metal_surface(roughness)
-        } else {
-            coated_surface(ior, roughness)
-        };
-        Ok(Material {
+        // The Lambertian-lobed member (plastic, or Lambertian where rough) goes last.
+        let members = [
+            (metallic, metal_surface(roughness)),
+            (
+                (1.0 - metallic) * transmission,
+                glass_surface(ior, false, roughness),
+            ),
+            (
+                (1.0 - metallic) * (1.0 - transmission),
+                coated_surface(ior, roughness),
+            ),
+        ];
+        let present: Vec<(f32, Surface)> = members.into_iter().filter(|(p, _)| *p > 0.0).collect();
+        let material = Material {
             name: name.to_string(),
-            surface,
+            surface: present[0].1,
             base_color: reflectance.colour,
             base_color_texture: reflectance.texture,
             ..Material::default()
+        };
+        Ok(Mapped {
+            material,
+            members: if present.len() > 1 {
+                present
+            } else {
+                Vec::new()
+            },
         })
     }
 

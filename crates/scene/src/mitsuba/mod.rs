@@ -18,7 +18,9 @@
 //!   reflecting its reflectance at normal incidence (from `eta` and `k`, or its `material`
 //!   among Ag, Al, Au, Cr, Cu, Ni; "none" a perfect mirror) × `specular_reflectance` at every
 //!   angle; `plastic`, `roughplastic` → plastic (Lambertian `diffuse_reflectance` under a coat
-//!   of `int_ior`); Mitsuba 3's `principled` → its dominant part (glass, metal or plastic);
+//!   of `int_ior`); Mitsuba 3's `principled` → glTF's metallic-roughness material (metal of
+//!   share `metallic`, glass of `spec_trans` of the rest, plastic, of its `roughness`: a blend
+//!   where more than one has a share);
 //!   `twosided` → the BSDF inside it (kousen's surfaces reflect on both faces); `null` →
 //!   invisible (cut out). Rough BSDFs are GGX whatever `distribution` says, and as with glTF
 //!   materials a metal or plastic coat of `alpha` ≥ 0.25 is rendered Lambertian. `mask` with

@@ -104,23 +104,30 @@ impl<'a> Reader<'a> {
         if let Some(id) = shared.and_then(|id| self.materials.get(id)) {
             return Ok(*id);
         }
-        let mut material = match bsdf {
+        let (mut material, members) = match bsdf {
             Some(b) => {
                 let b = self.resolve_bsdf(b)?;
-                self.material(b)?
+                let mapped = self.material(b)?;
+                (mapped.material, mapped.members)
             }
-            None => Material {
-                name: "default".into(),
-                surface: Surface::Diffuse,
-                base_color: Vec3::splat(0.5),
-                ..Material::default()
-            },
+            None => {
+                let grey = Material {
+                    name: "default".into(),
+                    surface: Surface::Diffuse,
+                    base_color: Vec3::splat(0.5),
+                    ..Material::default()
+                };
+                (grey, Vec::new())
+            }
         };
         if let Some(radiance) = radiance {
             material.emission = radiance;
             material.name = format!("{} (emitter)", material.name);
         }
-        let id = self.builder.add_material(material);
+        let id = match members.is_empty() {
+            true => self.builder.add_material(material),
+            false => self.builder.add_blend(material, &members),
+        };
         if let Some(shared) = shared {
             self.materials.insert(shared.to_string(), id);
         }

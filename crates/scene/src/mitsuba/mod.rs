@@ -7,6 +7,8 @@
 //!   `<bsdf>` and `<texture>` elements, used through `<ref id>`.
 //! - **Shapes**: `obj` (through kousen's OBJ loader, its own materials replaced),
 //!   `ply` (ASCII and binary: positions, normals, texture coordinates, polygons),
+//!   `serialized` (Mitsuba's own compressed meshes, by `shape_index`; smooth normals where a
+//!   PLY or serialized mesh has none, as Mitsuba makes them),
 //!   `rectangle`, `cube`, `disk` and `sphere` (`center`, `radius`; 128 × 64 facets with smooth
 //!   normals), each with `to_world`, `flip_normals` and `face_normals`, its BSDF (inline or
 //!   by reference; Mitsuba's default, diffuse 0.5, where none) and an `area` emitter's
@@ -36,7 +38,7 @@
 //!   `to_world`, `fov` along `fov_axis` (x, y, diagonal, smaller, larger) or `focal_length`
 //!   (35 mm film), and the `hdrfilm`'s `width` and `height` as the aspect ratio.
 //! - Ignored: `integrator`, `sampler`, `rfilter` and the film's other settings (kousen renders
-//!   by its own settings). Skipped with a warning: other shapes (`serialized`, instances),
+//!   by its own settings). Skipped with a warning: other shapes (`shapegroup`, `instance`, `cylinder`),
 //!   emitters, sensors, `medium` and `include`.
 //!
 //! Spectra are read in RGB (a `<spectrum>` of wavelength:value pairs as its mean, with a
@@ -45,6 +47,7 @@
 mod bsdfs;
 mod ply;
 mod properties;
+mod serialized;
 mod shapes;
 
 use std::collections::HashMap;

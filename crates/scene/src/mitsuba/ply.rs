@@ -8,7 +8,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::shapes::Mesh;
+use super::shapes::{Mesh, indexed_mesh};
 use crate::files::read_regular_file;
 use crate::{SceneError, Vertex};
 
@@ -139,7 +139,8 @@ fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     // Every value takes a byte at least (two in ASCII): no count may promise more.
     let most = body.bytes.len();
     let mut vertices: Vec<Vertex> = Vec::new();
-    let mut mesh = Mesh::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut with_normals = false;
     for element in &elements {
         if element.count > most {
             return Err(format!(
@@ -174,7 +175,7 @@ fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 let is_indices =
                     matches!(property.name.as_str(), "vertex_indices" | "vertex_index");
                 if is_face && is_indices {
-                    fan(&indices, &vertices, &mut mesh)?;
+                    fan(&indices, vertices.len(), &mut triangles)?;
                 }
             }
             if is_vertex {
@@ -184,14 +185,15 @@ fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 if !has_normal || !vertex.normal.is_finite() {
                     vertex.normal = Vec3::ZERO;
                 }
+                with_normals |= has_normal;
                 vertices.push(vertex);
             }
         }
     }
-    if mesh.is_empty() {
+    if triangles.is_empty() {
         return Err("no faces".into());
     }
-    Ok(mesh)
+    Ok(indexed_mesh(vertices, &triangles, with_normals))
 }
 
 /// Sets the vertex attribute `name` names; whether it was a normal's.
@@ -210,20 +212,16 @@ fn set_vertex(vertex: &mut Vertex, name: &str, value: f32) -> bool {
     matches!(name, "nx" | "ny" | "nz")
 }
 
-/// A polygon's triangles, fanned from its first corner.
-fn fan(indices: &[f64], vertices: &[Vertex], mesh: &mut Mesh) -> Result<(), String> {
-    let corner = |i: f64| {
-        let index = i as usize;
-        match i >= 0.0 && i.fract() == 0.0 && index < vertices.len() {
-            true => Ok(vertices[index]),
-            false => Err(format!(
-                "face index {i} is not one of the {} vertices",
-                vertices.len()
-            )),
-        }
+/// A polygon's triangles, fanned from its first corner, among `vertices` vertices.
+fn fan(indices: &[f64], vertices: usize, triangles: &mut Vec<[u32; 3]>) -> Result<(), String> {
+    let corner = |i: f64| match i >= 0.0 && i.fract() == 0.0 && (i as usize) < vertices {
+        true => Ok(i as u32),
+        false => Err(format!(
+            "face index {i} is not one of the {vertices} vertices"
+        )),
     };
     for k in 2..indices.len() {
-        mesh.push([
+        triangles.push([
             corner(indices[0])?,
             corner(indices[k - 1])?,
             corner(indices[k])?,
@@ -302,7 +300,8 @@ mod tests {
         assert_eq!(mesh.len(), 2);
         assert_eq!(mesh[1][2].position, Vec3::new(0.0, 1.0, 0.0));
         assert_eq!(mesh[1][1].uv, Vec2::new(1.0, 1.0));
-        assert_eq!(mesh[0][0].normal, Vec3::ZERO, "no normals given");
+        // No normals given: smooth ones, as Mitsuba makes them.
+        assert_eq!(mesh[0][0].normal, Vec3::Z);
     }
 
     /// The same quad in both binary byte orders, with normals and an extra element.

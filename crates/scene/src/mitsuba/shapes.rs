@@ -22,15 +22,23 @@ impl<'a> Reader<'a> {
     pub(super) fn shape(&mut self, node: Node<'a, 'a>) -> Result<(), SceneError> {
         let kind = self.context.required(node, "type")?;
         let mesh = match kind.as_str() {
-            "obj" | "ply" => {
+            "obj" | "ply" | "serialized" => {
                 let file = self.string(node, "filename")?.ok_or_else(|| {
                     self.context
-                        .error(node, format!("an {kind} shape needs a filename"))
+                        .error(node, format!("a {kind} shape needs a filename"))
                 })?;
                 let path = self.file(&file);
                 match kind.as_str() {
                     "obj" => self.obj_mesh(&path)?,
-                    _ => super::ply::read(&path)?,
+                    "ply" => super::ply::read(&path)?,
+                    _ => {
+                        let index = self.float(node, "shape_index", 0.0)?;
+                        if index < 0.0 || index.fract() != 0.0 {
+                            let message = format!("shape_index {index} is not a mesh's number");
+                            return Err(self.context.error(node, message));
+                        }
+                        super::serialized::read(&path, index as usize)?
+                    }
                 }
             }
             "rectangle" => rectangle(),
@@ -184,6 +192,25 @@ impl Placement {
         }
         vertices
     }
+}
+
+/// The triangles of an indexed mesh (indices in range). Without normals in the file, smooth
+/// ones (area-weighted), as Mitsuba gives a mesh without normals.
+pub(super) fn indexed_mesh(
+    mut vertices: Vec<Vertex>,
+    triangles: &[[u32; 3]],
+    with_normals: bool,
+) -> Mesh {
+    if !with_normals {
+        let positions: Vec<Vec3> = vertices.iter().map(|v| v.position).collect();
+        let normals = crate::mesh::smooth_normals(&positions, triangles);
+        for (v, n) in vertices.iter_mut().zip(normals) {
+            v.normal = n;
+        }
+    }
+    (triangles.iter())
+        .map(|t| t.map(|i| vertices[i as usize]))
+        .collect()
 }
 
 fn vertex(position: Vec3, normal: Vec3, uv: Vec2) -> Vertex {

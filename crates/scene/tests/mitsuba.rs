@@ -293,7 +293,7 @@ fn bad_files_are_one_line_errors_naming_where() {
 #[test]
 fn unsupported_parts_are_warned_about_and_skipped() {
     let scene = load(&format!(
-        r#"<shape type="shapegroup" id="group"/>
+        r#"<shape type="cylinder"/>
         <shape type="cube"><bsdf type="hair"/></shape>
         <medium type="homogeneous" id="fog"/>
         {LAMP}"#
@@ -355,6 +355,34 @@ fn serialized_meshes_are_read_by_index() {
     assert!(square.iter().all(|p| p.z == 2.0));
     let message = load_in(dir.path(), &shape(2)).unwrap_err().to_string();
     assert!(message.contains("holds 2 meshes"), "{message}");
+}
+
+/// A `shapegroup` is drawn only where `instance`s place it, each a copy moved by the
+/// instance's `to_world` after the group's own shapes' transforms.
+#[test]
+fn instances_place_copies_of_their_shape_group() {
+    let scene = load(&format!(
+        r#"<shape type="shapegroup" id="pair">
+            <shape type="rectangle"><transform name="to_world"><translate z="1"/></transform></shape>
+            <shape type="cube"/>
+        </shape>
+        <shape type="instance"><ref id="pair"/>
+            <transform name="to_world"><translate x="10"/></transform></shape>
+        <shape type="instance"><ref id="pair"/>
+            <transform name="to_world"><translate x="-10"/></transform></shape>
+        {LAMP}"#
+    ))
+    .expect("loads");
+    assert_eq!(scene.triangles.len(), 2 * (2 + 12) + 2);
+    let xs: Vec<f32> = (scene.triangles.iter())
+        .map(|t| t.vertices[0].position.x.round())
+        .collect();
+    assert_eq!(xs.iter().filter(|&&x| x >= 9.0).count(), 14);
+    assert_eq!(xs.iter().filter(|&&x| x <= -9.0).count(), 14);
+    let moved = scene.triangles[0].vertices[0].position;
+    assert_eq!(moved.z, 1.0, "the group's own transform first");
+    let message = error(r#"<shape type="instance"><ref id="nowhere"/></shape>"#);
+    assert!(message.contains("no shapegroup has id"), "{message}");
 }
 
 /// Mitsuba 3's principled BSDF as glTF's metallic-roughness material: one surface where only

@@ -8,7 +8,8 @@
 //! - **Shapes**: `obj` (through kousen's OBJ loader, its own materials replaced),
 //!   `ply` (ASCII and binary: positions, normals, texture coordinates, polygons),
 //!   `serialized` (Mitsuba's own compressed meshes, by `shape_index`; smooth normals where a
-//!   PLY or serialized mesh has none, as Mitsuba makes them),
+//!   PLY or serialized mesh has none, as Mitsuba makes them), and `instance`s of a
+//!   `shapegroup` (each a copy of its shapes, placed by the instance's `to_world`),
 //!   `rectangle`, `cube`, `disk` and `sphere` (`center`, `radius`; 128 × 64 facets with smooth
 //!   normals), each with `to_world`, `flip_normals` and `face_normals`, its BSDF (inline or
 //!   by reference; Mitsuba's default, diffuse 0.5, where none) and an `area` emitter's
@@ -38,7 +39,7 @@
 //!   `to_world`, `fov` along `fov_axis` (x, y, diagonal, smaller, larger) or `focal_length`
 //!   (35 mm film), and the `hdrfilm`'s `width` and `height` as the aspect ratio.
 //! - Ignored: `integrator`, `sampler`, `rfilter` and the film's other settings (kousen renders
-//!   by its own settings). Skipped with a warning: other shapes (`shapegroup`, `instance`, `cylinder`),
+//!   by its own settings). Skipped with a warning: other shapes (`cylinder`, curves),
 //!   emitters, sensors, `medium` and `include`.
 //!
 //! Spectra are read in RGB (a `<spectrum>` of wavelength:value pairs as its mean, with a
@@ -135,6 +136,8 @@ pub(super) struct Reader<'a> {
     builder: SceneBuilder,
     /// Top-level BSDFs and textures by `id`, and every top-level `id` (media among them).
     bsdfs: HashMap<String, Node<'a, 'a>>,
+    /// Top-level `shapegroup` shapes by `id`, which `instance` shapes place.
+    groups: HashMap<String, Node<'a, 'a>>,
     ids: std::collections::HashSet<String>,
     textures: HashMap<String, Node<'a, 'a>>,
     /// Images decoded so far, by file and colour (sRGB) or data.
@@ -152,6 +155,7 @@ impl<'a> Reader<'a> {
     fn new(context: Context<'a>, root: Node<'a, 'a>) -> Reader<'a> {
         let mut bsdfs = HashMap::new();
         let mut textures = HashMap::new();
+        let mut groups = HashMap::new();
         let mut ids = std::collections::HashSet::new();
         for child in root.children().filter(Node::is_element) {
             let Some(id) = child.attribute("id") else {
@@ -160,6 +164,9 @@ impl<'a> Reader<'a> {
             ids.insert(id.to_string());
             match child.tag_name().name() {
                 "bsdf" => bsdfs.insert(id.to_string(), child),
+                "shape" if child.attribute("type") == Some("shapegroup") => {
+                    groups.insert(id.to_string(), child)
+                }
                 "texture" => textures.insert(id.to_string(), child),
                 _ => None,
             };
@@ -168,6 +175,7 @@ impl<'a> Reader<'a> {
             builder: SceneBuilder::new(context.path),
             context,
             bsdfs,
+            groups,
             ids,
             textures,
             bitmaps: HashMap::new(),
@@ -203,11 +211,13 @@ impl<'a> Reader<'a> {
         self.warnings.push(format!("line {line}: {message}"));
     }
 
-    /// The element a `<ref id>` names among the top-level ones of `kind` ("bsdf", "texture").
+    /// The element a `<ref id>` names among the top-level ones of `kind` ("bsdf", "texture",
+    /// "shapegroup").
     fn referenced(&self, node: Node<'a, 'a>, kind: &str) -> Result<Node<'a, 'a>, SceneError> {
         let id = self.context.required(node, "id")?;
         let table = match kind {
             "bsdf" => &self.bsdfs,
+            "shapegroup" => &self.groups,
             _ => &self.textures,
         };
         table.get(&id).copied().ok_or_else(|| {

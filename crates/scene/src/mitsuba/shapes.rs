@@ -20,8 +20,16 @@ const DISK_SEGMENTS: usize = 128;
 
 impl<'a> Reader<'a> {
     pub(super) fn shape(&mut self, node: Node<'a, 'a>) -> Result<(), SceneError> {
+        self.shape_within(node, Mat4::IDENTITY)
+    }
+
+    /// A shape placed by its own `to_world` and then by `outer` (an instance's); a
+    /// `shapegroup` is only read through the `instance`s that place it.
+    fn shape_within(&mut self, node: Node<'a, 'a>, outer: Mat4) -> Result<(), SceneError> {
         let kind = self.context.required(node, "type")?;
         let mesh = match kind.as_str() {
+            "shapegroup" => return Ok(()),
+            "instance" => return self.instance(node, outer),
             "obj" | "ply" | "serialized" => {
                 let file = self.string(node, "filename")?.ok_or_else(|| {
                     self.context
@@ -60,7 +68,7 @@ impl<'a> Reader<'a> {
             }
         };
         let material = self.shape_material(node)?;
-        let to_world = self.to_world(node)?;
+        let to_world = outer * self.to_world(node)?;
         let flip = self.boolean(node, "flip_normals", false)?;
         let face_normals = self.boolean(node, "face_normals", false)?;
         let placement = Placement::new(to_world, flip, face_normals);
@@ -70,6 +78,26 @@ impl<'a> Reader<'a> {
                 material,
             };
             self.builder.add_triangle(triangle)?;
+        }
+        Ok(())
+    }
+
+    /// An `instance`: each shape of the `shapegroup` it refers to, placed by its `to_world`.
+    fn instance(&mut self, node: Node<'a, 'a>, outer: Mat4) -> Result<(), SceneError> {
+        if outer != Mat4::IDENTITY {
+            return Err(self.context.error(node, "an instance inside a shape group"));
+        }
+        let reference = node
+            .children()
+            .find(|c| c.has_tag_name("ref"))
+            .ok_or_else(|| {
+                self.context
+                    .error(node, "an instance needs a <ref> to a shapegroup")
+            })?;
+        let group = self.referenced(reference, "shapegroup")?;
+        let to_world = self.to_world(node)?;
+        for shape in group.children().filter(|c| c.has_tag_name("shape")) {
+            self.shape_within(shape, to_world)?;
         }
         Ok(())
     }

@@ -428,6 +428,42 @@ fn principled_bsdfs_blend_their_parts() {
     assert!((half[1].1.unwrap() - 0.5).abs() < 1e-6, "{half:?}");
 }
 
+/// A bitmap's `to_uv` (a tiled floor) maps the texture coordinates of every shape wearing it,
+/// also through a shared, referenced BSDF.
+#[test]
+fn a_bitmap_s_to_uv_maps_texture_coordinates() {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([200, 100, 50]))
+        .save(dir.path().join("tile.png"))
+        .unwrap();
+    let scene = load_in(
+        dir.path(),
+        &format!(
+            r#"<bsdf type="diffuse" id="tiles"><texture type="bitmap" name="reflectance">
+                <string name="filename" value="tile.png"/>
+                <transform name="to_uv"><scale x="3" y="2"/><translate x="0.5"/></transform>
+            </texture></bsdf>
+            <shape type="rectangle"><ref id="tiles"/></shape>
+            <shape type="rectangle"><ref id="tiles"/>
+                <transform name="to_world"><translate z="4"/></transform></shape>
+            {LAMP}"#
+        ),
+    )
+    .expect("loads");
+    for triangle in &scene.triangles[..4] {
+        for v in &triangle.vertices {
+            // The rectangle's corner (x, y) has uv ((x + 1) / 2, (y + 1) / 2).
+            let uv = glam::Vec2::new((v.position.x + 1.0) / 2.0, (v.position.y + 1.0) / 2.0);
+            let expected = glam::Vec2::new(3.0 * uv.x + 0.5, 2.0 * uv.y);
+            assert!(
+                v.uv.abs_diff_eq(expected, 1e-6),
+                "{} against {expected}",
+                v.uv
+            );
+        }
+    }
+}
+
 /// The shipped file cut short and with bytes changed at random (a fixed xorshift sequence):
 /// every one loads or is refused, none panics.
 #[test]

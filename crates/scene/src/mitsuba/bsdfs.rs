@@ -1,6 +1,6 @@
 //! Mitsuba BSDFs mapped onto kousen's materials (see the table in [`super`]).
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
 use super::Reader;
@@ -66,6 +66,8 @@ const METAL_F0: [(&str, [f32; 3]); 6] = [
 pub(super) struct Mapped {
     pub material: Material,
     pub members: Vec<(f32, Surface)>,
+    /// Its base colour texture's `to_uv`, which the shape's texture coordinates go through.
+    pub to_uv: Option<Mat4>,
 }
 
 impl Mapped {
@@ -73,6 +75,7 @@ impl Mapped {
         Mapped {
             material,
             members: Vec::new(),
+            to_uv: None,
         }
     }
 }
@@ -81,6 +84,8 @@ impl Mapped {
 struct Reflectance {
     colour: Vec3,
     texture: Option<TextureId>,
+    /// A bitmap's `to_uv`: the map from a surface's texture coordinates to the image's.
+    to_uv: Option<Mat4>,
 }
 
 impl<'a> Reader<'a> {
@@ -100,7 +105,8 @@ impl<'a> Reader<'a> {
             ..Material::default()
         };
         let alpha = |r: &mut Self| r.float(node, "alpha", ROUGH_ALPHA);
-        Ok(Mapped::plain(match kind.as_str() {
+        let mut to_uv = None;
+        let material = match kind.as_str() {
             "twosided" | "mask" | "bumpmap" | "normalmap" | "blendbsdf" => {
                 if !matches!(kind.as_str(), "twosided" | "mask") {
                     self.warn(node, format!("{kind} is read as the BSDF inside it alone"));
@@ -125,6 +131,7 @@ impl<'a> Reader<'a> {
             }
             "diffuse" => {
                 let reflectance = self.reflectance(node, "reflectance", Vec3::splat(0.5))?;
+                to_uv = reflectance.to_uv;
                 Material {
                     base_color_texture: reflectance.texture,
                     ..base(Surface::Diffuse, reflectance.colour)
@@ -159,6 +166,7 @@ impl<'a> Reader<'a> {
                 };
                 let reflectance =
                     self.reflectance(node, "diffuse_reflectance", Vec3::splat(0.5))?;
+                to_uv = reflectance.to_uv;
                 Material {
                     base_color_texture: reflectance.texture,
                     ..base(coated_surface(ior, roughness), reflectance.colour)
@@ -178,7 +186,11 @@ impl<'a> Reader<'a> {
                 );
                 base(Surface::Diffuse, Vec3::splat(0.5))
             }
-        }))
+        };
+        Ok(Mapped {
+            to_uv,
+            ..Mapped::plain(material)
+        })
     }
 
     /// `material` cut out where a `mask`'s `opacity` is below ½: an opacity texture becomes
@@ -251,6 +263,7 @@ impl<'a> Reader<'a> {
             } else {
                 Vec::new()
             },
+            to_uv: reflectance.to_uv,
         })
     }
 
@@ -299,6 +312,7 @@ impl<'a> Reader<'a> {
             return Ok(Reflectance {
                 colour: default,
                 texture: None,
+                to_uv: None,
             });
         };
         if p.has_tag_name("ref") {
@@ -311,6 +325,7 @@ impl<'a> Reader<'a> {
         Ok(Reflectance {
             colour,
             texture: None,
+            to_uv: None,
         })
     }
 
@@ -327,9 +342,14 @@ impl<'a> Reader<'a> {
                     .and_then(|p| self.context.attribute(p, "value"))
                     .is_some_and(|v| v == "true");
                 let texture = self.bitmap(node, &file, !raw)?;
+                let to_uv = match property(node, "to_uv") {
+                    Some(t) => Some(self.context.transform(t)?),
+                    None => None,
+                };
                 Ok(Reflectance {
                     colour: Vec3::ONE,
                     texture: Some(texture),
+                    to_uv,
                 })
             }
             "checkerboard" => {
@@ -339,6 +359,7 @@ impl<'a> Reader<'a> {
                 Ok(Reflectance {
                     colour: (a + b) / 2.0,
                     texture: None,
+                    to_uv: None,
                 })
             }
             other => {
@@ -349,6 +370,7 @@ impl<'a> Reader<'a> {
                 Ok(Reflectance {
                     colour: Vec3::splat(0.5),
                     texture: None,
+                    to_uv: None,
                 })
             }
         }

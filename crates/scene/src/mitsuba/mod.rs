@@ -14,7 +14,8 @@
 //!   normals), each with `to_world`, `flip_normals` and `face_normals`, its BSDF (inline or
 //!   by reference; Mitsuba's default, diffuse 0.5, where none) and an `area` emitter's
 //!   `radiance` (emitted from the front face, as Mitsuba's).
-//! - **BSDFs** onto kousen's materials: `diffuse` (reflectance colour or `bitmap`) →
+//! - **BSDFs** onto kousen's materials (a base colour `bitmap`'s `to_uv` applied to the
+//!   texture coordinates of the shapes wearing it): `diffuse` (reflectance colour or `bitmap`) →
 //!   Lambertian; `dielectric`, `thindielectric`, `roughdielectric` (`int_ior` / `ext_ior`,
 //!   numbers or Mitsuba's named indices; `alpha`) → glass, smooth or frosted (GGX of width
 //!   `alpha`), tinted by `specular_transmittance`; `conductor`, `roughconductor` → metal
@@ -142,8 +143,9 @@ pub(super) struct Reader<'a> {
     textures: HashMap<String, Node<'a, 'a>>,
     /// Images decoded so far, by file and colour (sRGB) or data.
     bitmaps: HashMap<(PathBuf, bool), TextureId>,
-    /// Builder ids of the materials of BSDFs referred to by `id` (shapes without emitters).
-    materials: HashMap<String, u32>,
+    /// Builder ids of the materials of BSDFs referred to by `id` (shapes without emitters),
+    /// with their base colour bitmap's `to_uv`.
+    materials: HashMap<String, (u32, Option<Mat4>)>,
     warnings: Vec<String>,
     /// A `constant` emitter's radiance.
     sky: Option<Vec3>,

@@ -67,14 +67,19 @@ impl<'a> Reader<'a> {
                 return Ok(());
             }
         };
-        let material = self.shape_material(node)?;
+        let (material, to_uv) = self.shape_material(node)?;
         let to_world = outer * self.to_world(node)?;
         let flip = self.boolean(node, "flip_normals", false)?;
         let face_normals = self.boolean(node, "face_normals", false)?;
         let placement = Placement::new(to_world, flip, face_normals);
         for vertices in mesh {
             let triangle = Triangle {
-                vertices: placement.place(vertices),
+                vertices: placement.place(vertices.map(|mut v| {
+                    if let Some(to_uv) = to_uv {
+                        v.uv = to_uv.transform_point3(v.uv.extend(0.0)).truncate();
+                    }
+                    v
+                })),
                 material,
             };
             self.builder.add_triangle(triangle)?;
@@ -104,7 +109,8 @@ impl<'a> Reader<'a> {
 
     /// The builder id of a shape's material: its BSDF's (Mitsuba's grey diffuse where it has
     /// none) with its area emitter's radiance.
-    fn shape_material(&mut self, node: Node<'a, 'a>) -> Result<u32, SceneError> {
+    /// Also the `to_uv` its base colour's bitmap maps texture coordinates by.
+    fn shape_material(&mut self, node: Node<'a, 'a>) -> Result<(u32, Option<Mat4>), SceneError> {
         for reference in node.children().filter(|c| c.has_tag_name("ref")) {
             let id = self.context.required(reference, "id")?;
             if !self.ids.contains(&id) {
@@ -140,11 +146,11 @@ impl<'a> Reader<'a> {
         if let Some(id) = shared.and_then(|id| self.materials.get(id)) {
             return Ok(*id);
         }
-        let (mut material, members) = match bsdf {
+        let (mut material, members, to_uv) = match bsdf {
             Some(b) => {
                 let b = self.resolve_bsdf(b)?;
                 let mapped = self.material(b)?;
-                (mapped.material, mapped.members)
+                (mapped.material, mapped.members, mapped.to_uv)
             }
             None => {
                 let grey = Material {
@@ -153,7 +159,7 @@ impl<'a> Reader<'a> {
                     base_color: Vec3::splat(0.5),
                     ..Material::default()
                 };
-                (grey, Vec::new())
+                (grey, Vec::new(), None)
             }
         };
         if let Some(radiance) = radiance {
@@ -165,9 +171,9 @@ impl<'a> Reader<'a> {
             false => self.builder.add_blend(material, &members),
         };
         if let Some(shared) = shared {
-            self.materials.insert(shared.to_string(), id);
+            self.materials.insert(shared.to_string(), (id, to_uv));
         }
-        Ok(id)
+        Ok((id, to_uv))
     }
 
     /// An OBJ file's triangles through kousen's OBJ loader (its materials set aside; its

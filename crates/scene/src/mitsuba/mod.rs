@@ -206,10 +206,7 @@ impl<'a> Reader<'a> {
 
     /// A warning naming `node`'s line.
     fn warn(&mut self, node: Node, message: impl std::fmt::Display) {
-        let line = self.context.text[..node.range().start]
-            .matches('\n')
-            .count()
-            + 1;
+        let line = self.context.line(node);
         self.warnings.push(format!("line {line}: {message}"));
     }
 
@@ -242,15 +239,20 @@ impl<'a> Reader<'a> {
         dir.join(name.replace('\\', "/"))
     }
 
+    /// Image `file` (relative to the scene file) decoded as sRGB colour or linear data.
+    fn decode(&self, node: Node, file: &str, srgb: bool) -> Result<crate::Texture, SceneError> {
+        let path = self.file(file);
+        let (bytes, _) = read_regular_file(&path, 1 << 30).map_err(|e| SceneError::io(&path, e))?;
+        crate::Texture::decode(file, &bytes, srgb).map_err(|e| self.context.error(node, e))
+    }
+
     /// The texture of image `file`, decoded once (sRGB colour or linear data).
     fn bitmap(&mut self, node: Node, file: &str, srgb: bool) -> Result<TextureId, SceneError> {
         let path = self.file(file);
         if let Some(id) = self.bitmaps.get(&(path.clone(), srgb)) {
             return Ok(*id);
         }
-        let (bytes, _) = read_regular_file(&path, 1 << 30).map_err(|e| SceneError::io(&path, e))?;
-        let texture =
-            crate::Texture::decode(file, &bytes, srgb).map_err(|e| self.context.error(node, e))?;
+        let texture = self.decode(node, file, srgb)?;
         let id = self.builder.add_texture(texture);
         self.bitmaps.insert((path, srgb), id);
         Ok(id)
@@ -383,10 +385,7 @@ impl<'a> Reader<'a> {
                 .context
                 .error(node, format!("scale {scale} is negative")));
         }
-        let path = self.file(&file);
-        let (bytes, _) = read_regular_file(&path, 1 << 30).map_err(|e| SceneError::io(&path, e))?;
-        let image =
-            crate::Texture::decode(&file, &bytes, true).map_err(|e| self.context.error(node, e))?;
+        let image = self.decode(node, &file, true)?;
         let texels = (0..image.height)
             .flat_map(|y| (0..image.width).map(move |x| (x, y)))
             .map(|(x, y)| image.texel_linear(x, y).truncate())

@@ -21,9 +21,14 @@ pub(super) struct Context<'a> {
 impl Context<'_> {
     /// A one-line error about `node`, naming its line.
     pub fn error(&self, node: Node, message: impl std::fmt::Display) -> SceneError {
-        let line = self.text[..node.range().start].matches('\n').count() + 1;
+        let line = self.line(node);
         let tag = node.tag_name().name();
         SceneError::format(self.path, format!("line {line}, <{tag}>: {message}"))
+    }
+
+    /// The line of the file `node` starts on (from 1).
+    pub fn line(&self, node: Node) -> usize {
+        self.text[..node.range().start].matches('\n').count() + 1
     }
 
     /// Attribute `name` of `node` with `$default` references replaced.
@@ -114,7 +119,7 @@ impl Context<'_> {
             }
             warnings.push(format!(
                 "a spectrum given by wavelengths (line {}) is read as its mean value",
-                self.text[..node.range().start].matches('\n').count() + 1
+                self.line(node)
             ));
             return Ok(Vec3::splat(
                 values.iter().sum::<f32>() / values.len() as f32,

@@ -19,6 +19,9 @@ pub mod mesh;
 pub mod mitsuba;
 pub mod model;
 pub mod obj;
+pub mod pbrt;
+mod ply;
+mod shapes;
 pub mod sky_map;
 pub mod testing;
 pub mod textures;
@@ -42,7 +45,7 @@ pub use textures::{Texels, Texture, TextureId};
 use std::path::Path;
 
 /// Loads a scene, choosing the loader by the file's extension (`.gltf`, `.glb`, `.obj`,
-/// Mitsuba's `.xml`).
+/// Mitsuba's `.xml`, pbrt's `.pbrt`).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     load_with(path, &LoadOptions::default())
 }
@@ -92,9 +95,14 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
             "a Mitsuba scene has no animations or material variants to choose from",
         )),
         Some("xml") => mitsuba::load(path),
+        Some("pbrt") if options != &LoadOptions::default() => Err(SceneError::format(
+            path,
+            "a pbrt scene has no animations or material variants to choose from",
+        )),
+        Some("pbrt") => pbrt::load(path),
         _ => Err(SceneError::format(
             path,
-            "unknown scene format (expected .gltf, .glb, .obj or a Mitsuba .xml)",
+            "unknown scene format (expected .gltf, .glb, .obj, a Mitsuba .xml or a .pbrt)",
         )),
     }
 }

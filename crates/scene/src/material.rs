@@ -437,6 +437,30 @@ pub fn coated_surface(ior: f32, roughness: f32) -> Surface {
     }
 }
 
+/// The members of a principled material (Mitsuba 3's `principled`, pbrt-v3's `disney`) read
+/// as glTF's metallic-roughness one: metal with probability `metallic`, else glass with
+/// probability `transmission`, else plastic, all of `roughness` and index `ior`; those of
+/// probability 0 left out (the Lambertian-lobed plastic, where present, last).
+pub fn principled_members(
+    metallic: f32,
+    transmission: f32,
+    roughness: f32,
+    ior: f32,
+) -> Vec<(f32, Surface)> {
+    let members = [
+        (metallic, metal_surface(roughness)),
+        (
+            (1.0 - metallic) * transmission,
+            glass_surface(ior, false, roughness),
+        ),
+        (
+            (1.0 - metallic) * (1.0 - transmission),
+            coated_surface(ior, roughness),
+        ),
+    ];
+    members.into_iter().filter(|(p, _)| *p > 0.0).collect()
+}
+
 /// A member of a material whose glTF roughness (and, for the metal, metalness) comes from a
 /// texture, per hit: linear data, roughness in green and metalness in blue, each multiplied
 /// by its factor (glTF's `metallicRoughnessTexture`).

@@ -236,19 +236,7 @@ impl<'a> Reader<'a> {
         let transmission = self.float(node, "spec_trans", 0.0)?.clamp(0.0, 1.0);
         let roughness = self.float(node, "roughness", 0.5)?.clamp(0.0, 1.0);
         let ior = self.float(node, "eta", 1.5)?;
-        // The Lambertian-lobed member (plastic, or Lambertian where rough) goes last.
-        let members = [
-            (metallic, metal_surface(roughness)),
-            (
-                (1.0 - metallic) * transmission,
-                glass_surface(ior, false, roughness),
-            ),
-            (
-                (1.0 - metallic) * (1.0 - transmission),
-                coated_surface(ior, roughness),
-            ),
-        ];
-        let present: Vec<(f32, Surface)> = members.into_iter().filter(|(p, _)| *p > 0.0).collect();
+        let present = crate::material::principled_members(metallic, transmission, roughness, ior);
         let material = Material {
             name: name.to_string(),
             surface: present[0].1,

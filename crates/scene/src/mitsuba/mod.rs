@@ -47,7 +47,6 @@
 //! warning). Errors are one line naming the element's line in the file.
 
 mod bsdfs;
-mod ply;
 mod properties;
 mod serialized;
 mod shapes;

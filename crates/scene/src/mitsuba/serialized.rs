@@ -9,8 +9,8 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
-use super::shapes::{Mesh, indexed_mesh};
 use crate::files::read_regular_file;
+use crate::shapes::{IndexedMesh, Mesh};
 use crate::{SceneError, Vertex};
 
 const MAGIC: u16 = 0x041C;
@@ -112,7 +112,12 @@ fn parse(bytes: &[u8], index: usize) -> Result<Mesh, String> {
     if triangles.is_empty() {
         return Err("a mesh without triangles".into());
     }
-    Ok(indexed_mesh(vertices, &triangles, flags & HAS_NORMALS != 0))
+    let mesh = IndexedMesh {
+        vertices,
+        triangles,
+        with_normals: flags & HAS_NORMALS != 0,
+    };
+    Ok(mesh.smooth())
 }
 
 /// The version (3 or 4) of the mesh header at the start of `bytes`.

@@ -1,4 +1,5 @@
-//! Stanford PLY meshes, as Mitsuba scenes name them: ASCII or binary (either byte order);
+//! Stanford PLY meshes, as Mitsuba and pbrt scenes name them: ASCII or binary (either byte
+//! order), gzip-compressed where the name ends in `.gz` (as pbrt-v4 reads them);
 //! a `vertex` element's `x y z`, `nx ny nz` and texture coordinates (`u v`, `s t` or
 //! `texture_u texture_v`), a `face` element's index list (`vertex_indices` or `vertex_index`,
 //! polygons fan-triangulated). Other elements and properties are read past. Every count is
@@ -8,8 +9,8 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::shapes::{Mesh, indexed_mesh};
 use crate::files::read_regular_file;
+use crate::shapes::IndexedMesh;
 use crate::{SceneError, Vertex};
 
 /// The largest PLY file read.
@@ -109,17 +110,38 @@ impl Body<'_> {
     }
 }
 
-/// Reads a PLY file's triangles.
-pub(super) fn read(path: &Path) -> Result<Mesh, SceneError> {
+/// Reads a PLY file's indexed triangles (gunzipped first where its name ends in `.gz`).
+pub(crate) fn read(path: &Path) -> Result<IndexedMesh, SceneError> {
     let (bytes, length) =
         read_regular_file(path, MAX_PLY_BYTES).map_err(|e| SceneError::io(path, e))?;
     if length > MAX_PLY_BYTES {
         return Err(SceneError::format(path, "larger than kousen reads (4 GiB)"));
     }
+    let gzipped = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    let bytes = match gzipped {
+        true => gunzip(&bytes).map_err(|message| SceneError::format(path, message))?,
+        false => bytes,
+    };
     parse(&bytes).map_err(|message| SceneError::format(path, message))
 }
 
-fn parse(bytes: &[u8]) -> Result<Mesh, String> {
+/// The bytes of a gzip stream, at most [`MAX_PLY_BYTES`] of them.
+fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let mut out = Vec::new();
+    let mut decoder = flate2::read::GzDecoder::new(bytes).take(MAX_PLY_BYTES + 1);
+    decoder
+        .read_to_end(&mut out)
+        .map_err(|e| format!("not a gzip file: {e}"))?;
+    if out.len() as u64 > MAX_PLY_BYTES {
+        return Err("unpacks to more than kousen reads (4 GiB)".into());
+    }
+    Ok(out)
+}
+
+fn parse(bytes: &[u8]) -> Result<IndexedMesh, String> {
     let end = find(bytes, b"end_header").ok_or("not a PLY file (no end_header)")?;
     let header = std::str::from_utf8(&bytes[..end]).map_err(|_| "the header is not text")?;
     let mut body_start = end + b"end_header".len();
@@ -193,7 +215,11 @@ fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     if triangles.is_empty() {
         return Err("no faces".into());
     }
-    Ok(indexed_mesh(vertices, &triangles, with_normals))
+    Ok(IndexedMesh {
+        vertices,
+        triangles,
+        with_normals,
+    })
 }
 
 /// Sets the vertex attribute `name` names; whether it was a normal's.
@@ -296,12 +322,28 @@ mod tests {
 
     #[test]
     fn an_ascii_quad_is_two_triangles() {
-        let mesh = parse(ASCII_QUAD.as_bytes()).expect("a quad");
+        let mesh = parse(ASCII_QUAD.as_bytes()).expect("a quad").smooth();
         assert_eq!(mesh.len(), 2);
         assert_eq!(mesh[1][2].position, Vec3::new(0.0, 1.0, 0.0));
         assert_eq!(mesh[1][1].uv, Vec2::new(1.0, 1.0));
         // No normals given: smooth ones, as Mitsuba makes them.
         assert_eq!(mesh[0][0].normal, Vec3::Z);
+    }
+
+    #[test]
+    fn gzipped_files_read_as_plain_ones_and_pbrt_keeps_them_flat() {
+        use std::io::Write;
+        let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        encoder.write_all(ASCII_QUAD.as_bytes()).unwrap();
+        let packed = encoder.finish().unwrap();
+        let mesh = parse(&gunzip(&packed).expect("gzip"))
+            .expect("a quad")
+            .flat();
+        assert_eq!(mesh.len(), 2);
+        // No normals given: none (flat, as pbrt shades it).
+        assert_eq!(mesh[0][0].normal, Vec3::ZERO);
+        let error = gunzip(ASCII_QUAD.as_bytes()).unwrap_err();
+        assert!(error.contains("not a gzip file"), "{error}");
     }
 
     /// The same quad in both binary byte orders, with normals and an extra element.
@@ -335,7 +377,7 @@ mod tests {
                 });
             }
             bytes.extend([0, 7]);
-            let mesh = parse(&bytes).expect(format);
+            let mesh = parse(&bytes).expect(format).smooth();
             assert_eq!(mesh.len(), 2, "{format}");
             assert_eq!(mesh[0][1].position, Vec3::X, "{format}");
             assert_eq!(mesh[0][1].normal, Vec3::Z, "{format}");

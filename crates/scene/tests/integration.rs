@@ -27,3 +27,4 @@ mod obj_geometry;
 mod obj_materials;
 mod obj_shared_scenes;
 mod obj_shipped_scenes;
+mod pbrt;

@@ -34,7 +34,7 @@ const RADIUS_REFRESH: Duration = Duration::from_secs(2);
 const MAX_PHOTON_CUTS: u32 = 2;
 const PHOTON_CUT_MAX_PASSES: u32 = 32;
 /// Scene files a drop may open.
-const SCENE_EXTENSIONS: [&str; 4] = ["gltf", "glb", "obj", "xml"];
+const SCENE_EXTENSIONS: [&str; 5] = ["gltf", "glb", "obj", "xml", "pbrt"];
 /// Files dropped on the window that light the scene as its sky (`--sky-map`).
 const SKY_MAP_EXTENSIONS: [&str; 4] = ["hdr", "exr", "pfm", "png"];
 

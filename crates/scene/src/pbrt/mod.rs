@@ -244,7 +244,8 @@ impl Reader {
                     }
                 )));
             };
-            self.directive(directive, token.line, &mut tokens, path, depth)?;
+            self.directive(directive, token.line, &mut tokens, path, depth)
+                .map_err(|e| locate(e, path, token.line, directive))?;
         }
         Ok(())
     }
@@ -512,7 +513,12 @@ impl Reader {
                     return Err(at("files included too deep (an Include cycle?)"));
                 }
                 let included = self.resolve(&name);
+                // An Import's changes to the graphics state stay in it.
+                let state = (directive == "Import").then(|| self.state.clone());
                 self.read_file(&included, depth + 1)?;
+                if let Some(state) = state {
+                    self.state = state;
+                }
             }
             other => return Err(fail(format!("line {line}: unknown directive \"{other}\""))),
         }
@@ -648,6 +654,20 @@ impl Reader {
         self.builder.add_camera(camera);
         self.warn_unused(&file, "the camera", params);
         Ok(())
+    }
+}
+
+/// `error` placed at `line` of `file`, naming `directive`, where it is this file's and names
+/// no line of its own.
+fn locate(error: SceneError, file: &Path, line: u32, directive: &str) -> SceneError {
+    match error {
+        SceneError::Format { path, message } if path == file && !message.starts_with("line ") => {
+            SceneError::Format {
+                path,
+                message: format!("line {line}: {directive}: {message}"),
+            }
+        }
+        other => other,
     }
 }
 

@@ -118,7 +118,7 @@ pub(super) fn blackbody_v3(kelvin: f64) -> Vec3 {
 /// A spectrum given as wavelength–value pairs (ascending), piecewise linear between them and
 /// zero outside, as pbrt reads them. `None` where the pairs are not ascending.
 pub(super) fn piecewise(pairs: &[f64]) -> Option<impl Fn(f64) -> f64 + '_> {
-    if pairs.len() < 4 || pairs.len() % 2 != 0 {
+    if pairs.len() < 4 || !pairs.len().is_multiple_of(2) {
         return None;
     }
     let ascending = pairs.chunks_exact(2).zip(pairs.chunks_exact(2).skip(1));

@@ -284,7 +284,7 @@ fn number(word: &str, line: u32) -> Result<f64, String> {
 fn describe(token: Option<&Token>) -> String {
     match token.map(|t| &t.kind) {
         None => "the end of the file".into(),
-        Some(Kind::Word(w)) => format!("{w}"),
+        Some(Kind::Word(w)) => w.to_string(),
         Some(Kind::Quoted(s)) => format!("\"{s}\""),
         Some(Kind::Open) => "[".into(),
         Some(Kind::Close) => "]".into(),

@@ -5,6 +5,19 @@
 use std::io::Read;
 use std::path::Path;
 
+/// The bytes of a gzip stream (PLY meshes, pbrt scenes), at most `limit` of them.
+pub(crate) fn gunzip(bytes: &[u8], limit: u64) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    let mut decoder = flate2::read::GzDecoder::new(bytes).take(limit + 1);
+    decoder
+        .read_to_end(&mut out)
+        .map_err(|e| format!("not a gzip file: {e}"))?;
+    if out.len() as u64 > limit {
+        return Err(format!("unpacks to more than kousen reads ({limit} bytes)"));
+    }
+    Ok(out)
+}
+
 /// Reads at most `limit` bytes of `path`, which must be a regular file. Returns the bytes and
 /// the file's whole length, so a caller can refuse an oversized file or report a short one.
 /// Nothing is allocated beyond what the file holds.

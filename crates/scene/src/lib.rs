@@ -83,6 +83,14 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    // pbrt reads its scenes gzipped too.
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase());
+    let extension = match name {
+        Some(name) if name.ends_with(".pbrt.gz") => Some("pbrt".to_string()),
+        _ => extension,
+    };
     match extension.as_deref() {
         Some("gltf") | Some("glb") => gltf::load_with(path, options),
         Some("obj") if options != &LoadOptions::default() => Err(SceneError::format(

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::files::read_regular_file;
+use crate::files::{gunzip, read_regular_file};
 use crate::shapes::IndexedMesh;
 use crate::{SceneError, Vertex};
 
@@ -121,24 +121,12 @@ pub(crate) fn read(path: &Path) -> Result<IndexedMesh, SceneError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     let bytes = match gzipped {
-        true => gunzip(&bytes).map_err(|message| SceneError::format(path, message))?,
+        true => {
+            gunzip(&bytes, MAX_PLY_BYTES).map_err(|message| SceneError::format(path, message))?
+        }
         false => bytes,
     };
     parse(&bytes).map_err(|message| SceneError::format(path, message))
-}
-
-/// The bytes of a gzip stream, at most [`MAX_PLY_BYTES`] of them.
-fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
-    use std::io::Read;
-    let mut out = Vec::new();
-    let mut decoder = flate2::read::GzDecoder::new(bytes).take(MAX_PLY_BYTES + 1);
-    decoder
-        .read_to_end(&mut out)
-        .map_err(|e| format!("not a gzip file: {e}"))?;
-    if out.len() as u64 > MAX_PLY_BYTES {
-        return Err("unpacks to more than kousen reads (4 GiB)".into());
-    }
-    Ok(out)
 }
 
 fn parse(bytes: &[u8]) -> Result<IndexedMesh, String> {
@@ -336,13 +324,13 @@ mod tests {
         let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
         encoder.write_all(ASCII_QUAD.as_bytes()).unwrap();
         let packed = encoder.finish().unwrap();
-        let mesh = parse(&gunzip(&packed).expect("gzip"))
+        let mesh = parse(&gunzip(&packed, MAX_PLY_BYTES).expect("gzip"))
             .expect("a quad")
             .flat();
         assert_eq!(mesh.len(), 2);
         // No normals given: none (flat, as pbrt shades it).
         assert_eq!(mesh[0][0].normal, Vec3::ZERO);
-        let error = gunzip(ASCII_QUAD.as_bytes()).unwrap_err();
+        let error = gunzip(ASCII_QUAD.as_bytes(), MAX_PLY_BYTES).unwrap_err();
         assert!(error.contains("not a gzip file"), "{error}");
     }
 

@@ -626,10 +626,14 @@ fn bad_files_are_refused_in_one_line_naming_the_line() {
             "no material is named \"x\"",
         ),
         ("WorldBegin Include \"missing.pbrt\"", "missing.pbrt"),
-        ("WorldBegin Include \"scene.pbrt\"", "too deep"),
         ("WorldBegin AttributeEnd", "without a matching begin"),
         ("WorldBegin ObjectInstance \"x\"", "no object \"x\""),
         ("Rotate 90 0 0 0", "the axis has no length"),
+        ("Shape \"sphere\"", "Shape: before WorldBegin"),
+        (
+            "WorldBegin Camera \"perspective\"",
+            "Camera: after WorldBegin",
+        ),
         ("LookAt 0 0 0 0 0 0 0 1 0", "leave no view"),
         (
             "WorldBegin Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0]",
@@ -653,6 +657,16 @@ fn bad_files_are_refused_in_one_line_naming_the_line() {
             "{message}"
         );
     }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("loop.pbrt"), "Include \"loop.pbrt\"").unwrap();
+    let message = load_in(dir.path(), "WorldBegin Include \"loop.pbrt\"")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        message.contains("loop.pbrt: line 1: Include: files included too deep"),
+        "{message}"
+    );
 }
 
 /// Mangled copies of the shipped box (bytes cut, doubled, replaced) load or are refused;

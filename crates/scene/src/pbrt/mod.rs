@@ -53,6 +53,21 @@ use tokens::{Kind, Params, Tokens};
 const MAX_FILE_BYTES: u64 = 4 << 30;
 /// How deep `Include`s may nest: enough for any scene, and a bound on a cycle.
 const MAX_INCLUDE_DEPTH: u32 = 16;
+/// Directives of the world block, and of the options before it.
+const WORLD_ONLY: [&str; 11] = [
+    "Shape",
+    "LightSource",
+    "AreaLightSource",
+    "Material",
+    "MakeNamedMaterial",
+    "NamedMaterial",
+    "Texture",
+    "ObjectBegin",
+    "ObjectEnd",
+    "ObjectInstance",
+    "Import",
+];
+const OPTIONS_ONLY: [&str; 3] = ["Camera", "Film", "WorldBegin"];
 /// pbrt-v4's film size where the file gives none.
 const DEFAULT_FILM: (f32, f32) = (1280.0, 720.0);
 
@@ -124,7 +139,8 @@ struct CameraCall {
 }
 
 pub(super) struct Reader {
-    /// The main file's folder: pbrt resolves relative names against it.
+    /// The main file, and its folder: pbrt resolves relative names against it.
+    main: PathBuf,
     folder: PathBuf,
     builder: SceneBuilder,
     state: State,
@@ -165,6 +181,7 @@ impl Reader {
             area_light: None,
         };
         Reader {
+            main: path.to_path_buf(),
             folder: path.parent().unwrap_or(Path::new("")).to_path_buf(),
             builder: SceneBuilder::new(path),
             state: initial,
@@ -195,11 +212,13 @@ impl Reader {
         self.folder.join(name.replace('\\', "/"))
     }
 
-    /// Records a warning, once per distinct message.
+    /// Records a warning, once per distinct message (naming `file` where it is an included
+    /// one).
     fn warn(&mut self, file: &Path, message: impl std::fmt::Display) {
-        let name = file
-            .file_name()
-            .map_or(String::new(), |n| format!("{}: ", n.to_string_lossy()));
+        let name = match file == self.main {
+            true => String::new(),
+            false => format!("{}: ", file.display()),
+        };
         let message = format!("{name}{message}");
         if self.warned.insert(message.clone()) {
             self.warnings.push(message);
@@ -228,6 +247,14 @@ impl Reader {
         if length > MAX_FILE_BYTES {
             return Err(SceneError::format(path, "larger than kousen reads (4 GiB)"));
         }
+        let gzipped = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+        let bytes = match gzipped {
+            true => crate::files::gunzip(&bytes, MAX_FILE_BYTES)
+                .map_err(|message| SceneError::format(path, message))?,
+            false => bytes,
+        };
         let text = String::from_utf8(bytes).map_err(|_| {
             SceneError::format(path, "not a UTF-8 text file (a pbrt scene is text)")
         })?;
@@ -260,6 +287,12 @@ impl Reader {
     ) -> Result<(), SceneError> {
         let fail = |message: String| SceneError::format(file, message);
         let at = |message: &str| fail(format!("line {line}: {directive}: {message}"));
+        if WORLD_ONLY.contains(&directive) && !self.world_begun {
+            return Err(at("before WorldBegin"));
+        }
+        if OPTIONS_ONLY.contains(&directive) && self.world_begun {
+            return Err(at("after WorldBegin"));
+        }
         match directive {
             "Identity" => self.transform(|_| Mat4::IDENTITY),
             "Translate" => {
@@ -420,6 +453,7 @@ impl Reader {
                     params,
                     file: file.to_path_buf(),
                 };
+                self.texture_colours.remove(&name);
                 self.textures.insert(name, definition);
             }
             "Material" => {
@@ -552,9 +586,6 @@ impl Reader {
     }
 
     fn finish(mut self) -> Result<Scene, SceneError> {
-        if !self.world_begun {
-            self.world_begin();
-        }
         if let Some(call) = self.camera.take() {
             self.make_camera(call)?;
         }

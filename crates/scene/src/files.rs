@@ -5,8 +5,27 @@
 use std::io::Read;
 use std::path::Path;
 
+use crate::SceneError;
+
+/// The bytes of file `path`, at most `limit` of them (a longer file is refused), gunzipped
+/// first where its name ends in `.gz`.
+pub(crate) fn read_maybe_gzipped(path: &Path, limit: u64) -> Result<Vec<u8>, SceneError> {
+    let (bytes, length) = read_regular_file(path, limit).map_err(|e| SceneError::io(path, e))?;
+    if length > limit {
+        let message = format!("{length} bytes: larger than kousen reads ({limit})");
+        return Err(SceneError::format(path, message));
+    }
+    match path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
+    {
+        true => gunzip(&bytes, limit).map_err(|message| SceneError::format(path, message)),
+        false => Ok(bytes),
+    }
+}
+
 /// The bytes of a gzip stream (PLY meshes, pbrt scenes), at most `limit` of them.
-pub(crate) fn gunzip(bytes: &[u8], limit: u64) -> Result<Vec<u8>, String> {
+fn gunzip(bytes: &[u8], limit: u64) -> Result<Vec<u8>, String> {
     let mut out = Vec::new();
     let mut decoder = flate2::read::GzDecoder::new(bytes).take(limit + 1);
     decoder

@@ -437,6 +437,29 @@ pub fn coated_surface(ior: f32, roughness: f32) -> Surface {
     }
 }
 
+/// Reflectance at normal incidence (linear sRGB) of the metals the Mitsuba and pbrt loaders
+/// know by name, lower case: Hoffman's table ("Physics and Math of Shading", SIGGRAPH 2015
+/// course) for silver, aluminium, gold, chromium, copper, brass (CuZn) and nickel; MgO and
+/// TiO₂ (pbrt's names) from their indices, 1.74 and 2.6, without absorption. kousen's metals
+/// reflect their colour at every angle.
+const METAL_F0: [(&str, [f32; 3]); 9] = [
+    ("ag", [0.972, 0.960, 0.915]),
+    ("al", [0.913, 0.922, 0.924]),
+    ("au", [1.000, 0.782, 0.344]),
+    ("cr", [0.549, 0.556, 0.554]),
+    ("cu", [0.955, 0.638, 0.538]),
+    ("cuzn", [0.910, 0.778, 0.423]),
+    ("mgo", [0.073, 0.073, 0.073]),
+    ("ni_palik", [0.660, 0.609, 0.526]),
+    ("tio2", [0.198, 0.198, 0.198]),
+];
+
+/// The reflectance at normal incidence of the metal `name`s (any case), if kousen knows it.
+pub fn metal_f0(name: &str) -> Option<Vec3> {
+    let found = METAL_F0.iter().find(|(n, _)| n.eq_ignore_ascii_case(name));
+    found.map(|(_, f0)| Vec3::from_array(*f0))
+}
+
 /// The members of a principled material (Mitsuba 3's `principled`, pbrt-v3's `disney`) read
 /// as glTF's metallic-roughness one: metal with probability `metallic`, else glass with
 /// probability `transmission`, else plastic, all of `roughness` and index `ior`; those of

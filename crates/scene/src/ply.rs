@@ -9,7 +9,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::files::{gunzip, read_regular_file};
+use crate::files::read_maybe_gzipped;
 use crate::shapes::IndexedMesh;
 use crate::{SceneError, Vertex};
 
@@ -112,20 +112,7 @@ impl Body<'_> {
 
 /// Reads a PLY file's indexed triangles (gunzipped first where its name ends in `.gz`).
 pub(crate) fn read(path: &Path) -> Result<IndexedMesh, SceneError> {
-    let (bytes, length) =
-        read_regular_file(path, MAX_PLY_BYTES).map_err(|e| SceneError::io(path, e))?;
-    if length > MAX_PLY_BYTES {
-        return Err(SceneError::format(path, "larger than kousen reads (4 GiB)"));
-    }
-    let gzipped = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
-    let bytes = match gzipped {
-        true => {
-            gunzip(&bytes, MAX_PLY_BYTES).map_err(|message| SceneError::format(path, message))?
-        }
-        false => bytes,
-    };
+    let bytes = read_maybe_gzipped(path, MAX_PLY_BYTES)?;
     parse(&bytes).map_err(|message| SceneError::format(path, message))
 }
 
@@ -323,14 +310,15 @@ mod tests {
         use std::io::Write;
         let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
         encoder.write_all(ASCII_QUAD.as_bytes()).unwrap();
-        let packed = encoder.finish().unwrap();
-        let mesh = parse(&gunzip(&packed, MAX_PLY_BYTES).expect("gzip"))
-            .expect("a quad")
-            .flat();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("quad.ply.gz");
+        std::fs::write(&path, encoder.finish().unwrap()).unwrap();
+        let mesh = read(&path).expect("a quad").flat();
         assert_eq!(mesh.len(), 2);
         // No normals given: none (flat, as pbrt shades it).
         assert_eq!(mesh[0][0].normal, Vec3::ZERO);
-        let error = gunzip(ASCII_QUAD.as_bytes(), MAX_PLY_BYTES).unwrap_err();
+        std::fs::write(&path, ASCII_QUAD).unwrap();
+        let error = read(&path).err().map(|e| e.to_string()).unwrap_or_default();
         assert!(error.contains("not a gzip file"), "{error}");
     }
 

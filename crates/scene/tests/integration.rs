@@ -2,6 +2,7 @@
 //! test binary: each binary links the whole dependency graph, and linking forty of them was
 //! a large share of a clean build (CI).
 
+mod files_support;
 mod gltf_support;
 #[path = "../examples/make_scenes/gltf_writer.rs"]
 #[allow(dead_code)] // each test module uses a different part

@@ -2,16 +2,12 @@
 //! spellings, shapes from OBJ and PLY files, emitters and sensors, and bad files refused in
 //! one line naming where.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::Vec3;
 use scene::{PunctualKind, Scene, Surface};
 
-fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name)
-}
+use crate::files_support::{mangled, refusal, shipped};
 
 /// Writes `body` inside `<scene>` to `scene.xml` in `dir` and loads it.
 fn load_in(dir: &Path, body: &str) -> Result<Scene, scene::SceneError> {
@@ -33,12 +29,7 @@ const LAMP: &str = r#"<shape type="rectangle"><emitter type="area">
     <rgb name="radiance" value="1, 2, 3"/></emitter></shape>"#;
 
 fn error(body: &str) -> String {
-    let message = load(body)
-        .err()
-        .unwrap_or_else(|| panic!("loaded: {body}"))
-        .to_string();
-    assert!(!message.contains('\n'), "{message}");
-    message
+    refusal(load(body), body)
 }
 
 #[test]
@@ -471,25 +462,7 @@ fn mangled_files_never_panic() {
     let original = std::fs::read(shipped("mitsuba/cornell-box.xml")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("mangled.xml");
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
-    let replacements = b"<>\"/=$ -.e9x0";
-    for round in 0..200 {
-        let mut bytes = original.clone();
-        if round % 4 == 0 {
-            bytes.truncate((next() as usize) % bytes.len());
-        }
-        for _ in 0..1 + next() % 4 {
-            let at = (next() as usize) % bytes.len().max(1);
-            if let Some(byte) = bytes.get_mut(at) {
-                *byte = replacements[(next() as usize) % replacements.len()];
-            }
-        }
+    for bytes in mangled(&original, 200, b"<>\"/=$ -.e9x0") {
         std::fs::write(&path, &bytes).unwrap();
         let _ = scene::load(&path);
     }

@@ -48,18 +48,6 @@ const NAMED_IORS: [(&str, f32); 23] = [
     ("diamond", 2.419),
 ];
 
-/// Reflectance at normal incidence (linear sRGB) of the metals of Mitsuba's `conductor`
-/// `material` names that kousen knows, from the table of Hoffman, "Physics and Math of
-/// Shading" (SIGGRAPH 2015 course). kousen's metals reflect their colour at every angle.
-const METAL_F0: [(&str, [f32; 3]); 6] = [
-    ("ag", [0.972, 0.960, 0.915]),
-    ("al", [0.913, 0.922, 0.924]),
-    ("au", [1.000, 0.782, 0.344]),
-    ("cr", [0.549, 0.556, 0.554]),
-    ("cu", [0.955, 0.638, 0.538]),
-    ("ni_palik", [0.660, 0.609, 0.526]),
-];
-
 /// A BSDF mapped onto kousen: its material and, where it mixes surfaces (Mitsuba 3's
 /// principled with partial `metallic` or `spec_trans`), the members of the blend it makes
 /// with their probabilities (`SceneBuilder::add_blend`; empty for one surface).
@@ -389,7 +377,7 @@ impl<'a> Reader<'a> {
 
     /// A conductor's reflectance at normal incidence: from its `eta` and `k` where given
     /// (((η − 1)² + k²) / ((η + 1)² + k²) per channel, η relative to `ext_eta`), else its named
-    /// `material` ([`METAL_F0`]; "none", Mitsuba's default, is a perfect mirror).
+    /// `material` ([`crate::material::metal_f0`]; "none", Mitsuba's default, is a perfect mirror).
     fn metal_reflectance(&mut self, node: Node<'a, 'a>) -> Result<Vec3, SceneError> {
         if property(node, "eta").is_some() {
             let eta = self.colour(node, "eta", Vec3::ONE)? / self.float(node, "ext_eta", 1.0)?;
@@ -404,11 +392,8 @@ impl<'a> Reader<'a> {
         if named == "none" {
             return Ok(Vec3::ONE);
         }
-        let found = METAL_F0
-            .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(&named));
-        Ok(match found {
-            Some((_, f0)) => Vec3::from_array(*f0),
+        Ok(match crate::material::metal_f0(&named) {
+            Some(f0) => f0,
             None => {
                 self.warn(
                     p,

@@ -506,41 +506,34 @@ impl Reader {
         let copper = spectra::named_metal("metal-Cu-eta").unwrap_or(Vec3::ONE);
         let f0 = match (&eta, &k) {
             (None, None) => copper,
-            (Some(e), Some(k)) => match (&e.values, &k.values) {
-                (Values::Strings(e), _) | (_, Values::Strings(e)) if e.len() == 1 => {
-                    match spectra::named_metal(&e[0]) {
+            (Some(eta), Some(k)) => match (&eta.values, &k.values) {
+                (Values::Strings(name), _) | (_, Values::Strings(name)) if name.len() == 1 => {
+                    match spectra::named_metal(&name[0]) {
                         Some(f0) => f0,
                         None => {
-                            self.warn(
-                                file,
-                                format!("metal \"{}\" is not in kousen's table: copper", e[0]),
-                            );
+                            let message =
+                                format!("metal \"{}\" is not in kousen's table: copper", name[0]);
+                            self.warn(file, message);
                             copper
                         }
                     }
                 }
-                (Values::Numbers(e), Values::Numbers(kv)) if e.len() == 3 && kv.len() == 3 => {
-                    let (e, kv) = (super::vec3(e), super::vec3(kv));
-                    (((e - 1.0) * (e - 1.0) + kv * kv) / ((e + 1.0) * (e + 1.0) + kv * kv))
+                (Values::Numbers(n), Values::Numbers(kn)) if n.len() == 3 && kn.len() == 3 => {
+                    let (n, kn) = (super::vec3(n), super::vec3(kn));
+                    (((n - 1.0) * (n - 1.0) + kn * kn) / ((n + 1.0) * (n + 1.0) + kn * kn))
                         .clamp(Vec3::ZERO, Vec3::ONE)
                 }
-                (Values::Numbers(e), Values::Numbers(kv)) if e.len() > 3 && kv.len() > 3 => {
-                    let (Some(eta), Some(kappa)) = (spectra::piecewise(e), spectra::piecewise(kv))
-                    else {
-                        return Err(fail(format!(
-                            "line {}: eta or k: wavelengths not ascending",
-                            k.line
-                        )));
-                    };
+                (Values::Numbers(n), Values::Numbers(kn)) if n.len() > 3 && kn.len() > 3 => {
+                    let (n, kn) = (self.sampled(eta, file)?, self.sampled(k, file)?);
                     spectra::albedo(|l| {
-                        let (n, kk) = (eta(l), kappa(l));
-                        ((n - 1.0) * (n - 1.0) + kk * kk) / ((n + 1.0) * (n + 1.0) + kk * kk)
+                        let (n, k) = (n.at(l), kn.at(l));
+                        ((n - 1.0) * (n - 1.0) + k * k) / ((n + 1.0) * (n + 1.0) + k * k)
                     })
                 }
                 _ => {
                     return Err(fail(format!(
                         "line {}: eta and k must be alike (names, rgb or spectra)",
-                        e.line
+                        eta.line
                     )));
                 }
             },
@@ -602,24 +595,13 @@ impl Reader {
             (Values::Strings(s), "spectrum") if s.len() == 1 => match spectra::named_glass(&s[0]) {
                 Some(glass) => glass,
                 None => {
-                    let pairs = self.spectrum_file(&s[0], param.line, file)?;
-                    let index = spectra::piecewise(&pairs).ok_or_else(|| {
-                        fail(format!(
-                            "line {}: index spectrum \"{}\": wavelengths not ascending",
-                            param.line, s[0]
-                        ))
-                    })?;
-                    spectra::index_and_abbe(index)
+                    let index = self.sampled(param, file)?;
+                    spectra::index_and_abbe(|l| index.at(l))
                 }
             },
-            (Values::Numbers(v), "spectrum") => {
-                let index = spectra::piecewise(v).ok_or_else(|| {
-                    fail(format!(
-                        "line {}: an index spectrum of ascending wavelength–value pairs",
-                        param.line
-                    ))
-                })?;
-                spectra::index_and_abbe(index)
+            (Values::Numbers(_), "spectrum") => {
+                let index = self.sampled(param, file)?;
+                spectra::index_and_abbe(|l| index.at(l))
             }
             _ => {
                 return Err(fail(format!(
@@ -679,22 +661,9 @@ impl Reader {
             }
             ("rgb" | "color", Values::Numbers(v)) if v.len() == 3 => super::vec3(v),
             ("float", Values::Numbers(v)) if v.len() == 1 => Vec3::splat(v[0] as f32),
-            ("spectrum", Values::Numbers(v)) => {
-                let s = spectra::piecewise(v).ok_or_else(|| {
-                    fail(format!(
-                        "line {line}: a spectrum of ascending wavelength–value pairs"
-                    ))
-                })?;
-                spectra::albedo(s)
-            }
-            ("spectrum", Values::Strings(s)) if s.len() == 1 => {
-                let pairs = self.spectrum_file(&s[0], line, file)?;
-                let s = spectra::piecewise(&pairs).ok_or_else(|| {
-                    fail(format!(
-                        "line {line}: a spectrum of ascending wavelength–value pairs"
-                    ))
-                })?;
-                spectra::albedo(s)
+            ("spectrum", _) => {
+                let s = self.sampled(&param, file)?;
+                spectra::albedo(|l| s.at(l))
             }
             (ty, _) => {
                 return Err(fail(format!(
@@ -734,13 +703,9 @@ impl Reader {
             ("blackbody", Values::Numbers(v)) if v.len() == 2 && v[0] > 0.0 => {
                 spectra::blackbody_v3(v[0]) * v[1] as f32
             }
-            ("spectrum", Values::Numbers(v)) => {
-                let s = spectra::piecewise(v).ok_or_else(|| {
-                    fail(format!(
-                        "line {line}: a spectrum of ascending wavelength–value pairs"
-                    ))
-                })?;
-                spectra::unit_luminance(s)
+            ("spectrum", Values::Numbers(_)) => {
+                let s = self.sampled(&param, file)?;
+                spectra::unit_luminance(|l| s.at(l))
             }
             ("spectrum", Values::Strings(s)) if s.len() == 1 => match s[0].as_str() {
                 "stdillum-D65" | "stdillum-E" => Vec3::ONE,
@@ -752,14 +717,9 @@ impl Reader {
                     );
                     Vec3::ONE
                 }
-                other => {
-                    let pairs = self.spectrum_file(other, line, file)?;
-                    let s = spectra::piecewise(&pairs).ok_or_else(|| {
-                        fail(format!(
-                            "line {line}: a spectrum of ascending wavelength–value pairs"
-                        ))
-                    })?;
-                    spectra::unit_luminance(s)
+                _ => {
+                    let s = self.sampled(&param, file)?;
+                    spectra::unit_luminance(|l| s.at(l))
                 }
             },
             (ty, _) => {
@@ -774,6 +734,23 @@ impl Reader {
             )));
         }
         Ok(value)
+    }
+
+    /// The spectrum of a `spectrum` parameter: wavelength–value pairs given inline, or in the
+    /// file it names.
+    fn sampled(&mut self, param: &Param, file: &Path) -> Result<spectra::Piecewise, SceneError> {
+        let pairs = match &param.values {
+            Values::Numbers(v) => v.clone(),
+            Values::Strings(s) if s.len() == 1 => self.spectrum_file(&s[0], param.line, file)?,
+            _ => Vec::new(),
+        };
+        spectra::Piecewise::new(pairs).ok_or_else(|| {
+            let message = format!(
+                "line {}: \"{}\" is not a spectrum of ascending wavelength–value pairs",
+                param.line, param.name
+            );
+            SceneError::format(file, message)
+        })
     }
 
     /// The wavelength–value pairs of a spectrum file (`.spd`: numbers, `#` comments).

@@ -45,7 +45,6 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Mat4, Vec3};
 
-use crate::files::read_regular_file;
 use crate::{Camera, Lens, Scene, SceneBuilder, SceneError, TextureId};
 use tokens::{Kind, Params, Tokens};
 
@@ -242,19 +241,7 @@ impl Reader {
     }
 
     fn read_file(&mut self, path: &Path, depth: u32) -> Result<(), SceneError> {
-        let (bytes, length) =
-            read_regular_file(path, MAX_FILE_BYTES).map_err(|e| SceneError::io(path, e))?;
-        if length > MAX_FILE_BYTES {
-            return Err(SceneError::format(path, "larger than kousen reads (4 GiB)"));
-        }
-        let gzipped = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
-        let bytes = match gzipped {
-            true => crate::files::gunzip(&bytes, MAX_FILE_BYTES)
-                .map_err(|message| SceneError::format(path, message))?,
-            false => bytes,
-        };
+        let bytes = crate::files::read_maybe_gzipped(path, MAX_FILE_BYTES)?;
         let text = String::from_utf8(bytes).map_err(|_| {
             SceneError::format(path, "not a UTF-8 text file (a pbrt scene is text)")
         })?;

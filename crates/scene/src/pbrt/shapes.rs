@@ -44,21 +44,11 @@ impl Reader {
                     );
                 }
                 let mesh = inline_mesh(params, 3).map_err(fail)?;
-                let facing = if mesh.with_normals {
-                    Facing::Normals
-                } else {
-                    Facing::Winding
-                };
-                (mesh.flat(), facing)
+                faced(mesh)
             }
             "bilinearmesh" => {
                 let mesh = inline_mesh(params, 4).map_err(fail)?;
-                let facing = if mesh.with_normals {
-                    Facing::Normals
-                } else {
-                    Facing::Winding
-                };
-                (mesh.flat(), facing)
+                faced(mesh)
             }
             "plymesh" => {
                 let name = (params.string("filename").map_err(fail)?)
@@ -68,12 +58,7 @@ impl Reader {
                 }
                 params.get("edgelength");
                 let mesh = crate::ply::read(&self.resolve(&name))?;
-                let facing = if mesh.with_normals {
-                    Facing::Normals
-                } else {
-                    Facing::Winding
-                };
-                (mesh.flat(), facing)
+                faced(mesh)
             }
             "sphere" => {
                 let radius = positive(params, "radius", 1.0).map_err(fail)?;
@@ -225,6 +210,16 @@ impl Placement {
         }
         vertices
     }
+}
+
+/// A mesh's triangles as pbrt shades them (flat where it has no normals), and how pbrt
+/// finds their fronts.
+fn faced(mesh: IndexedMesh) -> (Mesh, Facing) {
+    let facing = match mesh.with_normals {
+        true => Facing::Normals,
+        false => Facing::Winding,
+    };
+    (mesh.flat(), facing)
 }
 
 /// A positive float parameter.

@@ -4,20 +4,6 @@
 
 use glam::Vec3;
 
-/// Reflectance at normal incidence (linear sRGB) of the metals pbrt-v4 names
-/// (`metal-X-eta`, `metal-X-k`), lower case: the table of Hoffman, "Physics and Math of
-/// Shading" (SIGGRAPH 2015 course) for Ag, Al, Au, Cu and brass (CuZn); MgO and TiO₂ from
-/// their indices (1.74 and 2.6, no absorption).
-pub(super) const METAL_F0: [(&str, [f32; 3]); 7] = [
-    ("ag", [0.972, 0.960, 0.915]),
-    ("al", [0.913, 0.922, 0.924]),
-    ("au", [1.000, 0.782, 0.344]),
-    ("cu", [0.955, 0.638, 0.538]),
-    ("cuzn", [0.910, 0.778, 0.423]),
-    ("mgo", [0.073, 0.073, 0.073]),
-    ("tio2", [0.198, 0.198, 0.198]),
-];
-
 /// The glasses pbrt-v4 names (`glass-X`): index at the helium d line (587.6 nm) and Abbe
 /// number, from Schott's catalogue (N-BK7, N-BAF10, N-FK51A, N-LASF9, SF5, SF10, SF11).
 pub(super) const GLASSES: [(&str, f32, f32); 7] = [
@@ -116,25 +102,38 @@ pub(super) fn blackbody_v3(kelvin: f64) -> Vec3 {
 }
 
 /// A spectrum given as wavelength–value pairs (ascending), piecewise linear between them and
-/// zero outside, as pbrt reads them. `None` where the pairs are not ascending.
-pub(super) fn piecewise(pairs: &[f64]) -> Option<impl Fn(f64) -> f64 + '_> {
-    if pairs.len() < 4 || !pairs.len().is_multiple_of(2) {
-        return None;
+/// zero outside, as pbrt reads them.
+pub(super) struct Piecewise(Vec<f64>);
+
+impl Piecewise {
+    /// `None` unless `pairs` are two pairs at least, of ascending wavelengths.
+    pub fn new(pairs: Vec<f64>) -> Option<Piecewise> {
+        if pairs.len() < 4 || !pairs.len().is_multiple_of(2) {
+            return None;
+        }
+        let mut wavelengths = pairs.iter().step_by(2);
+        let mut last = *wavelengths.next()?;
+        for &lambda in wavelengths {
+            if lambda <= last {
+                return None;
+            }
+            last = lambda;
+        }
+        Some(Piecewise(pairs))
     }
-    let ascending = pairs.chunks_exact(2).zip(pairs.chunks_exact(2).skip(1));
-    if !ascending.into_iter().all(|(a, b)| a[0] < b[0]) {
-        return None;
-    }
-    Some(move |lambda: f64| {
+
+    /// The value at `lambda` nm.
+    pub fn at(&self, lambda: f64) -> f64 {
+        let pairs = &self.0;
         let n = pairs.len() / 2;
-        let at = |i: usize| (pairs[2 * i], pairs[2 * i + 1]);
-        if lambda < at(0).0 || lambda > at(n - 1).0 {
+        let point = |i: usize| (pairs[2 * i], pairs[2 * i + 1]);
+        if lambda < point(0).0 || lambda > point(n - 1).0 {
             return 0.0;
         }
-        let i = (1..n).find(|&i| at(i).0 >= lambda).unwrap_or(n - 1);
-        let ((l0, v0), (l1, v1)) = (at(i - 1), at(i));
+        let i = (1..n).find(|&i| point(i).0 >= lambda).unwrap_or(n - 1);
+        let ((l0, v0), (l1, v1)) = (point(i - 1), point(i));
         v0 + (v1 - v0) * (lambda - l0) / (l1 - l0)
-    })
+    }
 }
 
 /// A named metal's reflectance at normal incidence, from `metal-X-eta` or `metal-X-k`.
@@ -144,8 +143,7 @@ pub(super) fn named_metal(name: &str) -> Option<Vec3> {
     let metal = metal
         .strip_suffix("-eta")
         .or_else(|| metal.strip_suffix("-k"))?;
-    let (_, f0) = METAL_F0.iter().find(|(n, _)| *n == metal)?;
-    Some(Vec3::from_array(*f0))
+    crate::material::metal_f0(metal)
 }
 
 /// A named glass's index and Abbe number, from `glass-X`.
@@ -220,14 +218,13 @@ mod tests {
 
     #[test]
     fn piecewise_spectra_interpolate_and_stop_at_their_ends() {
-        let pairs = [400.0, 0.0, 500.0, 1.0, 600.0, 0.5];
-        let s = piecewise(&pairs).unwrap();
-        assert_eq!(s(450.0), 0.5);
-        assert_eq!(s(550.0), 0.75);
-        assert_eq!(s(399.0), 0.0);
-        assert_eq!(s(601.0), 0.0);
-        assert!(piecewise(&[500.0, 1.0, 400.0, 1.0]).is_none());
-        assert!(piecewise(&[500.0, 1.0, 400.0]).is_none());
+        let s = Piecewise::new(vec![400.0, 0.0, 500.0, 1.0, 600.0, 0.5]).unwrap();
+        assert_eq!(s.at(450.0), 0.5);
+        assert_eq!(s.at(550.0), 0.75);
+        assert_eq!(s.at(399.0), 0.0);
+        assert_eq!(s.at(601.0), 0.0);
+        assert!(Piecewise::new(vec![500.0, 1.0, 400.0, 1.0]).is_none());
+        assert!(Piecewise::new(vec![500.0, 1.0, 400.0]).is_none());
     }
 
     #[test]

@@ -364,21 +364,32 @@ impl Params {
         whole.collect::<Result<_, _>>().map(Some)
     }
 
+    /// Groups of `N` numbers of a parameter of one of `types`.
+    fn groups<const N: usize>(
+        &self,
+        name: &str,
+        types: &[&str],
+    ) -> Result<Option<Vec<[f32; N]>>, String> {
+        let Some(values) = self.numbers(name, types)? else {
+            return Ok(None);
+        };
+        if !values.len().is_multiple_of(N) {
+            let wanted = format!("a multiple of {N} numbers");
+            return Err(self.count_error(name, values.len(), &wanted));
+        }
+        let groups = values.chunks_exact(N);
+        Ok(Some(
+            groups
+                .map(|c| std::array::from_fn(|i| c[i] as f32))
+                .collect(),
+        ))
+    }
+
     /// Triples of a point, vector or normal parameter.
     pub fn triples(&self, name: &str) -> Result<Option<Vec<glam::Vec3>>, String> {
         const TRIPLES: [&str; 6] = ["point3", "point", "vector3", "vector", "normal", "normal3"];
-        let Some(values) = self.numbers(name, &TRIPLES)? else {
-            return Ok(None);
-        };
-        if values.len() % 3 != 0 {
-            return Err(self.count_error(name, values.len(), "a multiple of 3 numbers"));
-        }
-        let triples = values.chunks_exact(3);
-        Ok(Some(
-            triples
-                .map(|c| glam::Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
-                .collect(),
-        ))
+        let triples = self.groups::<3>(name, &TRIPLES)?;
+        Ok(triples.map(|t| t.into_iter().map(glam::Vec3::from_array).collect()))
     }
 
     /// One point, `default` where absent.
@@ -392,18 +403,8 @@ impl Params {
 
     /// Pairs of a `point2` (or pbrt-v3's `float`) parameter.
     pub fn pairs(&self, name: &str) -> Result<Option<Vec<glam::Vec2>>, String> {
-        let Some(values) = self.numbers(name, &["point2", "float", "vector2"])? else {
-            return Ok(None);
-        };
-        if values.len() % 2 != 0 {
-            return Err(self.count_error(name, values.len(), "a multiple of 2 numbers"));
-        }
-        let pairs = values.chunks_exact(2);
-        Ok(Some(
-            pairs
-                .map(|c| glam::Vec2::new(c[0] as f32, c[1] as f32))
-                .collect(),
-        ))
+        let pairs = self.groups::<2>(name, &["point2", "float", "vector2"])?;
+        Ok(pairs.map(|p| p.into_iter().map(glam::Vec2::from_array).collect()))
     }
 
     /// One `string`, if given.

@@ -29,8 +29,8 @@ pub enum Command {
     /// Mouse: left drag orbits, middle or shift + left drag pans, the wheel zooms, right drag
     /// looks around; W A S D move, Q E down and up. Keys: Space pause, R restart, S save
     /// (EXR and PNG), F1 hide the overlay, 1-4 show or hide the direct, indirect, caustic
-    /// and volume parts of the radiance, 0 show all. Drop a .gltf, .glb or .obj file on the
-    /// window to open it.
+    /// and volume parts of the radiance, 0 show all. Drop a scene (.gltf, .glb, .obj, .xml,
+    /// .pbrt) or a sky map (.hdr, .exr, .pfm, .png) on the window to open it.
     #[command(verbatim_doc_comment)]
     View(ViewArgs),
     /// Measure speed, variants side by side in one run.
@@ -282,7 +282,7 @@ impl DensityMethod {
 
 #[derive(Args)]
 pub struct DensityArgs {
-    /// .gltf, .glb or .obj files, each with at least one light
+    /// Scene files (.gltf, .glb, .obj, Mitsuba .xml, .pbrt), each with at least one light
     /// (an emissive surface or a glTF punctual light) and a camera.
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
@@ -371,7 +371,7 @@ pub enum BenchDevice {
 
 #[derive(Args)]
 pub struct TraversalArgs {
-    /// .gltf, .glb or .obj files.
+    /// Scene files (.gltf, .glb, .obj, Mitsuba .xml, .pbrt).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Camera placement (the same for every scene given).
@@ -428,7 +428,7 @@ impl SceneStorageChoice {
 
 #[derive(Args)]
 pub struct PhotonsArgs {
-    /// .gltf, .glb or .obj files, each with at least one light
+    /// Scene files (.gltf, .glb, .obj, Mitsuba .xml, .pbrt), each with at least one light
     /// (an emissive surface or a glTF punctual light).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
@@ -460,7 +460,7 @@ pub struct PhotonsArgs {
 
 #[derive(Args)]
 pub struct RngArgs {
-    /// .gltf, .glb or .obj files, each with at least one light
+    /// Scene files (.gltf, .glb, .obj, Mitsuba .xml, .pbrt), each with at least one light
     /// (an emissive surface or a glTF punctual light).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
@@ -518,7 +518,7 @@ pub enum Integrator {
 
 #[derive(Args, Clone)]
 pub struct RenderArgs {
-    /// A .gltf, .glb or .obj file.
+    /// A scene file: .gltf, .glb, .obj, Mitsuba .xml or .pbrt.
     pub scene: PathBuf,
     /// Output image: .exr or .pfm (linear radiance), .png (exposure + sRGB tonemap).
     #[arg(short, long, value_name = "OUT")]
@@ -713,7 +713,7 @@ impl GatherArgs {
 
 #[derive(Args)]
 pub struct ViewArgs {
-    /// A .gltf, .glb or .obj file.
+    /// A scene file: .gltf, .glb, .obj, Mitsuba .xml or .pbrt.
     pub scene: PathBuf,
     /// Window width in pixels.
     #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(16..=16384))]
@@ -935,7 +935,7 @@ fn parse_vec3(text: &str) -> Result<[f32; 3], String> {
 
 #[derive(Args)]
 pub struct InfoArgs {
-    /// A .gltf, .glb or .obj file.
+    /// A scene file: .gltf, .glb, .obj, Mitsuba .xml or .pbrt.
     pub scene: PathBuf,
     /// Print JSON (a contract for scripts) instead of a table.
     #[arg(long)]

@@ -522,7 +522,7 @@ impl App {
             }
             None => {
                 self.notify(format!(
-                    "{}: neither a scene (.gltf, .glb, .obj, Mitsuba .xml) nor a sky map (.hdr, .exr, .pfm, .png)",
+                    "{}: neither a scene (.gltf, .glb, .obj, Mitsuba .xml, .pbrt) nor a sky map (.hdr, .exr, .pfm, .png)",
                     path.display()
                 ));
                 return;

@@ -13,7 +13,7 @@ pub(crate) type Mesh = Vec<[Vertex; 3]>;
 /// Facets of a tessellated sphere: around its axis, and from pole to pole.
 const SPHERE_SEGMENTS: usize = 128;
 const SPHERE_RINGS: usize = 64;
-/// Facets of a tessellated disk.
+/// Facets of a tessellated disk, cylinder or surface of revolution around its axis.
 const DISK_SEGMENTS: usize = 128;
 
 /// How a shape's triangles are placed: its transform (normals by the inverse transpose, a
@@ -157,6 +157,39 @@ pub(crate) fn sphere(centre: Vec3, radius: f32) -> Mesh {
     mesh
 }
 
+/// A surface of revolution about +z through a profile from `(r, z, normal)` to the next
+/// (`normal` given at turn 0, in the xz-plane), `DISK_SEGMENTS` facets round, counter-clockwise
+/// seen from the side its normals face. Texture coordinates: turn, and along the profile.
+pub(crate) fn revolve(profile: [(f32, f32, Vec3); 2]) -> Mesh {
+    let point = |i: usize, j: usize| {
+        let turn = i as f32 / DISK_SEGMENTS as f32;
+        let (sin, cos) = (turn * TAU).sin_cos();
+        let (r, z, n) = profile[j];
+        let position = Vec3::new(r * cos, r * sin, z);
+        let normal = Vec3::new(n.x * cos, n.x * sin, n.z);
+        vertex(position, normal, Vec2::new(turn, j as f32))
+    };
+    let mut mesh = Mesh::new();
+    for i in 0..DISK_SEGMENTS {
+        let corners = [point(i, 0), point(i + 1, 0), point(i + 1, 1), point(i, 1)];
+        for mut t in [
+            [corners[0], corners[1], corners[2]],
+            [corners[0], corners[2], corners[3]],
+        ] {
+            let [a, b, c] = t.map(|v| v.position);
+            let facing = (b - a).cross(c - a);
+            if facing.length_squared() == 0.0 {
+                continue;
+            }
+            if facing.dot(t[0].normal + t[1].normal + t[2].normal) < 0.0 {
+                t.swap(1, 2);
+            }
+            mesh.push(t);
+        }
+    }
+    mesh
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -208,6 +241,22 @@ mod tests {
                 assert!(placed.iter().all(|v| n.dot(v.normal) > 0.0));
                 assert_eq!(placed[0].normal.z < 0.0, flip, "flipped: {flip}");
             }
+        }
+    }
+
+    #[test]
+    fn revolved_shapes_face_their_normals_and_close() {
+        let disk = revolve([(2.0, 0.5, Vec3::Z), (0.0, 0.5, Vec3::Z)]);
+        let tube = revolve([(1.0, -1.0, Vec3::X), (1.0, 1.0, Vec3::X)]);
+        for (mesh, area) in [(disk, std::f32::consts::PI * 4.0), (tube, TAU * 2.0)] {
+            let mut sum = 0.0;
+            for t in &mesh {
+                let [a, b, c] = t.map(|v| v.position);
+                let n = (b - a).cross(c - a);
+                sum += n.length() / 2.0;
+                assert!(t.iter().all(|v| n.dot(v.normal) > 0.0));
+            }
+            assert!((sum / area - 1.0).abs() < 1e-3, "area {sum} against {area}");
         }
     }
 }

@@ -284,7 +284,7 @@ fn bad_files_are_one_line_errors_naming_where() {
 #[test]
 fn unsupported_parts_are_warned_about_and_skipped() {
     let scene = load(&format!(
-        r#"<shape type="cylinder"/>
+        r#"<shape type="curve"/>
         <shape type="cube"><bsdf type="hair"/></shape>
         <medium type="homogeneous" id="fog"/>
         {LAMP}"#
@@ -292,6 +292,28 @@ fn unsupported_parts_are_warned_about_and_skipped() {
     .expect("loads");
     assert_eq!(scene.warnings.len(), 3, "{:?}", scene.warnings);
     assert_eq!(scene.triangles.len(), 12 + 2);
+}
+
+/// A `cylinder` is an open tube from `p0` to `p1`, facing out.
+#[test]
+fn cylinders_run_from_p0_to_p1() {
+    let scene = load(&format!(
+        r#"<shape type="cylinder"><point name="p0" x="1" y="0" z="0"/>
+        <point name="p1" x="1" y="3" z="0"/><float name="radius" value="0.5"/></shape>{LAMP}"#
+    ))
+    .expect("loads");
+    let tube = &scene.triangles[..scene.triangles.len() - 2];
+    let area: f32 = tube
+        .iter()
+        .map(|t| t.geometric_normal_unnormalized().length() / 2.0)
+        .sum();
+    let exact = std::f32::consts::TAU * 0.5 * 3.0;
+    assert!((area / exact - 1.0).abs() < 1e-3, "{area} against {exact}");
+    for v in tube.iter().flat_map(|t| t.vertices) {
+        let radial = v.position - Vec3::new(1.0, v.position.y, 0.0);
+        assert!((radial.length() - 0.5).abs() < 1e-5 && (0.0..=3.0).contains(&v.position.y));
+        assert!(v.normal.dot(radial) > 0.0, "faces out");
+    }
 }
 
 /// A `mask` with a bitmap opacity cuts its BSDF out where the opacity is below ½: the

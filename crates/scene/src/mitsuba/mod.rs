@@ -10,8 +10,8 @@
 //!   `serialized` (Mitsuba's own compressed meshes, by `shape_index`; smooth normals where a
 //!   PLY or serialized mesh has none, as Mitsuba makes them), and `instance`s of a
 //!   `shapegroup` (each a copy of its shapes, placed by the instance's `to_world`),
-//!   `rectangle`, `cube`, `disk` and `sphere` (`center`, `radius`; 128 × 64 facets with smooth
-//!   normals), each with `to_world`, `flip_normals` and `face_normals`, its BSDF (inline or
+//!   `rectangle`, `cube`, `disk`, `sphere` (`center`, `radius`; 128 × 64 facets with smooth
+//!   normals) and `cylinder` (`p0`, `p1`, `radius`: an open tube, 128 facets round), each with `to_world`, `flip_normals` and `face_normals`, its BSDF (inline or
 //!   by reference; Mitsuba's default, diffuse 0.5, where none) and an `area` emitter's
 //!   `radiance` (emitted from the front face, as Mitsuba's).
 //! - **BSDFs** onto kousen's materials (a base colour `bitmap`'s `to_uv` applied to the
@@ -40,7 +40,7 @@
 //!   `to_world`, `fov` along `fov_axis` (x, y, diagonal, smaller, larger) or `focal_length`
 //!   (35 mm film), and the `hdrfilm`'s `width` and `height` as the aspect ratio.
 //! - Ignored: `integrator`, `sampler`, `rfilter` and the film's other settings (kousen renders
-//!   by its own settings). Skipped with a warning: other shapes (`cylinder`, curves),
+//!   by its own settings). Skipped with a warning: other shapes (curves),
 //!   emitters, sensors, `medium` and `include`.
 //!
 //! Spectra are read in RGB (a `<spectrum>` of wavelength:value pairs as its mean, with a

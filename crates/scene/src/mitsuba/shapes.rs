@@ -52,6 +52,7 @@ impl<'a> Reader<'a> {
                 }
                 sphere(centre, radius)
             }
+            "cylinder" => self.cylinder(node)?,
             other => {
                 self.warn(node, format!("shape \"{other}\" is not read"));
                 return Ok(());
@@ -75,6 +76,28 @@ impl<'a> Reader<'a> {
             self.builder.add_triangle(triangle)?;
         }
         Ok(())
+    }
+
+    /// Mitsuba's `cylinder`: an open tube of `radius` from `p0` to `p1` (Mitsuba's defaults:
+    /// radius 1 along +z from 0 to 1), facing out.
+    fn cylinder(&mut self, node: Node<'a, 'a>) -> Result<Mesh, SceneError> {
+        let p0 = self.vector(node, "p0")?.unwrap_or(Vec3::ZERO);
+        let p1 = self.vector(node, "p1")?.unwrap_or(Vec3::Z);
+        let radius = self.float(node, "radius", 1.0)?;
+        let axis = p1 - p0;
+        if !(radius > 0.0 && axis.length() > 0.0) {
+            let message = format!("radius {radius} or the axis from p0 to p1 has no length");
+            return Err(self.context.error(node, message));
+        }
+        let turn = glam::Quat::from_rotation_arc(Vec3::Z, axis.normalize());
+        let tube =
+            crate::shapes::revolve([(radius, 0.0, Vec3::X), (radius, axis.length(), Vec3::X)]);
+        let place = |v: crate::Vertex| crate::Vertex {
+            position: p0 + turn * v.position,
+            normal: turn * v.normal,
+            ..v
+        };
+        Ok(tube.into_iter().map(|t| t.map(place)).collect())
     }
 
     /// An `instance`: each shape of the `shapegroup` it refers to, placed by its `to_world`.

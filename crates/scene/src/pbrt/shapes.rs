@@ -2,18 +2,14 @@
 //! the sphere, disk and cylinder tessellated; each placed by its transform, facing the side
 //! pbrt treats as its front, with its material and area light.
 
-use std::f32::consts::TAU;
 use std::path::Path;
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use super::tokens::Params;
 use super::{Reader, ShapeCall};
-use crate::shapes::{IndexedMesh, Mesh, vertex};
+use crate::shapes::{IndexedMesh, Mesh, revolve, vertex};
 use crate::{SceneError, Triangle, Vertex};
-
-/// Facets of a tessellated disk or cylinder around its axis.
-const SEGMENTS: usize = 128;
 
 /// How pbrt decides a shape's front: the side an area light emits from, a glass's outside.
 #[derive(Clone, Copy, PartialEq)]
@@ -300,39 +296,6 @@ fn inline_mesh(params: &Params, corners: usize) -> Result<IndexedMesh, String> {
     })
 }
 
-/// A surface of revolution about +z through a profile from `(r, z, normal)` to the next
-/// (`normal` given at turn 0, in the xz-plane), `SEGMENTS` facets round, counter-clockwise
-/// seen from the side its normals face. Texture coordinates: turn, and along the profile.
-fn revolve(profile: [(f32, f32, Vec3); 2]) -> Mesh {
-    let point = |i: usize, j: usize| {
-        let turn = i as f32 / SEGMENTS as f32;
-        let (sin, cos) = (turn * TAU).sin_cos();
-        let (r, z, n) = profile[j];
-        let position = Vec3::new(r * cos, r * sin, z);
-        let normal = Vec3::new(n.x * cos, n.x * sin, n.z);
-        vertex(position, normal, Vec2::new(turn, j as f32))
-    };
-    let mut mesh = Mesh::new();
-    for i in 0..SEGMENTS {
-        let corners = [point(i, 0), point(i + 1, 0), point(i + 1, 1), point(i, 1)];
-        for mut t in [
-            [corners[0], corners[1], corners[2]],
-            [corners[0], corners[2], corners[3]],
-        ] {
-            let [a, b, c] = t.map(|v| v.position);
-            let facing = (b - a).cross(c - a);
-            if facing.length_squared() == 0.0 {
-                continue;
-            }
-            if facing.dot(t[0].normal + t[1].normal + t[2].normal) < 0.0 {
-                t.swap(1, 2);
-            }
-            mesh.push(t);
-        }
-    }
-    mesh
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -367,22 +330,6 @@ mod tests {
         ] {
             let error = inline_mesh(&params(text), 3).err().unwrap_or_default();
             assert!(error.contains(why), "{why}: {error}");
-        }
-    }
-
-    #[test]
-    fn revolved_shapes_face_their_normals_and_close() {
-        let disk = revolve([(2.0, 0.5, Vec3::Z), (0.0, 0.5, Vec3::Z)]);
-        let tube = revolve([(1.0, -1.0, Vec3::X), (1.0, 1.0, Vec3::X)]);
-        for (mesh, area) in [(disk, std::f32::consts::PI * 4.0), (tube, TAU * 2.0)] {
-            let mut sum = 0.0;
-            for t in &mesh {
-                let [a, b, c] = t.map(|v| v.position);
-                let n = (b - a).cross(c - a);
-                sum += n.length() / 2.0;
-                assert!(t.iter().all(|v| n.dot(v.normal) > 0.0));
-            }
-            assert!((sum / area - 1.0).abs() < 1e-3, "area {sum} against {area}");
         }
     }
 

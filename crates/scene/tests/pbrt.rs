@@ -597,6 +597,101 @@ fn what_is_not_read_is_warned_about() {
     }
 }
 
+/// What real scenes (pbrt-v4-scenes) do: name a material before the file defines it, give a
+/// conductor's η and k as spectrum files, texture a diffuse transmission, hide an area light's
+/// sphere with an alpha of 0, use one texture name for a float and a spectrum texture.
+#[test]
+fn what_real_scenes_do_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // Silver-like η and k at three wavelengths (flat: F0 = ((η−1)² + k²)/((η+1)² + k²)).
+    std::fs::write(
+        dir.path().join("eta.spd"),
+        "# eta\n400 0.15\n550 0.15\n700 0.15\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("k.spd"), "400 3.5 550 3.5 700 3.5").unwrap();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([200, 100, 50]))
+        .save(dir.path().join("leaf.png"))
+        .unwrap();
+    let scene = load_in(
+        dir.path(),
+        &world(&format!(
+            "NamedMaterial \"later\" Shape \"sphere\"
+            MakeNamedMaterial \"later\" \"string type\" \"conductor\" \"spectrum eta\" \"eta.spd\" \"spectrum k\" \"k.spd\"
+            Texture \"leaf\" \"spectrum\" \"imagemap\" \"string filename\" \"leaf.png\"
+            Texture \"leaf\" \"float\" \"constant\" \"float value\" 0.04
+            Material \"diffusetransmission\" \"texture reflectance\" \"leaf\" \"texture transmittance\" \"leaf\"
+            Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]
+            Material \"conductor\" \"rgb reflectance\" [1 1 1] \"texture roughness\" \"leaf\" \"bool remaproughness\" false
+            Shape \"sphere\"
+            AttributeBegin AreaLightSource \"diffuse\" Shape \"sphere\" \"float alpha\" 0 AttributeEnd
+            {LAMP}"
+        )),
+    )
+    .expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let material = |i: usize| &scene.materials[scene.triangles[i].material as usize];
+    // The sphere made once its material was read (after the rest of the file).
+    let metal = scene
+        .materials
+        .iter()
+        .find(|m| m.name == "later")
+        .expect("made");
+    let f0 = (0.85f32 * 0.85 + 12.25) / (1.15 * 1.15 + 12.25);
+    assert!(
+        metal.base_color.abs_diff_eq(Vec3::splat(f0), 1e-3),
+        "{}",
+        metal.base_color
+    );
+    let leaf = material(0);
+    assert!(leaf.base_color_texture.is_some() && leaf.diffuse_transmission.is_some());
+    // Reflectance and transmittance of one image: half each of an albedo of the image (their
+    // sum, 2 × the image, is more than a surface can return: clamped to 1 × it).
+    assert_eq!(leaf.base_color, Vec3::ONE);
+    assert_eq!(leaf.diffuse_transmission.unwrap().factor, 0.5);
+    // The float "leaf" (0.04) is the roughness; the spectrum "leaf" the colour.
+    let rough = scene
+        .materials
+        .iter()
+        .find(|m| matches!(m.surface, Surface::RoughConductor { .. }));
+    let Surface::RoughConductor { alpha } = rough.expect("rough metal").surface else {
+        unreachable!()
+    };
+    assert!((alpha - 0.04).abs() < 1e-6, "{alpha}");
+    // The hidden sphere emits nothing: the lamp's triangle is the only light.
+    assert_eq!(scene.lights.triangles.len(), 1);
+
+    let message = refusal(
+        load(&world("NamedMaterial \"never\"\nShape \"sphere\"")),
+        "never",
+    );
+    assert!(
+        message.contains("line 5: Shape: no material is named \"never\""),
+        "{message}"
+    );
+}
+
+/// What changes pbrt's image but not the scene is warned about: the film's ISO (with the
+/// exposure that matches it), media.
+#[test]
+fn film_and_media_settings_are_warned_about() {
+    let scene = load(&format!(
+        "Film \"rgb\" \"float iso\" 400 \"float maxcomponentvalue\" 10 \"string filename\" \"x.exr\"
+        Camera \"perspective\"
+        WorldBegin MediumInterface \"\" \"fog\" {LAMP}"
+    ))
+    .expect("loads");
+    let all = scene.warnings.join("\n");
+    for expected in [
+        "4× the radiance",
+        "--exposure 2.00",
+        "\"float maxcomponentvalue\"",
+        "media are not read",
+    ] {
+        assert!(all.contains(expected), "{expected}: {all}");
+    }
+}
+
 #[test]
 fn bad_files_are_refused_in_one_line_naming_the_line() {
     for (text, why) in [

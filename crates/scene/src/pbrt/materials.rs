@@ -18,7 +18,7 @@ use crate::{
 
 /// How many materials (`mix`) or textures (`scale`, `mix`) may refer one to another: enough
 /// for any scene, and a bound on a cycle.
-const MAX_NESTING: u32 = 16;
+pub(super) const MAX_NESTING: u32 = 16;
 /// pbrt's GGX widths below this are perfectly smooth.
 const SMOOTH_ALPHA: f32 = 1e-3;
 
@@ -62,6 +62,14 @@ impl Colour {
             value,
             texture: None,
             uv_map: None,
+        }
+    }
+
+    /// This colour times `factor`.
+    fn scaled(self, factor: Vec3) -> Colour {
+        Colour {
+            value: self.value * factor,
+            ..self
         }
     }
 }
@@ -185,8 +193,7 @@ impl Reader {
     /// The image of float texture `name` (an `imagemap`, decoded as data) for a cut-out.
     fn float_image(&mut self, name: &str, file: &Path) -> Result<TextureId, SceneError> {
         let fail = |message: String| SceneError::format(file, message);
-        let definition = (self.textures.get(name).cloned())
-            .ok_or_else(|| fail(format!("no texture is named \"{name}\"")))?;
+        let (_, definition) = self.texture_definition(name, true, file)?;
         let image = (definition.class == "imagemap")
             .then(|| definition.params.string("filename"))
             .transpose()
@@ -318,8 +325,11 @@ impl Reader {
                 let roughness = self.roughness(p, "conductor.", 0.0, file)?;
                 let coat = self.roughness(p, "interface.", 0.0, file)?;
                 self.index(p, &["interface.eta"], 1.5, file)?;
-                for ignored in ["thickness", "g", "albedo", "maxdepth", "nsamples"] {
+                for ignored in ["thickness", "g", "maxdepth", "nsamples"] {
                     p.get(ignored);
+                }
+                if p.get("albedo").is_some() {
+                    self.warn(file, "a coat's albedo is not read: a clear coat");
                 }
                 Material {
                     clearcoat: Clearcoat::new(1.0, coat),
@@ -346,25 +356,31 @@ impl Reader {
             "diffusetransmission" | "translucent" => {
                 let (r, t) = match class {
                     "translucent" => {
-                        let kd = self.colour(p, &["Kd"], Vec3::splat(0.25), file)?.value;
+                        let kd = self.colour(p, &["Kd"], Vec3::splat(0.25), file)?;
                         p.get("Ks");
                         p.get("roughness");
                         let reflect = self.colour(p, &["reflect"], Vec3::splat(0.5), file)?.value;
                         let transmit = self.colour(p, &["transmit"], Vec3::splat(0.5), file)?.value;
-                        (kd * reflect, kd * transmit)
+                        (kd.scaled(reflect), kd.scaled(transmit))
                     }
                     _ => {
-                        let scale = p.float("scale", 1.0).map_err(fail)?;
-                        let r = self
-                            .colour(p, &["reflectance"], Vec3::splat(0.25), file)?
-                            .value;
-                        let t = self
-                            .colour(p, &["transmittance"], Vec3::splat(0.25), file)?
-                            .value;
-                        (r * scale, t * scale)
+                        let scale = Vec3::splat(p.float("scale", 1.0).map_err(fail)?);
+                        let r = self.colour(p, &["reflectance"], Vec3::splat(0.25), file)?;
+                        let t = self.colour(p, &["transmittance"], Vec3::splat(0.25), file)?;
+                        (r.scaled(scale), t.scaled(scale))
                     }
                 };
-                diffuse_transmission(name, r, t)
+                if r.texture.is_some() && t.texture.is_some() && r.texture != t.texture {
+                    self.warn(
+                        file,
+                        "a diffuse transmission's two images: the reflectance's is read",
+                    );
+                }
+                uv_map = uv_map.or(r.uv_map).or(t.uv_map);
+                Material {
+                    base_color_texture: r.texture.or(t.texture),
+                    ..diffuse_transmission(name, r.value, t.value)
+                }
             }
             "mix" => return self.mix(definition, name, depth),
             "interface" | "none" | "" => Material {
@@ -508,8 +524,17 @@ impl Reader {
             (None, None) => copper,
             (Some(eta), Some(k)) => match (&eta.values, &k.values) {
                 (Values::Strings(name), _) | (_, Values::Strings(name)) if name.len() == 1 => {
+                    let files = [eta, k].map(|p| match &p.values {
+                        Values::Strings(s) => spectra::named_metal(&s[0]).is_none(),
+                        _ => false,
+                    });
                     match spectra::named_metal(&name[0]) {
                         Some(f0) => f0,
+                        // Both given as spectrum files (`.spd`): Fresnel at each wavelength.
+                        None if files == [true, true] => {
+                            let (n, kn) = (self.sampled(eta, file)?, self.sampled(k, file)?);
+                            spectra::albedo(|l| conductor_f0(n.at(l), kn.at(l)))
+                        }
                         None => {
                             let message =
                                 format!("metal \"{}\" is not in kousen's table: copper", name[0]);
@@ -520,15 +545,12 @@ impl Reader {
                 }
                 (Values::Numbers(n), Values::Numbers(kn)) if n.len() == 3 && kn.len() == 3 => {
                     let (n, kn) = (super::vec3(n), super::vec3(kn));
-                    (((n - 1.0) * (n - 1.0) + kn * kn) / ((n + 1.0) * (n + 1.0) + kn * kn))
-                        .clamp(Vec3::ZERO, Vec3::ONE)
+                    let f0 = |i: usize| conductor_f0(n[i] as f64, kn[i] as f64) as f32;
+                    Vec3::new(f0(0), f0(1), f0(2)).clamp(Vec3::ZERO, Vec3::ONE)
                 }
                 (Values::Numbers(n), Values::Numbers(kn)) if n.len() > 3 && kn.len() > 3 => {
                     let (n, kn) = (self.sampled(eta, file)?, self.sampled(k, file)?);
-                    spectra::albedo(|l| {
-                        let (n, k) = (n.at(l), kn.at(l));
-                        ((n - 1.0) * (n - 1.0) + k * k) / ((n + 1.0) * (n + 1.0) + k * k)
-                    })
+                    spectra::albedo(|l| conductor_f0(n.at(l), kn.at(l)))
                 }
                 _ => {
                     return Err(fail(format!(
@@ -630,7 +652,7 @@ impl Reader {
         let fail = |message: String| SceneError::format(file, message);
         match p.get(name).map(|param| (param.ty.as_str(), &param.values)) {
             Some(("texture", Values::Strings(names))) if names.len() == 1 => {
-                let colour = self.texture(&names[0], file, MAX_NESTING)?;
+                let colour = self.texture(&names[0], true, file, MAX_NESTING)?;
                 if colour.texture.is_some() {
                     self.warn(file, format!("\"{name}\"'s texture is read as its mean"));
                 }
@@ -657,7 +679,7 @@ impl Reader {
         let line = param.line;
         let value = match (param.ty.as_str(), &param.values) {
             ("texture", Values::Strings(names)) if names.len() == 1 => {
-                return self.texture(&names[0], file, MAX_NESTING);
+                return self.texture(&names[0], false, file, MAX_NESTING);
             }
             ("rgb" | "color", Values::Numbers(v)) if v.len() == 3 => super::vec3(v),
             ("float", Values::Numbers(v)) if v.len() == 1 => Vec3::splat(v[0] as f32),
@@ -781,14 +803,35 @@ impl Reader {
         numbers.collect()
     }
 
-    /// Named texture `name` as a colour; `depth` more textures may nest inside it.
-    fn texture(&mut self, name: &str, file: &Path, depth: u32) -> Result<Colour, SceneError> {
+    /// The definition of texture `name`, a float one if `float` (else a spectrum one) or,
+    /// where there is none of that kind, the other; with its key.
+    fn texture_definition(
+        &self,
+        name: &str,
+        float: bool,
+        file: &Path,
+    ) -> Result<((bool, String), Definition), SceneError> {
+        [float, !float]
+            .into_iter()
+            .map(|kind| (kind, name.to_string()))
+            .find_map(|key| self.textures.get(&key).map(|d| (key, d.clone())))
+            .ok_or_else(|| SceneError::format(file, format!("no texture is named \"{name}\"")))
+    }
+
+    /// Named texture `name` (a float one if `float`, see [`Reader::texture_definition`]) as a
+    /// colour; `depth` more textures may nest inside it.
+    fn texture(
+        &mut self,
+        name: &str,
+        float: bool,
+        file: &Path,
+        depth: u32,
+    ) -> Result<Colour, SceneError> {
         let fail = |message: String| SceneError::format(file, message);
-        if let Some(colour) = self.texture_colours.get(name) {
+        let (key, definition) = self.texture_definition(name, float, file)?;
+        if let Some(colour) = self.texture_colours.get(&key) {
             return Ok(*colour);
         }
-        let definition = (self.textures.get(name).cloned())
-            .ok_or_else(|| fail(format!("no texture is named \"{name}\"")))?;
         let depth = depth.checked_sub(1).ok_or_else(|| {
             fail(format!(
                 "texture \"{name}\": textures nested too deep (a cycle?)"
@@ -797,7 +840,7 @@ impl Reader {
         let file = definition.file.as_path();
         let fail = |message: String| SceneError::format(file, message);
         let p = &definition.params;
-        let kind = p.string(" kind").map_err(fail)?.unwrap_or_default();
+        let float = key.0;
         let colour = match definition.class.as_str() {
             "imagemap" => {
                 let image = (p.string("filename").map_err(fail)?)
@@ -841,17 +884,17 @@ impl Reader {
                         p.float("vdelta", 0.0).map_err(fail)?,
                     ),
                 };
-                let texture = self.image(&image, srgb && kind != "float", file)?;
+                let texture = self.image(&image, srgb && !float, file)?;
                 Colour {
                     value: Vec3::splat(scale),
                     texture: Some(texture),
                     uv_map: (map.scale != Vec2::ONE || map.offset != Vec2::ZERO).then_some(map),
                 }
             }
-            "constant" => self.texture_value(p, "value", Vec3::ONE, file, depth)?,
+            "constant" => self.texture_value(p, "value", float, file, depth)?,
             "scale" => {
-                let a = self.texture_value(p, "tex", Vec3::ONE, file, depth)?;
-                let b = self.texture_value(p, "scale", Vec3::ONE, file, depth)?;
+                let a = self.texture_value(p, "tex", float, file, depth)?;
+                let b = self.texture_value(p, "scale", true, file, depth)?;
                 if a.texture.is_some() && b.texture.is_some() {
                     self.warn(
                         file,
@@ -865,10 +908,15 @@ impl Reader {
                 }
             }
             "checkerboard" | "mix" => {
-                let one = self.texture_value(p, "tex1", Vec3::ONE, file, depth)?;
-                let two = self.texture_value(p, "tex2", Vec3::ZERO, file, depth)?;
+                let one = self.texture_value(p, "tex1", float, file, depth)?;
+                let mut two = self.texture_value(p, "tex2", float, file, depth)?;
+                if p.get("tex2").is_none() {
+                    two = Colour::constant(Vec3::ZERO);
+                }
                 let amount = match definition.class.as_str() {
-                    "mix" => self.texture_value(p, "amount", Vec3::splat(0.5), file, depth)?,
+                    "mix" if p.get("amount").is_some() => {
+                        self.texture_value(p, "amount", true, file, depth)?
+                    }
                     _ => Colour::constant(Vec3::splat(0.5)),
                 };
                 for ignored in [
@@ -900,16 +948,17 @@ impl Reader {
             }
         };
         self.warn_unused(file, &format!("texture \"{name}\""), p);
-        self.texture_colours.insert(name.to_string(), colour);
+        self.texture_colours.insert(key, colour);
         Ok(colour)
     }
 
-    /// A texture's parameter that is a value or another texture.
+    /// A texture's parameter that is a value or another texture (a float one if `float`);
+    /// 1 where absent (pbrt's default for `tex`, `tex1`, `scale` and `value`).
     fn texture_value(
         &mut self,
         p: &Params,
         name: &str,
-        default: Vec3,
+        float: bool,
         file: &Path,
         depth: u32,
     ) -> Result<Colour, SceneError> {
@@ -918,9 +967,9 @@ impl Reader {
                 let Values::Strings(names) = &param.values else {
                     unreachable!("texture parameters are strings")
                 };
-                self.texture(&names[0], file, depth)
+                self.texture(&names[0], float, file, depth)
             }
-            _ => self.colour(p, &[name], default, file),
+            _ => self.colour(p, &[name], Vec3::ONE, file),
         }
     }
 
@@ -947,6 +996,11 @@ impl Reader {
         self.images.insert((path, srgb), id);
         Ok(id)
     }
+}
+
+/// A conductor's reflectance at normal incidence: ((η − 1)² + k²) / ((η + 1)² + k²).
+fn conductor_f0(eta: f64, k: f64) -> f64 {
+    ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k)
 }
 
 fn diffuse(colour: Vec3, name: &str) -> Material {

@@ -127,6 +127,7 @@ struct ShapeCall {
     params: Params,
     state: State,
     file: PathBuf,
+    line: u32,
 }
 
 /// The camera directive's transform, type and parameters.
@@ -149,16 +150,21 @@ pub(super) struct Reader {
     transforms_ignored: bool,
     anonymous: Vec<Definition>,
     named_materials: HashMap<String, Definition>,
-    textures: HashMap<String, Definition>,
+    /// Named textures by whether they are float ones (pbrt keeps float and spectrum textures
+    /// apart: one name may be both) and name.
+    textures: HashMap<(bool, String), Definition>,
     /// Builder ids of materials made so far, by material, emission and cut-out.
     made: HashMap<MadeKey, materials::Made>,
     /// Named textures read so far.
-    texture_colours: HashMap<String, materials::Colour>,
+    texture_colours: HashMap<(bool, String), materials::Colour>,
     /// Images decoded so far, by file and colour (sRGB) or data.
     images: HashMap<(PathBuf, bool), TextureId>,
     objects: HashMap<String, Vec<ShapeCall>>,
     /// The object being defined, and its shapes so far.
     recording: Option<(String, Vec<ShapeCall>)>,
+    /// Shapes (with their instance's transform) whose material is named before it is
+    /// defined, which pbrt allows: made once the whole file is read.
+    deferred: Vec<(ShapeCall, Mat4)>,
     camera: Option<CameraCall>,
     film: Option<(Params, PathBuf)>,
     /// kousen's world from pbrt's: the mirror x → −x, or the identity (see the module).
@@ -195,6 +201,7 @@ impl Reader {
             images: HashMap::new(),
             objects: HashMap::new(),
             recording: None,
+            deferred: Vec::new(),
             camera: None,
             film: None,
             mirror: Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)),
@@ -414,6 +421,10 @@ impl Reader {
                 self.warn(file, format!("line {line}: medium \"{name}\" is not read"));
             }
             "MediumInterface" => {
+                self.warn(
+                    file,
+                    "media are not read: surfaces between them are drawn alone",
+                );
                 tokens.string("a medium's name").map_err(fail)?;
                 if matches!(tokens.peek().map_err(fail)?, Some(t) if matches!(t.kind, Kind::Quoted(_)))
                 {
@@ -426,22 +437,15 @@ impl Reader {
                 let name = tokens.string("a texture's name").map_err(fail)?;
                 let kind = tokens.string("a texture's type").map_err(fail)?;
                 let class = tokens.string("a texture's class").map_err(fail)?;
-                let mut params = tokens.params().map_err(fail)?;
-                // The kind travels with the parameters: the reader asks for it by this name.
-                params.0.push(tokens::Param {
-                    ty: "string".into(),
-                    name: " kind".into(),
-                    values: tokens::Values::Strings(vec![kind]),
-                    line,
-                    used: std::cell::Cell::new(true),
-                });
+                let params = tokens.params().map_err(fail)?;
+                let key = (kind == "float", name);
                 let definition = Definition {
                     class,
                     params,
                     file: file.to_path_buf(),
                 };
-                self.texture_colours.remove(&name);
-                self.textures.insert(name, definition);
+                self.texture_colours.remove(&key);
+                self.textures.insert(key, definition);
             }
             "Material" => {
                 let class = tokens.string("a material's type").map_err(fail)?;
@@ -494,10 +498,11 @@ impl Reader {
                     params,
                     state: self.state.clone(),
                     file: file.to_path_buf(),
+                    line,
                 };
                 match &mut self.recording {
                     Some((_, shapes)) => shapes.push(call),
-                    None => self.shape(&call, Mat4::IDENTITY)?,
+                    None => self.shape_or_defer(call, Mat4::IDENTITY)?,
                 }
             }
             "ObjectBegin" => {
@@ -524,8 +529,8 @@ impl Reader {
                 let shapes = (self.objects.get(&name).cloned())
                     .ok_or_else(|| at(&format!("no object \"{name}\"")))?;
                 let outer = self.state.ctm;
-                for call in &shapes {
-                    self.shape(call, outer)?;
+                for call in shapes {
+                    self.shape_or_defer(call, outer)?;
                 }
             }
             "Include" | "Import" => {
@@ -572,7 +577,45 @@ impl Reader {
         self.world_begun = true;
     }
 
+    /// Makes a shape now, or once the file is read where its material is named before it is
+    /// defined.
+    fn shape_or_defer(&mut self, call: ShapeCall, outer: Mat4) -> Result<(), SceneError> {
+        match self.material_defined(&call.state.material, materials::MAX_NESTING) {
+            true => self.shape(&call, outer),
+            false => {
+                self.deferred.push((call, outer));
+                Ok(())
+            }
+        }
+    }
+
+    /// Whether every named material `material` refers to (through mixes) is defined yet.
+    fn material_defined(&self, material: &MaterialRef, depth: u32) -> bool {
+        let definition = match material {
+            MaterialRef::Default => return true,
+            MaterialRef::Anonymous(i) => &self.anonymous[*i],
+            MaterialRef::Named(name) => match self.named_materials.get(name) {
+                Some(definition) => definition,
+                None => return false,
+            },
+        };
+        let p = &definition.params;
+        if definition.class != "mix" || depth == 0 {
+            return true;
+        }
+        let v4 = p.strings("materials").ok().flatten();
+        let v3 = ["namedmaterial1", "namedmaterial2"].map(|n| p.string(n).ok().flatten());
+        let members = v4.unwrap_or_else(|| v3.into_iter().flatten().collect());
+        members
+            .into_iter()
+            .all(|name| self.material_defined(&MaterialRef::Named(name), depth - 1))
+    }
+
     fn finish(mut self) -> Result<Scene, SceneError> {
+        for (call, outer) in std::mem::take(&mut self.deferred) {
+            self.shape(&call, outer)
+                .map_err(|e| locate(e, &call.file, call.line, "Shape"))?;
+        }
         if let Some(call) = self.camera.take() {
             self.make_camera(call)?;
         }
@@ -602,11 +645,23 @@ impl Reader {
         let file = call.file.clone();
         let fail = |message: String| SceneError::format(&file, message);
         let params = &call.params;
-        let (width, height) = match &self.film {
+        let (width, height) = match self.film.take() {
             Some((film, film_file)) => {
-                let fail = |message: String| SceneError::format(film_file, message);
+                let fail = |message: String| SceneError::format(&film_file, message);
                 let width = film.float("xresolution", DEFAULT_FILM.0).map_err(fail)?;
                 let height = film.float("yresolution", DEFAULT_FILM.1).map_err(fail)?;
+                let iso = film.float("iso", 100.0).map_err(fail)?;
+                if iso != 100.0 {
+                    let ratio = iso / 100.0;
+                    let message = format!(
+                        "film iso {iso}: pbrt's image is {ratio}× the radiance kousen writes (a PNG as pbrt's: --exposure {:.2})",
+                        ratio.log2()
+                    );
+                    self.warn(&film_file, message);
+                }
+                // Where the image goes, and how pbrt writes it: kousen's command line says.
+                film.get("filename");
+                self.warn_unused(&film_file, "the film", &film);
                 (width, height)
             }
             None => DEFAULT_FILM,

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
-use super::tokens::Params;
+use super::tokens::{Params, Values};
 use super::{Reader, ShapeCall};
 use crate::shapes::{IndexedMesh, Mesh, revolve, vertex};
 use crate::{SceneError, Triangle, Vertex};
@@ -30,6 +30,10 @@ impl Reader {
         let file = call.file.as_path();
         let fail = |message: String| SceneError::format(file, message);
         let params = &call.params;
+        // An alpha of 0 makes a shape invisible, and its area light dark (pbrt masks both).
+        if matches!(params.get("alpha"), Some(p) if p.values == Values::Numbers(vec![0.0])) {
+            return Ok(());
+        }
         let (mesh, facing) = match call.kind.as_str() {
             "trianglemesh" | "loopsubdiv" => {
                 if call.kind == "loopsubdiv" {

@@ -225,6 +225,10 @@ fn pbrt_v4_materials_map_onto_kousen() {
         MakeNamedMaterial \"coated\" \"string type\" \"coatedconductor\" \"spectrum conductor.eta\" \"metal-Ag-eta\" \"spectrum conductor.k\" \"metal-Ag-k\" \"float interface.roughness\" 0.01
         MakeNamedMaterial \"leaf\" \"string type\" \"diffusetransmission\" \"rgb reflectance\" [0.2 0.4 0.1] \"rgb transmittance\" [0.2 0.4 0.1]
         MakeNamedMaterial \"mix\" \"string type\" \"mix\" \"string materials\" [\"glass\" \"leaf\"] \"float amount\" 0.25
+        MakeNamedMaterial \"black\" \"string type\" \"diffuse\" \"rgb reflectance\" [0 0 0]
+        MakeNamedMaterial \"leather\" \"string type\" \"mix\" \"string materials\" [\"black\" \"coated\"] \"float amount\" 0.2
+        MakeNamedMaterial \"white\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" [1 1 1]
+        MakeNamedMaterial \"grey\" \"string type\" \"mix\" \"string materials\" [\"black\" \"white\"] \"float amount\" 0.2
         MakeNamedMaterial \"none\" \"string type\" \"interface\"
         NamedMaterial \"glass\" Shape \"sphere\"
         NamedMaterial \"water\" Shape \"sphere\"
@@ -234,10 +238,27 @@ fn pbrt_v4_materials_map_onto_kousen() {
         NamedMaterial \"coated\" Shape \"sphere\"
         NamedMaterial \"mix\" Shape \"sphere\"
         NamedMaterial \"none\" Shape \"sphere\"
+        NamedMaterial \"leather\" Shape \"sphere\"
+        NamedMaterial \"grey\" Shape \"sphere\"
         {LAMP}"
     )))
     .expect("loads");
-    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(
+        scene.warnings,
+        ["a mix of diffuse materials is read as one, of their mean colour"]
+    );
+    let last_shape = |k: usize| {
+        let sphere = 128 * 63 * 2;
+        &scene.materials[scene.triangles[sphere * k].material as usize]
+    };
+    // Black diffuse 0.8 and a coated silver mirror 0.2: a blend, the mirror first.
+    let leather = last_shape(8);
+    assert!(leather.clearcoat.is_some() && leather.surface == Surface::Mirror);
+    assert!((leather.blend.expect("a blend").weight - 0.2).abs() < 1e-6);
+    // Black diffuse 0.8 and white plastic 0.2, both Lambertian: one diffuse of 0.2.
+    let grey = last_shape(9);
+    assert_eq!((grey.surface, grey.blend), (Surface::Diffuse, None));
+    assert!(grey.base_color.abs_diff_eq(Vec3::splat(0.2), 1e-6));
     let material = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap();
     // Schott's N-BAF10: n_d 1.670, Abbe 47.11: dispersion (n − 1)/V.
     let glass = material("glass");

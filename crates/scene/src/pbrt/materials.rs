@@ -208,26 +208,46 @@ impl Reader {
     }
 
     /// The builder id of a mixture's members chained as a blend: at most one with a
-    /// Lambertian lobe, which goes last. Where they cannot be chained (two Lambertian
-    /// members) the likelier member stands for the mixture, with a warning.
+    /// Lambertian lobe, which goes last. Members with Lambertian lobes (kousen's blends keep
+    /// one) are read as one: the likeliest's surface in their mean colour, with a warning.
     fn add_mixture(&mut self, mapped: Mapped, file: &Path) -> u32 {
-        let mut members = mapped.mixture;
-        members.retain(|(p, _)| *p > 0.0);
-        members.sort_by_key(|(_, m)| m.surface.has_diffuse_lobe());
-        let lambertian = members
-            .iter()
-            .filter(|(_, m)| m.surface.has_diffuse_lobe())
-            .count();
-        if members.len() == 1 || lambertian > 1 || members.len() > crate::MAX_BLEND_MEMBERS {
-            if members.len() > 1 {
-                self.warn(
-                    file,
-                    "a mix of two diffuse materials is drawn as the likelier one",
-                );
-            }
-            let likeliest = members.iter().max_by(|a, b| a.0.total_cmp(&b.0));
-            let material = likeliest.map_or(mapped.material, |(_, m)| m.clone());
-            return self.builder.add_material(material);
+        let (mut lambertian, mut members): (Vec<_>, Vec<_>) = (mapped.mixture.into_iter())
+            .filter(|(p, _)| *p > 0.0)
+            .partition(|(_, m)| m.surface.has_diffuse_lobe());
+        lambertian.sort_by(|a, b| b.0.total_cmp(&a.0));
+        if lambertian.len() > 1 {
+            self.warn(
+                file,
+                "a mix of diffuse materials is read as one, of their mean colour",
+            );
+            let share: f32 = lambertian.iter().map(|(p, _)| p).sum();
+            let colour = lambertian
+                .iter()
+                .map(|(p, m)| *p * m.base_color)
+                .sum::<Vec3>()
+                / share;
+            lambertian.truncate(1);
+            lambertian[0] = (
+                share,
+                Material {
+                    base_color: colour,
+                    ..lambertian[0].1.clone()
+                },
+            );
+        }
+        members.extend(lambertian);
+        if members.len() > crate::MAX_BLEND_MEMBERS {
+            self.warn(
+                file,
+                "a mix of more materials than kousen blends: the likeliest drawn",
+            );
+            members.sort_by(|a, b| b.0.total_cmp(&a.0));
+            members.truncate(1);
+        }
+        match members.len() {
+            0 => return self.builder.add_material(mapped.material),
+            1 => return self.builder.add_material(members.remove(0).1),
+            _ => {}
         }
         let first = self.builder.materials().len() as u32;
         let mut left: f32 = members.iter().map(|(p, _)| p).sum();

@@ -596,6 +596,26 @@ fn ply_meshes_and_quadrics_are_shapes() {
     );
 }
 
+/// `loopsubdiv` subdivides its control mesh (an octahedron here) by Loop's rules, `levels`
+/// times, with smooth normals facing as the control mesh's winding does.
+#[test]
+fn loop_subdivision_surfaces_are_subdivided() {
+    let scene = load(&world(&format!(
+        "Shape \"loopsubdiv\" \"integer levels\" 2
+            \"point3 P\" [1 0 0 -1 0 0 0 1 0 0 -1 0 0 0 1 0 0 -1]
+            \"integer indices\" [0 2 4 2 1 4 1 3 4 3 0 4 2 0 5 1 2 5 3 1 5 0 3 5]
+        {LAMP}"
+    )))
+    .expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let surface = &scene.triangles[..scene.triangles.len() - 1];
+    assert_eq!(surface.len(), 8 * 16);
+    for v in surface.iter().flat_map(|t| t.vertices) {
+        assert!(v.position.length() < 1.0 && v.position.length() > 0.35);
+        assert!(v.normal.dot(v.position) > 0.0, "faces out");
+    }
+}
+
 /// Unread parameters, materials and shapes are warned about, as pbrt warns.
 #[test]
 fn what_is_not_read_is_warned_about() {

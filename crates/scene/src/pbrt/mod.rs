@@ -10,7 +10,8 @@
 //!   `focaldistance`, `frameaspectratio`) and `orthographic`, placed by the transform at
 //!   `Camera`; the `Film`'s `xresolution` and `yresolution` as the aspect ratio.
 //! - **Shapes** (`shapes`): `trianglemesh`, `plymesh` (PLY, gzipped too), `bilinearmesh`,
-//!   `loopsubdiv` (its control mesh), `sphere`, `disk`, `cylinder` (tessellated), with the
+//!   `loopsubdiv` (Loop-subdivided `levels` times, at its limit positions: `subdivision`),
+//!   `sphere`, `disk`, `cylinder` (tessellated), with the
 //!   current material, area light and `alpha` (a cut-out).
 //! - **Materials** (`materials`): pbrt-v4's `diffuse`, `coateddiffuse`, `coatedconductor`,
 //!   `conductor`, `dielectric`, `thindielectric`, `diffusetransmission`, `mix`, `interface`,
@@ -38,6 +39,7 @@ mod lights;
 mod materials;
 mod shapes;
 mod spectra;
+mod subdivision;
 mod tokens;
 
 use std::collections::{HashMap, HashSet};

@@ -11,6 +11,9 @@ use super::{Reader, ShapeCall};
 use crate::shapes::{IndexedMesh, Mesh, revolve, vertex};
 use crate::{SceneError, Triangle, Vertex};
 
+/// The most triangles `loopsubdiv` makes (fewer levels than asked where more would pass it).
+const MAX_SUBDIVIDED: usize = 1 << 24;
+
 /// How pbrt decides a shape's front: the side an area light emits from, a glass's outside.
 #[derive(Clone, Copy, PartialEq)]
 enum Facing {
@@ -35,16 +38,21 @@ impl Reader {
             return Ok(());
         }
         let (mesh, facing) = match call.kind.as_str() {
-            "trianglemesh" | "loopsubdiv" => {
-                if call.kind == "loopsubdiv" {
-                    params.get("levels");
-                    self.warn(
-                        file,
-                        "loopsubdiv is not subdivided: its control mesh is drawn",
-                    );
+            "trianglemesh" => faced(inline_mesh(params, 3).map_err(fail)?),
+            "loopsubdiv" => {
+                let control = inline_mesh(params, 3).map_err(fail)?;
+                let asked = params.integer("levels", 3).map_err(fail)?;
+                // Each level quadruples the triangles: at most MAX_SUBDIVIDED of them.
+                let mut levels = asked.clamp(0, 12) as u32;
+                while levels > 0 && control.triangles.len() << (2 * levels) > MAX_SUBDIVIDED {
+                    levels -= 1;
                 }
-                let mesh = inline_mesh(params, 3).map_err(fail)?;
-                faced(mesh)
+                if levels as i64 != asked.max(0) {
+                    let message =
+                        format!("loopsubdiv: {levels} levels, not {asked} (too many triangles)");
+                    self.warn(file, message);
+                }
+                (subdivided(&control, levels), Facing::Normals)
             }
             "bilinearmesh" => {
                 let mesh = inline_mesh(params, 4).map_err(fail)?;
@@ -210,6 +218,24 @@ impl Placement {
         }
         vertices
     }
+}
+
+/// The triangles of `levels` levels of Loop subdivision of `control` at their limit
+/// positions, with smooth normals (pbrt gives the limit surface's).
+fn subdivided(control: &IndexedMesh, levels: u32) -> Mesh {
+    let positions: Vec<Vec3> = control.vertices.iter().map(|v| v.position).collect();
+    let (positions, triangles) =
+        super::subdivision::loop_subdivide(&positions, &control.triangles, levels);
+    let normals = crate::mesh::smooth_normals(&positions, &triangles);
+    let vertices = (positions.into_iter().zip(normals))
+        .map(|(p, n)| vertex(p, n, Vec2::ZERO))
+        .collect();
+    let mesh = IndexedMesh {
+        vertices,
+        triangles,
+        with_normals: true,
+    };
+    mesh.flat()
 }
 
 /// A mesh's triangles as pbrt shades them (flat where it has no normals), and how pbrt

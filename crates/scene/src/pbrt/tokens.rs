@@ -364,6 +364,15 @@ impl Params {
         whole.collect::<Result<_, _>>().map(Some)
     }
 
+    /// One `integer`, `default` where absent.
+    pub fn integer(&self, name: &str, default: i64) -> Result<i64, String> {
+        match self.integers(name)?.as_deref() {
+            None => Ok(default),
+            Some([x]) => Ok(*x),
+            Some(values) => Err(self.count_error(name, values.len(), "one integer")),
+        }
+    }
+
     /// Groups of `N` numbers of a parameter of one of `types`.
     fn groups<const N: usize>(
         &self,

@@ -55,6 +55,27 @@ impl Topology {
             .collect()
     }
 
+    /// Where vertex `v` of `positions` goes by a rule: inside the mesh (1 − n·w)·itself plus w
+    /// each of its n neighbours, w = `interior(n)`; on a boundary `own`·itself plus half the
+    /// rest each of its two boundary neighbours; it stays where an edge of it is shared by more
+    /// than two triangles or boundaries meet at it.
+    fn moved(&self, positions: &[Vec3], v: u32, interior: impl Fn(usize) -> f32, own: f32) -> Vec3 {
+        let p = |i: u32| positions[i as usize];
+        let ring = &self.neighbours[v as usize];
+        if ring.is_empty() || self.is_singular(v) {
+            return p(v);
+        }
+        match self.boundary_neighbours(v)[..] {
+            [] => {
+                let w = interior(ring.len());
+                let sum: Vec3 = ring.iter().map(|&n| p(n)).sum();
+                (1.0 - ring.len() as f32 * w) * p(v) + w * sum
+            }
+            [a, c] => own * p(v) + (1.0 - own) / 2.0 * (p(a) + p(c)),
+            _ => p(v),
+        }
+    }
+
     /// Whether an edge at `v` is shared by more than two triangles: such a vertex stays.
     fn is_singular(&self, v: u32) -> bool {
         let ring = &self.neighbours[v as usize];
@@ -79,22 +100,7 @@ pub(super) fn subdivide_once(
     let p = |i: u32| positions[i as usize];
     // Old vertices moved (even rule).
     let mut next: Vec<Vec3> = (0..positions.len() as u32)
-        .map(|v| {
-            let ring = &topology.neighbours[v as usize];
-            if ring.is_empty() || topology.is_singular(v) {
-                return p(v);
-            }
-            match topology.boundary_neighbours(v)[..] {
-                [] => {
-                    let b = beta(ring.len());
-                    let sum: Vec3 = ring.iter().map(|&n| p(n)).sum();
-                    (1.0 - ring.len() as f32 * b) * p(v) + b * sum
-                }
-                [a, c] => 0.75 * p(v) + 0.125 * (p(a) + p(c)),
-                // A corner where boundaries meet: it stays.
-                _ => p(v),
-            }
-        })
+        .map(|v| topology.moved(positions, v, beta, 0.75))
         .collect();
     // One new vertex an edge (odd rule).
     let mut middle: HashMap<Edge, u32> = HashMap::with_capacity(topology.opposite.len());
@@ -124,24 +130,9 @@ pub(super) fn subdivide_once(
 /// 1 / (n + 3 / (8β)) a neighbour; boundary: ⅗ itself and ⅕ each boundary neighbour).
 pub(super) fn limit_positions(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
     let topology = Topology::of(positions.len(), triangles);
-    let p = |i: u32| positions[i as usize];
+    let limit_weight = |n: usize| 1.0 / (n as f32 + 3.0 / (8.0 * beta(n)));
     (0..positions.len() as u32)
-        .map(|v| {
-            let ring = &topology.neighbours[v as usize];
-            if ring.is_empty() || topology.is_singular(v) {
-                return p(v);
-            }
-            match topology.boundary_neighbours(v)[..] {
-                [] => {
-                    let n = ring.len() as f32;
-                    let w = 1.0 / (n + 3.0 / (8.0 * beta(ring.len())));
-                    let sum: Vec3 = ring.iter().map(|&m| p(m)).sum();
-                    (1.0 - n * w) * p(v) + w * sum
-                }
-                [a, c] => 0.6 * p(v) + 0.2 * (p(a) + p(c)),
-                _ => p(v),
-            }
-        })
+        .map(|v| topology.moved(positions, v, limit_weight, 0.6))
         .collect()
 }
 

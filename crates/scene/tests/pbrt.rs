@@ -493,6 +493,28 @@ fn sky_images_face_as_pbrt_turns_them() {
     assert!(near(up, Vec3::new(1.0, 0.0, 0.0)), "{up}");
     let down = sees("wide.exr", "", Vec3::new(0.0, -1.0, -0.3));
     assert!(near(down, Vec3::new(0.0, 1.0, 1.0)), "{down}");
+
+    // A white map scaled by `illuminance` π lights a surface facing the light's +z with π:
+    // radiance 1 (the resampling's quadrature within 1 %), turned to kousen's +y or not.
+    let pixels = image::Rgb32FImage::from_pixel(32, 32, image::Rgb([2.0, 2.0, 2.0]));
+    image::DynamicImage::ImageRgb32F(pixels)
+        .save(dir.path().join("white.exr"))
+        .unwrap();
+    for turn in ["", "Rotate -90 1 0 0"] {
+        let scene = load_in(
+            dir.path(),
+            &world(&format!(
+                "AttributeBegin {turn} LightSource \"infinite\" \"string filename\" \"white.exr\" \"float illuminance\" 3.14159265 AttributeEnd {LAMP}"
+            )),
+        )
+        .expect("loads");
+        let map = scene.lights.sky.as_ref().unwrap().map.clone().unwrap();
+        let seen = map.radiance_at(0.3, 0.6);
+        assert!(
+            (seen - Vec3::ONE).abs().max_element() < 0.01,
+            "{turn}: {seen}"
+        );
+    }
 }
 
 /// Object instances placed twice; included files read in place, relative to the main file;

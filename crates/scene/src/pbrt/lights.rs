@@ -144,12 +144,6 @@ impl Reader {
             self.sky = Some(self.sky.unwrap_or(Vec3::ZERO) + radiance);
             return Ok(());
         };
-        if illuminance > 0.0 {
-            self.warn(
-                file,
-                "an image sky's illuminance is not read: its scale is used",
-            );
-        }
         let path = self.resolve(&name);
         let (bytes, _) = crate::files::read_regular_file(&path, 1 << 30)
             .map_err(|e| SceneError::io(&path, e))?;
@@ -160,6 +154,9 @@ impl Reader {
         let height = image.height.clamp(2, MAX_SKY_WIDTH / 2);
         let width = 2 * height;
         let mut texels = Vec::with_capacity((width * height) as usize);
+        // The illuminance the map gives a surface facing the light's +z (pbrt's up for it).
+        let mut up_irradiance = Vec3::ZERO;
+        let texel_angle = (2.0 * PI / width as f32) * (PI / height as f32);
         for y in 0..height {
             for x in 0..width {
                 let u = (x as f32 + 0.5) / width as f32;
@@ -170,8 +167,21 @@ impl Reader {
                     true => equal_area_square(direction),
                     false => latitude_longitude(direction),
                 };
-                texels.push(image.sample_bilinear(at.x, at.y).truncate() * scale);
+                let radiance = image.sample_bilinear(at.x, at.y).truncate();
+                let solid_angle = texel_angle * (PI * v).sin();
+                up_irradiance += radiance * direction.z.max(0.0) * solid_angle;
+                texels.push(radiance);
             }
+        }
+        // `illuminance` scales the map to light a surface facing up with that much (its
+        // luminance), as pbrt-v4 scales it.
+        let luminance = up_irradiance.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let factor = match illuminance > 0.0 && luminance > 0.0 {
+            true => scale * illuminance / luminance,
+            false => scale,
+        };
+        for texel in &mut texels {
+            *texel *= factor;
         }
         let map = SkyMap::new(width, height, texels).map_err(fail)?;
         if self.sky_map.is_some() {

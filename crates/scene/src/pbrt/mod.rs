@@ -20,7 +20,7 @@
 //!   `imagemap`, `constant`, `scale` and `checkerboard` (its mean).
 //! - **Lights** (`lights`): `AreaLightSource "diffuse"`, `LightSource` `point`, `spot`,
 //!   `distant`, `infinite` (a colour or an image: pbrt-v4's equal-area square or pbrt-v3's
-//!   latitude–longitude map).
+//!   latitude–longitude map), with `scale`, `power` or `illuminance` as pbrt reads them.
 //! - `Include` and `Import` (read in place), `ObjectBegin`/`ObjectEnd`/`ObjectInstance`.
 //! - Ignored: `Sampler`, `Integrator`, `PixelFilter`, `Accelerator`, `Option` and the film's
 //!   other settings (kousen renders by its own). Warned about: media, other shapes,

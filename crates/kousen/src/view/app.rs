@@ -46,6 +46,10 @@ enum DroppedKind {
 }
 
 fn dropped_kind(path: &Path) -> Option<DroppedKind> {
+    let name = path.file_name()?.to_string_lossy().to_ascii_lowercase();
+    if name.ends_with(".pbrt.gz") {
+        return Some(DroppedKind::Scene);
+    }
     let extension = path.extension()?;
     let among = |known: &[&str]| known.iter().any(|k| extension.eq_ignore_ascii_case(k));
     if among(&SCENE_EXTENSIONS) {
@@ -1117,6 +1121,10 @@ mod tests {
             ("a/room.gltf", Some(DroppedKind::Scene)),
             ("room.GLB", Some(DroppedKind::Scene)),
             ("room.obj", Some(DroppedKind::Scene)),
+            ("room.xml", Some(DroppedKind::Scene)),
+            ("room.pbrt", Some(DroppedKind::Scene)),
+            ("room.pbrt.gz", Some(DroppedKind::Scene)),
+            ("sky.gz", None),
             ("sky.hdr", Some(DroppedKind::SkyMap)),
             ("sky.EXR", Some(DroppedKind::SkyMap)),
             ("sky.pfm", Some(DroppedKind::SkyMap)),

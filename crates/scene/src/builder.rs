@@ -150,6 +150,57 @@ impl SceneBuilder {
         id
     }
 
+    /// Adds a mixture of whole materials, each drawn with its probability (mixtures of other
+    /// renderers' materials: pbrt's `mix`, Mitsuba's `blendbsdf`), and returns the id
+    /// triangles use: a blend chain ([`crate::Blend`]) with its Lambertian-lobed member last,
+    /// or one material. A blend holds one Lambertian-lobed member: several are read as one,
+    /// the likeliest's surface in their mean colour; more than [`MAX_BLEND_MEMBERS`] members
+    /// leave the likeliest alone. Either simplification is returned in words. `fallback` is
+    /// added where no member has a probability.
+    pub fn add_mixture(
+        &mut self,
+        mixture: Vec<(f32, Material)>,
+        fallback: Material,
+    ) -> (u32, Option<&'static str>) {
+        let (mut lambertian, mut members): (Vec<_>, Vec<_>) = (mixture.into_iter())
+            .filter(|(p, _)| *p > 0.0)
+            .partition(|(_, m)| m.surface.has_diffuse_lobe());
+        let mut simplified = None;
+        lambertian.sort_by(|a, b| b.0.total_cmp(&a.0));
+        if lambertian.len() > 1 {
+            simplified = Some("a mix of diffuse materials is read as one, of their mean colour");
+            let share: f32 = lambertian.iter().map(|(p, _)| p).sum();
+            let weighted = lambertian.iter().map(|(p, m)| *p * m.base_color);
+            let colour = weighted.sum::<glam::Vec3>() / share;
+            lambertian.truncate(1);
+            lambertian[0].0 = share;
+            lambertian[0].1.base_color = colour;
+        }
+        members.extend(lambertian);
+        if members.len() > MAX_BLEND_MEMBERS {
+            simplified = Some("a mix of more materials than kousen blends: the likeliest drawn");
+            members.sort_by(|a, b| b.0.total_cmp(&a.0));
+            members.truncate(1);
+        }
+        match members.len() {
+            0 => return (self.add_material(fallback), simplified),
+            1 => return (self.add_material(members.remove(0).1), simplified),
+            _ => {}
+        }
+        let first = self.scene.materials.len() as u32;
+        let mut left: f32 = members.iter().map(|(p, _)| p).sum();
+        let last = members.len() - 1;
+        for (k, (probability, material)) in members.into_iter().enumerate() {
+            let blend = (k < last).then(|| Blend {
+                weight: (probability / left).clamp(f32::MIN_POSITIVE, 1.0 - f32::EPSILON),
+                other: first + k as u32 + 1,
+            });
+            left -= probability;
+            self.add_material(Material { blend, ..material });
+        }
+        (first, simplified)
+    }
+
     /// How many materials the blend starting at `id` chains.
     fn blend_length(&self, id: u32) -> usize {
         let mut id = id as usize;

@@ -294,6 +294,38 @@ fn unsupported_parts_are_warned_about_and_skipped() {
     assert_eq!(scene.triangles.len(), 12 + 2);
 }
 
+/// A `blendbsdf` of two BSDFs of their own colours is a blend of whole materials, the second
+/// drawn with probability `weight`; two Lambertian ones are read as one of their mean colour.
+#[test]
+fn blend_bsdfs_mix_whole_materials() {
+    let scene = load(&format!(
+        r#"<shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="0.3"/>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.1, 0.1"/></bsdf>
+            <bsdf type="conductor"><rgb name="specular_reflectance" value="0.2, 0.9, 0.2"/></bsdf>
+        </bsdf></shape>
+        <shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="0.25"/>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.4"/></bsdf>
+        </bsdf></shape>{LAMP}"#
+    ))
+    .expect("loads");
+    let first = &scene.materials[scene.triangles[0].material as usize];
+    // The metal (0.3) first, the Lambertian member last, each of its own colour.
+    assert_eq!(first.surface, Surface::Mirror);
+    assert_eq!(first.base_color, Vec3::new(0.2, 0.9, 0.2));
+    let blend = first.blend.expect("a blend");
+    assert!((blend.weight - 0.3).abs() < 1e-6);
+    let diffuse = &scene.materials[blend.other as usize];
+    assert_eq!(
+        (diffuse.surface, diffuse.base_color),
+        (Surface::Diffuse, Vec3::new(0.8, 0.1, 0.1))
+    );
+    let second = &scene.materials[scene.triangles[12].material as usize];
+    assert_eq!(second.blend, None);
+    assert!(second.base_color.abs_diff_eq(Vec3::splat(0.7), 1e-6));
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+}
+
 /// A `cylinder` is an open tube from `p0` to `p1`, facing out.
 #[test]
 fn cylinders_run_from_p0_to_p1() {

@@ -54,6 +54,8 @@ const NAMED_IORS: [(&str, f32); 23] = [
 pub(super) struct Mapped {
     pub material: Material,
     pub members: Vec<(f32, Surface)>,
+    /// A `blendbsdf`'s whole materials with their probabilities (empty for none).
+    pub mixture: Vec<(f32, Material)>,
     /// Its base colour texture's `to_uv`, which the shape's texture coordinates go through.
     pub to_uv: Option<Mat4>,
 }
@@ -63,6 +65,7 @@ impl Mapped {
         Mapped {
             material,
             members: Vec::new(),
+            mixture: Vec::new(),
             to_uv: None,
         }
     }
@@ -95,7 +98,8 @@ impl<'a> Reader<'a> {
         let alpha = |r: &mut Self| r.float(node, "alpha", ROUGH_ALPHA);
         let mut to_uv = None;
         let material = match kind.as_str() {
-            "twosided" | "mask" | "bumpmap" | "normalmap" | "blendbsdf" => {
+            "blendbsdf" => return self.blend(node, depth),
+            "twosided" | "mask" | "bumpmap" | "normalmap" => {
                 if !matches!(kind.as_str(), "twosided" | "mask") {
                     self.warn(node, format!("{kind} is read as the BSDF inside it alone"));
                 }
@@ -108,14 +112,14 @@ impl<'a> Reader<'a> {
                     self.context
                         .error(node, "BSDFs wrapped too deep (a reference cycle?)")
                 })?;
-                let mapped = self.material_within(inner, depth)?;
-                return match kind.as_str() {
-                    "mask" => Ok(Mapped {
-                        material: self.masked(node, mapped.material)?,
-                        ..mapped
-                    }),
-                    _ => Ok(mapped),
-                };
+                let mut mapped = self.material_within(inner, depth)?;
+                if kind == "mask" {
+                    mapped.material = self.masked(node, mapped.material)?;
+                    for (_, member) in &mut mapped.mixture {
+                        *member = self.masked(node, member.clone())?;
+                    }
+                }
+                return Ok(mapped);
             }
             "diffuse" => {
                 let reflectance = self.reflectance(node, "reflectance", Vec3::splat(0.5))?;
@@ -181,6 +185,58 @@ impl<'a> Reader<'a> {
         })
     }
 
+    /// `blendbsdf`: its first BSDF with probability 1 − `weight`, its second with `weight` (a
+    /// weight texture read as its mean), each member's own mixture or blend spread out.
+    fn blend(&mut self, node: Node<'a, 'a>, depth: u32) -> Result<Mapped, SceneError> {
+        let weight = match property(node, "weight") {
+            Some(p) if p.has_tag_name("float") => self.context.number(p, "value")?,
+            Some(_) => self.colour(node, "weight", Vec3::splat(0.5))?.x,
+            None => 0.5,
+        }
+        .clamp(0.0, 1.0);
+        let inner: Vec<Node> = (node.children())
+            .filter(|c| c.has_tag_name("bsdf") || c.has_tag_name("ref"))
+            .collect();
+        let [first, second] = inner[..] else {
+            return Err(self.context.error(node, "a blendbsdf holds two BSDFs"));
+        };
+        let depth = depth.checked_sub(1).ok_or_else(|| {
+            self.context
+                .error(node, "BSDFs wrapped too deep (a reference cycle?)")
+        })?;
+        let mut mixture = Vec::new();
+        let mut to_uv = None;
+        for (probability, inner) in [(1.0 - weight, first), (weight, second)] {
+            let inner = self.resolve_bsdf(inner)?;
+            let mapped = self.material_within(inner, depth)?;
+            to_uv = to_uv.or(mapped.to_uv);
+            if !mapped.mixture.is_empty() {
+                let spread = mapped
+                    .mixture
+                    .into_iter()
+                    .map(|(q, m)| (probability * q, m));
+                mixture.extend(spread);
+            } else if !mapped.members.is_empty() {
+                let spread = mapped.members.into_iter().map(|(q, surface)| {
+                    let material = Material {
+                        surface,
+                        ..mapped.material.clone()
+                    };
+                    (probability * q, material)
+                });
+                mixture.extend(spread);
+            } else {
+                mixture.push((probability, mapped.material));
+            }
+        }
+        Ok(Mapped {
+            material: mixture[0].1.clone(),
+            members: Vec::new(),
+            mixture,
+            to_uv,
+        })
+    }
+
     /// `material` cut out where a `mask`'s `opacity` is below ½: an opacity texture becomes
     /// the alpha of the material's base colour texture (a white one where it has none);
     /// a constant opacity below 1 (blending, which kousen does not do) is warned about.
@@ -239,6 +295,7 @@ impl<'a> Reader<'a> {
             } else {
                 Vec::new()
             },
+            mixture: Vec::new(),
             to_uv: reflectance.to_uv,
         })
     }

@@ -29,8 +29,10 @@
 //!   invisible (cut out). Rough BSDFs are GGX whatever `distribution` says, and as with glTF
 //!   materials a metal or plastic coat of `alpha` ≥ 0.25 is rendered Lambertian. `mask` with
 //!   a bitmap `opacity` cuts the BSDF inside it out where the opacity is below ½ (leaves,
-//!   fences: kousen's alpha cut-outs). `bumpmap`, `normalmap` and `blendbsdf` are read as the
-//!   BSDF inside them, with a warning.
+//!   fences: kousen's alpha cut-outs). `blendbsdf` → a blend of its two BSDFs, the second
+//!   drawn with probability `weight` (`SceneBuilder::add_mixture`: Lambertian-lobed members
+//!   read as one of their mean colour, with a warning). `bumpmap` and `normalmap` are read as
+//!   the BSDF inside them, with a warning.
 //! - **Emitters**: `point` (`position` or `to_world`, `intensity`), `spot` (`intensity`,
 //!   `cutoff_angle`, `beam_width`, along `to_world`'s +Z; glTF's falloff between the cones),
 //!   `directional` (`irradiance`, `direction` or `to_world`'s +Z), `constant` (a uniform sky

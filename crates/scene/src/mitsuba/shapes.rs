@@ -159,11 +159,16 @@ impl<'a> Reader<'a> {
         if let Some(id) = shared.and_then(|id| self.materials.get(id)) {
             return Ok(*id);
         }
-        let (mut material, members, to_uv) = match bsdf {
+        let (mut material, members, mut mixture, to_uv) = match bsdf {
             Some(b) => {
                 let b = self.resolve_bsdf(b)?;
                 let mapped = self.material(b)?;
-                (mapped.material, mapped.members, mapped.to_uv)
+                (
+                    mapped.material,
+                    mapped.members,
+                    mapped.mixture,
+                    mapped.to_uv,
+                )
             }
             None => {
                 let grey = Material {
@@ -172,16 +177,26 @@ impl<'a> Reader<'a> {
                     base_color: Vec3::splat(0.5),
                     ..Material::default()
                 };
-                (grey, Vec::new(), None)
+                (grey, Vec::new(), Vec::new(), None)
             }
         };
         if let Some(radiance) = radiance {
-            material.emission = radiance;
-            material.name = format!("{} (emitter)", material.name);
+            let members = std::iter::once(&mut material).chain(mixture.iter_mut().map(|(_, m)| m));
+            for m in members {
+                m.emission = radiance;
+                m.name = format!("{} (emitter)", m.name);
+            }
         }
-        let id = match members.is_empty() {
-            true => self.builder.add_material(material),
-            false => self.builder.add_blend(material, &members),
+        let id = if !mixture.is_empty() {
+            let (id, simplified) = self.builder.add_mixture(mixture, material);
+            if let Some(why) = simplified {
+                self.warn(node, why);
+            }
+            id
+        } else if members.is_empty() {
+            self.builder.add_material(material)
+        } else {
+            self.builder.add_blend(material, &members)
         };
         if let Some(shared) = shared {
             self.materials.insert(shared.to_string(), (id, to_uv));

@@ -207,60 +207,14 @@ impl Reader {
         self.image(&image, false, &definition.file)
     }
 
-    /// The builder id of a mixture's members chained as a blend: at most one with a
-    /// Lambertian lobe, which goes last. Members with Lambertian lobes (kousen's blends keep
-    /// one) are read as one: the likeliest's surface in their mean colour, with a warning.
+    /// The builder id of a mixture ([`crate::SceneBuilder::add_mixture`]), warning where it
+    /// had to be simplified.
     fn add_mixture(&mut self, mapped: Mapped, file: &Path) -> u32 {
-        let (mut lambertian, mut members): (Vec<_>, Vec<_>) = (mapped.mixture.into_iter())
-            .filter(|(p, _)| *p > 0.0)
-            .partition(|(_, m)| m.surface.has_diffuse_lobe());
-        lambertian.sort_by(|a, b| b.0.total_cmp(&a.0));
-        if lambertian.len() > 1 {
-            self.warn(
-                file,
-                "a mix of diffuse materials is read as one, of their mean colour",
-            );
-            let share: f32 = lambertian.iter().map(|(p, _)| p).sum();
-            let colour = lambertian
-                .iter()
-                .map(|(p, m)| *p * m.base_color)
-                .sum::<Vec3>()
-                / share;
-            lambertian.truncate(1);
-            lambertian[0] = (
-                share,
-                Material {
-                    base_color: colour,
-                    ..lambertian[0].1.clone()
-                },
-            );
+        let (id, simplified) = self.builder.add_mixture(mapped.mixture, mapped.material);
+        if let Some(why) = simplified {
+            self.warn(file, why);
         }
-        members.extend(lambertian);
-        if members.len() > crate::MAX_BLEND_MEMBERS {
-            self.warn(
-                file,
-                "a mix of more materials than kousen blends: the likeliest drawn",
-            );
-            members.sort_by(|a, b| b.0.total_cmp(&a.0));
-            members.truncate(1);
-        }
-        match members.len() {
-            0 => return self.builder.add_material(mapped.material),
-            1 => return self.builder.add_material(members.remove(0).1),
-            _ => {}
-        }
-        let first = self.builder.materials().len() as u32;
-        let mut left: f32 = members.iter().map(|(p, _)| p).sum();
-        let last = members.len() - 1;
-        for (k, (probability, material)) in members.into_iter().enumerate() {
-            let blend = (k < last).then(|| crate::Blend {
-                weight: (probability / left).clamp(f32::MIN_POSITIVE, 1.0 - f32::EPSILON),
-                other: first + k as u32 + 1,
-            });
-            left -= probability;
-            self.builder.add_material(Material { blend, ..material });
-        }
-        first
+        id
     }
 
     /// Material `definition` (named `name`) mapped onto kousen's; `depth` more `mix`es may

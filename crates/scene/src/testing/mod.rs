@@ -991,6 +991,32 @@ pub fn furnace_sphere_blended() -> Scene {
     f.finish()
 }
 
+/// [`furnace_sphere_blended`] made by [`crate::SceneBuilder::add_mixture`] from whole
+/// materials of their own colours (as pbrt's `mix` and Mitsuba's `blendbsdf` make them): a
+/// mirror of tint (0.8, 0.2, 0.5) with probability ¼ and a diffuse surface of albedo
+/// (0.4, 0.6, 0.5), which mix to 0.5 in every channel: every pixel's radiance is
+/// [`FURNACE_RADIANCE`], grey, only where each member reflects its own colour.
+pub fn furnace_sphere_mixed() -> Scene {
+    let mut f = Fixture::new("testing::furnace_sphere_mixed");
+    let member = |surface, colour: Vec3| Material {
+        name: "mixed furnace".into(),
+        surface,
+        base_color: colour,
+        emission: Vec3::splat(FURNACE_EMISSION),
+        ..Material::default()
+    };
+    let mixture = vec![
+        (0.25, member(Surface::Mirror, Vec3::new(0.8, 0.2, 0.5))),
+        (0.75, member(Surface::Diffuse, Vec3::new(0.4, 0.6, 0.5))),
+    ];
+    let fallback = member(Surface::Diffuse, Vec3::ZERO);
+    let (inside, simplified) = f.builder.add_mixture(mixture, fallback);
+    assert_eq!(simplified, None);
+    f.sphere(Vec3::ZERO, 1.0, inside, true);
+    f.camera(Vec3::ZERO, Vec3::NEG_Z, 60f32.to_radians(), None, "centre");
+    f.finish()
+}
+
 /// A diffuse square under a much larger parallel area light (see [`LIT_PLANE_HALF_SIZE`] and
 /// the constants after it). The light is black, so the plane is lit once: its radiance is
 /// [`lit_plane_radiance`]. The camera looks down at the plane from between the two.

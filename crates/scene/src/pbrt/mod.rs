@@ -11,20 +11,23 @@
 //!   `Camera`; the `Film`'s `xresolution` and `yresolution` as the aspect ratio.
 //! - **Shapes** (`shapes`): `trianglemesh`, `plymesh` (PLY, gzipped too), `bilinearmesh`,
 //!   `loopsubdiv` (Loop-subdivided `levels` times, at its limit positions: `subdivision`),
-//!   `sphere`, `disk`, `cylinder` (tessellated), with the
-//!   current material, area light and `alpha` (a cut-out).
+//!   `sphere`, `disk`, `cylinder` (tessellated), with the current material, area light and
+//!   `alpha` (a float image: a cut-out; 0: the shape and its light left out).
 //! - **Materials** (`materials`): pbrt-v4's `diffuse`, `coateddiffuse`, `coatedconductor`,
 //!   `conductor`, `dielectric`, `thindielectric`, `diffusetransmission`, `mix`, `interface`,
 //!   pbrt-v3's `matte`, `plastic`, `metal`, `mirror`, `glass`, `uber`, `substrate`,
-//!   `translucent`, `disney`, `mix`; `MakeNamedMaterial`/`NamedMaterial`; `Texture`s
-//!   `imagemap`, `constant`, `scale` and `checkerboard` (its mean).
+//!   `translucent`, `disney`, `mix`; `MakeNamedMaterial`/`NamedMaterial` (a shape may name a
+//!   material defined later in the file, as pbrt-v4 allows); float and spectrum `Texture`s
+//!   (each their own names) `imagemap`, `constant`, `scale`, `checkerboard` and `mix` (means).
 //! - **Lights** (`lights`): `AreaLightSource "diffuse"`, `LightSource` `point`, `spot`,
 //!   `distant`, `infinite` (a colour or an image: pbrt-v4's equal-area square or pbrt-v3's
 //!   latitude–longitude map), with `scale`, `power` or `illuminance` as pbrt reads them.
-//! - `Include` and `Import` (read in place), `ObjectBegin`/`ObjectEnd`/`ObjectInstance`.
-//! - Ignored: `Sampler`, `Integrator`, `PixelFilter`, `Accelerator`, `Option` and the film's
-//!   other settings (kousen renders by its own). Warned about: media, other shapes,
-//!   materials, textures and lights, and every parameter nothing read (as pbrt warns).
+//! - `Include` and `Import` (read in place; gzipped files too; an Import's state changes stay
+//!   in it), `ObjectBegin`/`ObjectEnd`/`ObjectInstance`.
+//! - Ignored: `Sampler`, `Integrator`, `PixelFilter`, `Accelerator`, `Option` (kousen renders
+//!   by its own settings). Warned about: media, other shapes, materials, textures and lights,
+//!   the film's ISO (with the `--exposure` that shows pbrt's image) and every parameter
+//!   nothing read (as pbrt warns), the film's among them.
 //!
 //! # Handedness
 //! pbrt's space is left-handed (its camera's right is `up × forward`), kousen's right-handed.

@@ -734,6 +734,32 @@ fn what_real_scenes_do_is_read() {
     );
 }
 
+/// Procedural textures read as their means take pbrt's defaults: a mix of nothing given
+/// is 0 and 1 mixed by its amount, a checkerboard's squares 1 and 0.
+#[test]
+fn procedural_textures_are_read_as_their_means() {
+    let scene = load(&world(&format!(
+        "Texture \"m\" \"spectrum\" \"mix\" \"float amount\" 0.25
+        Texture \"c\" \"spectrum\" \"checkerboard\" \"rgb tex2\" [0.2 0.4 0.6]
+        Material \"diffuse\" \"texture reflectance\" \"m\" Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]
+        Material \"diffuse\" \"texture reflectance\" \"c\" Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]
+        {LAMP}"
+    )))
+    .expect("loads");
+    let colour = |i: usize| scene.materials[scene.triangles[i].material as usize].base_color;
+    assert!(
+        colour(0).abs_diff_eq(Vec3::splat(0.25), 1e-6),
+        "{}",
+        colour(0)
+    );
+    assert!(
+        colour(1).abs_diff_eq(Vec3::new(0.6, 0.7, 0.8), 1e-6),
+        "{}",
+        colour(1)
+    );
+    assert_eq!(scene.warnings.len(), 2, "{:?}", scene.warnings);
+}
+
 /// What changes pbrt's image but not the scene is warned about: the film's ISO (with the
 /// exposure that matches it), media.
 #[test]

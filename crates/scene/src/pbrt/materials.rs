@@ -882,11 +882,18 @@ impl Reader {
                 }
             }
             "checkerboard" | "mix" => {
-                let one = self.texture_value(p, "tex1", float, file, depth)?;
-                let mut two = self.texture_value(p, "tex2", float, file, depth)?;
-                if p.get("tex2").is_none() {
-                    two = Colour::constant(Vec3::ZERO);
+                // pbrt's defaults: a checkerboard's 1 and 0, a mix's 0 and 1.
+                let mix = definition.class == "mix";
+                let mut ends = [("tex1", !mix), ("tex2", mix)].map(|(name, one)| {
+                    let default = Colour::constant(Vec3::splat(one as u8 as f32));
+                    (name, default)
+                });
+                for (name, value) in &mut ends {
+                    if p.get(name).is_some() {
+                        *value = self.texture_value(p, name, float, file, depth)?;
+                    }
                 }
+                let [(_, one), (_, two)] = ends;
                 let amount = match definition.class.as_str() {
                     "mix" if p.get("amount").is_some() => {
                         self.texture_value(p, "amount", true, file, depth)?

@@ -460,16 +460,17 @@ pub fn metal_f0(name: &str) -> Option<Vec3> {
     found.map(|(_, f0)| Vec3::from_array(*f0))
 }
 
-/// The members of a principled material (Mitsuba 3's `principled`, pbrt-v3's `disney`) read
-/// as glTF's metallic-roughness one: metal with probability `metallic`, else glass with
-/// probability `transmission`, else plastic, all of `roughness` and index `ior`; those of
-/// probability 0 left out (the Lambertian-lobed plastic, where present, last).
-pub fn principled_members(
+/// A principled material (Mitsuba 3's `principled`, pbrt-v3's `disney`) read as glTF's
+/// metallic-roughness one: `base` as metal with probability `metallic`, else as glass with
+/// probability `transmission`, else as plastic, all of `roughness` and index `ior`; those of
+/// probability 0 left out (one at least remains), for `SceneBuilder::add_mixture`.
+pub fn principled_mixture(
+    base: Material,
     metallic: f32,
     transmission: f32,
     roughness: f32,
     ior: f32,
-) -> Vec<(f32, Surface)> {
+) -> Vec<(f32, Material)> {
     let members = [
         (metallic, metal_surface(roughness)),
         (
@@ -481,7 +482,16 @@ pub fn principled_members(
             coated_surface(ior, roughness),
         ),
     ];
-    members.into_iter().filter(|(p, _)| *p > 0.0).collect()
+    (members.into_iter())
+        .filter(|(p, _)| *p > 0.0)
+        .map(|(p, surface)| {
+            let member = Material {
+                surface,
+                ..base.clone()
+            };
+            (p, member)
+        })
+        .collect()
 }
 
 /// A member of a material whose glTF roughness (and, for the metal, metalness) comes from a

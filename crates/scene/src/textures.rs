@@ -5,6 +5,9 @@ use glam::Vec4;
 /// Index into [`crate::Scene::textures`].
 pub type TextureId = u32;
 
+/// The largest image file read.
+pub(crate) const MAX_IMAGE_BYTES: u64 = 1 << 30;
+
 /// The largest texture side we decode. Adapters are checked against their own limits at
 /// upload; this bound only keeps a hostile header from asking for gigabytes.
 pub const MAX_TEXTURE_SIDE: u32 = 16_384;
@@ -60,6 +63,20 @@ impl Texture {
             height,
             texels,
         })
+    }
+
+    /// Reads and decodes image file `path` (at most [`MAX_IMAGE_BYTES`]; `name` names it in
+    /// the texture), as [`Texture::decode`]: a file that cannot be read is an I/O error naming
+    /// it, one that does not decode the error `decode_error` makes of the decoder's message.
+    pub(crate) fn read_file(
+        path: &std::path::Path,
+        name: &str,
+        srgb: bool,
+        decode_error: impl FnOnce(String) -> crate::SceneError,
+    ) -> Result<Texture, crate::SceneError> {
+        let (bytes, _) = crate::files::read_regular_file(path, MAX_IMAGE_BYTES)
+            .map_err(|e| crate::SceneError::io(path, e))?;
+        Texture::decode(name, &bytes, srgb).map_err(decode_error)
     }
 
     pub fn texel_count(&self) -> usize {

@@ -48,13 +48,11 @@ const NAMED_IORS: [(&str, f32); 23] = [
     ("diamond", 2.419),
 ];
 
-/// A BSDF mapped onto kousen: its material and, where it mixes surfaces (Mitsuba 3's
-/// principled with partial `metallic` or `spec_trans`), the members of the blend it makes
-/// with their probabilities (`SceneBuilder::add_blend`; empty for one surface).
+/// A BSDF mapped onto kousen: its material and, where it mixes materials (Mitsuba 3's
+/// principled with partial `metallic` or `spec_trans`, `blendbsdf`), the members of the
+/// blend it makes with their probabilities (`SceneBuilder::add_mixture`; empty for one).
 pub(super) struct Mapped {
     pub material: Material,
-    pub members: Vec<(f32, Surface)>,
-    /// A `blendbsdf`'s whole materials with their probabilities (empty for none).
     pub mixture: Vec<(f32, Material)>,
     /// Its base colour texture's `to_uv`, which the shape's texture coordinates go through.
     pub to_uv: Option<Mat4>,
@@ -64,9 +62,21 @@ impl Mapped {
     fn plain(material: Material) -> Mapped {
         Mapped {
             material,
-            members: Vec::new(),
             mixture: Vec::new(),
             to_uv: None,
+        }
+    }
+
+    /// A mixture (at least one member), a plain material where it has one member.
+    fn mixed(mut mixture: Vec<(f32, Material)>, to_uv: Option<Mat4>) -> Mapped {
+        let material = mixture[0].1.clone();
+        if mixture.len() == 1 {
+            mixture.clear();
+        }
+        Mapped {
+            material,
+            mixture,
+            to_uv,
         }
     }
 }
@@ -210,31 +220,15 @@ impl<'a> Reader<'a> {
             let inner = self.resolve_bsdf(inner)?;
             let mapped = self.material_within(inner, depth)?;
             to_uv = to_uv.or(mapped.to_uv);
-            if !mapped.mixture.is_empty() {
-                let spread = mapped
-                    .mixture
-                    .into_iter()
-                    .map(|(q, m)| (probability * q, m));
-                mixture.extend(spread);
-            } else if !mapped.members.is_empty() {
-                let spread = mapped.members.into_iter().map(|(q, surface)| {
-                    let material = Material {
-                        surface,
-                        ..mapped.material.clone()
-                    };
-                    (probability * q, material)
-                });
-                mixture.extend(spread);
-            } else {
-                mixture.push((probability, mapped.material));
+            match mapped.mixture.is_empty() {
+                true => mixture.push((probability, mapped.material)),
+                false => {
+                    let spread = mapped.mixture.into_iter();
+                    mixture.extend(spread.map(|(q, m)| (probability * q, m)));
+                }
             }
         }
-        Ok(Mapped {
-            material: mixture[0].1.clone(),
-            members: Vec::new(),
-            mixture,
-            to_uv,
-        })
+        Ok(Mapped::mixed(mixture, to_uv))
     }
 
     /// `material` cut out where a `mask`'s `opacity` is below ½: an opacity texture becomes
@@ -280,24 +274,15 @@ impl<'a> Reader<'a> {
         let transmission = self.float(node, "spec_trans", 0.0)?.clamp(0.0, 1.0);
         let roughness = self.float(node, "roughness", 0.5)?.clamp(0.0, 1.0);
         let ior = self.float(node, "eta", 1.5)?;
-        let present = crate::material::principled_members(metallic, transmission, roughness, ior);
-        let material = Material {
+        let base = Material {
             name: name.to_string(),
-            surface: present[0].1,
             base_color: reflectance.colour,
             base_color_texture: reflectance.texture,
             ..Material::default()
         };
-        Ok(Mapped {
-            material,
-            members: if present.len() > 1 {
-                present
-            } else {
-                Vec::new()
-            },
-            mixture: Vec::new(),
-            to_uv: reflectance.to_uv,
-        })
+        let mixture =
+            crate::material::principled_mixture(base, metallic, transmission, roughness, ior);
+        Ok(Mapped::mixed(mixture, reflectance.to_uv))
     }
 
     /// A float property of `node` (`<float>` or `<integer>`), `default` where absent.

@@ -243,8 +243,7 @@ impl<'a> Reader<'a> {
     /// Image `file` (relative to the scene file) decoded as sRGB colour or linear data.
     fn decode(&self, node: Node, file: &str, srgb: bool) -> Result<crate::Texture, SceneError> {
         let path = self.file(file);
-        let (bytes, _) = read_regular_file(&path, 1 << 30).map_err(|e| SceneError::io(&path, e))?;
-        crate::Texture::decode(file, &bytes, srgb).map_err(|e| self.context.error(node, e))
+        crate::Texture::read_file(&path, file, srgb, |e| self.context.error(node, e))
     }
 
     /// The texture of image `file`, decoded once (sRGB colour or linear data).

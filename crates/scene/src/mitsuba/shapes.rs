@@ -159,16 +159,11 @@ impl<'a> Reader<'a> {
         if let Some(id) = shared.and_then(|id| self.materials.get(id)) {
             return Ok(*id);
         }
-        let (mut material, members, mut mixture, to_uv) = match bsdf {
+        let (mut material, mut mixture, to_uv) = match bsdf {
             Some(b) => {
                 let b = self.resolve_bsdf(b)?;
                 let mapped = self.material(b)?;
-                (
-                    mapped.material,
-                    mapped.members,
-                    mapped.mixture,
-                    mapped.to_uv,
-                )
+                (mapped.material, mapped.mixture, mapped.to_uv)
             }
             None => {
                 let grey = Material {
@@ -177,7 +172,7 @@ impl<'a> Reader<'a> {
                     base_color: Vec3::splat(0.5),
                     ..Material::default()
                 };
-                (grey, Vec::new(), Vec::new(), None)
+                (grey, Vec::new(), None)
             }
         };
         if let Some(radiance) = radiance {
@@ -187,16 +182,15 @@ impl<'a> Reader<'a> {
                 m.name = format!("{} (emitter)", m.name);
             }
         }
-        let id = if !mixture.is_empty() {
-            let (id, simplified) = self.builder.add_mixture(mixture, material);
-            if let Some(why) = simplified {
-                self.warn(node, why);
+        let id = match mixture.is_empty() {
+            true => self.builder.add_material(material),
+            false => {
+                let (id, simplified) = self.builder.add_mixture(mixture, material);
+                if let Some(why) = simplified {
+                    self.warn(node, why);
+                }
+                id
             }
-            id
-        } else if members.is_empty() {
-            self.builder.add_material(material)
-        } else {
-            self.builder.add_blend(material, &members)
         };
         if let Some(shared) = shared {
             self.materials.insert(shared.to_string(), (id, to_uv));

@@ -42,18 +42,14 @@ pub(super) fn decode_all(paths: &[PathBuf], threads: usize) -> Decoded {
     results.into_inner().unwrap()
 }
 
-/// The largest image file read.
-const MAX_IMAGE_BYTES: u64 = 1 << 30;
-
 /// Reads and decodes one image as sRGB colour; the error names the file.
 fn decode(path: &Path) -> Result<Texture, String> {
-    let fail = |reason: &dyn std::fmt::Display| format!("{}: {reason}", path.display());
-    let bytes = super::read_regular_file(path, MAX_IMAGE_BYTES).map_err(|e| fail(&e))?;
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy())
         .unwrap_or_default();
-    Texture::decode(&name, &bytes, true).map_err(|e| fail(&e))
+    let decode_error = |reason| crate::SceneError::format(path, reason);
+    Texture::read_file(path, &name, true, decode_error).map_err(|e| e.to_string())
 }
 
 /// A texture the builder will hold: a decoded file, or a base colour with a merged mask.

@@ -145,9 +145,7 @@ impl Reader {
             return Ok(());
         };
         let path = self.resolve(&name);
-        let (bytes, _) = crate::files::read_regular_file(&path, 1 << 30)
-            .map_err(|e| SceneError::io(&path, e))?;
-        let image = crate::Texture::decode(&name, &bytes, true).map_err(fail)?;
+        let image = crate::Texture::read_file(&path, &name, true, fail)?;
         let light_from_world = Mat3::from_mat4(self.state.ctm).inverse();
         let mirror = Mat3::from_mat4(self.mirror);
         let equal_area = image.width == image.height;

@@ -83,6 +83,19 @@ struct Mapped {
 }
 
 impl Mapped {
+    /// A mixture (at least one member), a plain material where it has one member.
+    fn mixed(mut mixture: Vec<(f32, Material)>, uv_map: Option<UvMap>) -> Mapped {
+        let material = mixture[0].1.clone();
+        if mixture.len() == 1 {
+            mixture.clear();
+        }
+        Mapped {
+            material,
+            mixture,
+            uv_map,
+        }
+    }
+
     fn plain(material: Material, uv_map: Option<UvMap>) -> Mapped {
         Mapped {
             material,
@@ -368,29 +381,16 @@ impl Reader {
                 let transmission = p.float("spectrans", 0.0).map_err(fail)?.clamp(0.0, 1.0);
                 let roughness = p.float("roughness", 0.5).map_err(fail)?.clamp(0.0, 1.0);
                 let ior = p.float("eta", 1.5).map_err(fail)?;
-                let members =
-                    crate::material::principled_members(metallic, transmission, roughness, ior);
-                let base = textured(colour, members[0].1);
-                let mixture = members.into_iter().map(|(p, surface)| {
-                    (
-                        p,
-                        Material {
-                            surface,
-                            ..base.clone()
-                        },
-                    )
-                });
-                let mixture: Vec<_> = mixture.collect();
+                let base = textured(colour, Surface::Diffuse);
+                let mixture = crate::material::principled_mixture(
+                    base,
+                    metallic,
+                    transmission,
+                    roughness,
+                    ior,
+                );
                 self.warn_unused(file, &format!("material \"{name}\""), p);
-                return Ok(Mapped {
-                    mixture: if mixture.len() > 1 {
-                        mixture
-                    } else {
-                        Vec::new()
-                    },
-                    material: base,
-                    uv_map,
-                });
+                return Ok(Mapped::mixed(mixture, uv_map));
             }
             "subsurface" | "kdsubsurface" | "measured" | "hair" | "fourier" => {
                 let reflectance =
@@ -969,10 +969,8 @@ impl Reader {
         if let Some(id) = self.images.get(&(path.clone(), srgb)) {
             return Ok(*id);
         }
-        let (bytes, _) = crate::files::read_regular_file(&path, 1 << 30)
-            .map_err(|e| SceneError::io(&path, e))?;
         let texture =
-            crate::Texture::decode(name, &bytes, srgb).map_err(|e| SceneError::format(file, e))?;
+            crate::Texture::read_file(&path, name, srgb, |e| SceneError::format(file, e))?;
         let id = self.builder.add_texture(texture);
         self.images.insert((path, srgb), id);
         Ok(id)

@@ -144,9 +144,8 @@ struct CameraCall {
 }
 
 pub(super) struct Reader {
-    /// The main file, and its folder: pbrt resolves relative names against it.
+    /// The main file: pbrt resolves relative names against its folder.
     main: PathBuf,
-    folder: PathBuf,
     builder: SceneBuilder,
     state: State,
     saved: Vec<State>,
@@ -192,7 +191,6 @@ impl Reader {
         };
         Reader {
             main: path.to_path_buf(),
-            folder: path.parent().unwrap_or(Path::new("")).to_path_buf(),
             builder: SceneBuilder::new(path),
             state: initial,
             saved: Vec::new(),
@@ -220,7 +218,8 @@ impl Reader {
 
     /// A file the scene names, relative to the main file's folder.
     fn resolve(&self, name: &str) -> PathBuf {
-        self.folder.join(name.replace('\\', "/"))
+        let folder = self.main.parent().unwrap_or(Path::new(""));
+        folder.join(name.replace('\\', "/"))
     }
 
     /// Records a warning, once per distinct message (naming `file` where it is an included
@@ -285,7 +284,8 @@ impl Reader {
         depth: u32,
     ) -> Result<(), SceneError> {
         let fail = |message: String| SceneError::format(file, message);
-        let at = |message: &str| fail(format!("line {line}: {directive}: {message}"));
+        // `read_file` names the line and the directive (`locate`).
+        let at = |message: &str| fail(message.to_string());
         if WORLD_ONLY.contains(&directive) && !self.world_begun {
             return Err(at("before WorldBegin"));
         }

@@ -32,11 +32,13 @@ not used, so nothing about the mapping is hidden):
   KHR_materials_volume attenuation (colour after distance) -> a `homogeneous` interior medium of
   albedo 0 and sigma_t = -ln(colour) / distance, rendered with `volpath` (kousen's Beer-Lambert
   absorption).
-  the metal with roughness < 0.01 -> perfect mirror: `conductor` with material "none"
-  (reflectance 1 at every angle) times specular_reflectance = baseColor; with roughness < 0.5
-  -> `roughconductor`, GGX of alpha = roughness^2 (visible normals sampled; Mitsuba's Smith
-  term is the separable one, as kousen's), material "none" times specular_reflectance =
-  baseColor; rougher -> Lambertian `diffuse`, reflectance = baseColor.
+  the metal with roughness < 0.5 -> Mitsuba's `principled` with metallic 1 and base_color =
+  baseColor: a GGX lobe (visible normals sampled; Mitsuba's Smith term is the separable one,
+  as kousen's) of alpha = roughness^2 (at least 0.001: a smooth metal, roughness < 0.01, is a
+  mirror to well under a pixel at these sizes) whose Fresnel is Schlick's from F0 = baseColor
+  to white, glTF's conductor Fresnel as kousen has it (crates/render/src/conductor.rs;
+  Mitsuba's `conductor` with material "none" would reflect baseColor at every angle);
+  rougher -> Lambertian `diffuse`, reflectance = baseColor.
   the opaque dielectric with roughness < 0.5 (unless ior is 1 or KHR_materials_specular's
   specularFactor is 0) -> plastic, coat of int_ior = ior over diffuse_reflectance = baseColor,
   exterior ior exactly 1, `nonlinear` off: smooth (`plastic`) below roughness 0.01, else
@@ -298,14 +300,12 @@ def mitsuba_bsdf(kind, params):
     rgb = lambda c: {"type": "rgb", "value": c}
     if kind == "diffuse":
         return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(params["color"])}}
-    if kind == "mirror":
-        return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
-                                             "specular_reflectance": rgb(params["color"])}}
-    if kind == "rough":
-        return {"type": "twosided", "bsdf": {"type": "roughconductor", "material": "none",
-                                             "distribution": "ggx", "alpha": params["alpha"],
-                                             "sample_visible": True,
-                                             "specular_reflectance": rgb(params["color"])}}
+    if kind in ("mirror", "rough"):
+        # Mitsuba's principled takes roughness and squares it into alpha (floored at 0.001).
+        roughness = math.sqrt(params["alpha"]) if kind == "rough" else 0.0
+        return {"type": "twosided", "bsdf": {"type": "principled", "metallic": 1.0,
+                                             "roughness": roughness,
+                                             "base_color": rgb(params["color"])}}
     if kind == "dielectric":
         return {"type": "thindielectric" if params["thin"] else "dielectric",
                 "int_ior": params["ior"], "ext_ior": params.get("ext_ior", 1.0),

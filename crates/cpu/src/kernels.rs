@@ -12,6 +12,7 @@ use render::buffers::{
     SAMPLE_AT_VISIBLE_POINTS, SLOT_IDLE, SppmParams, VisiblePoint, counter, hash_word, vec3,
 };
 use render::clearcoat::clearcoat_transmittance;
+use render::conductor::Metal;
 use render::dielectric_layer::{DielectricLayer, lobe_layer_weight};
 use render::direct::{shadow_ray, sky_pdf, triangle_pdf};
 use render::dispersion::WHOLE_SPECTRUM;
@@ -21,7 +22,6 @@ use render::hash::{
     cell_of, class_entry, class_mark, entry_count, entry_of, grid_cell_size, grid_largest_radius,
     grid_salt, lies_in, photon_class, priority, query_entries, volume_query_entries,
 };
-use render::iridescence::{Film, metal_tint};
 use render::lens::camera_ray;
 use render::light_sampling::power_heuristic;
 use render::medium::{pack_slot_state, slot_bounced, slot_medium, slot_wavelength};
@@ -329,7 +329,13 @@ pub fn photon_pass_with<R: StreamRng>(
             let layer = hit_dielectric_layer(scene, material, hit.uv);
             let next = specular_direction(dispersed, &hit, (direction, layer), [u0, u1, u_choice]);
             let tint = next.map_or(tint, |(next, _)| {
-                bounce_tint(dispersed, tint, layer, &hit, (direction, next))
+                bounce_tint(
+                    dispersed,
+                    (tint, material.metal_edge),
+                    layer,
+                    &hit,
+                    (direction, next),
+                )
             });
             (next, tint * spectral_weight)
         }
@@ -844,12 +850,13 @@ fn eye_path(
                 // and the specular layer.
                 let layer = hit_dielectric_layer(scene, material, hit.uv);
                 if let Surface::RoughConductor { alpha } = surface {
-                    lit.glossy = throughput * tint;
+                    lit.glossy = throughput;
                     lit.lobe = GlossyLobe::metal(alpha, hit.brush);
-                    if layer.film.is_some() {
-                        lit.glossy = throughput;
-                        lit.metal_film = Some((tint, layer.film));
-                    }
+                    lit.metal = Some(Metal {
+                        f0: tint,
+                        edge: material.metal_edge,
+                        film: layer.film,
+                    });
                 }
                 // Solid frosted glass met from outside reflects as a plastic coat does: a
                 // visible micro-normal, reflection about it with its Fresnel probability,
@@ -893,7 +900,8 @@ fn eye_path(
                 let tint = match (surface, next) {
                     (Surface::Dielectric { .. }, _) | (_, None) => tint,
                     (_, Some((next, _))) => {
-                        bounce_tint(surface, tint, layer, &hit, (direction, next))
+                        let metal = (tint, material.metal_edge);
+                        bounce_tint(surface, metal, layer, &hit, (direction, next))
                     }
                 };
                 Some((next, tint))
@@ -1058,9 +1066,9 @@ pub struct LitLobes {
     pub clearcoat: Option<scene::Clearcoat>,
     /// glTF's sheen over both lobes (beneath the clear coat), which the light passes too.
     pub sheen: Option<render::sheen::SheenAt>,
-    /// A metal's colour and the thin film on it, where it has one (`glossy` then leaves the
-    /// colour out: the film's depends on the light's direction).
-    pub metal_film: Option<(Vec3, Film)>,
+    /// The metal of a rough-metal lobe (`glossy` then leaves its colour out: its Fresnel
+    /// reflectance depends on the light's direction).
+    pub metal: Option<Metal>,
     /// The layer on frosted glass (glTF's thin film and specular layer), whose share of the
     /// lobe's way depends on the light's direction
     /// (`render::dielectric_layer::lobe_layer_weight`; bare: none).
@@ -1086,9 +1094,9 @@ impl LitLobes {
         if self.lobe.is_some() {
             let lobe = self.lobe.response(hit.shading, outgoing, incident);
             if lobe.value > 0.0 {
-                let mut tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
-                    metal_tint(base, film, outgoing, incident)
-                });
+                let mut tint = self
+                    .metal
+                    .map_or(Vec3::ONE, |metal| metal.tint(outgoing, incident));
                 if !self.dielectric_layer.is_bare() {
                     let ways = (outgoing, incident);
                     let layer = self.dielectric_layer;
@@ -1889,4 +1897,58 @@ pub fn finish_pass(params: &SppmParams, counters: &[AtomicU32]) {
         counters[counter::VOLUME_CELL_SIZE].store(cells.to_bits(), Relaxed);
     }
     counters[counter::PASS].fetch_add(1, Relaxed);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A light sample at rough metal takes the metal's Fresnel reflectance at the half-way
+    /// vector of the view and the light (`render::conductor::Metal::tint`), not its colour:
+    /// the response is the lobe's times that reflectance, per channel.
+    #[test]
+    fn a_light_sample_at_rough_metal_takes_fresnel_s_reflectance_at_the_light() {
+        let hit = SurfaceHit {
+            position: Vec3::ZERO,
+            shadow_origin: Vec3::ZERO,
+            distance: 1.0,
+            geometric: Vec3::Y,
+            shading: Vec3::Y,
+            interpolated: Vec3::Y,
+            uv: glam::Vec2::ZERO,
+            material: 0,
+            front: true,
+            brush: Vec3::ZERO,
+        };
+        let metal = Metal {
+            f0: Vec3::new(0.9, 0.6, 0.3),
+            edge: Vec3::new(1.0, 0.5, 0.0),
+            film: render::iridescence::Film::default(),
+        };
+        let lit = LitLobes {
+            glossy: Vec3::ONE,
+            lobe: GlossyLobe::metal(0.3, Vec3::ZERO),
+            metal: Some(metal),
+            ..LitLobes::default()
+        };
+        // Grazing view and light, mirrored: the half-way vector is the normal's neighbour.
+        let outgoing = Vec3::new(0.95, 0.2, 0.0).normalize();
+        let incident = Vec3::new(-0.9, 0.3, 0.1).normalize();
+        let lobe = lit.lobe.response(Vec3::Y, outgoing, incident);
+        assert!(lobe.value > 0.0);
+        let pdf = 1.0;
+        let expected =
+            metal.tint(outgoing, incident) * (lobe.value * power_heuristic(pdf, lobe.pdf));
+        let response = lit.response(&hit, outgoing, incident, pdf);
+        assert!(
+            (response - expected).abs().max_element() < 1e-6,
+            "{response} vs {expected}"
+        );
+        // The rise is there: the blue channel (no edge) stays at ρ, red and green rise.
+        let ratio = response / (metal.f0 * (response.z / metal.f0.z));
+        assert!(
+            ratio.x > 1.01 && ratio.y > 1.05 && (ratio.z - 1.0).abs() < 1e-6,
+            "{ratio}"
+        );
+    }
 }

@@ -6,11 +6,12 @@ use glam::{Vec2, Vec3, Vec4};
 use render::buffers::MAX_PASS_THROUGHS;
 use render::buffers::{RAY_T_MAX, SppmParams};
 use render::clearcoat::{ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers};
+use render::conductor::Metal;
 use render::dielectric_layer::{
     DielectricLayer, LayerReflectance, layered_reflectance, rough_dielectric_layer_weight,
 };
 use render::dispersion::{disperse, draws_wavelength};
-use render::iridescence::{Film, film_share, metal_tint};
+use render::iridescence::{Film, film_share};
 use render::medium::{NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{brushed_reflection, rough_dielectric, rough_reflection};
 use render::normal_map::{FrameSource, brushing, mapped_normal, tangent_at};
@@ -354,14 +355,15 @@ pub fn hit_dielectric_layer(scene: &SceneData, material: &Material, uv: Vec2) ->
 
 /// What a bounce of `incoming` into `next` at `hit` on a `surface` of colour `tint` keeps
 /// under the `layer` on it (glTF's thin film, and on glass its specular layer): a metal's
-/// reflection its colour at the bounce's angle under the film ([`metal_bounce_tint`]); smooth
+/// reflection its Fresnel reflectance at the bounce's angle, rising from `tint` by
+/// `metal_edge` (`scene::Material::metal_edge`), under the film ([`metal_bounce_tint`]); smooth
 /// glass's reflection or transmission the layer's share of that way over the choice's
 /// probability ([`DielectricBranches::weight`]), frosted glass's at its micro-normal
 /// (`render::dielectric_layer::rough_dielectric_layer_weight`); every other bounce, and every
 /// bounce without a layer, `tint`.
 pub fn bounce_tint(
     surface: Surface,
-    tint: Vec3,
+    (tint, metal_edge): (Vec3, Vec3),
     layer: DielectricLayer,
     hit: &SurfaceHit,
     (incoming, next): (Vec3, Vec3),
@@ -378,24 +380,24 @@ pub fn bounce_tint(
             let ways = (-incoming, next);
             tint * rough_dielectric_layer_weight(layer, ways, hit.shading, eta, thin_walled)
         }
-        _ => metal_bounce_tint(surface, tint, layer.film, (incoming, next)),
+        _ => metal_bounce_tint(surface, (tint, metal_edge), layer.film, (incoming, next)),
     }
 }
 
 /// A metal's reflection (mirror or rough) of `incoming` into `next` under a thin `film`: its
-/// colour `tint` at the angle to the bounce's micro-normal (`render::iridescence::
-/// metal_tint`); every other bounce, and every bounce without a film, `tint`.
+/// reflectance at the angle to the bounce's micro-normal (`render::conductor::Metal::tint`)
+/// from its colour `f0`; every other bounce `f0`.
 fn metal_bounce_tint(
     surface: Surface,
-    tint: Vec3,
+    (f0, edge): (Vec3, Vec3),
     film: Film,
     (incoming, next): (Vec3, Vec3),
 ) -> Vec3 {
-    let metal = matches!(surface, Surface::Mirror | Surface::RoughConductor { .. });
-    if metal && film.is_some() {
-        metal_tint(tint, film, -incoming, next)
-    } else {
-        tint
+    match surface {
+        Surface::Mirror | Surface::RoughConductor { .. } => {
+            Metal { f0, edge, film }.tint(-incoming, next)
+        }
+        _ => f0,
     }
 }
 

@@ -173,8 +173,9 @@ fn sppm_matches_mitsuba_with_a_point_light() {
     assert!((ratio - Vec3::ONE).abs().max_element() < 0.02, "{ratio}");
 }
 
-/// Rough metal (GGX, `render::microfacet`) against Mitsuba's `roughconductor`, an independent
-/// implementation of the same model: `scenes/cornell-rough.gltf`, two rough spheres whose
+/// Rough metal (GGX, `render::microfacet`, under glTF's conductor Fresnel: `render::conductor`)
+/// against Mitsuba's `principled` of metallic 1, an independent implementation of the same
+/// model (its metal's Fresnel is Schlick's from the base colour too): `scenes/cornell-rough.gltf`, two rough spheres whose
 /// glossy reflections of the room reach the eye through paths that go on past the metal to a
 /// diffuse visible point, and whose photons throw rough caustics on the floor.
 #[test]

@@ -278,8 +278,10 @@ pub struct GpuMaterial {
     pub specular_color_texture: u32,
     pub specular_tinted_f0: [f32; 3],
     pub specular_factor: f32,
+    /// How far a metal's reflectance rises from its colour towards white at grazing angles
+    /// (`scene::Material::metal_edge`, `render::conductor`).
+    pub metal_edge: [f32; 3],
     pub specular_layer: u32,
-    pub pad: [u32; 3],
 }
 
 impl GpuMaterial {
@@ -411,8 +413,8 @@ impl GpuMaterial {
                 .specular
                 .map_or([0.0; 3], |s| s.tinted_f0.to_array()),
             specular_factor: material.specular.map_or(0.0, |s| s.factor),
+            metal_edge: material.metal_edge.to_array(),
             specular_layer: material.specular.is_some() as u32,
-            pad: [0; 3],
         }
     }
 

@@ -430,8 +430,8 @@ fn gpu_types_layout_matches_rust() {
                 offset_of!(GpuMaterial, specular_tinted_f0),
             ),
             ("specular_factor", offset_of!(GpuMaterial, specular_factor)),
+            ("metal_edge", offset_of!(GpuMaterial, metal_edge)),
             ("specular_layer", offset_of!(GpuMaterial, specular_layer)),
-            ("pad", offset_of!(GpuMaterial, pad)),
         ],
     );
     assert_layout(

@@ -703,10 +703,15 @@ fn tangents_past_the_binding_limit_fall_back_to_texture_frames() {
 }
 
 /// The same through rough metal: eye and photon paths draw GGX micro-normals
-/// (`render::microfacet` and its WGSL twin) and carry their shadowing weights.
+/// (`render::microfacet` and its WGSL twin), carry their shadowing weights and take the
+/// metal's Fresnel reflectance at each micro-normal (`render::conductor`), one sphere's
+/// rising to white at grazing angles, the other's by a different share in each channel.
 #[test]
 fn every_kernel_matches_its_twin_through_rough_metal() {
-    every_kernel_matches_its_twin(scene::testing::cornell_rough(), DirectLight::Sampled);
+    let mut scene = scene::testing::cornell_rough();
+    let silver = (scene.materials.iter_mut()).find(|m| m.name.contains("silver"));
+    silver.expect("a silver sphere").metal_edge = glam::Vec3::new(0.0, 0.5, 1.0);
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
 /// The same through frosted glass (`render::microfacet::rough_dielectric`): micro-normals,

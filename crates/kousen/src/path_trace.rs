@@ -19,6 +19,7 @@ use render::clearcoat::{
     ClearcoatEvent, clearcoat_at, clearcoat_event, clearcoat_numbers, clearcoat_transmittance,
 };
 use render::coats::Coats;
+use render::conductor::Metal;
 use render::dielectric_layer::{
     DielectricLayer, LayerReflectance, layered_reflectance, lobe_layer_weight,
     rough_dielectric_layer_weight,
@@ -27,7 +28,7 @@ use render::direct::{LightSample, sample_light, shadow_ray, sky_pdf, triangle_pd
 use render::emission::{
     light_area_density, light_table_triangles, light_table_with, triangle_barycentrics,
 };
-use render::iridescence::{Film, metal_tint};
+use render::iridescence::Film;
 use render::light_sampling::power_heuristic;
 use render::medium::{MediumLocator, NO_MEDIUM, medium_after, segment_medium, transmittance};
 use render::microfacet::{GlossyLobe, glossy_response, refraction_response, sheet_response};
@@ -163,9 +164,9 @@ struct LitLobes<'a> {
     /// glTF's sheen over both lobes (beneath the clear coat), which the light passes too, and
     /// the normal it follows (the shading one, facing the path).
     sheen: Option<(SheenAt, Vec3)>,
-    /// A metal's colour and its thin film (glTF's iridescence), whose colour depends on the
-    /// light's direction: `glossy` then leaves the colour out.
-    metal_film: Option<(Vec3, Film)>,
+    /// The metal of a rough-metal lobe (its Fresnel reflectance, under glTF's thin film where
+    /// it has one, depends on the light's direction: `glossy` then leaves the colour out).
+    metal: Option<Metal>,
     /// Frosted glass's thin film, whose share of the lobe's way depends on the light's
     /// direction (factor 0: none).
     dielectric_layer: DielectricLayer,
@@ -199,7 +200,7 @@ impl<'a> LitLobes<'a> {
                     lobe: GlossyLobe::reflection(alpha, ior),
                     clearcoat: None,
                     sheen: None,
-                    metal_film: None,
+                    metal: None,
                     dielectric_layer: DielectricLayer::default(),
                 }
             }
@@ -274,9 +275,9 @@ impl<'a> LitLobes<'a> {
             let lobe = self.lobe.response(normal, outgoing, incident);
             if lobe.value > 0.0 {
                 let weight = power_heuristic(light_pdf, reach * lobe.pdf);
-                let mut tint = self.metal_film.map_or(Vec3::ONE, |(base, film)| {
-                    metal_tint(base, film, outgoing, incident)
-                });
+                let mut tint = self
+                    .metal
+                    .map_or(Vec3::ONE, |metal| metal.tint(outgoing, incident));
                 if !self.dielectric_layer.is_bare() {
                     let ways = (outgoing, incident);
                     tint *= lobe_layer_weight(&self.lobe, self.dielectric_layer, normal, ways);
@@ -554,9 +555,12 @@ impl<'a> PathTracer<'a> {
                     front,
                 )
             };
-            let film = self.film(lobes_of, point.uv);
-            if matches!(lobes_of.surface, Surface::RoughConductor { .. }) && film.is_some() {
-                lit.metal_film = Some((lit.glossy, film));
+            if matches!(lobes_of.surface, Surface::RoughConductor { .. }) {
+                lit.metal = Some(Metal {
+                    f0: lit.glossy,
+                    edge: lobes_of.metal_edge,
+                    film: self.film(lobes_of, point.uv),
+                });
                 lit.glossy = Vec3::ONE;
             }
             if matches!(lobes_of.surface, Surface::Plastic { .. }) {
@@ -962,8 +966,8 @@ impl<'a> PathTracer<'a> {
         Film::of(&film, texel(film.texture), texel(film.thickness_texture))
     }
 
-    /// A metal's colour `tint` for a reflection from `incoming` into `next`: under a thin film
-    /// its colour at the angle to the reflection's micro-normal.
+    /// A metal of colour `tint` reflecting from `incoming` into `next`: its Fresnel reflectance
+    /// (under its thin film, if any) at the angle to the reflection's micro-normal.
     fn metal_reflection_tint(
         &self,
         material: &Material,
@@ -971,12 +975,12 @@ impl<'a> PathTracer<'a> {
         tint: Vec3,
         (incoming, next): (Vec3, Vec3),
     ) -> Vec3 {
-        let film = self.film(material, uv);
-        if film.is_some() {
-            metal_tint(tint, film, -incoming, next)
-        } else {
-            tint
-        }
+        let metal = Metal {
+            f0: tint,
+            edge: material.metal_edge,
+            film: self.film(material, uv),
+        };
+        metal.tint(-incoming, next)
     }
 
     /// glTF's diffuse transmission at `uv` (`cpu::surface::diffuse_transmission_of`): the
@@ -1695,8 +1699,9 @@ mod tests {
     /// the sky, seen at 60°: the tracer, which samples the sky at the hit and weighs it
     /// against the GGX lobe's own sampling (and the coat's base against its cosine sampling),
     /// against the lobes' sampling alone, drawn here straight from the samplers
-    /// (`rough_reflection`, `coat_event`, a cosine bounce out through the coat,
-    /// `rough_dielectric`) with every escaping ray seeing the sky. They must agree within four
+    /// (`rough_reflection` weighed by the metal's Fresnel reflectance at its micro-normal,
+    /// `coat_event`, a cosine bounce out through the coat, `rough_dielectric`) with every
+    /// escaping ray seeing the sky. They must agree within four
     /// standard errors of the difference (the sheet's reflections weighed as if the sky were
     /// sampled on their side too: 0.75 against 0.82).
     #[test]
@@ -1737,10 +1742,19 @@ mod tests {
                 let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
                 let seen = match surface {
                     Surface::RoughConductor { alpha } => {
-                        rough_reflection(direction, normal, alpha, u[0], u[1])
-                            .map_or(0.0, |(next, weight)| {
-                                albedo * weight * f32::from(next.y > 0.0)
-                            })
+                        rough_reflection(direction, normal, alpha, u[0], u[1]).map_or(
+                            0.0,
+                            |(next, weight)| {
+                                // The metal's Fresnel reflectance at the micro-normal.
+                                let metal = Metal {
+                                    f0: Vec3::splat(albedo),
+                                    edge: Vec3::ONE,
+                                    film: Film::default(),
+                                };
+                                let tint = metal.tint(-direction, next).x;
+                                tint * weight * f32::from(next.y > 0.0)
+                            },
+                        )
                     }
                     Surface::Plastic { .. } => match coat_event(direction, normal, &coat, u) {
                         CoatEvent::Reflected { direction, weight } => {
@@ -2073,8 +2087,9 @@ mod tests {
     }
 
     /// A brushed white-ish metal plane (GGX α 0.1, glTF anisotropy 0.8 turned 0.3 rad) under
-    /// the sky L: seen straight down and at 60°, it returns L·ρ·E(view), E the brushed lobe's
-    /// directional albedo by quadrature over the hemisphere (`render::microfacet::
+    /// the sky L: seen straight down and at 60°, it returns L·E(view), E the brushed lobe's
+    /// directional albedo with the metal's Fresnel reflectance from ρ by quadrature over the
+    /// hemisphere (`render::microfacet::
     /// brushed_response`, about the brushing the hit computes: the plane has no texture
     /// coordinates, so any frame about its normal), within 0.5 % over 200,000 paths (20,000
     /// left 1 % of noise): the tracer's brushed bounces and light samples under MIS. The same plane brushed at right angles returns a different
@@ -2082,7 +2097,13 @@ mod tests {
     #[test]
     fn brushed_metal_plane_under_the_sky_returns_its_albedo() {
         let (sky, alpha) = (2.0f32, 0.1f32);
-        let albedo_of = |brush: Vec3, view: Vec3| {
+        // The lobe's albedo with the metal's Fresnel reflectance from ρ at each micro-normal.
+        let albedo_of = |brush: Vec3, view: Vec3, rho: f32| {
+            let metal = Metal {
+                f0: Vec3::splat(rho),
+                edge: Vec3::ONE,
+                film: Film::default(),
+            };
             let n = 600;
             let mut sum = 0.0f64;
             for i in 0..n {
@@ -2100,7 +2121,8 @@ mod tests {
                     );
                     let value =
                         render::microfacet::brushed_response(view, l, Vec3::Y, brush, alpha);
-                    sum += value.value as f64 * d_cos * std::f64::consts::TAU / n as f64;
+                    let tint = metal.tint(view, l).x as f64;
+                    sum += tint * value.value as f64 * d_cos * std::f64::consts::TAU / n as f64;
                 }
             }
             sum
@@ -2116,7 +2138,7 @@ mod tests {
             for material in &mut scene.materials {
                 material.anisotropy = Some(anisotropy);
             }
-            let rho = scene.materials[0].base_color.x as f64;
+            let rho = scene.materials[0].base_color.x;
             let no_frame = render::normal_map::FrameSource {
                 positions: [Vec3::ZERO, Vec3::X, Vec3::Z],
                 uvs: [Vec2::ZERO; 3],
@@ -2127,7 +2149,7 @@ mod tests {
             let tracer = PathTracer::new(&scene, &bvh, camera);
             let radiance = |cos: f32| {
                 let view = Vec3::new(-(1.0 - cos * cos).sqrt(), cos, 0.0);
-                sky as f64 * rho * albedo_of(brush, view)
+                sky as f64 * albedo_of(brush, view, rho)
             };
             radiances.push(radiance(0.5));
             assert_sky_plane(&tracer, radiance, 200_000, 0.005);
@@ -2147,7 +2169,6 @@ mod tests {
     /// metal with 200,000).
     #[test]
     fn iridescent_metal_plane_under_the_sky_returns_the_film_s_colour() {
-        use render::iridescence::{iridescent_metal, metal_tint};
         let sky = 2.0f32;
         let base = Vec3::new(0.9, 0.6, 0.3);
         let iridescence = testing::film(1.8, 420.0);
@@ -2167,7 +2188,12 @@ mod tests {
         let scene = with_film(Surface::Mirror);
         let (bvh, camera) = tracer_for(&scene);
         let tracer = PathTracer::new(&scene, &bvh, camera);
-        let mirror = |cos: f32| (sky * iridescent_metal(base, film, cos)).x as f64;
+        let metal = Metal {
+            f0: base,
+            edge: Vec3::ONE,
+            film,
+        };
+        let mirror = |cos: f32| (sky * metal.reflectance(cos)).x as f64;
         assert!((mirror(1.0) / (sky * base.x) as f64 - 1.0).abs() > 0.05);
         assert_sky_plane(&tracer, mirror, 1000, 0.005);
 
@@ -2190,7 +2216,7 @@ mod tests {
                     );
                     let lobe = glossy_response(view, l, Vec3::Y, alpha, 0.0);
                     if lobe.value > 0.0 {
-                        let tint = metal_tint(base, film, view, l).x as f64;
+                        let tint = metal.tint(view, l).x as f64;
                         sum += tint * lobe.value as f64 * d_omega;
                     }
                 }

@@ -11,19 +11,20 @@
 //! glTF's model is Belcour & Barla 2017 ("A practical extension to microfacet theory for the
 //! modeling of varying iridescence"): the surface's reflectance becomes a mix, by the film's
 //! factor, of its own and the film's. A metal's base index is the real index whose
-//! normal-incidence reflectance is the metal's colour ([`ior_from_f0`], [`metal_tint`]);
+//! normal-incidence reflectance is the metal's colour ([`ior_from_f0`],
+//! `crate::conductor::Metal`);
 //! glass's is its own, the film on its outside ([`iridescent_dielectric`]). The base is treated
 //! as a real index throughout: a metal's phase change on reflection (its complex index) is not
 //! modelled, as glTF's reference model does not model it either. The outside is taken as air
 //! (index 1) wherever the surface lies.
 //!
-//! Where it is used: `cpu::surface::bounce_tint` (a bounce off metal takes the film's colour
-//! at its micro-normal; smooth glass chooses reflection by the film's mean reflectance and
+//! Where it is used: `cpu::surface::bounce_tint` (a bounce off metal takes the film's mix at
+//! its micro-normal: `crate::conductor`; smooth glass chooses reflection by the film's mean reflectance and
 //! weighs each channel by its share; frosted glass keeps its bare choice and weighs each way by
 //! the film's share over the bare one at its micro-normal), plastic's coat
 //! (`crate::dielectric_layer::DielectricLayer`: the coat's reflection the film's mix, chosen by its mean,
 //! and the rest through it), the eye paths' light samples at rough
-//! metal, frosted glass and plastic (`cpu::kernels::LitLobes::metal_film`,
+//! metal, frosted glass and plastic (`cpu::kernels::LitLobes::metal`,
 //! `dielectric_film`), their WGSL twins and the path tracer. Lambertian surfaces do not read
 //! a film.
 
@@ -215,33 +216,6 @@ pub fn film_reflectance(cos_outside: f32, film_ior: f32, thickness: f32, base_io
     Vec3::select(base_blocked, Vec3::ONE, total).clamp(Vec3::ZERO, Vec3::ONE)
 }
 
-/// glTF's iridescent metal: the metal's reflectance `base_color` (kousen's metals reflect their
-/// base colour at every angle) mixed by `film.factor` with the film's reflectance on a base of
-/// index `ior_from_f0(base_color)`, at `cos_incident` (the cosine between the incident direction
-/// and the micro-normal, clamped to [0, 1]). `film.factor` 0: `base_color` exactly.
-pub fn iridescent_metal(base_color: Vec3, film: Film, cos_incident: f32) -> Vec3 {
-    if !film.is_some() {
-        return base_color;
-    }
-    let cos = cos_incident.clamp(0.0, 1.0);
-    let film_colour = film_reflectance(cos, film.ior, film.thickness, ior_from_f0(base_color));
-    base_color.lerp(film_colour, film.factor.min(1.0))
-}
-
-/// [`iridescent_metal`] for a reflection between `outgoing` and `incident` (unit, both away
-/// from the surface): at the angle to their half-way vector, the micro-normal that reflects
-/// one into the other. Reflectance is reciprocal, so eye and light paths see the same colour.
-pub fn metal_tint(base_color: Vec3, film: Film, outgoing: Vec3, incident: Vec3) -> Vec3 {
-    let sum = outgoing + incident;
-    let length = sum.length();
-    let cos_incident = if length > 0.0 {
-        outgoing.dot(sum / length)
-    } else {
-        0.0
-    };
-    iridescent_metal(base_color, film, cos_incident)
-}
-
 /// glTF's mix by `film.factor` of a dielectric's own reflectance `bare` (each channel) with
 /// the film's on a base of index `ior`, seen at `cos_outside` (in [0, 1]) outside it.
 pub fn film_mix(bare: Vec3, film: Film, cos_outside: f32, ior: f32) -> Vec3 {
@@ -419,45 +393,6 @@ mod tests {
         let rgb = film_reflectance(0.3, 1.3, 300.0, base);
         assert_eq!(rgb.z, 1.0);
         assert!(rgb.x < 0.5 && rgb.y < 0.5, "{rgb}");
-    }
-
-    #[test]
-    fn iridescent_metal_without_film_is_the_metal() {
-        let colours = [
-            Vec3::new(0.95, 0.64, 0.54),
-            Vec3::new(0.56, 0.57, 0.58),
-            Vec3::new(0.04, 0.3, 0.9),
-        ];
-        for colour in colours {
-            for cos in [1.0, 0.6, 0.1] {
-                let film = Film {
-                    factor: 0.0,
-                    ior: 1.3,
-                    thickness: 400.0,
-                };
-                assert_eq!(iridescent_metal(colour, film, cos), colour);
-            }
-            let film = Film {
-                factor: 1.0,
-                ior: 1.3,
-                thickness: 0.0,
-            };
-            let metal = iridescent_metal(colour, film, 1.0);
-            assert!(
-                (metal - colour).abs().max_element() < 1e-4,
-                "{colour}: {metal}"
-            );
-        }
-        // Half a film is halfway between the metal and the film's colour.
-        let colour = Vec3::new(0.95, 0.64, 0.54);
-        let film = Film {
-            factor: 0.5,
-            ior: 1.3,
-            thickness: 400.0,
-        };
-        let full = film_reflectance(0.8, 1.3, 400.0, ior_from_f0(colour));
-        let half = iridescent_metal(colour, film, 0.8);
-        assert!((half - 0.5 * (colour + full)).abs().max_element() < 1e-6);
     }
 
     #[test]

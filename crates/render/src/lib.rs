@@ -7,6 +7,7 @@ pub mod blend;
 pub mod buffers;
 pub mod clearcoat;
 pub mod coats;
+pub mod conductor;
 pub mod density;
 pub mod dielectric_layer;
 pub mod direct;

@@ -9,14 +9,15 @@ use crate::{Texture, TextureId};
 pub enum Surface {
     /// Lambertian, albedo `base_color` (× texture).
     Diffuse,
-    /// Perfect specular reflection tinted by `base_color`.
+    /// Perfect specular reflection of a metal of colour `base_color` (its reflectance at
+    /// normal incidence; Fresnel's rise towards grazing by [`Material::metal_edge`]).
     Mirror,
     /// Smooth glass with Fresnel reflection and refraction. `thin_walled`: a sheet with no
     /// interior (light passes straight through, glTF transmission without a volume); otherwise
     /// a solid whose inside has index `ior`.
     Dielectric { ior: f32, thin_walled: bool },
-    /// Rough metal: GGX microfacets of width `alpha` (glTF's roughness squared) reflecting
-    /// `base_color` at every angle, as the mirror does (`render::microfacet`).
+    /// Rough metal: GGX microfacets of width `alpha` (glTF's roughness squared), each
+    /// reflecting as the mirror does (`render::microfacet`, `render::conductor`).
     RoughConductor { alpha: f32 },
     /// Rough glass (frosted): GGX microfacets of width `alpha` (glTF's roughness squared) on
     /// the [`Surface::Dielectric`] of `ior` and `thin_walled` (`render::microfacet`).
@@ -112,6 +113,11 @@ pub struct Material {
     /// and glass (smooth or frosted) read; `None` where it changes nothing (no extension, or
     /// its defaults).
     pub specular: Option<SpecularLayer>,
+    /// How far a metal's reflectance rises from its colour F0 towards white at grazing angles,
+    /// per channel, along Schlick's curve (`render::conductor`): 1, glTF's conductor Fresnel
+    /// (the default); 0, the colour at every angle (Mitsuba's `"none"` conductor). Only metal
+    /// (mirror or rough) reads it.
+    pub metal_edge: Vec3,
 }
 
 /// glTF's specular layer (`KHR_materials_specular`) on a dielectric of index n: at a hit its
@@ -441,7 +447,7 @@ pub fn coated_surface(ior: f32, roughness: f32) -> Surface {
 /// know by name, lower case: Hoffman's table ("Physics and Math of Shading", SIGGRAPH 2015
 /// course) for silver, aluminium, gold, chromium, copper, brass (CuZn) and nickel; MgO and
 /// TiO₂ (pbrt's names) from their indices, 1.74 and 2.6, without absorption. kousen's metals
-/// reflect their colour at every angle.
+/// rise from it to white at grazing angles along Schlick's curve (`render::conductor`).
 const METAL_F0: [(&str, [f32; 3]); 9] = [
     ("ag", [0.972, 0.960, 0.915]),
     ("al", [0.913, 0.922, 0.924]),
@@ -458,6 +464,15 @@ const METAL_F0: [(&str, [f32; 3]); 9] = [
 pub fn metal_f0(name: &str) -> Option<Vec3> {
     let found = METAL_F0.iter().find(|(n, _)| n.eq_ignore_ascii_case(name));
     found.map(|(_, f0)| Vec3::from_array(*f0))
+}
+
+/// The [`Material::metal_edge`] whose grazing reflectance is `f90` for a metal of colour `f0`
+/// (each channel, clamped to [0, 1]; 0 where `f0` is already white): a conductor's Fresnel
+/// scaled by a tint (Mitsuba's `specular_reflectance`) rises to the tint, not to white.
+pub fn metal_edge_to(f0: Vec3, f90: Vec3) -> Vec3 {
+    let rise = Vec3::ONE - f0;
+    let edge = (f90 - f0) / rise.max(Vec3::splat(1e-6));
+    Vec3::select(rise.cmpgt(Vec3::ZERO), edge, Vec3::ZERO).clamp(Vec3::ZERO, Vec3::ONE)
 }
 
 /// A principled material (Mitsuba 3's `principled`, pbrt-v3's `disney`) read as glTF's
@@ -744,6 +759,7 @@ impl Default for Material {
             anisotropy: None,
             iridescence: None,
             specular: None,
+            metal_edge: Vec3::ONE,
         }
     }
 }

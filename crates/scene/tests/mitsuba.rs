@@ -326,6 +326,36 @@ fn blend_bsdfs_mix_whole_materials() {
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
 }
 
+/// Conductors' Fresnel rise (`Material::metal_edge`): a named metal's rises to white, one
+/// tinted by `specular_reflectance` to the tint, Mitsuba's `"none"` (its default) not at all.
+#[test]
+fn conductors_rise_towards_their_tint_at_grazing_angles() {
+    let scene = load(&format!(
+        r#"<shape type="cube"><bsdf type="conductor"><string name="material" value="Cu"/></bsdf></shape>
+        <shape type="cube"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+            <rgb name="specular_reflectance" value="0.5, 0.8, 1"/></bsdf></shape>
+        <shape type="cube"><bsdf type="conductor">
+            <rgb name="specular_reflectance" value="0.9, 0.7, 0.4"/></bsdf></shape>{LAMP}"#
+    ))
+    .expect("loads");
+    let metal = |shape: usize| &scene.materials[scene.triangles[12 * shape].material as usize];
+    let copper = scene::material::metal_f0("Cu").unwrap();
+    assert_eq!(
+        (metal(0).base_color, metal(0).metal_edge),
+        (copper, Vec3::ONE)
+    );
+    // Tinted: F0 = tint·copper, F90 = tint, so F0 + edge·(1 − F0) = tint.
+    let tint = Vec3::new(0.5, 0.8, 1.0);
+    let tinted = metal(1);
+    assert!(tinted.base_color.abs_diff_eq(tint * copper, 1e-6));
+    let f90 = tinted.base_color + tinted.metal_edge * (Vec3::ONE - tinted.base_color);
+    assert!(f90.abs_diff_eq(tint, 1e-5), "{f90}");
+    assert_eq!(
+        (metal(2).base_color, metal(2).metal_edge),
+        (Vec3::new(0.9, 0.7, 0.4), Vec3::ZERO)
+    );
+}
+
 /// A `cylinder` is an open tube from `p0` to `p1`, facing out.
 #[test]
 fn cylinders_run_from_p0_to_p1() {

@@ -153,6 +153,7 @@ fn pc_pcr_and_ps_make_a_clear_coat_and_a_sheen() {
     assert_eq!((glass.clearcoat, glass.sheen), (None, None));
 }
 
+/// Both are mirrors; 5 ("Fresnel on") rises to white at grazing angles, 3 does not.
 #[test]
 fn illum_3_and_5_are_mirrors_tinted_by_ks_else_kd() {
     let dir = tempfile::tempdir().unwrap();
@@ -163,6 +164,8 @@ fn illum_3_and_5_are_mirrors_tinted_by_ks_else_kd() {
     assert_eq!(material(&scene, "a").base_color, Vec3::new(0.9, 0.8, 0.7));
     assert_eq!(material(&scene, "b").surface, Surface::Mirror);
     assert_eq!(material(&scene, "b").base_color, Vec3::splat(0.5));
+    assert_eq!(material(&scene, "a").metal_edge, Vec3::ONE);
+    assert_eq!(material(&scene, "b").metal_edge, Vec3::ZERO);
 }
 
 #[test]

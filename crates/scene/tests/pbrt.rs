@@ -198,7 +198,11 @@ fn pbrt_v3_spellings_are_read() {
     );
     assert_eq!(material("c").surface, Surface::Mirror);
     assert_eq!(material("c").base_color, Vec3::new(1.0, 0.782, 0.344));
+    // v3's metal rises to white at grazing angles (Fresnel); its mirror reflects Kr at every
+    // angle.
+    assert_eq!(material("c").metal_edge, Vec3::ONE);
     assert_eq!(material("d").surface, Surface::Mirror);
+    assert_eq!(material("d").metal_edge, Vec3::ZERO);
     assert_eq!(material("e").base_color, Vec3::new(0.9, 0.9, 1.0));
     assert!(matches!(material("e").surface, Surface::Dielectric { ior, .. } if ior == 1.33));
     assert_eq!(material("f").surface, scene::coated_surface(1.5, 0.1));

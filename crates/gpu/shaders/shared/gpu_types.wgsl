@@ -117,6 +117,8 @@ struct GpuMaterial {
     specular_color_texture: u32,
     specular_tinted_f0: vec3<f32>,
     specular_factor: f32,
+    // scene::Material::metal_edge: how far a metal's reflectance rises towards white at
+    // grazing angles (render::conductor).
+    metal_edge: vec3<f32>,
     specular_layer: u32,
-    pad: array<u32, 3>,
 }

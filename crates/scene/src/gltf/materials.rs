@@ -403,6 +403,7 @@ impl Materials {
             anisotropy: self.anisotropy(input, builder, &check, m)?,
             iridescence: self.iridescence(input, builder, &check, m)?,
             specular: self.specular_layer(input, builder, &check, m)?,
+            metal_edge: Vec3::ONE,
         };
         if is_unlit(m) {
             return Ok((

@@ -155,9 +155,16 @@ impl<'a> Reader<'a> {
                     "roughconductor" => alpha(self)?.sqrt(),
                     _ => 0.0,
                 };
-                let colour = self.colour(node, "specular_reflectance", Vec3::ONE)?
-                    * self.metal_reflectance(node)?;
-                base(metal_surface(roughness), colour)
+                let tint = self.colour(node, "specular_reflectance", Vec3::ONE)?;
+                let (colour, metal_edge) = match self.metal_reflectance(node)? {
+                    Some(f0) => (tint * f0, crate::material::metal_edge_to(tint * f0, tint)),
+                    // A perfect mirror times the tint at every angle.
+                    None => (tint, Vec3::ZERO),
+                };
+                Material {
+                    metal_edge,
+                    ..base(metal_surface(roughness), colour)
+                }
             }
             "plastic" | "roughplastic" => {
                 let ior =
@@ -419,22 +426,23 @@ impl<'a> Reader<'a> {
 
     /// A conductor's reflectance at normal incidence: from its `eta` and `k` where given
     /// (((η − 1)² + k²) / ((η + 1)² + k²) per channel, η relative to `ext_eta`), else its named
-    /// `material` ([`crate::material::metal_f0`]; "none", Mitsuba's default, is a perfect mirror).
-    fn metal_reflectance(&mut self, node: Node<'a, 'a>) -> Result<Vec3, SceneError> {
+    /// `material` ([`crate::material::metal_f0`]); `None` for "none", Mitsuba's default, a
+    /// perfect mirror without Fresnel's rise.
+    fn metal_reflectance(&mut self, node: Node<'a, 'a>) -> Result<Option<Vec3>, SceneError> {
         if property(node, "eta").is_some() {
             let eta = self.colour(node, "eta", Vec3::ONE)? / self.float(node, "ext_eta", 1.0)?;
             let k = self.colour(node, "k", Vec3::ZERO)?;
             let f0 = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
-            return Ok(f0.clamp(Vec3::ZERO, Vec3::ONE));
+            return Ok(Some(f0.clamp(Vec3::ZERO, Vec3::ONE)));
         }
         let Some(p) = property(node, "material") else {
-            return Ok(Vec3::ONE);
+            return Ok(None);
         };
         let named = self.context.required(p, "value")?;
         if named == "none" {
-            return Ok(Vec3::ONE);
+            return Ok(None);
         }
-        Ok(match crate::material::metal_f0(&named) {
+        Ok(Some(match crate::material::metal_f0(&named) {
             Some(f0) => f0,
             None => {
                 self.warn(
@@ -443,6 +451,6 @@ impl<'a> Reader<'a> {
                 );
                 Vec3::splat(0.8)
             }
-        })
+        }))
     }
 }

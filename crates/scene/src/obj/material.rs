@@ -61,6 +61,11 @@ pub(super) fn plan(
             alpha: alpha.clamp(0.0, 1.0),
             clearcoat,
             sheen,
+            // MTL's illum 3 reflects Ks at every angle; 5 adds Fresnel's rise to white.
+            metal_edge: match m.illumination_model {
+                Some(3) => Vec3::ZERO,
+                _ => Vec3::ONE,
+            },
             ..Material::default()
         },
         base_color_map: texture(dir, m.diffuse_texture.as_deref(), "map_Kd", &mut notes),

@@ -10,7 +10,9 @@
 //!   triangles are dropped and counted ([`crate::Scene::degenerate_dropped`]).
 //! - **Materials** (MTL, relative to the OBJ; textures relative to the MTL):
 //!   - `illum` 3 and 5 → [`Surface::Mirror`], reflectance `Ks` if not black, else `Kd` if not
-//!     black, else white (both are used by exporters for the mirror colour);
+//!     black, else white (both are used by exporters for the mirror colour); 3 reflects it at
+//!     every angle, 5 ("Fresnel on") rises to white at grazing angles as glTF's metals
+//!     (`Material::metal_edge`);
 //!   - `illum` 4, 6, 7 → solid [`Surface::Dielectric`] with ior `Ni` (missing or below 1 →
 //!     1.5 with a warning), transmittance tint `Tf` if given, else white;
 //!   - anything else → glTF's metal and dielectric: roughness from the PBR extension's `Pr`,

@@ -296,16 +296,19 @@ impl Reader {
                 }
                 textured(reflectance, coated_surface(ior, roughness))
             }
-            "conductor" | "metal" | "mirror" => {
-                let (f0, roughness) = match class {
-                    "mirror" => (self.colour(p, &["Kr"], Vec3::splat(0.9), file)?, 0.0),
-                    _ => {
-                        let default = if class == "metal" { 0.01 } else { 0.0 };
-                        let roughness = self.roughness(p, "", default, file)?;
-                        (self.conductor(p, "", file)?, roughness)
-                    }
-                };
+            "conductor" | "metal" => {
+                let default = if class == "metal" { 0.01 } else { 0.0 };
+                let roughness = self.roughness(p, "", default, file)?;
+                let f0 = self.conductor(p, "", file)?;
                 textured(f0, metal_surface(roughness))
+            }
+            "mirror" => {
+                // pbrt-v3's mirror reflects `Kr` at every angle (no Fresnel).
+                let reflectance = self.colour(p, &["Kr"], Vec3::splat(0.9), file)?;
+                Material {
+                    metal_edge: Vec3::ZERO,
+                    ..textured(reflectance, Surface::Mirror)
+                }
             }
             "coatedconductor" => {
                 let f0 = self.conductor(p, "conductor.", file)?;

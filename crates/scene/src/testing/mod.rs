@@ -1102,13 +1102,20 @@ fn diffuse_square(f: &mut Fixture) {
 pub const MIRROR_TINT: Vec3 = Vec3::new(0.9, 0.5, 0.2);
 
 /// [`punctual_plane`]'s diffuse square (albedo [`LIT_PLANE_ALBEDO`], no light) seen only in a
-/// mirror of tint [`MIRROR_TINT`]: the camera at (0, 0.5, 2) looks along −z, with a 10°
+/// mirror of tint [`MIRROR_TINT`] at every angle (no Fresnel rise: `Material::metal_edge` 0,
+/// so what it shows is the tint times the plane's exactly): the camera at (0, 0.5, 2) looks along −z, with a 10°
 /// field of view, at a square mirror centred at (0, 0.5, 0) and tilted 45° (normal
 /// (0, −1, 1)/√2), which sends every camera ray straight down onto the plane.
 pub fn plane_in_a_mirror() -> Scene {
     let mut f = Fixture::new("testing::plane_in_a_mirror");
     diffuse_square(&mut f);
-    let mirror = f.material("mirror", Surface::Mirror, MIRROR_TINT);
+    let mirror = f.builder.add_material(Material {
+        name: "mirror".into(),
+        surface: Surface::Mirror,
+        base_color: MIRROR_TINT,
+        metal_edge: Vec3::ZERO,
+        ..Material::default()
+    });
     let slope = Vec3::new(0.0, 1.0, 1.0).normalize() * 0.4;
     let centre = Vec3::new(0.0, 0.5, 0.0);
     let across = Vec3::new(0.4, 0.0, 0.0);

@@ -50,9 +50,11 @@ struct LitLobes {
     coat_alpha: f32,
     // render::microfacet::GlossyLobe::brush: a brushed metal's brushing (zero: isotropic).
     brush: vec3<f32>,
-    // cpu::kernels::LitLobes::metal_film: a metal's colour and its thin film (factor 0: none;
-    // `glossy` then leaves the colour out).
-    film_base: vec3<f32>,
+    // cpu::kernels::LitLobes::metal: a rough-metal lobe's metal (`metal` false: none;
+    // `glossy` then leaves its colour out): its colour, edge and thin film (factor 0: none).
+    metal: bool,
+    metal_f0: vec3<f32>,
+    metal_edge: vec3<f32>,
     film: Film,
     // cpu::kernels::LitLobes::dielectric_layer: frosted glass's layer (thin film, specular
     // layer; bare: none).
@@ -109,8 +111,8 @@ fn lit_response(lit: LitLobes, hit: SurfaceHit, outgoing: vec3<f32>, incident: v
         let lobe = lit_glossy_lobe(lit, hit, outgoing, incident);
         if lobe.value > 0.0 {
             var tint = vec3<f32>(1.0);
-            if IRIDESCENCE && lit.film.factor > 0.0 {
-                tint = metal_tint(lit.film_base, lit.film, outgoing, incident);
+            if lit.metal {
+                tint = metal_tint(lit.metal_f0, lit.metal_edge, lit.film, outgoing, incident);
             }
             if !dielectric_layer_is_bare(lit.dielectric_layer) {
                 // render::dielectric_layer::lobe_layer_weight.

@@ -205,7 +205,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
                 if max3(bounce.weight) <= 0.0 {
                     break;
                 }
-                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), bare_dielectric_layer(), bare_dielectric_layer());
+                var lit = LitLobes(vec3<f32>(0.0), throughput * sheen_lobe_scale(sheen, dot(direction, hit.shading)), sheen.alpha, 0.0, 0.0, 0.0, coat_weight, true, no_sheen(), 0.0, vec3<f32>(0.0), false, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), bare_dielectric_layer(), bare_dielectric_layer());
                 if (params.sample_lights & SAMPLE_AT_GLOSSY) == 0u {
                     lit.alpha = 0.0;
                 }
@@ -239,7 +239,7 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
         var bounce_tint = tint;
         var base_weight = 1.0;
         var base_film_tint = vec3<f32>(1.0);
-        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), bare_dielectric_layer(), bare_dielectric_layer());
+        var lit = LitLobes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, 0.0, coat_weight, false, sheen, 0.0, vec3<f32>(0.0), false, vec3<f32>(0.0), vec3<f32>(0.0), no_film(), bare_dielectric_layer(), bare_dielectric_layer());
         if plastic {
             lit.coat_ior = material.ior;
             lit.coat_alpha = material.roughness_alpha;
@@ -318,14 +318,13 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             let layer = hit_dielectric_layer(material, hit.uv);
             let film = layer.film;
             if material.surface == SURFACE_ROUGH_CONDUCTOR {
-                lit.glossy = throughput * tint;
+                lit.glossy = throughput;
                 lit.alpha = material.roughness_alpha;
                 lit.brush = hit.brush;
-                if IRIDESCENCE && film.factor > 0.0 {
-                    lit.glossy = throughput;
-                    lit.film = film;
-                    lit.film_base = tint;
-                }
+                lit.metal = true;
+                lit.metal_f0 = tint;
+                lit.metal_edge = material.metal_edge;
+                lit.film = film;
             }
             // cpu::kernels: solid frosted glass met from outside reflects as a coat does; met
             // from inside, its refraction out is the lobe.

@@ -94,14 +94,21 @@ fn film_reflectance(cos_outside: f32, film_ior: f32, thickness: f32, base_ior: v
     return clamp(select(total, vec3<f32>(1.0), base_blocked), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// render::iridescence::iridescent_metal.
-fn iridescent_metal(base_color: vec3<f32>, film: Film, cos_incident: f32) -> vec3<f32> {
-    if film.factor <= 0.0 {
-        return base_color;
+// render::conductor::conductor_fresnel.
+fn conductor_fresnel(f0: vec3<f32>, edge: vec3<f32>, cos_incident: f32) -> vec3<f32> {
+    let grazing = pow(1.0 - clamp(cos_incident, 0.0, 1.0), 5.0);
+    return f0 + edge * (vec3<f32>(1.0) - f0) * grazing;
+}
+
+// render::conductor::Metal::reflectance.
+fn metal_reflectance(f0: vec3<f32>, edge: vec3<f32>, film: Film, cos_incident: f32) -> vec3<f32> {
+    let bare = conductor_fresnel(f0, edge, cos_incident);
+    if !IRIDESCENCE || film.factor <= 0.0 {
+        return bare;
     }
     let cos_i = clamp(cos_incident, 0.0, 1.0);
-    let film_colour = film_reflectance(cos_i, film.ior, film.thickness, ior_from_f0(base_color));
-    return mix(base_color, film_colour, min(film.factor, 1.0));
+    let film_colour = film_reflectance(cos_i, film.ior, film.thickness, ior_from_f0(f0));
+    return mix(bare, film_colour, min(film.factor, 1.0));
 }
 
 // render::iridescence::film_mix.
@@ -124,22 +131,21 @@ fn film_share(bare: f32, filmed: vec3<f32>, reflected: bool) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// render::iridescence::metal_tint.
-fn metal_tint(base_color: vec3<f32>, film: Film, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
+// render::conductor::Metal::tint.
+fn metal_tint(f0: vec3<f32>, edge: vec3<f32>, film: Film, outgoing: vec3<f32>, incident: vec3<f32>) -> vec3<f32> {
     let half_sum = outgoing + incident;
     let length_sum = length(half_sum);
     var cos_i = 0.0;
     if length_sum > 0.0 {
         cos_i = dot(outgoing, half_sum / length_sum);
     }
-    return iridescent_metal(base_color, film, cos_i);
+    return metal_reflectance(f0, edge, film, cos_i);
 }
 
 // cpu::surface::metal_bounce_tint.
 fn metal_bounce_tint(material: GpuMaterial, tint: vec3<f32>, film: Film, incoming: vec3<f32>, next: vec3<f32>) -> vec3<f32> {
-    let metal = material.surface == SURFACE_MIRROR || material.surface == SURFACE_ROUGH_CONDUCTOR;
-    if IRIDESCENCE && metal && film.factor > 0.0 {
-        return metal_tint(tint, film, -incoming, next);
+    if material.surface == SURFACE_MIRROR || material.surface == SURFACE_ROUGH_CONDUCTOR {
+        return metal_tint(tint, material.metal_edge, film, -incoming, next);
     }
     return tint;
 }

@@ -550,11 +550,31 @@ fn caustic_radii_start_at_their_share_on_both_backends() {
 }
 
 /// Point, spot and directional lights (glTF `KHR_lights_punctual`) and a sky besides the
-/// Cornell box's own: the first pass's emission (and first bounce) on the GPU against the CPU
-/// twin, and the pixels' statistics (the sky seen past the box's edges in the direct term).
+/// Cornell box's own, and two spots more with pbrt's and Mitsuba's falloffs
+/// (`scene::SpotFalloff`): the first pass's emission (and first bounce) on the GPU against
+/// the CPU twin, and the pixels' statistics (the sky seen past the box's edges in the direct
+/// term).
 #[test]
 fn punctual_lights_emit_like_their_cpu_twin() {
-    let fixture = Fixture::new(scene::testing::cornell_box_punctual());
+    let mut scene = scene::testing::cornell_box_punctual();
+    let bounds = scene.bounds();
+    for (falloff, x) in [
+        (scene::SpotFalloff::Smoothstep, 150.0),
+        (scene::SpotFalloff::LinearAngle, 300.0),
+    ] {
+        let spot = scene::PunctualLight {
+            kind: scene::PunctualKind::Spot {
+                cos_inner: 15f32.to_radians().cos(),
+                cos_outer: 40f32.to_radians().cos(),
+                falloff,
+            },
+            position: glam::Vec3::new(x, 520.0, 250.0),
+            direction: glam::Vec3::new(0.1, -1.0, 0.1).normalize(),
+            intensity: glam::Vec3::splat(40_000.0),
+        };
+        scene.lights.add_punctual(spot, bounds);
+    }
+    let fixture = Fixture::new(scene);
     let lights = render::emission::light_table(&fixture.scene);
     let kinds: Vec<u32> = lights.iter().map(|l| l.kind).collect();
     for kind in [

@@ -162,7 +162,7 @@ pub const SPECULAR_EXTRA_PATHS: u32 = 1;
 /// |---|---|---|---|---|
 /// | [`LIGHT_TRIANGLE`] | first vertex | p1 − p0 | p2 − p0 | its power |
 /// | [`LIGHT_POINT`] | position | — | — | 4π · intensity |
-/// | [`LIGHT_SPOT`] | position | unit axis | (cos inner, cos outer, 0) | intensity · outer cone's solid angle |
+/// | [`LIGHT_SPOT`] | position | unit axis | (cos inner, cos outer, falloff shape: `scene::SpotFalloff::code`) | intensity · outer cone's solid angle |
 /// | [`LIGHT_DIRECTIONAL`] | disk centre | unit direction | (disk radius, 0, 0) | illuminance · disk area |
 /// | [`LIGHT_SKY`] | bounding-sphere centre | — | (its radius, 0, 0) | radiance · disk area · 4π |
 ///

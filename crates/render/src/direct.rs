@@ -27,6 +27,7 @@
 use std::f32::consts::{PI, TAU};
 
 use glam::Vec3;
+use scene::SpotFalloff;
 
 use crate::buffers::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, Light, RAY_T_MAX, vec3,
@@ -127,9 +128,10 @@ pub fn sample_light(
         }
         LIGHT_SPOT => {
             let (direction, distance, d2, target) = towards(vec3(light.v0))?;
-            let [cos_inner, cos_outer, _] = light.edge2;
+            let [cos_inner, cos_outer, shape] = light.edge2;
             let cos_angle = -direction.dot(vec3(light.edge1));
-            let falloff = scene::lights::spot_falloff(cos_angle, cos_inner, cos_outer);
+            let shape = SpotFalloff::from_code(shape);
+            let falloff = scene::lights::spot_falloff(cos_angle, cos_inner, cos_outer, shape);
             let cone = TAU * (1.0 - cos_outer);
             LightSample {
                 index,

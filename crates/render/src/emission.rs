@@ -12,7 +12,7 @@
 use std::f32::consts::PI;
 
 use glam::Vec3;
-use scene::{PunctualEmitter, PunctualKind, Scene};
+use scene::{PunctualEmitter, PunctualKind, Scene, SpotFalloff};
 
 use crate::buffers::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SKY, LIGHT_SPOT, LIGHT_TRIANGLE, Light, vec3,
@@ -135,9 +135,10 @@ fn punctual_light(emitter: &PunctualEmitter) -> (Light, Vec3, Vec3) {
         PunctualKind::Spot {
             cos_inner,
             cos_outer,
+            falloff,
         } => {
             let cone = std::f32::consts::TAU * (1.0 - cos_outer);
-            let edge2 = Vec3::new(cos_inner, cos_outer, 0.0);
+            let edge2 = Vec3::new(cos_inner, cos_outer, falloff.code());
             (LIGHT_SPOT, light.direction, edge2, light.intensity * cone)
         }
         PunctualKind::Directional => (
@@ -201,10 +202,11 @@ pub fn sample_emission(
         }
         LIGHT_SPOT => {
             let axis = vec3(light.edge1);
-            let [cos_inner, cos_outer, _] = light.edge2;
+            let [cos_inner, cos_outer, shape] = light.edge2;
             let local = uniform_cone(u[3], u[4], cos_outer);
             let direction = about_axis(axis, local).normalize();
-            let falloff = scene::lights::spot_falloff(local.z, cos_inner, cos_outer);
+            let shape = SpotFalloff::from_code(shape);
+            let falloff = scene::lights::spot_falloff(local.z, cos_inner, cos_outer, shape);
             emission_along(vec3(light.v0), direction, falloff * vec3(light.flux))
         }
         LIGHT_DIRECTIONAL => {
@@ -533,35 +535,44 @@ mod tests {
         );
     }
 
+    /// For each format's falloff between the cones (`scene::SpotFalloff`).
     #[test]
     fn spot_light_emits_its_power_inside_its_outer_cone() {
         let (cos_inner, cos_outer) = (0.9, 0.7);
         let axis = Vec3::new(0.3, -1.0, 0.1).normalize();
-        let light = scene::PunctualLight {
-            kind: PunctualKind::Spot {
-                cos_inner,
-                cos_outer,
-            },
-            position: Vec3::new(0.0, 1.0, 0.0),
-            direction: axis,
-            intensity: Vec3::splat(5.0),
-        };
-        let (scene, samples) = emissions(light, 200_000);
-        // The falloff's weights average out to the power (Monte Carlo: about 0.2% noise).
-        let power = scene.lights.total_power;
-        let mean = mean_flux(&samples);
-        assert!(
-            (mean.x / power.x - 1.0).abs() < 0.01,
-            "{mean} against {power}"
-        );
-        let cosines = samples.iter().map(|e| e.direction.dot(axis));
-        assert!(cosines.clone().all(|c| c >= cos_outer - 1e-5));
-        // Inside the inner cone a photon carries the full intensity × the outer cone's solid
-        // angle.
-        let full = 5.0 * std::f32::consts::TAU * (1.0 - cos_outer);
-        for (e, c) in samples.iter().zip(cosines) {
-            if c > cos_inner + 1e-4 {
-                assert!((e.flux.x / full - 1.0).abs() < 1e-5);
+        let shapes = [
+            SpotFalloff::Gltf,
+            SpotFalloff::Smoothstep,
+            SpotFalloff::LinearAngle,
+        ];
+        for falloff in shapes {
+            let light = scene::PunctualLight {
+                kind: PunctualKind::Spot {
+                    cos_inner,
+                    cos_outer,
+                    falloff,
+                },
+                position: Vec3::new(0.0, 1.0, 0.0),
+                direction: axis,
+                intensity: Vec3::splat(5.0),
+            };
+            let (scene, samples) = emissions(light, 200_000);
+            // The falloff's weights average out to the power (Monte Carlo: about 0.2% noise).
+            let power = scene.lights.total_power;
+            let mean = mean_flux(&samples);
+            assert!(
+                (mean.x / power.x - 1.0).abs() < 0.01,
+                "{falloff:?}: {mean} against {power}"
+            );
+            let cosines = samples.iter().map(|e| e.direction.dot(axis));
+            assert!(cosines.clone().all(|c| c >= cos_outer - 1e-5));
+            // Inside the inner cone a photon carries the full intensity × the outer cone's
+            // solid angle.
+            let full = 5.0 * std::f32::consts::TAU * (1.0 - cos_outer);
+            for (e, c) in samples.iter().zip(cosines) {
+                if c > cos_inner + 1e-4 {
+                    assert!((e.flux.x / full - 1.0).abs() < 1e-5);
+                }
             }
         }
     }

@@ -257,6 +257,7 @@ impl SceneBuilder {
         if let PunctualKind::Spot {
             cos_inner,
             cos_outer,
+            ..
         } = light.kind
             && !(0.0 <= cos_outer && cos_outer < cos_inner && cos_inner <= 1.0)
         {

@@ -30,7 +30,9 @@ pub use builder::SceneBuilder;
 pub use camera::{Camera, Lens, Projection};
 pub use error::SceneError;
 pub use gltf::AnimationTime;
-pub use lights::{EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky};
+pub use lights::{
+    EmissiveTriangle, Lights, PunctualEmitter, PunctualKind, PunctualLight, Sky, SpotFalloff,
+};
 pub use material::{
     AlphaMode, Anisotropy, Blend, Clearcoat, DIFFUSE_MIN_ROUGHNESS, DiffuseTransmission,
     Iridescence, MAX_BLEND_MEMBERS, MIN_BRUSHED_ALPHA, MIRROR_MAX_ROUGHNESS, Material,

@@ -22,9 +22,13 @@ pub enum PunctualKind {
     /// Emits the same intensity in every direction.
     Point,
     /// Emits around its direction: full intensity within the inner cone, none beyond the
-    /// outer one, and in between the falloff of [`spot_falloff`]. Cosines of the half-angles,
-    /// `cos_outer < cos_inner`.
-    Spot { cos_inner: f32, cos_outer: f32 },
+    /// outer one, and in between the falloff of [`spot_falloff`] of the given shape. Cosines
+    /// of the half-angles, `cos_outer < cos_inner`.
+    Spot {
+        cos_inner: f32,
+        cos_outer: f32,
+        falloff: SpotFalloff,
+    },
     /// Parallel light from infinitely far away (the sun).
     Directional,
 }
@@ -58,21 +62,85 @@ pub struct PunctualEmitter {
     pub power: Vec3,
 }
 
-/// glTF's recommended spot falloff: 0 at the outer cone, 1 at the inner one, and in between
-/// the square of the linear ramp in the cosine of the angle from the spot's axis.
-pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+/// How a spot's intensity falls from its inner cone (1) to its outer one (0): each scene
+/// format has its own curve between the two, and renders its spots with it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SpotFalloff {
+    /// glTF's recommended one: the square of the linear ramp in the cosine of the angle from
+    /// the spot's axis.
+    #[default]
+    Gltf,
+    /// pbrt-v4's: smoothstep in the cosine.
+    Smoothstep,
+    /// Mitsuba 3's: linear in the angle itself.
+    LinearAngle,
+}
+
+impl SpotFalloff {
+    /// The shape as the light table stores it (`render::buffers::Light`'s `edge2.z`).
+    pub fn code(self) -> f32 {
+        match self {
+            SpotFalloff::Gltf => 0.0,
+            SpotFalloff::Smoothstep => 1.0,
+            SpotFalloff::LinearAngle => 2.0,
+        }
+    }
+
+    /// The shape whose [`SpotFalloff::code`] is `code` (anything else: glTF's).
+    pub fn from_code(code: f32) -> SpotFalloff {
+        if code == 1.0 {
+            SpotFalloff::Smoothstep
+        } else if code == 2.0 {
+            SpotFalloff::LinearAngle
+        } else {
+            SpotFalloff::Gltf
+        }
+    }
+
+    /// ∫ falloff dω over the band between the cones, over 2π.
+    fn band_integral(self, cos_inner: f32, cos_outer: f32) -> f32 {
+        match self {
+            // ∫ ramp² dc = (ci − co)/3; ∫ smoothstep dc = (ci − co)/2.
+            SpotFalloff::Gltf => (cos_inner - cos_outer) / 3.0,
+            SpotFalloff::Smoothstep => (cos_inner - cos_outer) / 2.0,
+            // ∫ (θo − θ)/(θo − θi) sin θ dθ from θi to θo = cos θi − (sin θo − sin θi)/(θo − θi).
+            SpotFalloff::LinearAngle => {
+                let (inner, outer) = (cos_inner.acos(), cos_outer.acos());
+                let width = (outer - inner).max(f32::MIN_POSITIVE);
+                cos_inner - (outer.sin() - inner.sin()) / width
+            }
+        }
+    }
+}
+
+/// A spot's falloff of `shape` at `cos_angle` from its axis: 0 at the outer cone, 1 at the
+/// inner one, and in between the shape's curve.
+pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32, shape: SpotFalloff) -> f32 {
+    if cos_angle >= cos_inner {
+        return 1.0;
+    }
+    if cos_angle <= cos_outer {
+        return 0.0;
+    }
     // The builder keeps cos_outer < cos_inner; the guard only keeps a bad call finite.
     let ramp = (cos_angle - cos_outer) / (cos_inner - cos_outer).max(f32::MIN_POSITIVE);
-    let ramp = ramp.clamp(0.0, 1.0);
-    ramp * ramp
+    match shape {
+        SpotFalloff::Gltf => ramp * ramp,
+        SpotFalloff::Smoothstep => ramp * ramp * (3.0 - 2.0 * ramp),
+        SpotFalloff::LinearAngle => {
+            let (inner, outer) = (cos_inner.acos(), cos_outer.acos());
+            let width = (outer - inner).max(f32::MIN_POSITIVE);
+            ((outer - cos_angle.acos()) / width).clamp(0.0, 1.0)
+        }
+    }
 }
 
 impl PunctualLight {
     /// Flux the light emits; a directional light's through a disk of `radius`.
     ///
-    /// Point: 4π·I. Spot: I · ∫ falloff dω = I · 2π ∫ falloff(c) dc over the cosine c: π·I·(1 −
-    /// cos_inner) for the full-intensity cap plus 2π·I·(cos_inner − cos_outer)/3 for the
-    /// squared ramp. Directional: E·π·radius².
+    /// Point: 4π·I. Spot: I · ∫ falloff dω = I · 2π ∫ falloff(c) dc over the cosine c: 2π·I·(1 −
+    /// cos_inner) for the full-intensity cap plus the band's share (glTF's squared ramp:
+    /// 2π·I·(cos_inner − cos_outer)/3). Directional: E·π·radius².
     pub fn power(&self, radius: f32) -> Vec3 {
         use std::f32::consts::PI;
         let solid_angle_weight = match self.kind {
@@ -80,7 +148,11 @@ impl PunctualLight {
             PunctualKind::Spot {
                 cos_inner,
                 cos_outer,
-            } => 2.0 * PI * (1.0 - cos_inner) + 2.0 * PI * (cos_inner - cos_outer) / 3.0,
+                falloff,
+            } => {
+                2.0 * PI * (1.0 - cos_inner)
+                    + 2.0 * PI * falloff.band_integral(cos_inner, cos_outer)
+            }
             PunctualKind::Directional => PI * radius * radius,
         };
         self.intensity * solid_angle_weight
@@ -268,44 +340,74 @@ impl PunctualEmitter {
 mod tests {
     use super::*;
 
+    const SHAPES: [SpotFalloff; 3] = [
+        SpotFalloff::Gltf,
+        SpotFalloff::Smoothstep,
+        SpotFalloff::LinearAngle,
+    ];
+
     /// Flux by numerical integration of intensity × falloff over the sphere.
-    fn integrated_spot_power(cos_inner: f32, cos_outer: f32) -> f64 {
+    fn integrated_spot_power(cos_inner: f32, cos_outer: f32, shape: SpotFalloff) -> f64 {
         let steps = 200_000;
         let mut sum = 0.0f64;
         for i in 0..steps {
             let c = -1.0 + 2.0 * (i as f64 + 0.5) / steps as f64;
-            sum += spot_falloff(c as f32, cos_inner, cos_outer) as f64;
+            sum += spot_falloff(c as f32, cos_inner, cos_outer, shape) as f64;
         }
         2.0 * std::f64::consts::PI * sum * 2.0 / steps as f64
     }
 
     #[test]
     fn spot_power_is_the_integral_of_its_falloff() {
-        for (inner, outer) in [(0.1f32, 0.5f32), (0.0, 0.3), (0.7, 0.75), (0.2, 1.5)] {
-            let light = PunctualLight {
-                kind: PunctualKind::Spot {
-                    cos_inner: inner.cos(),
-                    cos_outer: outer.cos(),
-                },
-                position: Vec3::ZERO,
-                direction: Vec3::NEG_Z,
-                intensity: Vec3::ONE,
-            };
-            let expected = integrated_spot_power(inner.cos(), outer.cos());
-            let power = light.power(0.0).x as f64;
-            assert!(
-                (power - expected).abs() < 1e-3 * expected,
-                "{inner} {outer}: {power} vs {expected}"
-            );
+        for shape in SHAPES {
+            for (inner, outer) in [(0.1f32, 0.5f32), (0.0, 0.3), (0.7, 0.75), (0.2, 1.5)] {
+                let light = PunctualLight {
+                    kind: PunctualKind::Spot {
+                        cos_inner: inner.cos(),
+                        cos_outer: outer.cos(),
+                        falloff: shape,
+                    },
+                    position: Vec3::ZERO,
+                    direction: Vec3::NEG_Z,
+                    intensity: Vec3::ONE,
+                };
+                let expected = integrated_spot_power(inner.cos(), outer.cos(), shape);
+                let power = light.power(0.0).x as f64;
+                assert!(
+                    (power - expected).abs() < 1e-3 * expected,
+                    "{shape:?} {inner} {outer}: {power} vs {expected}"
+                );
+            }
         }
     }
 
     #[test]
     fn falloff_is_one_inside_and_zero_outside() {
         let (inner, outer) = (0.9f32, 0.8f32);
-        assert_eq!(spot_falloff(0.95, inner, outer), 1.0);
-        assert_eq!(spot_falloff(0.79, inner, outer), 0.0);
-        assert!((spot_falloff(0.85, inner, outer) - 0.25).abs() < 1e-5);
+        for shape in SHAPES {
+            assert_eq!(spot_falloff(0.95, inner, outer, shape), 1.0);
+            assert_eq!(spot_falloff(0.79, inner, outer, shape), 0.0);
+            assert_eq!(SpotFalloff::from_code(shape.code()), shape);
+        }
+        // Halfway up the cosine ramp: glTF's square of it, smoothstep's half.
+        let gltf = spot_falloff(0.85, inner, outer, SpotFalloff::Gltf);
+        assert!((gltf - 0.25).abs() < 1e-5);
+        let smooth = spot_falloff(0.85, inner, outer, SpotFalloff::Smoothstep);
+        assert!((smooth - 0.5).abs() < 1e-5);
+        // Mitsuba's: halfway in angle, half.
+        let half_angle = 0.5 * (inner.acos() + outer.acos());
+        let linear = spot_falloff(half_angle.cos(), inner, outer, SpotFalloff::LinearAngle);
+        assert!((linear - 0.5).abs() < 1e-4, "{linear}");
+        // Every shape rises from the outer cone to the inner one.
+        for shape in SHAPES {
+            let mut last = 0.0;
+            for i in 1..20 {
+                let c = outer + (inner - outer) * i as f32 / 20.0;
+                let f = spot_falloff(c, inner, outer, shape);
+                assert!(f > last, "{shape:?} at {c}: {f} after {last}");
+                last = f;
+            }
+        }
     }
 
     #[test]

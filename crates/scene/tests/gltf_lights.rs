@@ -45,7 +45,11 @@ fn spot_cosines(light: &PunctualLight) -> (f32, f32) {
         PunctualKind::Spot {
             cos_inner,
             cos_outer,
-        } => (cos_inner, cos_outer),
+            falloff,
+        } => {
+            assert_eq!(falloff, scene::SpotFalloff::Gltf, "glTF's falloff");
+            (cos_inner, cos_outer)
+        }
         other => panic!("not a spot light: {other:?}"),
     }
 }

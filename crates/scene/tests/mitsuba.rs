@@ -205,10 +205,13 @@ fn emitters_become_lights() {
     let PunctualKind::Spot {
         cos_outer,
         cos_inner,
+        falloff,
     } = spot.kind
     else {
         unreachable!()
     };
+    // Mitsuba's spot falls off linearly in the angle.
+    assert_eq!(falloff, scene::SpotFalloff::LinearAngle);
     assert!((cos_outer - 30f32.to_radians().cos()).abs() < 1e-6);
     assert!((cos_inner - 22.5f32.to_radians().cos()).abs() < 1e-6);
     assert_eq!(

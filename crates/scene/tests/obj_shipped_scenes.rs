@@ -261,12 +261,17 @@ fn assert_same_scene(loaded: &Scene, fixture: &Scene, stem: &str) {
                 PunctualKind::Spot {
                     cos_inner: a,
                     cos_outer: b,
+                    falloff: e,
                 },
                 PunctualKind::Spot {
                     cos_inner: c,
                     cos_outer: d,
+                    falloff: f,
                 },
-            ) => assert!((a - c).abs() < 1e-6 && (b - d).abs() < 1e-6, "{stem}"),
+            ) => assert!(
+                (a - c).abs() < 1e-6 && (b - d).abs() < 1e-6 && e == f,
+                "{stem}"
+            ),
             (a, b) => assert_eq!(a, b, "{stem}"),
         }
     }

@@ -402,10 +402,13 @@ fn lights_are_placed_and_scaled_as_pbrt_places_them() {
     let PunctualKind::Spot {
         cos_inner,
         cos_outer,
+        falloff,
     } = lights[1].kind
     else {
         panic!("{:?}", lights[1].kind)
     };
+    // pbrt's spot falls off by smoothstep in the cosine.
+    assert_eq!(falloff, scene::SpotFalloff::Smoothstep);
     assert!((cos_outer - 20f32.to_radians().cos()).abs() < 1e-6);
     assert!((cos_inner - 15f32.to_radians().cos()).abs() < 1e-6);
     assert!(lights[1].direction.abs_diff_eq(Vec3::NEG_Y, 1e-6));

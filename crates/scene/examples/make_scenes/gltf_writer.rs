@@ -693,6 +693,7 @@ fn punctual(light: &PunctualLight) -> Value {
         PunctualKind::Spot {
             cos_inner,
             cos_outer,
+            ..
         } => {
             value["type"] = json!("spot");
             value["spot"] = json!({

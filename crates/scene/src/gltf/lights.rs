@@ -11,7 +11,7 @@ use json::extensions::scene::khr_lights_punctual::{Light, Spot, Type};
 use json::validation::Checked;
 
 use super::{Context, Input};
-use crate::{PunctualKind, PunctualLight, SceneBuilder, SceneError};
+use crate::{PunctualKind, PunctualLight, SceneBuilder, SceneError, SpotFalloff};
 
 /// Adds light `index`, placed by node `node`'s `world` transform, to `builder`. Warns about
 /// an ignored `range` unless `warned_range` says that was done already (and sets it).
@@ -100,6 +100,7 @@ fn spot_cone(input: &Input, label: &str, spot: &Spot) -> Result<PunctualKind, Sc
     Ok(PunctualKind::Spot {
         cos_inner,
         cos_outer,
+        falloff: SpotFalloff::Gltf,
     })
 }
 

@@ -34,7 +34,7 @@
 //!   read as one of their mean colour, with a warning). `bumpmap` and `normalmap` are read as
 //!   the BSDF inside them, with a warning.
 //! - **Emitters**: `point` (`position` or `to_world`, `intensity`), `spot` (`intensity`,
-//!   `cutoff_angle`, `beam_width`, along `to_world`'s +Z; glTF's falloff between the cones),
+//!   `cutoff_angle`, `beam_width`, along `to_world`'s +Z; Mitsuba's falloff, linear in the angle between the cones),
 //!   `directional` (`irradiance`, `direction` or `to_world`'s +Z), `constant` (a uniform sky
 //!   of `radiance`), `envmap` (`filename`: `.hdr`, `.exr` or 8-bit sRGB; `scale`; turned about
 //!   +Y as Mitsuba turns it, `to_world`'s turn about +Y included).
@@ -61,7 +61,8 @@ use roxmltree::Node;
 
 use crate::files::read_regular_file;
 use crate::{
-    Camera, Lens, PunctualKind, PunctualLight, Scene, SceneBuilder, SceneError, TextureId,
+    Camera, Lens, PunctualKind, PunctualLight, Scene, SceneBuilder, SceneError, SpotFalloff,
+    TextureId,
 };
 use properties::{Context, normalised, property};
 
@@ -333,6 +334,7 @@ impl<'a> Reader<'a> {
                     PunctualKind::Spot {
                         cos_inner,
                         cos_outer,
+                        falloff: SpotFalloff::LinearAngle,
                     },
                     Some(direction),
                     intensity,

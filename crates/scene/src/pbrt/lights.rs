@@ -8,7 +8,7 @@ use glam::{Mat3, Vec2, Vec3};
 
 use super::tokens::Params;
 use super::{AreaLight, Reader};
-use crate::{PunctualKind, PunctualLight, SceneError, SkyMap};
+use crate::{PunctualKind, PunctualLight, SceneError, SkyMap, SpotFalloff};
 
 /// The widest sky map kept (its height is half): an equal-area square of side N becomes
 /// 2N × N, up to this.
@@ -86,14 +86,11 @@ impl Reader {
                     let solid = 2.0 * PI * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 2.0);
                     intensity *= power / solid;
                 }
-                self.warn(
-                    file,
-                    "spot lights fall off between their cones as glTF's do (pbrt: smoothstep)",
-                );
                 PunctualLight {
                     kind: PunctualKind::Spot {
                         cos_inner,
                         cos_outer,
+                        falloff: SpotFalloff::Smoothstep,
                     },
                     position,
                     direction,

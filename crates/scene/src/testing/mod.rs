@@ -49,8 +49,8 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use crate::{
-    Blend, Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, Surface, Texels,
-    Texture, Triangle, Vertex,
+    Blend, Camera, Material, PunctualKind, PunctualLight, Scene, SceneBuilder, SpotFalloff,
+    Surface, Texels, Texture, Triangle, Vertex,
 };
 
 /// The Cornell box's white, red and green reflectances (linear RGB). The Cornell data gives
@@ -1272,6 +1272,7 @@ pub fn cornell_box_punctual() -> Scene {
             kind: PunctualKind::Spot {
                 cos_inner: 20f32.to_radians().cos(),
                 cos_outer: 35f32.to_radians().cos(),
+                falloff: SpotFalloff::Gltf,
             },
             position: Vec3::new(400.0, 500.0, 300.0),
             direction: Vec3::new(-0.3, -1.0, 0.2).normalize(),
@@ -1304,6 +1305,7 @@ pub fn cornell_spot() -> Scene {
         kind: PunctualKind::Spot {
             cos_inner: 10f32.to_radians().cos(),
             cos_outer: 18f32.to_radians().cos(),
+            falloff: SpotFalloff::Gltf,
         },
         position,
         direction: (glass_centre - position).normalize(),

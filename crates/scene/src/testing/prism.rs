@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::{FLINT_ABBE, FLINT_IOR, Fixture};
-use crate::{Material, PunctualKind, PunctualLight, Scene, Surface};
+use crate::{Material, PunctualKind, PunctualLight, Scene, SpotFalloff, Surface};
 
 /// The prism: an equilateral triangle of side [`PRISM_SIDE`] (m), apex up, on a pedestal of
 /// height [`PEDESTAL_HEIGHT`], running along z over [`PRISM_LENGTH`].
@@ -62,6 +62,7 @@ pub fn prism() -> Scene {
             kind: PunctualKind::Spot {
                 cos_inner: BEAM_INNER_DEGREES.to_radians().cos(),
                 cos_outer: BEAM_OUTER_DEGREES.to_radians().cos(),
+                falloff: SpotFalloff::Gltf,
             },
             position: face_centre - LIGHT_DISTANCE * beam,
             direction: beam,

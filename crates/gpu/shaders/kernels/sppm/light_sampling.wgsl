@@ -103,7 +103,7 @@ fn sample_light(u0: f32, u1: f32, u2: f32, position: vec3<f32>, normal: vec3<f32
         if light.kind == LIGHT_POINT {
             sample.incident = light.flux / (4.0 * PI * distance_squared);
         } else if light.kind == LIGHT_SPOT {
-            let falloff = spot_falloff(-dot(sample.direction, light.edge1), light.edge2.x, light.edge2.y);
+            let falloff = spot_falloff(-dot(sample.direction, light.edge1), light.edge2.x, light.edge2.y, light.edge2.z);
             let cone = 2.0 * PI * (1.0 - light.edge2.y);
             sample.incident = light.flux * falloff / (cone * distance_squared);
         } else {

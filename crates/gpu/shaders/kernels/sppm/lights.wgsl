@@ -82,9 +82,25 @@ fn parallel_start(centre: vec3<f32>, radius: f32, direction: vec3<f32>, u1: f32,
     return ParallelStart(point, share);
 }
 
-// scene::lights::spot_falloff.
-fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    let ramp = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1.17549435e-38), 0.0, 1.0);
+// scene::lights::spot_falloff, its shape by scene::SpotFalloff::code (0 glTF's, 1 smoothstep,
+// 2 linear in the angle).
+fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32, shape: f32) -> f32 {
+    if cos_angle >= cos_inner {
+        return 1.0;
+    }
+    if cos_angle <= cos_outer {
+        return 0.0;
+    }
+    let ramp = (cos_angle - cos_outer) / max(cos_inner - cos_outer, 1.17549435e-38);
+    if shape == 1.0 {
+        return ramp * ramp * (3.0 - 2.0 * ramp);
+    }
+    if shape == 2.0 {
+        let inner = acos(cos_inner);
+        let outer = acos(cos_outer);
+        let width = max(outer - inner, 1.17549435e-38);
+        return clamp((outer - acos(cos_angle)) / width, 0.0, 1.0);
+    }
     return ramp * ramp;
 }
 
@@ -120,7 +136,7 @@ fn emit(rng: ptr<function, Rng>) -> PathSlot {
         let local = uniform_cone(u3, u4, light.edge2.y);
         direction = normalize(about_axis(axis, local));
         normal = direction;
-        flux = spot_falloff(local.z, light.edge2.x, light.edge2.y) * flux;
+        flux = spot_falloff(local.z, light.edge2.x, light.edge2.y, light.edge2.z) * flux;
     } else if light.kind == LIGHT_DIRECTIONAL {
         direction = light.edge1;
         normal = direction;

@@ -891,6 +891,17 @@ fn every_kernel_matches_its_twin_through_a_dispersive_blend() {
     every_kernel_matches_its_twin(scene, DirectLight::Sampled);
 }
 
+/// The same inside a mixture of whole materials of their own colours (pbrt's `mix`, Mitsuba's
+/// `blendbsdf`: `scene::testing::furnace_sphere_mixed`, a mirror of one tint and a diffuse
+/// surface of another): each kernel reads the member it draws, colour and all.
+#[test]
+fn every_kernel_matches_its_twin_in_a_mixture_of_whole_materials() {
+    let scene = scene::testing::furnace_sphere_mixed();
+    let colours: Vec<_> = scene.materials.iter().map(|m| m.base_color).collect();
+    assert!(colours.windows(2).any(|c| c[0] != c[1]), "{colours:?}");
+    every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+}
+
 /// The same with normal maps (`render::normal_map` and its WGSL twin) on the tiled floor and
 /// back wall, a diffuse sphere and a mirror one: bent shading normals in every kernel, and
 /// the photons' shading-normal weights where they land and bounce.

@@ -15,6 +15,7 @@ mod files;
 pub mod gltf;
 pub mod lights;
 pub mod material;
+mod media;
 pub mod mesh;
 pub mod mitsuba;
 pub mod model;

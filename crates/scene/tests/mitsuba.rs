@@ -261,6 +261,22 @@ fn bad_files_are_one_line_errors_naming_where() {
             r#"<emitter type="spot"><float name="cutoff_angle" value="120"/></emitter>"#,
             "cutoff_angle 120",
         ),
+        (
+            r#"<shape type="cube"><bsdf type="dielectric"/><medium type="homogeneous" name="interior"><float name="albedo" value="1.5"/></medium></shape>"#,
+            "must be ≥ 0",
+        ),
+        (
+            r#"<shape type="cube"><bsdf type="dielectric"/><medium type="homogeneous" name="interior"><phase type="hg"><float name="g" value="1"/></phase></medium></shape>"#,
+            "g 1 is not in",
+        ),
+        (
+            r#"<shape type="cube"><bsdf type="dielectric"/><medium type="homogeneous" name="interior"><volume name="albedo" type="gridvolume"/></medium></shape>"#,
+            "volume grid",
+        ),
+        (
+            r#"<shape type="cube"><bsdf type="dielectric"/><ref name="interior" id="none"/></shape>"#,
+            "no element has id",
+        ),
     ];
     for (body, why) in cases {
         let message = error(body);
@@ -357,6 +373,66 @@ fn conductors_rise_towards_their_tint_at_grazing_angles() {
         (metal(2).base_color, metal(2).metal_edge),
         (Vec3::new(0.9, 0.7, 0.4), Vec3::ZERO)
     );
+}
+
+/// Homogeneous interior media fill solids: glass keeps its surface and takes the medium's
+/// absorption and scattering (Mitsuba 3's `sigma_t` × `scale` and `albedo`, 0.6's `sigmaA` and
+/// `sigmaS`) and its phase's `g`; a `null` boundary becomes glass of index 1. Exterior media,
+/// media of other surfaces and media nothing is filled with are warned about.
+#[test]
+fn interior_media_fill_solids() {
+    let scene = load(&format!(
+        r#"<medium type="homogeneous" id="smoke">
+            <float name="sigmaA" value="0.5"/><rgb name="sigmaS" value="1, 2, 3"/>
+        </medium>
+        <medium type="homogeneous" id="unused"/>
+        <shape type="sphere"><bsdf type="dielectric"/>
+            <medium type="homogeneous" name="interior">
+                <rgb name="sigma_t" value="1, 2, 4"/><rgb name="albedo" value="0.5, 0.25, 1"/>
+                <float name="scale" value="2"/><phase type="hg"><float name="g" value="0.6"/></phase>
+            </medium>
+            <ref name="exterior" id="smoke"/>
+        </shape>
+        <shape type="cube"><bsdf type="null"/><ref name="interior" id="smoke"/></shape>
+        <shape type="cube"><bsdf type="diffuse"/><ref name="interior" id="smoke"/></shape>
+        {LAMP}"#
+    ))
+    .expect("loads");
+    let sphere_triangles = scene.triangles.len() - 2 * 12 - 2;
+    let glass = &scene.materials[scene.triangles[0].material as usize];
+    assert!(matches!(
+        glass.surface,
+        Surface::Dielectric {
+            thin_walled: false,
+            ..
+        }
+    ));
+    // σt = (2, 4, 8), albedo (0.5, 0.25, 1): scattering (1, 1, 8), absorption (1, 3, 0).
+    assert_eq!(glass.scattering, Vec3::new(1.0, 1.0, 8.0));
+    assert_eq!(glass.absorption, Vec3::new(1.0, 3.0, 0.0));
+    assert_eq!(glass.scatter_anisotropy, 0.6);
+    let fog = &scene.materials[scene.triangles[sphere_triangles].material as usize];
+    assert_eq!(
+        fog.surface,
+        Surface::Dielectric {
+            ior: 1.0,
+            thin_walled: false
+        }
+    );
+    assert_eq!((fog.alpha, fog.base_color), (1.0, Vec3::ONE));
+    assert_eq!(fog.absorption, Vec3::splat(0.5));
+    assert_eq!(fog.scattering, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(fog.scatter_anisotropy, 0.0);
+    let wall = &scene.materials[scene.triangles[sphere_triangles + 12].material as usize];
+    assert_eq!(
+        (wall.surface, wall.absorption),
+        (Surface::Diffuse, Vec3::ZERO)
+    );
+    let warned = |what: &str| scene.warnings.iter().filter(|w| w.contains(what)).count();
+    assert_eq!(warned("exterior medium"), 1, "{:?}", scene.warnings);
+    assert_eq!(warned("inside solid glass or a null BSDF only"), 1);
+    assert_eq!(warned("no solid is filled with"), 1);
+    assert_eq!(scene.warnings.len(), 3, "{:?}", scene.warnings);
 }
 
 /// A `cylinder` is an open tube from `p0` to `p1`, facing out.

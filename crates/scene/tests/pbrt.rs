@@ -661,10 +661,70 @@ fn what_is_not_read_is_warned_about() {
         "\"float glow\"",
         "\"hair\" is read as diffuse",
         "shape \"curve\"",
-        "medium \"fog\"",
+        "medium \"fog\" fills no shape",
     ] {
         assert!(all.contains(expected), "{expected}: {all}");
     }
+}
+
+/// Homogeneous media named by `MediumInterface` fill the shapes made after it: glass keeps its
+/// surface and takes the medium's absorption and scattering (`sigma_a` and `sigma_s` ×
+/// `scale`) and its `g`; an `interface` becomes glass of index 1. Media of other kinds, of
+/// other surfaces and outside shapes are warned about.
+#[test]
+fn interior_media_fill_solids() {
+    let scene = load(&world(&format!(
+        "MakeNamedMedium \"milk\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [0.5 1 2]
+            \"rgb sigma_s\" [4 5 6] \"float scale\" 2 \"float g\" 0.5
+        MakeNamedMedium \"smoke\" \"string type\" \"homogeneous\" \"float sigma_a\" 0.25 \"float sigma_s\" 1
+        MakeNamedMedium \"cloud\" \"string type\" \"cloud\"
+        AttributeBegin MediumInterface \"milk\" \"\" Material \"dielectric\" Shape \"sphere\" AttributeEnd
+        AttributeBegin MediumInterface \"smoke\" \"\" Material \"interface\"
+            Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]
+        AttributeEnd
+        AttributeBegin MediumInterface \"smoke\" \"\" Material \"diffuse\" Shape \"disk\" AttributeEnd
+        AttributeBegin MediumInterface \"cloud\" \"\" Material \"dielectric\" Shape \"disk\" AttributeEnd
+        {LAMP}"
+    )))
+    .expect("loads");
+    let milk = &scene.materials[scene.triangles[0].material as usize];
+    assert!(matches!(
+        milk.surface,
+        Surface::Dielectric {
+            thin_walled: false,
+            ..
+        }
+    ));
+    assert_eq!(milk.absorption, Vec3::new(1.0, 2.0, 4.0));
+    assert_eq!(milk.scattering, Vec3::new(8.0, 10.0, 12.0));
+    assert_eq!(milk.scatter_anisotropy, 0.5);
+    let fog: Vec<_> = (scene.materials.iter())
+        .filter(|m| {
+            m.surface
+                == Surface::Dielectric {
+                    ior: 1.0,
+                    thin_walled: false,
+                }
+        })
+        .collect();
+    assert_eq!(fog.len(), 1, "{:?}", scene.materials);
+    assert_eq!(
+        (fog[0].absorption, fog[0].scattering),
+        (Vec3::splat(0.25), Vec3::ONE)
+    );
+    assert_eq!((fog[0].alpha, fog[0].base_color), (1.0, Vec3::ONE));
+    let all = scene.warnings.join("\n");
+    for expected in [
+        "medium \"smoke\" is read inside solid glass or an interface only",
+        "medium \"cloud\" of type \"cloud\" is not read",
+    ] {
+        assert!(all.contains(expected), "{expected}: {all}");
+    }
+    assert_eq!(scene.warnings.len(), 2, "{all}");
+    assert!(
+        error(&world("MediumInterface \"nowhere\" \"\" Shape \"sphere\""))
+            .contains("no medium is named")
+    );
 }
 
 /// What real scenes (pbrt-v4-scenes) do: name a material before the file defines it, give a
@@ -782,7 +842,7 @@ fn film_and_media_settings_are_warned_about() {
         "4× the radiance",
         "--exposure 2.00",
         "\"float maxcomponentvalue\"",
-        "media are not read",
+        "media outside shapes",
     ] {
         assert!(all.contains(expected), "{expected}: {all}");
     }

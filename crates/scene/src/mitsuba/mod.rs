@@ -41,14 +41,20 @@
 //! - **Sensors**: `perspective` and `thinlens` (`aperture_radius`, `focus_distance`), with
 //!   `to_world`, `fov` along `fov_axis` (x, y, diagonal, smaller, larger) or `focal_length`
 //!   (35 mm film), and the `hdrfilm`'s `width` and `height` as the aspect ratio.
+//! - **Media** (`media`): a shape's `homogeneous` interior medium (`sigma_t` × `scale` and
+//!   `albedo`, or 0.6's `sigmaA` and `sigmaS`; an `hg` phase's `g`), inline or by reference,
+//!   fills it (`crate::media`): a solid `dielectric` keeps its surface, a `null` BSDF becomes
+//!   glass of index 1.
 //! - Ignored: `integrator`, `sampler`, `rfilter` and the film's other settings (kousen renders
 //!   by its own settings). Skipped with a warning: other shapes (curves),
-//!   emitters, sensors, `medium` and `include`.
+//!   emitters, sensors, exterior media, other media, media no shape is filled with, and
+//!   `include`.
 //!
 //! Spectra are read in RGB (a `<spectrum>` of wavelength:value pairs as its mean, with a
 //! warning). Errors are one line naming the element's line in the file.
 
 mod bsdfs;
+mod media;
 mod properties;
 mod serialized;
 mod shapes;
@@ -106,6 +112,14 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     for child in root.children().filter(Node::is_element) {
         reader.element(child)?;
     }
+    let mut unused: Vec<Node> = (reader.media.iter())
+        .filter(|(id, _)| !reader.media_used.contains(*id))
+        .map(|(_, node)| *node)
+        .collect();
+    unused.sort_by_key(|node| node.range().start);
+    for medium in unused {
+        reader.warn(medium, "a medium no solid is filled with is not read");
+    }
     let Reader {
         mut builder,
         mut warnings,
@@ -141,6 +155,9 @@ pub(super) struct Reader<'a> {
     bsdfs: HashMap<String, Node<'a, 'a>>,
     /// Top-level `shapegroup` shapes by `id`, which `instance` shapes place.
     groups: HashMap<String, Node<'a, 'a>>,
+    /// Top-level media by `id`, and those a shape has filled itself with.
+    media: HashMap<String, Node<'a, 'a>>,
+    media_used: std::collections::HashSet<String>,
     ids: std::collections::HashSet<String>,
     textures: HashMap<String, Node<'a, 'a>>,
     /// Images decoded so far, by file and colour (sRGB) or data.
@@ -160,6 +177,7 @@ impl<'a> Reader<'a> {
         let mut bsdfs = HashMap::new();
         let mut textures = HashMap::new();
         let mut groups = HashMap::new();
+        let mut media = HashMap::new();
         let mut ids = std::collections::HashSet::new();
         for child in root.children().filter(Node::is_element) {
             let Some(id) = child.attribute("id") else {
@@ -172,6 +190,7 @@ impl<'a> Reader<'a> {
                     groups.insert(id.to_string(), child)
                 }
                 "texture" => textures.insert(id.to_string(), child),
+                "medium" => media.insert(id.to_string(), child),
                 _ => None,
             };
         }
@@ -180,6 +199,8 @@ impl<'a> Reader<'a> {
             context,
             bsdfs,
             groups,
+            media,
+            media_used: std::collections::HashSet::new(),
             ids,
             textures,
             bitmaps: HashMap::new(),
@@ -199,6 +220,7 @@ impl<'a> Reader<'a> {
             "default" | "bsdf" | "texture" | "integrator" | "sampler" | "rfilter" | "film" => {
                 Ok(())
             }
+            "medium" if node.attribute("id").is_some() => Ok(()),
             other => {
                 self.warn(node, format!("<{other}> is not read"));
                 Ok(())
@@ -219,6 +241,7 @@ impl<'a> Reader<'a> {
         let table = match kind {
             "bsdf" => &self.bsdfs,
             "shapegroup" => &self.groups,
+            "medium" => &self.media,
             _ => &self.textures,
         };
         table.get(&id).copied().ok_or_else(|| {

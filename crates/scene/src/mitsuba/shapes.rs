@@ -153,8 +153,9 @@ impl<'a> Reader<'a> {
             }
             [_, second, ..] => return Err(self.context.error(second, "a shape has one emitter")),
         };
+        let medium = self.interior_medium(node)?;
         let shared = bsdf
-            .filter(|b| b.has_tag_name("ref") && radiance.is_none())
+            .filter(|b| b.has_tag_name("ref") && radiance.is_none() && medium.is_none())
             .and_then(|b| b.attribute("id"));
         if let Some(id) = shared.and_then(|id| self.materials.get(id)) {
             return Ok(*id);
@@ -175,6 +176,15 @@ impl<'a> Reader<'a> {
                 (grey, Vec::new(), None)
             }
         };
+        if let Some(medium) = medium {
+            match medium.fill(&material) {
+                Some(filled) if mixture.is_empty() => material = filled,
+                _ => self.warn(
+                    node,
+                    "an interior medium is read inside solid glass or a null BSDF only: not read",
+                ),
+            }
+        }
         if let Some(radiance) = radiance {
             let members = std::iter::once(&mut material).chain(mixture.iter_mut().map(|(_, m)| m));
             for m in members {

@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3};
 use super::spectra;
 use super::tokens::{Param, Params, Values};
 use super::{Definition, MaterialRef, Reader};
+use crate::media::Medium;
 use crate::{
     AlphaMode, Clearcoat, DiffuseTransmission, Material, SceneError, Surface, TextureId,
     coated_surface, dispersion_from_abbe, glass_surface, metal_surface,
@@ -110,7 +111,7 @@ impl Reader {
     /// and two-sidedness) and the shape's `alpha` cut-out; made once for each.
     pub(super) fn shape_material(
         &mut self,
-        material: &MaterialRef,
+        (material, interior): (&MaterialRef, Option<&str>),
         emission: Option<(Vec3, bool)>,
         shape: &Params,
         file: &Path,
@@ -120,7 +121,8 @@ impl Reader {
         let emission_key =
             emission.map(|(r, two)| [r.x.to_bits(), r.y.to_bits(), r.z.to_bits(), two as u32]);
         let alpha_key = alpha.as_ref().map(|p| format!("{:?}", p.values));
-        let key = (material.clone(), emission_key, alpha_key);
+        let interior_key = interior.map(str::to_string);
+        let key = (material.clone(), emission_key, alpha_key, interior_key);
         if let Some(made) = self.made.get(&key) {
             return Ok(*made);
         }
@@ -151,6 +153,17 @@ impl Reader {
                 self.cut_out(m, alpha, file)?;
             }
         }
+        if let Some(name) = interior
+            && let Some(medium) = self.interior_medium(name, file)?
+        {
+            match medium.fill(&mapped.material) {
+                Some(filled) if mapped.mixture.is_empty() => mapped.material = filled,
+                _ => self.warn(
+                    file,
+                    format!("medium \"{name}\" is read inside solid glass or an interface only"),
+                ),
+            }
+        }
         let uv_map = mapped.uv_map;
         let id = match mapped.mixture.is_empty() {
             true => self.builder.add_material(mapped.material),
@@ -159,6 +172,60 @@ impl Reader {
         let made = Made { id, uv_map };
         self.made.insert(key, made);
         Ok(made)
+    }
+
+    /// The `MakeNamedMedium` called `name` as kousen's solids hold a medium: pbrt's
+    /// `homogeneous` (`sigma_a` and `sigma_s` × `scale`, Henyey–Greenstein `g`); `None`,
+    /// warned about, for other kinds (grids, clouds) and presets.
+    fn interior_medium(&mut self, name: &str, file: &Path) -> Result<Option<Medium>, SceneError> {
+        if let Some(read) = self.media_read.get(name) {
+            return Ok(*read);
+        }
+        let definition = (self.media.get(name).cloned())
+            .ok_or_else(|| SceneError::format(file, format!("no medium is named \"{name}\"")))?;
+        let file = definition.file.as_path();
+        let p = &definition.params;
+        let medium = if definition.class != "homogeneous" {
+            let kind = &definition.class;
+            self.warn(
+                file,
+                format!("medium \"{name}\" of type \"{kind}\" is not read"),
+            );
+            None
+        } else if p.get("preset").is_some() {
+            self.warn(file, format!("medium \"{name}\": presets are not read"));
+            None
+        } else {
+            // pbrt's defaults (both versions): a thin, bluish scattering medium.
+            let absorption =
+                self.colour(p, &["sigma_a"], Vec3::new(0.0011, 0.0024, 0.014), file)?;
+            let scattering = self.colour(p, &["sigma_s"], Vec3::new(2.55, 3.21, 7.7), file)?;
+            let scale = self.scalar(p, "scale", 1.0, file)?;
+            let g = self.scalar(p, "g", 0.0, file)?;
+            if p.get("Le").is_some() {
+                self.warn(
+                    file,
+                    format!("medium \"{name}\": its emission Le is not read"),
+                );
+            }
+            p.get("Lescale");
+            self.warn_unused(file, &format!("medium \"{name}\""), p);
+            let (absorption, scattering) = (absorption.value * scale, scattering.value * scale);
+            let valid = |v: Vec3| v.is_finite() && v.min_element() >= 0.0;
+            if !(valid(absorption) && valid(scattering) && -1.0 < g && g < 1.0) {
+                let message = format!(
+                    "medium \"{name}\": sigma_a {absorption}, sigma_s {scattering} must be ≥ 0 and g {g} in (−1, 1)"
+                );
+                return Err(SceneError::format(file, message));
+            }
+            Some(Medium {
+                absorption,
+                scattering,
+                anisotropy: g,
+            })
+        };
+        self.media_read.insert(name.to_string(), medium);
+        Ok(medium)
     }
 
     /// A shape's `alpha`: a float (0 cuts the shape out; between 0 and 1, pbrt's stochastic
@@ -373,6 +440,7 @@ impl Reader {
                 }
             }
             "mix" => return self.mix(definition, name, depth),
+            // A boundary between media, invisible; filled with a medium, glass of index 1.
             "interface" | "none" | "" => Material {
                 alpha: 0.0,
                 alpha_mode: AlphaMode::Mask { cutoff: 0.5 },

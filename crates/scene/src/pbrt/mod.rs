@@ -24,8 +24,12 @@
 //!   latitude–longitude map), with `scale`, `power` or `illuminance` as pbrt reads them.
 //! - `Include` and `Import` (read in place; gzipped files too; an Import's state changes stay
 //!   in it), `ObjectBegin`/`ObjectEnd`/`ObjectInstance`.
+//! - **Media**: a `homogeneous` `MakeNamedMedium` (`sigma_a`, `sigma_s`, `scale`, `g`) that
+//!   `MediumInterface` puts inside the shapes after it fills them (`crate::media`): solid
+//!   glass keeps its surface, an `interface` becomes glass of index 1 (`materials`).
 //! - Ignored: `Sampler`, `Integrator`, `PixelFilter`, `Accelerator`, `Option` (kousen renders
-//!   by its own settings). Warned about: media, other shapes, materials, textures and lights,
+//!   by its own settings). Warned about: other media (grids, clouds, presets), media outside
+//!   shapes (around the camera), other shapes, materials, textures and lights,
 //!   the film's ISO (with the `--exposure` that shows pbrt's image) and every parameter
 //!   nothing read (as pbrt warns), the film's among them.
 //!
@@ -91,6 +95,8 @@ struct State {
     material: MaterialRef,
     /// The area light shapes get.
     area_light: Option<AreaLight>,
+    /// The named medium inside the shapes made now (`MediumInterface`'s first name), if any.
+    interior: Option<String>,
 }
 
 /// An `AreaLightSource`: the radiance shapes emit, from which faces, or their total `power`
@@ -112,8 +118,14 @@ enum MaterialRef {
     Named(String),
 }
 
-/// A material made for shapes: which, its emission's bits and its cut-out's parameter.
-type MadeKey = (MaterialRef, Option<[u32; 4]>, Option<String>);
+/// A material made for shapes: which, its emission's bits, its cut-out's parameter and the
+/// medium inside it.
+type MadeKey = (
+    MaterialRef,
+    Option<[u32; 4]>,
+    Option<String>,
+    Option<String>,
+);
 
 /// A material or texture as the file describes it, kept until a shape uses it.
 #[derive(Clone)]
@@ -154,6 +166,10 @@ pub(super) struct Reader {
     transforms_ignored: bool,
     anonymous: Vec<Definition>,
     named_materials: HashMap<String, Definition>,
+    /// `MakeNamedMedium`s by name (`type` their class), and those read so far (`None`: not
+    /// homogeneous, warned about).
+    media: HashMap<String, Definition>,
+    media_read: HashMap<String, Option<crate::media::Medium>>,
     /// Named textures by whether they are float ones (pbrt keeps float and spectrum textures
     /// apart: one name may be both) and name.
     textures: HashMap<(bool, String), Definition>,
@@ -188,6 +204,7 @@ impl Reader {
             reverse_orientation: false,
             material: MaterialRef::Default,
             area_light: None,
+            interior: None,
         };
         Reader {
             main: path.to_path_buf(),
@@ -198,6 +215,8 @@ impl Reader {
             transforms_ignored: false,
             anonymous: Vec::new(),
             named_materials: HashMap::new(),
+            media: HashMap::new(),
+            media_read: HashMap::new(),
             textures: HashMap::new(),
             made: HashMap::new(),
             texture_colours: HashMap::new(),
@@ -422,19 +441,30 @@ impl Reader {
             }
             "MakeNamedMedium" => {
                 let name = tokens.string("a medium's name").map_err(fail)?;
-                tokens.params().map_err(fail)?;
-                self.warn(file, format!("line {line}: medium \"{name}\" is not read"));
+                let params = tokens.params().map_err(fail)?;
+                let class = params.string("type").map_err(fail)?.unwrap_or_default();
+                let definition = Definition {
+                    class,
+                    params,
+                    file: file.to_path_buf(),
+                };
+                self.media.insert(name, definition);
             }
             "MediumInterface" => {
-                self.warn(
-                    file,
-                    "media are not read: surfaces between them are drawn alone",
-                );
-                tokens.string("a medium's name").map_err(fail)?;
-                if matches!(tokens.peek().map_err(fail)?, Some(t) if matches!(t.kind, Kind::Quoted(_)))
-                {
-                    tokens.string("a medium's name").map_err(fail)?;
+                let inside = tokens.string("a medium's name").map_err(fail)?;
+                let outside = match tokens.peek().map_err(fail)? {
+                    Some(t) if matches!(t.kind, Kind::Quoted(_)) => {
+                        tokens.string("a medium's name").map_err(fail)?
+                    }
+                    _ => inside.clone(),
+                };
+                if !outside.is_empty() && outside != inside {
+                    self.warn(
+                        file,
+                        "media outside shapes (the air around the camera) are not read: kousen fills solids only",
+                    );
                 }
+                self.state.interior = (!inside.is_empty()).then_some(inside);
             }
             "WorldBegin" => self.world_begin(),
             "WorldEnd" => {}
@@ -623,6 +653,16 @@ impl Reader {
         }
         if let Some(call) = self.camera.take() {
             self.make_camera(call)?;
+        }
+        let mut unused: Vec<(&String, &Definition)> = (self.media.iter())
+            .filter(|(name, _)| !self.media_read.contains_key(*name))
+            .collect();
+        unused.sort_by_key(|(name, _)| name.as_str());
+        let unused: Vec<(String, PathBuf)> = (unused.into_iter())
+            .map(|(name, d)| (name.clone(), d.file.clone()))
+            .collect();
+        for (name, file) in unused {
+            self.warn(&file, format!("medium \"{name}\" fills no shape: not read"));
         }
         let Reader {
             mut builder,

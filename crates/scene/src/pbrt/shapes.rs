@@ -134,7 +134,8 @@ impl Reader {
             }
             (radiance, light.two_sided)
         });
-        let made = self.shape_material(&call.state.material, emission, params, file)?;
+        let material = (&call.state.material, call.state.interior.as_deref());
+        let made = self.shape_material(material, emission, params, file)?;
         let placement = Placement::new(self.mirror, to_world, call.state.reverse_orientation);
         for vertices in mesh {
             let mut vertices = placement.place(vertices, facing);

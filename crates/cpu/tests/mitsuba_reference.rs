@@ -396,6 +396,20 @@ fn a_mitsuba_scene_file_renders_as_mitsuba_renders_it() {
     );
 }
 
+/// The same file with its glass ball filled with a murky homogeneous medium
+/// (`scenes/mitsuba/cornell-murky.xml`: Mitsuba's interior medium, read as kousen's murky glass
+/// by `scene::mitsuba` and `scene::media`, its light gathered from volume photons inside the
+/// ball), against Mitsuba 3's volumetric path tracer on the file (`mitsuba-cornell-murky-64.exr`).
+#[test]
+fn a_mitsuba_scene_file_s_medium_renders_as_mitsuba_renders_it() {
+    let scene = shipped("mitsuba/cornell-murky.xml");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert!(scene.materials.iter().any(|m| m.has_murky_glass()));
+    let reference = reference("mitsuba-cornell-murky-64.exr");
+    let glass = |s: &scene::Surface| matches!(s, scene::Surface::Dielectric { .. });
+    check_against("Mitsuba's murky ball", &scene, &reference, (100, 0.03), glass);
+}
+
 /// The same box written for pbrt (`scenes/pbrt/cornell-box.pbrt`: pbrt-v4's materials,
 /// inline meshes for the walls and the block, its camera mirrored to Mitsuba's handedness)
 /// loaded by `scene::pbrt`, against Mitsuba 3's render of the Mitsuba file. Without the

@@ -407,7 +407,13 @@ fn a_mitsuba_scene_file_s_medium_renders_as_mitsuba_renders_it() {
     assert!(scene.materials.iter().any(|m| m.has_murky_glass()));
     let reference = reference("mitsuba-cornell-murky-64.exr");
     let glass = |s: &scene::Surface| matches!(s, scene::Surface::Dielectric { .. });
-    check_against("Mitsuba's murky ball", &scene, &reference, (100, 0.03), glass);
+    check_against(
+        "Mitsuba's murky ball",
+        &scene,
+        &reference,
+        (100, 0.03),
+        glass,
+    );
 }
 
 /// The same box written for pbrt (`scenes/pbrt/cornell-box.pbrt`: pbrt-v4's materials,

@@ -1155,6 +1155,29 @@ fn every_kernel_matches_its_twin_in_murky_glass() {
     }
 }
 
+/// The same in a Mitsuba file's murky medium (`scenes/mitsuba/cornell-murky.xml`, read by
+/// `scene::media`), inside its BK7 ball and, as a `null` boundary makes it, inside glass of
+/// index 1 that light crosses unbent (fog).
+#[test]
+fn every_kernel_matches_its_twin_in_a_mitsuba_file_s_medium() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/mitsuba/cornell-murky.xml"
+    );
+    let scene = scene::load(std::path::Path::new(path)).expect("the shipped file loads");
+    let mut fog = scene.clone();
+    for material in fog.materials.iter_mut().filter(|m| m.has_murky_glass()) {
+        material.surface = scene::Surface::Dielectric {
+            ior: 1.0,
+            thin_walled: false,
+        };
+    }
+    for scene in [scene, fog] {
+        let seen = every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+        assert!(seen.volume_points > 20, "{seen:?}");
+    }
+}
+
 /// The same in `scene::testing::cornell_murky`: milky quartz and murky water that absorb as
 /// they scatter, under the ceiling light, their volume visible points among the room's.
 #[test]

@@ -721,6 +721,20 @@ fn interior_media_fill_solids() {
         assert!(all.contains(expected), "{expected}: {all}");
     }
     assert_eq!(scene.warnings.len(), 2, "{all}");
+    // One name is both sides: the shapes bound nothing, and the medium is the air's.
+    let immersed = load(&world(&format!(
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"
+        MediumInterface \"fog\" Material \"dielectric\" Shape \"sphere\" {LAMP}"
+    )))
+    .expect("loads");
+    assert!(
+        immersed
+            .materials
+            .iter()
+            .all(|m| m.scattering == Vec3::ZERO)
+    );
+    let all = immersed.warnings.join("\n");
+    assert!(all.contains("media outside shapes"), "{all}");
     assert!(
         error(&world("MediumInterface \"nowhere\" \"\" Shape \"sphere\""))
             .contains("no medium is named")

@@ -458,13 +458,14 @@ impl Reader {
                     }
                     _ => inside.clone(),
                 };
-                if !outside.is_empty() && outside != inside {
+                if !outside.is_empty() {
                     self.warn(
                         file,
                         "media outside shapes (the air around the camera) are not read: kousen fills solids only",
                     );
                 }
-                self.state.interior = (!inside.is_empty()).then_some(inside);
+                // The same medium on both sides bounds nothing (pbrt's one-name form).
+                self.state.interior = (!inside.is_empty() && inside != outside).then_some(inside);
             }
             "WorldBegin" => self.world_begin(),
             "WorldEnd" => {}

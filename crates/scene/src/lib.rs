@@ -14,6 +14,7 @@ pub mod error;
 mod files;
 pub mod gltf;
 pub mod lights;
+mod mapped;
 pub mod material;
 mod media;
 pub mod mesh;

@@ -48,38 +48,9 @@ const NAMED_IORS: [(&str, f32); 23] = [
     ("diamond", 2.419),
 ];
 
-/// A BSDF mapped onto kousen: its material and, where it mixes materials (Mitsuba 3's
-/// principled with partial `metallic` or `spec_trans`, `blendbsdf`), the members of the
-/// blend it makes with their probabilities (`SceneBuilder::add_mixture`; empty for one).
-pub(super) struct Mapped {
-    pub material: Material,
-    pub mixture: Vec<(f32, Material)>,
-    /// Its base colour texture's `to_uv`, which the shape's texture coordinates go through.
-    pub to_uv: Option<Mat4>,
-}
-
-impl Mapped {
-    fn plain(material: Material) -> Mapped {
-        Mapped {
-            material,
-            mixture: Vec::new(),
-            to_uv: None,
-        }
-    }
-
-    /// A mixture (at least one member), a plain material where it has one member.
-    fn mixed(mut mixture: Vec<(f32, Material)>, to_uv: Option<Mat4>) -> Mapped {
-        let material = mixture[0].1.clone();
-        if mixture.len() == 1 {
-            mixture.clear();
-        }
-        Mapped {
-            material,
-            mixture,
-            to_uv,
-        }
-    }
-}
+/// A BSDF mapped onto kousen (`crate::mapped`), its base colour texture's `to_uv` the mapping
+/// the shape's texture coordinates go through.
+pub(super) type Mapped = crate::mapped::Mapped<Mat4>;
 
 /// A colour or a texture of it, as a reflectance property gives it.
 struct Reflectance {
@@ -124,8 +95,7 @@ impl<'a> Reader<'a> {
                 })?;
                 let mut mapped = self.material_within(inner, depth)?;
                 if kind == "mask" {
-                    mapped.material = self.masked(node, mapped.material)?;
-                    for (_, member) in &mut mapped.mixture {
+                    for member in mapped.members_mut() {
                         *member = self.masked(node, member.clone())?;
                     }
                 }
@@ -196,10 +166,7 @@ impl<'a> Reader<'a> {
                 base(Surface::Diffuse, Vec3::splat(0.5))
             }
         };
-        Ok(Mapped {
-            to_uv,
-            ..Mapped::plain(material)
-        })
+        Ok(Mapped::plain(material, to_uv))
     }
 
     /// `blendbsdf`: its first BSDF with probability 1 − `weight`, its second with `weight` (a
@@ -226,14 +193,7 @@ impl<'a> Reader<'a> {
         for (probability, inner) in [(1.0 - weight, first), (weight, second)] {
             let inner = self.resolve_bsdf(inner)?;
             let mapped = self.material_within(inner, depth)?;
-            to_uv = to_uv.or(mapped.to_uv);
-            match mapped.mixture.is_empty() {
-                true => mixture.push((probability, mapped.material)),
-                false => {
-                    let spread = mapped.mixture.into_iter();
-                    mixture.extend(spread.map(|(q, m)| (probability * q, m)));
-                }
-            }
+            to_uv = to_uv.or(mapped.spread_into(probability, &mut mixture));
         }
         Ok(Mapped::mixed(mixture, to_uv))
     }

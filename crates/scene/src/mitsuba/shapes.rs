@@ -160,11 +160,10 @@ impl<'a> Reader<'a> {
         if let Some(id) = shared.and_then(|id| self.materials.get(id)) {
             return Ok(*id);
         }
-        let (mut material, mut mixture, to_uv) = match bsdf {
+        let mut mapped = match bsdf {
             Some(b) => {
                 let b = self.resolve_bsdf(b)?;
-                let mapped = self.material(b)?;
-                (mapped.material, mapped.mixture, mapped.to_uv)
+                self.material(b)?
             }
             None => {
                 let grey = Material {
@@ -173,35 +172,25 @@ impl<'a> Reader<'a> {
                     base_color: Vec3::splat(0.5),
                     ..Material::default()
                 };
-                (grey, Vec::new(), None)
+                super::bsdfs::Mapped::plain(grey, None)
             }
         };
-        if let Some(medium) = medium {
-            match medium.fill(&material) {
-                Some(filled) if mixture.is_empty() => material = filled,
-                _ => self.warn(
-                    node,
-                    "an interior medium is read inside solid glass or a null BSDF only: not read",
-                ),
-            }
+        if medium.is_some_and(|medium| !mapped.fill(medium)) {
+            self.warn(
+                node,
+                "an interior medium is read inside solid glass or a null BSDF only: not read",
+            );
         }
         if let Some(radiance) = radiance {
-            let members = std::iter::once(&mut material).chain(mixture.iter_mut().map(|(_, m)| m));
-            for m in members {
+            for m in mapped.members_mut() {
                 m.emission = radiance;
                 m.name = format!("{} (emitter)", m.name);
             }
         }
-        let id = match mixture.is_empty() {
-            true => self.builder.add_material(material),
-            false => {
-                let (id, simplified) = self.builder.add_mixture(mixture, material);
-                if let Some(why) = simplified {
-                    self.warn(node, why);
-                }
-                id
-            }
-        };
+        let (id, to_uv, simplified) = mapped.add_to(&mut self.builder);
+        if let Some(why) = simplified {
+            self.warn(node, why);
+        }
         if let Some(shared) = shared {
             self.materials.insert(shared.to_string(), (id, to_uv));
         }

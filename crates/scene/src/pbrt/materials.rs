@@ -75,36 +75,9 @@ impl Colour {
     }
 }
 
-/// A pbrt material read: kousen's material and, for a `mix`, the members of its blend.
-struct Mapped {
-    material: Material,
-    /// Other members of a mixture with their probabilities (the material's own first).
-    mixture: Vec<(f32, Material)>,
-    uv_map: Option<UvMap>,
-}
-
-impl Mapped {
-    /// A mixture (at least one member), a plain material where it has one member.
-    fn mixed(mut mixture: Vec<(f32, Material)>, uv_map: Option<UvMap>) -> Mapped {
-        let material = mixture[0].1.clone();
-        if mixture.len() == 1 {
-            mixture.clear();
-        }
-        Mapped {
-            material,
-            mixture,
-            uv_map,
-        }
-    }
-
-    fn plain(material: Material, uv_map: Option<UvMap>) -> Mapped {
-        Mapped {
-            material,
-            mixture: Vec::new(),
-            uv_map,
-        }
-    }
-}
+/// A pbrt material read (`crate::mapped`: for a `mix`, the members of its blend), with its
+/// textures' uv mapping.
+type Mapped = crate::mapped::Mapped<UvMap>;
 
 impl Reader {
     /// The material shapes of `state`'s material get, with the area light's emission (radiance
@@ -141,9 +114,7 @@ impl Reader {
                 self.material(&definition, name, MAX_NESTING)?
             }
         };
-        let mut members: Vec<&mut Material> = vec![&mut mapped.material];
-        members.extend(mapped.mixture.iter_mut().map(|(_, m)| m));
-        for m in members {
+        for m in mapped.members_mut() {
             if let Some((radiance, two_sided)) = emission {
                 m.emission = radiance;
                 m.double_sided = two_sided;
@@ -155,20 +126,16 @@ impl Reader {
         }
         if let Some(name) = interior
             && let Some(medium) = self.interior_medium(name, file)?
+            && !mapped.fill(medium)
         {
-            match medium.fill(&mapped.material) {
-                Some(filled) if mapped.mixture.is_empty() => mapped.material = filled,
-                _ => self.warn(
-                    file,
-                    format!("medium \"{name}\" is read inside solid glass or an interface only"),
-                ),
-            }
+            let message =
+                format!("medium \"{name}\" is read inside solid glass or an interface only");
+            self.warn(file, message);
         }
-        let uv_map = mapped.uv_map;
-        let id = match mapped.mixture.is_empty() {
-            true => self.builder.add_material(mapped.material),
-            false => self.add_mixture(mapped, file),
-        };
+        let (id, uv_map, simplified) = mapped.add_to(&mut self.builder);
+        if let Some(why) = simplified {
+            self.warn(file, why);
+        }
         let made = Made { id, uv_map };
         self.made.insert(key, made);
         Ok(made)
@@ -285,16 +252,6 @@ impl Reader {
                 ))
             })?;
         self.image(&image, false, &definition.file)
-    }
-
-    /// The builder id of a mixture ([`crate::SceneBuilder::add_mixture`]), warning where it
-    /// had to be simplified.
-    fn add_mixture(&mut self, mapped: Mapped, file: &Path) -> u32 {
-        let (id, simplified) = self.builder.add_mixture(mapped.mixture, mapped.material);
-        if let Some(why) = simplified {
-            self.warn(file, why);
-        }
-        id
     }
 
     /// Material `definition` (named `name`) mapped onto kousen's; `depth` more `mix`es may
@@ -535,23 +492,9 @@ impl Reader {
                 fail(format!("mix \"{name}\": no material is named \"{member}\""))
             })?;
             let mapped = self.material(&definition, &member, depth)?;
-            uv_map = uv_map.or(mapped.uv_map);
-            match mapped.mixture.is_empty() {
-                true => mixture.push((probability, mapped.material)),
-                false => mixture.extend(
-                    mapped
-                        .mixture
-                        .into_iter()
-                        .map(|(q, m)| (probability * q, m)),
-                ),
-            }
+            uv_map = uv_map.or(mapped.spread_into(probability, &mut mixture));
         }
-        let material = mixture[0].1.clone();
-        Ok(Mapped {
-            material,
-            mixture,
-            uv_map,
-        })
+        Ok(Mapped::mixed(mixture, uv_map))
     }
 
     /// A conductor's reflectance at normal incidence: its `reflectance`, else from `eta` and

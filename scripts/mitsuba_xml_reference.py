@@ -8,8 +8,9 @@ is checked against (crates/cpu/tests/mitsuba_reference.rs).
     python3 scripts/mitsuba_xml_reference.py scenes/mitsuba/cornell-box.xml \\
         crates/render/tests/data/mitsuba-cornell-box-64.exr --res 64 --spp 16384
 
-The file's `res` and `spp` defaults are set from the arguments; its own integrator (the path
-tracer), film and box filter are used. The samples are taken in passes of at most `--pass-spp`
+The file's `res` and `spp` defaults are set from the arguments, and any other of its defaults
+by `--define NAME=VALUE` (`--define "spot=0, 0, 0"` for scenes/mitsuba/cornell-fog.xml's
+reference); its own integrator, film and box filter are used. The samples are taken in passes of at most `--pass-spp`
 each, seeded apart, and averaged (equal counts, so the mean is exact).
 """
 import argparse
@@ -28,12 +29,15 @@ def main() -> None:
     ap.add_argument("--pass-spp", type=int, default=1024)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--variant", default="llvm_ad_rgb", help="llvm_ad_rgb or scalar_rgb")
+    ap.add_argument("--define", action="append", default=[], metavar="NAME=VALUE",
+                    help="set one of the file's defaults (repeatable)")
     args = ap.parse_args()
+    defines = dict(d.split("=", 1) for d in args.define)
     mi.set_variant(args.variant)
     per_pass = min(args.spp, args.pass_spp)
     if args.spp % per_pass:
         raise SystemExit("--spp must be a multiple of --pass-spp")
-    scene = mi.load_file(args.scene, res=args.res, spp=per_pass)
+    scene = mi.load_file(args.scene, res=args.res, spp=per_pass, **defines)
     started = time.time()
     passes = args.spp // per_pass
     total = None

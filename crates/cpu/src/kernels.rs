@@ -452,8 +452,22 @@ fn photon_segment(
         })
     };
     loop {
-        let hit = trace(scene, origin, direction)?;
-        let Some(t) = walk.flight(extinction, scattering, hit.distance, next()) else {
+        // Out of the scene the flight runs on forever: in an atmosphere it scatters on the way,
+        // or leaves (keeping its photon, if any).
+        let hit = trace(scene, origin, direction);
+        let distance = hit.as_ref().map_or(RAY_T_MAX, |hit| hit.distance);
+        let Some(t) = walk.flight(extinction, scattering, distance, next()) else {
+            let Some(hit) = hit else {
+                return volume_photon(kept, events).map(|kept| PhotonSegment {
+                    hit: None,
+                    origin,
+                    direction,
+                    flux: Vec3::ZERO,
+                    scattered: true,
+                    volume_photon: Some(kept),
+                    walk: None,
+                });
+            };
             return Some(PhotonSegment {
                 hit: Some(hit),
                 origin,
@@ -680,27 +694,25 @@ fn eye_path(
     // point measures its depth from (`render::volume_boundary`): none from the camera.
     let mut behind = (Vec3::ZERO, volume_boundary::NO_SURFACE);
     while depth < params.max_depth {
-        let Some(mut hit) = trace(scene, origin, direction) else {
-            // Out of the scene: the sky (zero without one), unless water around the path
-            // absorbs it on the way.
-            let sky =
-                sky_seen(scene, params, direction) * medium_transmittance(scene, medium, RAY_T_MAX);
-            direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
-            break;
-        };
+        let traced = trace(scene, origin, direction);
         // In murky glass the path's flight may end where it scatters, with a volume visible
-        // point (`render::scattering`); else it passes, weighed by what is not scattered.
-        if let Some(murky) = murky_glass(&scene.materials, medium) {
+        // point (`render::scattering`); else it passes, weighed by what is not scattered. A
+        // ray out of the scene runs on forever: in an atmosphere it scatters on the way.
+        let murky = murky_glass(&scene.materials, medium);
+        if let Some(murky) = murky {
             let scattering = murky.interior_scattering();
             let walk = walk.get_or_insert_with(|| Walk::start(rng.next_f32()));
             let extinction = murky.interior_extinction();
-            let flight = walk.flight(extinction, scattering, hit.distance, rng.next_f32());
+            let distance = traced.as_ref().map_or(RAY_T_MAX, |hit| hit.distance);
+            let flight = walk.flight(extinction, scattering, distance, rng.next_f32());
             if let Some(t) = flight {
                 let weight = throughput * walk.weight_over_scattering(scattering);
                 if weight.max_element() > 0.0 {
                     let position = origin + t * direction;
                     let depth_behind = (behind.0.dot(position) + behind.1).abs();
-                    let depth_ahead = (hit.distance - t) * direction.dot(hit.geometric).abs();
+                    let depth_ahead = traced.as_ref().map_or(volume_boundary::NO_SURFACE, |hit| {
+                        (hit.distance - t) * direction.dot(hit.geometric).abs()
+                    });
                     visible_point = VisiblePoint {
                         position: position.to_array(),
                         normal: volume_point_direction(direction, murky.scatter_anisotropy),
@@ -711,7 +723,19 @@ fn eye_path(
                 break;
             }
             throughput *= walk.take_weight();
-        } else {
+        }
+        let Some(mut hit) = traced else {
+            // Out of the scene: the sky (zero without one), unless water around the path
+            // absorbs it on the way (a walk's weight holds that already).
+            let kept = match murky {
+                Some(_) => Vec3::ONE,
+                None => medium_transmittance(scene, medium, RAY_T_MAX),
+            };
+            let sky = sky_seen(scene, params, direction) * kept;
+            direct += throughput * emission_share * sky * glossy.sky_weight(scene, direction);
+            break;
+        };
+        if murky.is_none() {
             throughput *= transmittance_to(scene, medium, &hit);
         }
         let material = &scene.materials[hit.material as usize];

@@ -864,8 +864,17 @@ pub struct AddedLightArgs {
 }
 
 impl AddedLightArgs {
-    /// Adds the sun and the sky to `scene`, those asked for.
-    pub fn add_to(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
+    /// Adds the sun and the sky to `scene` (read from `path`), those asked for; an atmosphere
+    /// hides them as it hides the file's own (`scene::Scene::dim_far_lights`).
+    pub fn add_to(&self, scene: &mut scene::Scene, path: &std::path::Path) -> anyhow::Result<()> {
+        self.add_sky_and_sun(scene)?;
+        if self.sky.is_some() || self.sky_map.is_some() || self.sun.is_some() {
+            scene.dim_far_lights(path);
+        }
+        Ok(())
+    }
+
+    fn add_sky_and_sun(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
         let radiance = self.sky.map(glam::Vec3::from);
         if let Some(radiance) = radiance
             && (radiance.min_element() < 0.0

@@ -120,9 +120,13 @@ fn locator_build_options() -> bvh::BuildOptions {
 /// the innermost one around it; a ray that meets surfaces and leaves the scene finds the point
 /// outside every solid. The rays look up first, tilted four ways, then down: open water (a
 /// pool's surface, closed by the floor and walls) is left through its surface, and a point
-/// near the edge of an open sheet finds it on another side. Empty where no solid is.
+/// near the edge of an open sheet finds it on another side. Empty where no solid is. A point
+/// outside every solid is in the scene's atmosphere (`scene::Scene::atmosphere`), where it
+/// has one.
 pub struct MediumLocator {
     bvh: Option<bvh::PackedBvh>,
+    /// The medium outside every solid: the atmosphere, or [`NO_MEDIUM`].
+    outside: u32,
     /// How far past a surface a walking ray goes on (a millionth of the solids' size).
     step: f32,
 }
@@ -161,21 +165,27 @@ impl MediumLocator {
             (!solids.is_empty()).then(|| bvh::PackedBvh::build(&solids, &locator_build_options()));
         MediumLocator {
             bvh,
+            outside: scene.atmosphere.unwrap_or(NO_MEDIUM),
             step: 1e-6 * scene.bounds().extent().length().max(1e-3),
         }
     }
 
-    /// The medium at `point`: the innermost solid it lies in, or [`NO_MEDIUM`].
+    /// The medium outside every solid: the scene's atmosphere, or [`NO_MEDIUM`].
+    pub fn outside(&self) -> u32 {
+        self.outside
+    }
+
+    /// The medium at `point`: the innermost solid it lies in, or [`MediumLocator::outside`].
     pub fn medium_at(&self, point: Vec3) -> u32 {
-        let Some(bvh) = &self.bvh else {
-            return NO_MEDIUM;
-        };
-        for direction in LOCATOR_DIRECTIONS.map(Vec3::normalize) {
-            if let Some(medium) = self.walk(bvh, point, direction) {
-                return medium;
-            }
+        let found = self.bvh.as_ref().and_then(|bvh| {
+            (LOCATOR_DIRECTIONS.map(Vec3::normalize))
+                .into_iter()
+                .find_map(|direction| self.walk(bvh, point, direction))
+        });
+        match found {
+            Some(medium) if medium != NO_MEDIUM => medium,
+            _ => self.outside,
         }
-        NO_MEDIUM
     }
 
     /// One ray's answer: the first solid it leaves without having entered it, [`NO_MEDIUM`]
@@ -212,7 +222,8 @@ impl MediumLocator {
 
     /// Where each light's paths start, for [`Light::medium`]: a point or spot light's position,
     /// a triangle's centroid just off its emitting face (the front, or either for a
-    /// double-sided one: the front); the sky and directional lights start outside the scene.
+    /// double-sided one: the front); the sky and directional lights start outside the scene,
+    /// in its atmosphere if it has one.
     pub fn set_light_media(&self, lights: &mut [Light]) {
         for light in lights {
             light.medium = match light.kind {
@@ -223,7 +234,7 @@ impl MediumLocator {
                     let size = e1.length().max(e2.length());
                     self.medium_at(v0 + (e1 + e2) / 3.0 + 1e-4 * size * normal)
                 }
-                _ => NO_MEDIUM,
+                _ => self.outside,
             };
         }
     }

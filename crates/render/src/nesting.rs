@@ -21,8 +21,8 @@ const SAMPLES_PER_MATERIAL: usize = 16;
 /// The scene's materials as they are rendered where solids nest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Nesting {
-    /// Per material, the solid (material id) its surfaces lie in, or [`NO_MEDIUM`]. A blend's
-    /// members take their root's.
+    /// Per material, the solid (material id) its surfaces lie in, else the scene's atmosphere
+    /// (`scene::Scene::atmosphere`) or [`NO_MEDIUM`]. A blend's members take their root's.
     pub exterior: Vec<u32>,
     /// The scene's materials with each index of refraction (dielectrics' and plastic coats')
     /// divided by that of the medium around it; a coat in a denser medium than itself keeps
@@ -40,7 +40,12 @@ impl Nesting {
     /// [`Nesting::of`] with the scene's `locator` built already (one build serves a render).
     pub fn of_with(scene: &Scene, locator: &MediumLocator) -> Nesting {
         let count = scene.materials.len();
-        let mut exterior = vec![NO_MEDIUM; count];
+        // Outside every solid: the atmosphere, which has no surface and no outside itself.
+        let outside = locator.outside();
+        let mut exterior = vec![outside; count];
+        if let Some(atmosphere) = scene.atmosphere {
+            exterior[atmosphere as usize] = NO_MEDIUM;
+        }
         let any_solid = (0..count as u32).any(|id| is_solid(&scene.materials, id));
         if any_solid {
             let mut by_material: Vec<Vec<usize>> = vec![Vec::new(); count];
@@ -57,10 +62,10 @@ impl Nesting {
                     let [a, b, c] = scene.triangles[index].positions();
                     let normal = (b - a).cross(c - a).normalize_or_zero();
                     let size = (b - a).length().max((c - a).length());
-                    let outside = (a + b + c) / 3.0 + 1e-4 * size * normal;
-                    let mut around = locator.medium_at(outside);
+                    let just_off = (a + b + c) / 3.0 + 1e-4 * size * normal;
+                    let mut around = locator.medium_at(just_off);
                     if around == id as u32 {
-                        around = NO_MEDIUM;
+                        around = outside;
                     }
                     match votes.iter_mut().find(|(m, _)| *m == around) {
                         Some((_, n)) => *n += 1,
@@ -69,7 +74,7 @@ impl Nesting {
                 }
                 // The most votes; the first counted among equals.
                 let best = votes.iter().rev().max_by_key(|(_, n)| *n);
-                exterior[id] = best.map_or(NO_MEDIUM, |&(m, _)| m);
+                exterior[id] = best.map_or(outside, |&(m, _)| m);
             }
             for root in 0..count as u32 {
                 for member in blend_members(&scene.materials, root).skip(1) {
@@ -92,9 +97,9 @@ impl Nesting {
         }
     }
 
-    /// Whether some material lies inside a solid.
-    pub fn any(&self) -> bool {
-        self.exterior.iter().any(|&e| e != NO_MEDIUM)
+    /// Whether some material lies inside a solid (the atmosphere is none).
+    pub fn any(&self, scene: &Scene) -> bool {
+        (self.exterior.iter()).any(|&e| e != NO_MEDIUM && Some(e) != scene.atmosphere)
     }
 }
 
@@ -162,7 +167,45 @@ mod tests {
             ior(&nesting.materials[water as usize]),
             scene::testing::POOL_IOR
         );
-        assert!(nesting.any());
+        assert!(nesting.any(&scene));
+    }
+
+    /// Under an atmosphere (`scene::Scene::atmosphere`) every surface outside the solids lies
+    /// in it, and so does every point outside them; a solid's inside is still the solid's.
+    #[test]
+    fn an_atmosphere_is_around_everything_outside_the_solids() {
+        let mut scene = scene::testing::cornell_caustics();
+        let fog = scene::media::Medium {
+            absorption: glam::Vec3::splat(0.1),
+            scattering: glam::Vec3::splat(0.3),
+            anisotropy: 0.0,
+        };
+        let atmosphere = scene.materials.len() as u32;
+        scene.materials.push(fog.atmosphere());
+        scene.atmosphere = Some(atmosphere);
+        let locator = MediumLocator::new(&scene);
+        let nesting = Nesting::of_with(&scene, &locator);
+        for (id, &around) in nesting.exterior.iter().enumerate() {
+            let want = if id as u32 == atmosphere {
+                NO_MEDIUM
+            } else {
+                atmosphere
+            };
+            assert_eq!(around, want, "{}", scene.materials[id].name);
+        }
+        assert!(!nesting.any(&scene));
+        assert_eq!(nesting.materials, scene.materials);
+        let glass = id_of(&scene, "glass");
+        let centre = |id: u32| {
+            let corners = (scene.triangles.iter())
+                .filter(|t| t.material == id)
+                .flat_map(|t| t.positions());
+            let (sum, n) = corners.fold((glam::Vec3::ZERO, 0.0), |(s, n), p| (s + p, n + 1.0));
+            sum / n
+        };
+        assert_eq!(locator.medium_at(centre(glass)), glass);
+        let camera = scene.camera(None).unwrap();
+        assert_eq!(locator.medium_at(camera.eye), atmosphere);
     }
 
     /// Scenes whose solids stand apart keep their materials as they are; the pool's ball,
@@ -175,7 +218,7 @@ mod tests {
             scene::testing::cornell_tinted(),
         ] {
             let nesting = Nesting::of(&scene);
-            assert!(!nesting.any(), "{:?}", nesting.exterior);
+            assert!(!nesting.any(&scene), "{:?}", nesting.exterior);
             assert_eq!(nesting.materials, scene.materials);
         }
         let pool = scene::testing::cornell_pool();

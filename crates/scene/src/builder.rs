@@ -27,6 +27,14 @@ impl SceneBuilder {
         &self.path
     }
 
+    /// Fills all space outside the solids with `medium` (`Scene::atmosphere`), replacing any
+    /// atmosphere set before; its material's id.
+    pub fn set_atmosphere(&mut self, medium: crate::media::Medium) -> u32 {
+        let id = self.add_material(medium.atmosphere());
+        self.scene.atmosphere = Some(id);
+        id
+    }
+
     pub fn add_material(&mut self, material: Material) -> u32 {
         self.scene.materials.push(material);
         (self.scene.materials.len() - 1) as u32

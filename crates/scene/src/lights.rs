@@ -306,6 +306,32 @@ impl Lights {
         self.sky = Some(sky);
     }
 
+    /// Scales the light that comes from infinitely far away, the sky and directional lights,
+    /// by `mask` per channel (`crate::Scene::far_light_mask`); whether any of it dims.
+    pub fn dim_far_lights(&mut self, mask: Vec3) -> bool {
+        let mut dimmed = false;
+        let mut dim = |power: &mut Vec3| {
+            let kept = *power * mask;
+            dimmed |= kept != *power;
+            *power = kept;
+        };
+        if let Some(sky) = &mut self.sky {
+            dim(&mut sky.power);
+            sky.radiance *= mask;
+        }
+        for emitter in &mut self.punctual {
+            if emitter.light.kind == PunctualKind::Directional {
+                dim(&mut emitter.power);
+                emitter.light.intensity *= mask;
+            }
+        }
+        let punctual = self.punctual.iter().map(|p| p.power);
+        let triangles = self.triangles.iter().map(|t| t.power);
+        let sky = self.sky.iter().map(|s| s.power);
+        self.total_power = triangles.chain(punctual).chain(sky).sum();
+        dimmed
+    }
+
     /// Whether anything emits.
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty() && self.punctual.is_empty() && self.sky.is_none()

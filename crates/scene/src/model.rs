@@ -120,6 +120,10 @@ pub struct Scene {
     /// The names of the file's material variants (glTF `KHR_materials_variants`), which
     /// `crate::load_with` can dress the scene in.
     pub variants: Vec<String>,
+    /// The material whose medium fills all space outside the solids (a foggy scene's air, as
+    /// Mitsuba's sensor medium and pbrt's camera medium give it), if any: no triangle uses it
+    /// (`crate::media`).
+    pub atmosphere: Option<u32>,
 }
 
 /// One of a file's animations: its name, if it has one, and its length (its last keyframe's

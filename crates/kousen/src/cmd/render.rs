@@ -159,7 +159,7 @@ pub(super) fn run_until(args: &RenderArgs, stop: Arc<AtomicBool>) -> anyhow::Res
         intermediates,
     };
     let mut scene = scene::load_with(&args.scene, &args.load.options())?;
-    args.added_lights.add_to(&mut scene)?;
+    args.added_lights.add_to(&mut scene, &args.scene)?;
     if scene.lights.is_empty() {
         bail!(
             "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z, --sky R,G,B or --sky-map FILE adds one",

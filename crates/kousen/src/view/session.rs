@@ -28,7 +28,7 @@ pub fn load_scene(
     options: &scene::LoadOptions,
 ) -> anyhow::Result<LoadedScene> {
     let mut scene = scene::load_with(path, options)?;
-    added_lights.add_to(&mut scene)?;
+    added_lights.add_to(&mut scene, path)?;
     if scene.lights.is_empty() {
         bail!(
             "{}: the scene has no light (no emissive surface and no glTF punctual light), so the image would be black; --sun X,Y,Z, --sky R,G,B or --sky-map FILE adds one",

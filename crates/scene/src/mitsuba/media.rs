@@ -7,8 +7,16 @@
 //! of which `albedo` scatters (Mitsuba 0.6's `sigmaA` and `sigmaS` too), by the
 //! Henyey–Greenstein phase function of its `phase`'s `g` (isotropic where none). The solid's
 //! surface is its BSDF's: a smooth or rough `dielectric`; a `null` BSDF (a boundary light
-//! crosses unbent) becomes glass of index 1. `exterior` media, and interiors of other
-//! surfaces, are warned about and not read.
+//! crosses unbent) becomes glass of index 1. Interiors of other surfaces are warned about and
+//! not read.
+//!
+//! The sensor's medium (`<ref name="medium">` or an inline `<medium>`) is where the camera
+//! is: where a shape is filled with it, the camera's place in that solid says so already;
+//! where none is, it fills all space outside the solids, the scene's atmosphere
+//! (`Scene::atmosphere`, `crate::media`). A shape's `exterior` and a light's medium are
+//! found from the geometry as well (the solid around them, `render::nesting`), so they are
+//! read only as checks: one that is neither a filled solid's nor the atmosphere is warned
+//! about.
 
 use glam::Vec3;
 use roxmltree::Node;
@@ -19,12 +27,13 @@ use crate::SceneError;
 use crate::media::Medium;
 
 impl<'a> Reader<'a> {
-    /// The `interior` medium of shape `node`, if it has one that kousen reads; warns about
-    /// an `exterior` one.
+    /// The `interior` medium of shape `node`, if it has one that kousen reads, and its
+    /// element (for [`Reader::filled_with`]); an `exterior` one is kept for
+    /// [`Reader::place_outside_media`].
     pub(super) fn interior_medium(
         &mut self,
         node: Node<'a, 'a>,
-    ) -> Result<Option<Medium>, SceneError> {
+    ) -> Result<Option<(Medium, Node<'a, 'a>)>, SceneError> {
         let mut interior = None;
         let is_medium = |c: &Node| {
             c.has_tag_name("medium")
@@ -42,16 +51,75 @@ impl<'a> Reader<'a> {
             }
             match role {
                 "interior" => interior = Some(medium),
-                _ => self.warn(
-                    child,
-                    format!("the {role} medium is not read (kousen fills solids only)"),
-                ),
+                _ => self.media_around.push((child, medium)),
             }
         }
-        interior
-            .map(|m| self.homogeneous(m))
-            .transpose()
-            .map(Option::flatten)
+        let Some(interior) = interior else {
+            return Ok(None);
+        };
+        Ok(self.homogeneous(interior)?.map(|m| (m, interior)))
+    }
+
+    /// Notes that a shape is filled with `medium` (an interior that [`Reader::interior_medium`]
+    /// returned and the shape's surface took).
+    pub(super) fn filled_with(&mut self, medium: Node<'a, 'a>) {
+        if let Some(id) = medium.attribute("id") {
+            self.media_filled.insert(id.to_string());
+        }
+    }
+
+    /// The medium a sensor or a light names among its children (`<medium>`, or a `<ref>` to
+    /// one), if any; marked used.
+    pub(super) fn endpoint_medium(
+        &mut self,
+        node: Node<'a, 'a>,
+    ) -> Result<Option<(Node<'a, 'a>, Node<'a, 'a>)>, SceneError> {
+        for child in node.children().filter(Node::is_element) {
+            let medium = match child.tag_name().name() {
+                "medium" => child,
+                "ref" if (child.attribute("id")).is_some_and(|id| self.media.contains_key(id)) => {
+                    self.referenced(child, "medium")?
+                }
+                _ => continue,
+            };
+            if let Some(id) = medium.attribute("id") {
+                self.media_used.insert(id.to_string());
+            }
+            return Ok(Some((child, medium)));
+        }
+        Ok(None)
+    }
+
+    /// Once every shape is read: the sensor's medium becomes the scene's atmosphere where no
+    /// shape is filled with it, and the media named around shapes and lights are checked
+    /// against the solids and the atmosphere, which decide where kousen's paths are.
+    pub(super) fn place_outside_media(&mut self) -> Result<(), SceneError> {
+        let is_filled = |reader: &Self, medium: Node| {
+            (medium.attribute("id")).is_some_and(|id| reader.media_filled.contains(id))
+        };
+        let mut atmosphere = None;
+        if let Some(medium) = self.sensor_medium
+            && !is_filled(self, medium)
+            && let Some(fog) = self.homogeneous(medium)?
+        {
+            self.builder.set_atmosphere(fog);
+            atmosphere = Some(medium);
+        }
+        let same = |a: Node, b: Node| match (a.attribute("id"), b.attribute("id")) {
+            (Some(a), Some(b)) => a == b,
+            _ => a == b,
+        };
+        for (reference, medium) in std::mem::take(&mut self.media_around) {
+            if is_filled(self, medium) || atmosphere.is_some_and(|a| same(a, medium)) {
+                continue;
+            }
+            let name = medium.attribute("id").unwrap_or("inline");
+            self.warn(
+                reference,
+                format!("medium \"{name}\" fills no shape and is not the sensor's: not read (kousen places media by the shapes they fill and the sensor's)"),
+            );
+        }
+        Ok(())
     }
 
     /// A `homogeneous` medium (`None`, warned, for any other kind).

@@ -112,6 +112,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     for child in root.children().filter(Node::is_element) {
         reader.element(child)?;
     }
+    reader.place_outside_media()?;
     let mut unused: Vec<Node> = (reader.media.iter())
         .filter(|(id, _)| !reader.media_used.contains(*id))
         .map(|(_, node)| *node)
@@ -144,6 +145,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         (None, Some(radiance)) => scene.lights.set_sky(radiance, bounds),
         (None, None) => {}
     }
+    scene.dim_far_lights(path);
     Ok(scene)
 }
 
@@ -158,6 +160,12 @@ pub(super) struct Reader<'a> {
     /// Top-level media by `id`, and those a shape has filled itself with.
     media: HashMap<String, Node<'a, 'a>>,
     media_used: std::collections::HashSet<String>,
+    /// The media shapes are filled with, by `id` (`media`).
+    media_filled: std::collections::HashSet<String>,
+    /// Media named around shapes (`exterior`) and lights: (the naming element, the medium).
+    media_around: Vec<(Node<'a, 'a>, Node<'a, 'a>)>,
+    /// The sensor's medium, if it names one.
+    sensor_medium: Option<Node<'a, 'a>>,
     ids: std::collections::HashSet<String>,
     textures: HashMap<String, Node<'a, 'a>>,
     /// Images decoded so far, by file and colour (sRGB) or data.
@@ -201,6 +209,9 @@ impl<'a> Reader<'a> {
             groups,
             media,
             media_used: std::collections::HashSet::new(),
+            media_filled: std::collections::HashSet::new(),
+            media_around: Vec::new(),
+            sensor_medium: None,
             ids,
             textures,
             bitmaps: HashMap::new(),
@@ -321,6 +332,9 @@ impl<'a> Reader<'a> {
 
     fn emitter(&mut self, node: Node<'a, 'a>) -> Result<(), SceneError> {
         let kind = self.context.required(node, "type")?;
+        if let Some(named) = self.endpoint_medium(node)? {
+            self.media_around.push(named);
+        }
         let to_world = self.to_world(node)?;
         let position = match self.vector(node, "position")? {
             Some(p) => p,
@@ -435,6 +449,13 @@ impl<'a> Reader<'a> {
         if kind != "perspective" && kind != "thinlens" {
             self.warn(node, format!("sensor \"{kind}\" is not read"));
             return Ok(());
+        }
+        if let Some((naming, medium)) = self.endpoint_medium(node)? {
+            match self.sensor_medium {
+                None => self.sensor_medium = Some(medium),
+                // Another sensor's: checked as a light's is.
+                Some(_) => self.media_around.push((naming, medium)),
+            }
         }
         let film = node.children().find(|c| c.has_tag_name("film"));
         let (width, height) = match film {

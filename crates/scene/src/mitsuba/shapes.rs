@@ -175,11 +175,14 @@ impl<'a> Reader<'a> {
                 super::bsdfs::Mapped::plain(grey, None)
             }
         };
-        if medium.is_some_and(|medium| !mapped.fill(medium)) {
-            self.warn(
-                node,
-                "an interior medium is read inside solid glass or a null BSDF only: not read",
-            );
+        if let Some((medium, source)) = medium {
+            match mapped.fill(medium) {
+                true => self.filled_with(source),
+                false => self.warn(
+                    node,
+                    "an interior medium is read inside solid glass or a null BSDF only: not read",
+                ),
+            }
         }
         if let Some(radiance) = radiance {
             for m in mapped.members_mut() {

@@ -127,34 +127,45 @@ fn eye_path(index: u32, jitter: vec2<f32>, lens: vec2<f32>, numbers: vec2<f32>, 
             }
             continue;
         }
-        if !hit.found {
-            // Out of the scene: the sky (zero without one), less what water around the path
-            // absorbs.
-            direct += throughput * emission_share * (sky_radiance(direction) * medium_transmittance(medium, RAY_T_MAX)) * sky_weight(glossy, direction);
-            break;
-        }
         // cpu::kernels::eye_path: in murky glass the flight may end where it scatters, with a
-        // volume visible point; else it passes, weighed by what is not scattered.
-        if is_murky_glass(medium) {
+        // volume visible point; else it passes, weighed by what is not scattered. A ray out of
+        // the scene runs on forever: in an atmosphere it scatters on the way.
+        let in_murky_glass = is_murky_glass(medium);
+        if in_murky_glass {
             let murky = materials[medium];
             if walk.hero == NO_WALK {
                 walk = walk_start(next_f32(rng));
             }
-            let t = walk_flight(&walk, murky.absorption, murky.scattering, hit.distance, next_f32(rng));
+            let distance = select(RAY_T_MAX, hit.distance, hit.found);
+            let t = walk_flight(&walk, murky.absorption, murky.scattering, distance, next_f32(rng));
             if t >= 0.0 {
                 let weight = throughput * walk_weight_over_scattering(walk, murky.scattering);
                 if max3(weight) > 0.0 {
                     let word = volume_point_direction(direction, murky.scatter_anisotropy);
                     let position = origin + t * direction;
                     let depth_behind = abs(dot(behind.xyz, position) + behind.w);
-                    let depth_ahead = (hit.distance - t) * abs(dot(direction, hit.geometric));
+                    var depth_ahead = NO_SURFACE;
+                    if hit.found {
+                        depth_ahead = (hit.distance - t) * abs(dot(direction, hit.geometric));
+                    }
                     point = VisiblePoint(position, word, weight, depths_word(depth_behind, depth_ahead));
                 }
                 break;
             }
             throughput *= walk.weight;
             walk.weight = vec3<f32>(1.0);
-        } else {
+        }
+        if !hit.found {
+            // Out of the scene: the sky (zero without one), less what water around the path
+            // absorbs (a walk's weight holds that already).
+            var kept = vec3<f32>(1.0);
+            if !in_murky_glass {
+                kept = medium_transmittance(medium, RAY_T_MAX);
+            }
+            direct += throughput * emission_share * (sky_radiance(direction) * kept) * sky_weight(glossy, direction);
+            break;
+        }
+        if !in_murky_glass {
             throughput *= transmittance_to(medium, hit);
         }
         let root_id = hit.material;

@@ -60,12 +60,18 @@ fn photon_segment(slot: PathSlot, medium: u32, rng: ptr<function, Rng>) -> Photo
     var events = 0u;
     var kept = segment.volume_photon;
     loop {
+        // Out of the scene the flight runs on forever: in an atmosphere it scatters on the
+        // way, or leaves (keeping its photon, if any).
         let hit = trace_surface(origin, direction);
-        if !hit.found {
+        let distance = select(RAY_T_MAX, hit.distance, hit.found);
+        let t = walk_flight(&walk, extinction, scattering, distance, next_f32(rng));
+        if t < 0.0 && !hit.found {
             segment.found = false;
+            if murky {
+                segment.volume_photon = times_events(kept, events);
+            }
             return segment;
         }
-        let t = walk_flight(&walk, extinction, scattering, hit.distance, next_f32(rng));
         if t < 0.0 {
             segment.found = true;
             segment.hit = hit;

@@ -451,6 +451,19 @@ fn photon_segment(
             ..kept
         })
     };
+    // The walk ended at `origin` (left the scene, or its roulette ended it): only the photon
+    // kept, if any (no flux goes on).
+    let ended = |kept: Photon, events: u32, origin: Vec3, direction: Vec3| {
+        volume_photon(kept, events).map(|kept| PhotonSegment {
+            hit: None,
+            origin,
+            direction,
+            flux: Vec3::ZERO,
+            scattered: true,
+            volume_photon: Some(kept),
+            walk: None,
+        })
+    };
     loop {
         // Out of the scene the flight runs on forever: in an atmosphere it scatters on the way,
         // or leaves (keeping its photon, if any).
@@ -458,15 +471,7 @@ fn photon_segment(
         let distance = hit.as_ref().map_or(RAY_T_MAX, |hit| hit.distance);
         let Some(t) = walk.flight(extinction, scattering, distance, next()) else {
             let Some(hit) = hit else {
-                return volume_photon(kept, events).map(|kept| PhotonSegment {
-                    hit: None,
-                    origin,
-                    direction,
-                    flux: Vec3::ZERO,
-                    scattered: true,
-                    volume_photon: Some(kept),
-                    walk: None,
-                });
+                return ended(kept, events, origin, direction);
             };
             return Some(PhotonSegment {
                 hit: Some(hit),
@@ -489,16 +494,7 @@ fn photon_segment(
             };
         }
         if !walk.survives(next()) {
-            // Ended here: only the photon kept, if any (no flux goes on).
-            return volume_photon(kept, events).map(|kept| PhotonSegment {
-                hit: None,
-                origin,
-                direction,
-                flux: Vec3::ZERO,
-                scattered: true,
-                volume_photon: Some(kept),
-                walk: None,
-            });
+            return ended(kept, events, origin, direction);
         }
         direction = henyey_greenstein(direction, solid.scatter_anisotropy, [next(), next()]);
         if events == SCATTERINGS_PER_STEP {

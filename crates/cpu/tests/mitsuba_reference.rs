@@ -416,6 +416,33 @@ fn a_mitsuba_scene_file_s_medium_renders_as_mitsuba_renders_it() {
     );
 }
 
+/// The foggy box (`scenes/mitsuba/cornell-fog.xml`: the room and all space around it in a
+/// homogeneous fog, the sensor's medium, which kousen reads as the scene's atmosphere and
+/// walks on rays that leave the scene too) lit by its panel alone, its spot turned off
+/// (`spot="0, 0, 0"`: Mitsuba's volumetric path tracer cannot find the spot's caustic through
+/// the ball, a point light seen through glass), against Mitsuba 3's render of that
+/// (`mitsuba-cornell-fog-64.exr`).
+#[test]
+fn a_mitsuba_scene_file_s_atmosphere_renders_as_mitsuba_renders_it() {
+    let path = format!(
+        "{}/../../scenes/mitsuba/cornell-fog.xml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let spot = r#"<default name="spot" value="30, 25, 20"/>"#;
+    assert!(text.contains(spot));
+    let dir = tempfile::tempdir().unwrap();
+    let panel_only = dir.path().join("cornell-fog.xml");
+    let off = r#"<default name="spot" value="0, 0, 0"/>"#;
+    std::fs::write(&panel_only, text.replace(spot, off)).unwrap();
+    let scene = scene::load(&panel_only).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert!(scene.atmosphere.is_some());
+    let reference = reference("mitsuba-cornell-fog-64.exr");
+    let glass = |s: &scene::Surface| matches!(s, scene::Surface::Dielectric { .. });
+    check_against("Mitsuba's foggy box", &scene, &reference, (50, 0.04), glass);
+}
+
 /// The same box written for pbrt (`scenes/pbrt/cornell-box.pbrt`: pbrt-v4's materials,
 /// inline meshes for the walls and the block, its camera mirrored to Mitsuba's handedness)
 /// loaded by `scene::pbrt`, against Mitsuba 3's render of the Mitsuba file. Without the

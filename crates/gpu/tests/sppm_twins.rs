@@ -1178,6 +1178,28 @@ fn every_kernel_matches_its_twin_in_a_mitsuba_file_s_medium() {
     }
 }
 
+/// The same in an atmosphere (`scenes/mitsuba/cornell-fog.xml`: the sensor's medium, no shape
+/// bounding it, fills all space outside the solids): eye paths start in it, photons of the
+/// panel and the spot start in it, walks go on where a ray leaves the room through its open
+/// front (a flight on an endless segment: it scatters on the way or leaves, keeping its volume
+/// photon), the ball's inside is clear glass and its outside the fog again. The fog thinned
+/// to a quarter, so that enough of the twins' 32² pixels see the ball through it.
+#[test]
+fn every_kernel_matches_its_twin_in_an_atmosphere() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/mitsuba/cornell-fog.xml"
+    );
+    let mut scene = scene::load(std::path::Path::new(path)).expect("the shipped file loads");
+    let air = &mut scene.materials[scene.atmosphere.expect("an atmosphere") as usize];
+    air.absorption *= 0.25;
+    air.scattering *= 0.25;
+    let seen = every_kernel_matches_its_twin(scene, DirectLight::Sampled);
+    assert!(seen.volume_points > 100, "{seen:?}");
+    assert!(seen.volume_photons > 100, "{seen:?}");
+    assert!(seen.volume_lit_pixels > 50, "{seen:?}");
+}
+
 /// The same in `scene::testing::cornell_murky`: milky quartz and murky water that absorb as
 /// they scatter, under the ceiling light, their volume visible points among the room's.
 #[test]

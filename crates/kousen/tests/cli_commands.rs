@@ -159,6 +159,29 @@ fn info_names_materials_inside_solids() {
     );
     let caustics = info_json(&shipped("cornell-caustics.gltf"));
     assert_eq!(caustics["inside_solids"].as_array().unwrap().len(), 0);
+    assert!(caustics["atmosphere"].is_null());
+}
+
+/// `kousen info` gives the atmosphere (`scene::Scene::atmosphere`) of the foggy Mitsuba box,
+/// its sensor's medium, in its JSON and its table; the surfaces in it are inside no solid.
+#[test]
+fn info_gives_the_atmosphere() {
+    let scene = shipped("mitsuba/cornell-fog.xml");
+    let info = info_json(&scene);
+    let air = &info["atmosphere"];
+    let near = |value: &serde_json::Value, want: f64| (value.as_f64().unwrap() - want).abs() < 1e-5;
+    for channel in 0..3 {
+        assert!(near(&air["absorption"][channel], 0.08), "{air}");
+        assert!(near(&air["scattering"][channel], 0.32), "{air}");
+    }
+    assert_eq!(air["anisotropy"], 0.0);
+    assert_eq!(info["inside_solids"].as_array().unwrap().len(), 0);
+    let table = kousen(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        text.contains("atmosphere           absorption (0.0800, 0.0800, 0.0800), scattering (0.3200, 0.3200, 0.3200) per unit length, g 0"),
+        "{text}"
+    );
 }
 
 /// `kousen info` counts the materials with normal maps, in its JSON and its table.

@@ -175,7 +175,7 @@ mod tests {
     #[test]
     fn an_atmosphere_is_around_everything_outside_the_solids() {
         let mut scene = scene::testing::cornell_caustics();
-        let fog = scene::media::Medium {
+        let fog = scene::Medium {
             absorption: glam::Vec3::splat(0.1),
             scattering: glam::Vec3::splat(0.3),
             anisotropy: 0.0,

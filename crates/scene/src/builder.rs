@@ -29,7 +29,7 @@ impl SceneBuilder {
 
     /// Fills all space outside the solids with `medium` (`Scene::atmosphere`), replacing any
     /// atmosphere set before; its material's id.
-    pub fn set_atmosphere(&mut self, medium: crate::media::Medium) -> u32 {
+    pub fn set_atmosphere(&mut self, medium: crate::Medium) -> u32 {
         let id = self.add_material(medium.atmosphere());
         self.scene.atmosphere = Some(id);
         id

@@ -42,6 +42,7 @@ pub use material::{
     absorption_from_attenuation, blend_members, brushed_metal_surface, coated_surface,
     dispersion_from_abbe, glass_surface, metal_surface, single_scatter_albedo,
 };
+pub use media::Medium;
 pub use model::{AnimationClip, Bounds, Scene, Triangle, Vertex};
 pub use sky_map::SkyMap;
 pub use textures::{Texels, Texture, TextureId};

@@ -377,8 +377,10 @@ fn conductors_rise_towards_their_tint_at_grazing_angles() {
 
 /// Homogeneous interior media fill solids: glass keeps its surface and takes the medium's
 /// absorption and scattering (Mitsuba 3's `sigma_t` × `scale` and `albedo`, 0.6's `sigmaA` and
-/// `sigmaS`) and its phase's `g`; a `null` boundary becomes glass of index 1. Exterior media,
-/// media of other surfaces and media nothing is filled with are warned about.
+/// `sigmaS`) and its phase's `g`; a `null` boundary becomes glass of index 1. An exterior
+/// medium that fills a shape is what kousen finds around the shape anyway: not warned about.
+/// A light's medium that fills nothing (and is not the sensor's), media of other surfaces and
+/// media nothing names are warned about.
 #[test]
 fn interior_media_fill_solids() {
     let scene = load(&format!(
@@ -386,6 +388,8 @@ fn interior_media_fill_solids() {
             <float name="sigmaA" value="0.5"/><rgb name="sigmaS" value="1, 2, 3"/>
         </medium>
         <medium type="homogeneous" id="unused"/>
+        <medium type="homogeneous" id="haze"/>
+        <emitter type="point"><ref name="medium" id="haze"/></emitter>
         <shape type="sphere"><bsdf type="dielectric"/>
             <medium type="homogeneous" name="interior">
                 <rgb name="sigma_t" value="1, 2, 4"/><rgb name="albedo" value="0.5, 0.25, 1"/>
@@ -429,10 +433,97 @@ fn interior_media_fill_solids() {
         (Surface::Diffuse, Vec3::ZERO)
     );
     let warned = |what: &str| scene.warnings.iter().filter(|w| w.contains(what)).count();
-    assert_eq!(warned("exterior medium"), 1, "{:?}", scene.warnings);
+    assert_eq!(
+        warned("medium \"haze\" fills no shape"),
+        1,
+        "{:?}",
+        scene.warnings
+    );
     assert_eq!(warned("inside solid glass or a null BSDF only"), 1);
     assert_eq!(warned("no solid is filled with"), 1);
     assert_eq!(scene.warnings.len(), 3, "{:?}", scene.warnings);
+    assert_eq!(scene.atmosphere, None);
+}
+
+/// The sensor's medium, where no shape bounds it, fills all space outside the solids: the
+/// scene's atmosphere, a material of glass of index 1 holding the medium that no triangle
+/// uses. Shapes naming it as their exterior are not warned about. Reaching to infinity, it
+/// keeps the sky's and the directional lights' light from the scene in every channel where it
+/// has extinction (warned). Where a shape is filled with the sensor's medium, the camera's
+/// place decides (no atmosphere).
+#[test]
+fn a_sensor_medium_no_shape_bounds_is_the_atmosphere() {
+    let fog = r#"<medium type="homogeneous" id="fog">
+            <rgb name="sigma_t" value="0.5, 0.5, 0"/><rgb name="albedo" value="0.8, 0.8, 0.8"/>
+            <phase type="hg"><float name="g" value="0.3"/></phase>
+        </medium>
+        <sensor type="perspective"><ref name="medium" id="fog"/></sensor>"#;
+    let scene = load(&format!(
+        r#"{fog}
+        <shape type="sphere"><bsdf type="dielectric"/><ref name="exterior" id="fog"/></shape>
+        <emitter type="constant"><rgb name="radiance" value="1, 2, 3"/></emitter>
+        <emitter type="directional"><vector name="direction" x="0" y="-1" z="0"/>
+            <rgb name="irradiance" value="4, 5, 6"/></emitter>
+        {LAMP}"#
+    ))
+    .expect("loads");
+    let atmosphere = scene.atmosphere.expect("an atmosphere");
+    assert!(scene.triangles.iter().all(|t| t.material != atmosphere));
+    let air = &scene.materials[atmosphere as usize];
+    assert_eq!(
+        air.surface,
+        Surface::Dielectric {
+            ior: 1.0,
+            thin_walled: false
+        }
+    );
+    assert!(air.has_murky_glass());
+    assert!(air.absorption.abs_diff_eq(Vec3::new(0.1, 0.1, 0.0), 1e-6));
+    assert!(air.scattering.abs_diff_eq(Vec3::new(0.4, 0.4, 0.0), 1e-6));
+    assert_eq!(air.scatter_anisotropy, 0.3);
+    // Clear in blue alone: only blue light comes from infinitely far away.
+    assert_eq!(scene.far_light_mask(), Vec3::Z);
+    let sky = scene.lights.sky.as_ref().expect("a sky");
+    assert_eq!(sky.radiance, Vec3::new(0.0, 0.0, 3.0));
+    assert_eq!((sky.power.x, sky.power.y), (0.0, 0.0));
+    let sun = &scene.lights.punctual[0];
+    assert_eq!(sun.light.intensity, Vec3::new(0.0, 0.0, 6.0));
+    assert_eq!((sun.power.x, sun.power.y), (0.0, 0.0));
+    let lamp = scene.lights.triangles.iter().map(|t| t.power).sum::<Vec3>();
+    let total = lamp + sky.power + sun.power;
+    assert!(
+        scene
+            .lights
+            .total_power
+            .abs_diff_eq(total, 1e-3 * total.max_element())
+    );
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    assert!(scene.warnings[0].contains("hides the sky"));
+
+    let bounded = load(&format!(
+        r#"{fog}
+        <shape type="cube"><bsdf type="null"/><ref name="interior" id="fog"/></shape>
+        {LAMP}"#
+    ))
+    .expect("loads");
+    assert_eq!(bounded.atmosphere, None);
+    assert!(bounded.warnings.is_empty(), "{:?}", bounded.warnings);
+}
+
+/// The shipped foggy box: its sensor's medium is the atmosphere, the spot and the panel light
+/// it, and nothing is warned about.
+#[test]
+fn the_shipped_foggy_box_loads_as_written() {
+    let scene = scene::load(&shipped("mitsuba/cornell-fog.xml")).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let air = &scene.materials[scene.atmosphere.expect("an atmosphere") as usize];
+    assert!(air.absorption.abs_diff_eq(Vec3::splat(0.08), 1e-6));
+    assert!(air.scattering.abs_diff_eq(Vec3::splat(0.32), 1e-6));
+    assert!(matches!(
+        scene.lights.punctual[0].light.kind,
+        PunctualKind::Spot { .. }
+    ));
+    assert_eq!(scene.lights.triangles.len(), 2);
 }
 
 /// A `cylinder` is an open tube from `p0` to `p1`, facing out.

@@ -734,7 +734,8 @@ fn interior_media_fill_solids() {
             .all(|m| m.scattering == Vec3::ZERO)
     );
     let all = immersed.warnings.join("\n");
-    assert!(all.contains("media outside shapes"), "{all}");
+    assert!(all.contains("medium \"fog\" fills no shape"), "{all}");
+    assert_eq!(immersed.atmosphere, None);
     assert!(
         error(&world("MediumInterface \"nowhere\" \"\" Shape \"sphere\""))
             .contains("no medium is named")
@@ -856,10 +857,51 @@ fn film_and_media_settings_are_warned_about() {
         "4× the radiance",
         "--exposure 2.00",
         "\"float maxcomponentvalue\"",
-        "media outside shapes",
     ] {
         assert!(all.contains(expected), "{expected}: {all}");
     }
+}
+
+/// The camera's medium (the outside one where `Camera` is declared), where no shape is filled
+/// with it, fills all space outside the solids: the scene's atmosphere, which keeps the
+/// infinite light from the scene (warned). Where a shape is filled with it, the camera's place
+/// decides (no atmosphere).
+#[test]
+fn the_camera_s_medium_no_shape_bounds_is_the_atmosphere() {
+    let fog =
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [0.1 0.1 0.1]
+        \"rgb sigma_s\" [0.3 0.3 0.3] \"float g\" 0.2
+        MediumInterface \"\" \"fog\"
+        LookAt 0 0 5  0 0 0  0 1 0 Camera \"perspective\"
+        WorldBegin";
+    let scene = load(&format!(
+        "{fog}
+        MediumInterface \"\" \"fog\" Material \"dielectric\" Shape \"sphere\"
+        LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]
+        {LAMP}"
+    ))
+    .expect("loads");
+    let atmosphere = scene.atmosphere.expect("an atmosphere");
+    let air = &scene.materials[atmosphere as usize];
+    assert!(air.has_murky_glass());
+    assert!(air.absorption.abs_diff_eq(Vec3::splat(0.1), 1e-6));
+    assert!(air.scattering.abs_diff_eq(Vec3::splat(0.3), 1e-6));
+    assert_eq!(air.scatter_anisotropy, 0.2);
+    assert!(scene.triangles.iter().all(|t| t.material != atmosphere));
+    let sky = scene.lights.sky.as_ref().expect("a sky");
+    assert_eq!((sky.radiance, sky.power), (Vec3::ZERO, Vec3::ZERO));
+    let all = scene.warnings.join("\n");
+    assert!(all.contains("hides the sky"), "{all}");
+    assert_eq!(scene.warnings.len(), 1, "{all}");
+
+    let bounded = load(&format!(
+        "{fog}
+        MediumInterface \"fog\" \"\" Material \"interface\" Shape \"sphere\" \"float radius\" 9
+        {LAMP}"
+    ))
+    .expect("loads");
+    assert_eq!(bounded.atmosphere, None);
+    assert!(bounded.warnings.is_empty(), "{:?}", bounded.warnings);
 }
 
 #[test]

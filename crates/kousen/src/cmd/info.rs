@@ -57,6 +57,9 @@ struct Info {
     /// Materials whose surfaces lie inside a solid dielectric (`render::nesting`), with it:
     /// their indices of refraction count against its.
     inside_solids: Vec<InsideSolid>,
+    /// The medium filling all space outside the solids (`scene::Scene::atmosphere`: Mitsuba's
+    /// sensor medium, pbrt's camera medium), if any; its material counts among `materials`.
+    atmosphere: Option<AtmosphereInfo>,
     textures: usize,
     cameras: usize,
     /// The file's animations (glTF): what `--animation-time` and `--animation` choose from.
@@ -114,12 +117,32 @@ struct InsideSolid {
     solid: String,
 }
 
-/// The materials `render::nesting` finds inside solids, by name.
+#[derive(Serialize)]
+struct AtmosphereInfo {
+    /// Per unit of length and channel.
+    absorption: [f32; 3],
+    scattering: [f32; 3],
+    /// Henyey–Greenstein's g.
+    anisotropy: f32,
+}
+
+fn atmosphere(scene: &scene::Scene) -> Option<AtmosphereInfo> {
+    let air = &scene.materials[scene.atmosphere? as usize];
+    Some(AtmosphereInfo {
+        absorption: air.absorption.to_array(),
+        scattering: air.scattering.to_array(),
+        anisotropy: air.scatter_anisotropy,
+    })
+}
+
+/// The materials `render::nesting` finds inside solids, by name (the atmosphere around the
+/// rest is none).
 fn inside_solids(scene: &scene::Scene) -> Vec<InsideSolid> {
     let nesting = render::nesting::Nesting::of(scene);
     let name = |id: usize| scene.materials[id].name.clone();
     (nesting.exterior.iter().enumerate())
         .filter(|(_, around)| **around != render::medium::NO_MEDIUM)
+        .filter(|(_, around)| Some(**around) != scene.atmosphere)
         .map(|(id, &around)| InsideSolid {
             material: name(id),
             solid: name(around as usize),
@@ -352,6 +375,7 @@ fn gather(args: &InfoArgs) -> anyhow::Result<Info> {
         specular_layers: count(|m| m.specular.is_some()),
         vertex_tangents: scene.has_vertex_tangents(),
         inside_solids: inside_solids(&scene),
+        atmosphere: atmosphere(&scene),
         textures: scene.textures.len(),
         cameras: scene.cameras.len(),
         animations: (scene.animations.iter())
@@ -528,6 +552,21 @@ fn print_table(info: &Info) {
                     .map(|n| format!("{} in {}", n.material, n.solid))
                     .collect();
                 pairs.join(", ")
+            },
+        ),
+        (
+            "atmosphere",
+            match &info.atmosphere {
+                None => "none".to_string(),
+                Some(air) => {
+                    let rgb = |[r, g, b]: [f32; 3]| format!("({r:.4}, {g:.4}, {b:.4})");
+                    format!(
+                        "absorption {}, scattering {} per unit length, g {}",
+                        rgb(air.absorption),
+                        rgb(air.scattering),
+                        air.anisotropy
+                    )
+                }
             },
         ),
         ("textures", info.textures.to_string()),

@@ -126,11 +126,16 @@ impl Reader {
         }
         if let Some(name) = interior
             && let Some(medium) = self.interior_medium(name, file)?
-            && !mapped.fill(medium)
         {
-            let message =
-                format!("medium \"{name}\" is read inside solid glass or an interface only");
-            self.warn(file, message);
+            match mapped.fill(medium) {
+                true => _ = self.media_filled.insert(name.to_string()),
+                false => {
+                    let message = format!(
+                        "medium \"{name}\" is read inside solid glass or an interface only"
+                    );
+                    self.warn(file, message);
+                }
+            }
         }
         let (id, uv_map, simplified) = mapped.add_to(&mut self.builder);
         if let Some(why) = simplified {
@@ -144,7 +149,11 @@ impl Reader {
     /// The `MakeNamedMedium` called `name` as kousen's solids hold a medium: pbrt's
     /// `homogeneous` (`sigma_a` and `sigma_s` × `scale`, Henyey–Greenstein `g`); `None`,
     /// warned about, for other kinds (grids, clouds) and presets.
-    fn interior_medium(&mut self, name: &str, file: &Path) -> Result<Option<Medium>, SceneError> {
+    pub(super) fn interior_medium(
+        &mut self,
+        name: &str,
+        file: &Path,
+    ) -> Result<Option<Medium>, SceneError> {
         if let Some(read) = self.media_read.get(name) {
             return Ok(*read);
         }

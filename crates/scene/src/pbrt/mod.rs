@@ -26,10 +26,13 @@
 //!   in it), `ObjectBegin`/`ObjectEnd`/`ObjectInstance`.
 //! - **Media**: a `homogeneous` `MakeNamedMedium` (`sigma_a`, `sigma_s`, `scale`, `g`) that
 //!   `MediumInterface` puts inside the shapes after it fills them (`crate::media`): solid
-//!   glass keeps its surface, an `interface` becomes glass of index 1 (`materials`).
+//!   glass keeps its surface, an `interface` becomes glass of index 1 (`materials`). The
+//!   camera's medium (the outside one where `Camera` is declared), where no shape is filled
+//!   with it, fills all space outside the solids: the scene's atmosphere. Media outside
+//!   shapes are found from the geometry (the solid around them).
 //! - Ignored: `Sampler`, `Integrator`, `PixelFilter`, `Accelerator`, `Option` (kousen renders
-//!   by its own settings). Warned about: other media (grids, clouds, presets), media outside
-//!   shapes (around the camera), other shapes, materials, textures and lights,
+//!   by its own settings). Warned about: other media (grids, clouds, presets), media that
+//!   fill no shape and are not the camera's, other shapes, materials, textures and lights,
 //!   the film's ISO (with the `--exposure` that shows pbrt's image) and every parameter
 //!   nothing read (as pbrt warns), the film's among them.
 //!
@@ -97,6 +100,9 @@ struct State {
     area_light: Option<AreaLight>,
     /// The named medium inside the shapes made now (`MediumInterface`'s first name), if any.
     interior: Option<String>,
+    /// The named medium outside them (its second name), if any: the camera's, where the
+    /// camera is declared.
+    exterior: Option<String>,
 }
 
 /// An `AreaLightSource`: the radiance shapes emit, from which faces, or their total `power`
@@ -153,6 +159,8 @@ struct CameraCall {
     kind: String,
     params: Params,
     file: PathBuf,
+    /// The medium outside shapes where the camera is declared (pbrt's camera medium), if any.
+    medium: Option<String>,
 }
 
 pub(super) struct Reader {
@@ -170,6 +178,8 @@ pub(super) struct Reader {
     /// homogeneous, warned about).
     media: HashMap<String, Definition>,
     media_read: HashMap<String, Option<crate::media::Medium>>,
+    /// The media shapes are filled with, by name.
+    media_filled: HashSet<String>,
     /// Named textures by whether they are float ones (pbrt keeps float and spectrum textures
     /// apart: one name may be both) and name.
     textures: HashMap<(bool, String), Definition>,
@@ -205,6 +215,7 @@ impl Reader {
             material: MaterialRef::Default,
             area_light: None,
             interior: None,
+            exterior: None,
         };
         Reader {
             main: path.to_path_buf(),
@@ -217,6 +228,7 @@ impl Reader {
             named_materials: HashMap::new(),
             media: HashMap::new(),
             media_read: HashMap::new(),
+            media_filled: HashSet::new(),
             textures: HashMap::new(),
             made: HashMap::new(),
             texture_colours: HashMap::new(),
@@ -428,6 +440,7 @@ impl Reader {
                     kind,
                     params,
                     file: file.to_path_buf(),
+                    medium: self.state.exterior.clone(),
                 });
             }
             "Film" => {
@@ -458,14 +471,11 @@ impl Reader {
                     }
                     _ => inside.clone(),
                 };
-                if !outside.is_empty() {
-                    self.warn(
-                        file,
-                        "media outside shapes (the air around the camera) are not read: kousen fills solids only",
-                    );
-                }
-                // The same medium on both sides bounds nothing (pbrt's one-name form).
+                // The same medium on both sides bounds nothing (pbrt's one-name form). The
+                // outside of shapes is found from the geometry (the solid around them); the
+                // camera's outside medium may be the scene's atmosphere (`finish`).
                 self.state.interior = (!inside.is_empty() && inside != outside).then_some(inside);
+                self.state.exterior = (!outside.is_empty()).then_some(outside);
             }
             "WorldBegin" => self.world_begin(),
             "WorldEnd" => {}
@@ -653,7 +663,15 @@ impl Reader {
                 .map_err(|e| locate(e, &call.file, call.line, "Shape"))?;
         }
         if let Some(call) = self.camera.take() {
+            let (medium, file) = (call.medium.clone(), call.file.clone());
             self.make_camera(call)?;
+            // The camera's medium, where no shape is filled with it, fills all space outside
+            // the solids (`crate::media`).
+            if let Some(name) = medium.filter(|name| !self.media_filled.contains(name))
+                && let Some(medium) = self.interior_medium(&name, &file)?
+            {
+                self.builder.set_atmosphere(medium);
+            }
         }
         let mut unused: Vec<(&String, &Definition)> = (self.media.iter())
             .filter(|(name, _)| !self.media_read.contains_key(*name))
@@ -675,6 +693,7 @@ impl Reader {
         for warning in warnings {
             builder.warn(warning);
         }
+        let path = builder.path().to_path_buf();
         let mut scene = builder.finish()?;
         let bounds = scene.bounds();
         if let Some(map) = sky_map {
@@ -683,6 +702,7 @@ impl Reader {
         } else if let Some(radiance) = sky {
             scene.lights.set_sky(radiance, bounds);
         }
+        scene.dim_far_lights(&path);
         Ok(scene)
     }
 

@@ -27,6 +27,22 @@ pub fn furnace_with_murky_glass(scattering: Vec3, anisotropy: f32, ior: f32) -> 
     )
 }
 
+/// [`crate::testing::furnace_sphere`] filled with a lossless atmosphere (`Scene::atmosphere`:
+/// `scattering` σs, no absorption, Henyey–Greenstein of `anisotropy`) that the camera and the
+/// walls are in: as much light scatters into every ray as out of it, so in the furnace the
+/// fog is invisible. Eye paths end where they scatter and gather the volume photons there.
+pub fn furnace_in_an_atmosphere(scattering: Vec3, anisotropy: f32) -> Scene {
+    let mut scene = crate::testing::furnace_sphere();
+    let fog = crate::Medium {
+        absorption: Vec3::ZERO,
+        scattering,
+        anisotropy,
+    };
+    scene.atmosphere = Some(scene.materials.len() as u32);
+    scene.materials.push(fog.atmosphere());
+    scene
+}
+
 /// [`crate::testing::cornell_caustics`]'s room with murky glass: a ball of milky quartz front
 /// right (index 1.5, scattering about twice across its radius, forward-leaning, absorbing
 /// a little, blue least), whose caustic on the floor is blurred by the light it scatters, and

@@ -832,9 +832,29 @@ pub struct CameraArgs {
 
 /// Lights added to the scene: a sun (a directional light) and a sky (uniform radiance from
 /// every direction, or an environment map's), so that scenes without lights of their own
-/// (Sponza, the bunny) can be rendered as they are.
+/// (Sponza, the bunny) can be rendered as they are; and fog filling the space they light.
 #[derive(Args, Clone)]
 pub struct AddedLightArgs {
+    /// Fill all space outside the solids with a homogeneous fog (the scene's atmosphere, as a
+    /// Mitsuba sensor medium or a pbrt camera medium gives it, replacing any): its extinction
+    /// per unit of the scene's length, one number or "r,g,b". It reaches to infinity, so it
+    /// hides the sky and the sun in every channel where this is above 0.
+    #[arg(long, value_name = "SIGMA_T", value_parser = parse_grey_or_rgb)]
+    pub fog: Option<[f32; 3]>,
+    /// The share of the fog's extinction that scatters (the rest absorbs): one number or
+    /// "r,g,b" in [0, 1].
+    #[arg(long, value_name = "ALBEDO", value_parser = parse_grey_or_rgb, default_value = "0.75", requires = "fog")]
+    pub fog_albedo: [f32; 3],
+    /// The fog's Henyey–Greenstein anisotropy g in (−1, 1): 0 scatters alike every way,
+    /// towards 1 onwards (a sunbeam's glow around the sun).
+    #[arg(
+        long,
+        value_name = "G",
+        default_value_t = 0.0,
+        requires = "fog",
+        allow_hyphen_values = true
+    )]
+    pub fog_anisotropy: f32,
     /// Add a sun: a directional light travelling along "x,y,z" (0.3,-1,0.2 shines down).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub sun: Option<[f32; 3]>,
@@ -868,9 +888,37 @@ impl AddedLightArgs {
     /// hides them as it hides the file's own (`scene::Scene::dim_far_lights`).
     pub fn add_to(&self, scene: &mut scene::Scene, path: &std::path::Path) -> anyhow::Result<()> {
         self.add_sky_and_sun(scene)?;
-        if self.sky.is_some() || self.sky_map.is_some() || self.sun.is_some() {
+        self.add_fog(scene)?;
+        if self.sky.is_some() || self.sky_map.is_some() || self.sun.is_some() || self.fog.is_some()
+        {
             scene.dim_far_lights(path);
         }
+        Ok(())
+    }
+
+    /// The atmosphere `--fog` asks for, replacing the scene's.
+    fn add_fog(&self, scene: &mut scene::Scene) -> anyhow::Result<()> {
+        let Some(extinction) = self.fog.map(glam::Vec3::from) else {
+            return Ok(());
+        };
+        let albedo = glam::Vec3::from(self.fog_albedo);
+        if extinction.min_element() < 0.0 || extinction.max_element() <= 0.0 {
+            anyhow::bail!("--fog needs an extinction ≥ 0 and not all 0, got {extinction}");
+        }
+        if !(albedo.min_element() >= 0.0 && albedo.max_element() <= 1.0) {
+            anyhow::bail!("--fog-albedo must be in [0, 1], got {albedo}");
+        }
+        let g = self.fog_anisotropy;
+        if !(-1.0 < g && g < 1.0) {
+            anyhow::bail!("--fog-anisotropy must be in (−1, 1), got {g}");
+        }
+        let fog = scene::Medium {
+            absorption: extinction * (glam::Vec3::ONE - albedo),
+            scattering: extinction * albedo,
+            anisotropy: g,
+        };
+        scene.atmosphere = Some(scene.materials.len() as u32);
+        scene.materials.push(fog.atmosphere());
         Ok(())
     }
 
@@ -931,6 +979,15 @@ impl AddedLightArgs {
     }
 }
 
+/// One number for all three channels, or "r,g,b".
+fn parse_grey_or_rgb(text: &str) -> Result<[f32; 3], String> {
+    match text.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok([v; 3]),
+        _ => parse_vec3(text)
+            .map_err(|_| format!("expected one finite number or three \"r,g,b\", got {text:?}")),
+    }
+}
+
 fn parse_vec3(text: &str) -> Result<[f32; 3], String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     let values: Result<Vec<f32>, _> = parts.iter().map(|p| p.parse::<f32>()).collect();
@@ -987,5 +1044,64 @@ mod tests {
         }
         assert_eq!(DensityChoice::Auto.for_view(), StochasticHash);
         assert_eq!(DensityChoice::Full.for_view(), FullHash);
+    }
+
+    /// `--fog` fills the space outside the solids (the scene's atmosphere: extinction split
+    /// by the albedo into scattering and absorption), which hides `--sky` in every channel
+    /// where it has extinction; bad values are refused naming their option.
+    #[test]
+    fn fog_fills_the_space_outside_the_solids_and_hides_the_sky() {
+        let added = AddedLightArgs {
+            fog: Some([0.5, 0.5, 0.0]),
+            fog_albedo: [0.8; 3],
+            fog_anisotropy: 0.3,
+            sun: None,
+            sun_illuminance: 3.0,
+            sky: Some([1.0, 2.0, 3.0]),
+            sky_map: None,
+            sky_rotate: 0.0,
+        };
+        let path = std::path::Path::new("cornell-caustics");
+        let mut scene = scene::testing::cornell_caustics();
+        added.add_to(&mut scene, path).unwrap();
+        let air = &scene.materials[scene.atmosphere.unwrap() as usize];
+        assert!(
+            air.absorption
+                .abs_diff_eq(glam::Vec3::new(0.1, 0.1, 0.0), 1e-6)
+        );
+        assert!(
+            air.scattering
+                .abs_diff_eq(glam::Vec3::new(0.4, 0.4, 0.0), 1e-6)
+        );
+        assert_eq!(air.scatter_anisotropy, 0.3);
+        let sky = scene.lights.sky.as_ref().unwrap();
+        assert_eq!(sky.radiance, glam::Vec3::new(0.0, 0.0, 3.0));
+        for (bad, option) in [
+            (
+                AddedLightArgs {
+                    fog: Some([-1.0, 0.0, 0.0]),
+                    ..added.clone()
+                },
+                "--fog ",
+            ),
+            (
+                AddedLightArgs {
+                    fog_albedo: [1.5; 3],
+                    ..added.clone()
+                },
+                "--fog-albedo",
+            ),
+            (
+                AddedLightArgs {
+                    fog_anisotropy: 1.0,
+                    ..added.clone()
+                },
+                "--fog-anisotropy",
+            ),
+        ] {
+            let mut scene = scene::testing::cornell_caustics();
+            let error = bad.add_to(&mut scene, path).unwrap_err().to_string();
+            assert!(error.starts_with(option), "{error}");
+        }
     }
 }

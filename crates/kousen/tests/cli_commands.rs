@@ -727,6 +727,13 @@ fn components_of_a_path_traced_render_are_refused() {
     assert_refused_leaving_nothing("out.pfm", &["--components", "--integrator", "path"]);
 }
 
+/// A fog that scatters more than it meets (`--fog-albedo` above 1) is refused before any
+/// work, leaving no file behind.
+#[test]
+fn an_impossible_fog_is_refused() {
+    assert_refused_leaving_nothing("out.png", &["--fog-albedo", "1.5", "--fog", "0.001"]);
+}
+
 /// `kousen render` of the Cornell box to `out` with `extra` (its first word an option),
 /// refused in one line naming that option, leaving no file behind.
 fn assert_refused_leaving_nothing(out: &str, extra: &[&str]) {

@@ -40,8 +40,23 @@ fn rel_mse(a: &Image, b: &Image) -> f64 {
 
 /// A scene shipped in `scenes/`.
 fn shipped(name: &str) -> scene::Scene {
-    let path = format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-    scene::load(std::path::Path::new(&path)).unwrap()
+    scene::load(std::path::Path::new(&shipped_path(name))).unwrap()
+}
+
+fn shipped_path(name: &str) -> String {
+    format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The shipped scene file `name` with its text `from` (which it must hold) replaced by `to`,
+/// loaded from a copy under the same file name in a temporary folder.
+fn shipped_edited(name: &str, from: &str, to: &str) -> scene::Scene {
+    let path = std::path::PathBuf::from(shipped_path(name));
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains(from), "{name} lacks {from:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let edited = dir.path().join(path.file_name().unwrap());
+    std::fs::write(&edited, text.replace(from, to)).unwrap();
+    scene::load(&edited).unwrap()
 }
 
 /// The shipped Cornell box, with `punctual` lights added.
@@ -424,18 +439,9 @@ fn a_mitsuba_scene_file_s_medium_renders_as_mitsuba_renders_it() {
 /// (`mitsuba-cornell-fog-64.exr`).
 #[test]
 fn a_mitsuba_scene_file_s_atmosphere_renders_as_mitsuba_renders_it() {
-    let path = format!(
-        "{}/../../scenes/mitsuba/cornell-fog.xml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let text = std::fs::read_to_string(&path).unwrap();
     let spot = r#"<default name="spot" value="30, 25, 20"/>"#;
-    assert!(text.contains(spot));
-    let dir = tempfile::tempdir().unwrap();
-    let panel_only = dir.path().join("cornell-fog.xml");
     let off = r#"<default name="spot" value="0, 0, 0"/>"#;
-    std::fs::write(&panel_only, text.replace(spot, off)).unwrap();
-    let scene = scene::load(&panel_only).unwrap();
+    let scene = shipped_edited("mitsuba/cornell-fog.xml", spot, off);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert!(scene.atmosphere.is_some());
     let reference = reference("mitsuba-cornell-fog-64.exr");
@@ -451,21 +457,12 @@ fn a_mitsuba_scene_file_s_atmosphere_renders_as_mitsuba_renders_it() {
 /// axis but for its contents).
 #[test]
 fn a_pbrt_scene_file_renders_as_mitsuba_renders_its_twin() {
-    let path = format!(
-        "{}/../../scenes/pbrt/cornell-box.pbrt",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let text = std::fs::read_to_string(&path).unwrap();
     let reference = reference("mitsuba-cornell-box-64.exr");
     let glass = |s: &scene::Surface| matches!(s, scene::Surface::Dielectric { .. });
     let scene = shipped("pbrt/cornell-box.pbrt");
     check_against("pbrt's Cornell box", &scene, &reference, (100, 0.03), glass);
 
-    let dir = tempfile::tempdir().unwrap();
-    let unmirrored = dir.path().join("unmirrored.pbrt");
-    assert!(text.contains("\nScale -1 1 1\n"));
-    std::fs::write(&unmirrored, text.replace("\nScale -1 1 1\n", "\n")).unwrap();
-    let scene = scene::load(&unmirrored).unwrap();
+    let scene = shipped_edited("pbrt/cornell-box.pbrt", "\nScale -1 1 1\n", "\n");
     let mut turned_over = reference.clone();
     for (i, pixel) in turned_over.pixels.iter_mut().enumerate() {
         let (x, y) = (i % 64, i / 64);

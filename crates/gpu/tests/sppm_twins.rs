@@ -1160,11 +1160,7 @@ fn every_kernel_matches_its_twin_in_murky_glass() {
 /// index 1 that light crosses unbent (fog).
 #[test]
 fn every_kernel_matches_its_twin_in_a_mitsuba_file_s_medium() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenes/mitsuba/cornell-murky.xml"
-    );
-    let scene = scene::load(std::path::Path::new(path)).expect("the shipped file loads");
+    let scene = shipped("mitsuba/cornell-murky.xml");
     let mut fog = scene.clone();
     for material in fog.materials.iter_mut().filter(|m| m.has_murky_glass()) {
         material.surface = scene::Surface::Dielectric {
@@ -1186,11 +1182,7 @@ fn every_kernel_matches_its_twin_in_a_mitsuba_file_s_medium() {
 /// to a quarter, so that enough of the twins' 32² pixels see the ball through it.
 #[test]
 fn every_kernel_matches_its_twin_in_an_atmosphere() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenes/mitsuba/cornell-fog.xml"
-    );
-    let mut scene = scene::load(std::path::Path::new(path)).expect("the shipped file loads");
+    let mut scene = shipped("mitsuba/cornell-fog.xml");
     let air = &mut scene.materials[scene.atmosphere.expect("an atmosphere") as usize];
     air.absorption *= 0.25;
     air.scattering *= 0.25;
@@ -1723,6 +1715,12 @@ fn dress_glass(
         dress(&mut scene.materials[id], texture);
     }
     planar_uv(scene, &glass);
+}
+
+/// The scene file `name` shipped in `scenes/`.
+fn shipped(name: &str) -> scene::Scene {
+    let path = format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    scene::load(std::path::Path::new(&path)).expect("the shipped file loads")
 }
 
 fn every_kernel_matches_its_twin(scene: scene::Scene, direct: DirectLight) -> Seen {

@@ -1285,13 +1285,7 @@ mod tests {
     #[test]
     fn a_scattering_solid_in_the_furnace_is_invisible() {
         let scene = testing::furnace_with_scattering_solid(Vec3::new(20.0, 8.0, 3.0), 0.5);
-        let mean = furnace_mean(&scene, 1024);
-        println!("scattering furnace: {mean}");
-        let expected = testing::FURNACE_RADIANCE;
-        assert!(
-            (mean - Vec3::splat(expected)).abs().max_element() < 0.03 * expected,
-            "{mean}"
-        );
+        assert_furnace_within("scattering furnace", &scene, 1024, 0.03);
     }
 
     /// The furnace with lossless murky glass in view (`testing::furnace_with_murky_glass`: a
@@ -1303,13 +1297,7 @@ mod tests {
     #[test]
     fn murky_glass_in_the_furnace_is_invisible() {
         let scene = testing::furnace_with_murky_glass(Vec3::new(20.0, 8.0, 3.0), 0.5, 1.33);
-        let mean = furnace_mean(&scene, 8192);
-        println!("murky furnace: {mean}");
-        let expected = testing::FURNACE_RADIANCE;
-        assert!(
-            (mean - Vec3::splat(expected)).abs().max_element() < 0.03 * expected,
-            "{mean}"
-        );
+        assert_furnace_within("murky furnace", &scene, 8192, 0.03);
     }
 
     /// The furnace filled with a lossless atmosphere (`testing::furnace_in_an_atmosphere`,
@@ -1319,13 +1307,7 @@ mod tests {
     #[test]
     fn an_atmosphere_in_the_furnace_is_invisible() {
         let scene = testing::furnace_in_an_atmosphere(Vec3::new(2.0, 1.0, 0.5), 0.3);
-        let mean = furnace_mean(&scene, 1024);
-        println!("atmosphere furnace: {mean}");
-        let expected = testing::FURNACE_RADIANCE;
-        assert!(
-            (mean - Vec3::splat(expected)).abs().max_element() < 0.03 * expected,
-            "{mean}"
-        );
+        assert_furnace_within("atmosphere furnace", &scene, 1024, 0.03);
     }
 
     /// A lamp inside a lossless scattering solid (`testing::lamp_in_scattering_cube`): a
@@ -1384,6 +1366,19 @@ mod tests {
         let expected = testing::FURNACE_RADIANCE;
         assert!(
             (mean - Vec3::splat(expected)).abs().max_element() < 0.02 * expected,
+            "{mean}"
+        );
+    }
+
+    /// Each channel of a furnace `scene`'s image mean (`label` in the printout) within
+    /// `tolerance` (a share) of `testing::FURNACE_RADIANCE`, over `samples_per_pixel` paths a
+    /// pixel of [`furnace_mean`]'s 8 × 8.
+    fn assert_furnace_within(label: &str, scene: &Scene, samples_per_pixel: u32, tolerance: f32) {
+        let mean = furnace_mean(scene, samples_per_pixel);
+        println!("{label}: {mean}");
+        let expected = testing::FURNACE_RADIANCE;
+        assert!(
+            (mean - Vec3::splat(expected)).abs().max_element() < tolerance * expected,
             "{mean}"
         );
     }
